@@ -1,0 +1,136 @@
+// geoslice info [--json] FILE...: parts, triangles, bounds (world and lon/lat), CRS and the
+// validation report. Exits 1 when a file fails to load or has validation errors.
+#include <cstdio>
+
+#include "cli/commands.hpp"
+#include "model/loaders.hpp"
+
+namespace geoslice::cli {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+const char* severityName(ValidationIssue::Severity s) {
+    switch (s) {
+        case ValidationIssue::Severity::Note: return "note";
+        case ValidationIssue::Severity::Warning: return "warning";
+        case ValidationIssue::Severity::Error: return "error";
+    }
+    return "error";
+}
+
+json partJson(const Model& m, const Part& p) {
+    const MeshReport& r = p.report;
+    json j = {{"name", p.name}, {"record", p.record}, {"triangles", r.triangles}, {"vertices", r.vertices},
+              {"closed", r.closed}, {"consistently_oriented", r.consistentlyOriented}, {"components", r.components},
+              {"boundary_edges", r.boundaryEdges}, {"non_manifold_edges", r.nonManifoldEdges},
+              {"inconsistent_edges", r.inconsistentEdges}, {"degenerate_triangles", r.degenerateTriangles},
+              {"duplicate_triangles", r.duplicateTriangles}, {"non_finite_vertices", r.nonFiniteVertices}};
+    if (p.kind == PartKind::Body) {
+        j["volume_m3"] = r.signedVolume;
+        j["flipped"] = r.flipped;
+        j["nesting_depth"] = r.nestingDepth;
+        j["parent"] = r.parent >= 0 ? json(m.bodies[static_cast<std::size_t>(r.parent)].name) : json(nullptr);
+    }
+    return j;
+}
+
+// Lon/lat box of the model's map footprint (corners and edge midpoints), projected CRS only.
+std::optional<std::pair<glm::dvec2, glm::dvec2>> lonLatBounds(const Model& m, const Aabb& b) {
+    if (!m.crs.isProjected() || !b.valid()) return std::nullopt;
+    glm::dvec2 lo(1e9), hi(-1e9);
+    for (double fx : {0.0, 0.5, 1.0})
+        for (double fy : {0.0, 0.5, 1.0}) {
+            auto ll = m.crs.toLonLat(b.min.x + fx * (b.max.x - b.min.x), b.min.y + fy * (b.max.y - b.min.y));
+            if (!ll) return std::nullopt;
+            lo = glm::min(lo, ll.value());
+            hi = glm::max(hi, ll.value());
+        }
+    return std::make_pair(lo, hi);
+}
+
+json modelJson(const std::string& file, const Model& m) {
+    Aabb b = m.bounds();
+    json j;
+    j["file"] = file;
+    j["name"] = m.name;
+    j["crs"] = {{"id", m.crs.id()}, {"name", m.crs.name()}};
+    j["axes"] = "x easting, y northing, z elevation up; metres";
+    j["triangles"] = m.triangleCount();
+    j["origin"] = {m.origin.x, m.origin.y, m.origin.z};
+    j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
+    if (auto ll = lonLatBounds(m, b))
+        j["lonlat_bounds"] = {{"min", {ll->first.x, ll->first.y}}, {"max", {ll->second.x, ll->second.y}}};
+    j["bodies"] = json::array();
+    for (const auto& p : m.bodies) j["bodies"].push_back(partJson(m, p));
+    j["surfaces"] = json::array();
+    for (const auto& p : m.surfaces) j["surfaces"].push_back(partJson(m, p));
+    j["attributes"] = m.attributes.toJson()["records"];
+    j["issues"] = json::array();
+    for (const auto& i : m.validation.issues)
+        j["issues"].push_back({{"severity", severityName(i.severity)}, {"part", i.part}, {"message", i.message}});
+    j["ok"] = !m.validation.hasErrors();
+    return j;
+}
+
+void printText(const json& j) {
+    std::printf("%s: %s\n", j["file"].get<std::string>().c_str(), j["name"].get<std::string>().c_str());
+    std::printf("  CRS        %s (%s)\n", j["crs"]["id"].get<std::string>().c_str(), j["crs"]["name"].get<std::string>().c_str());
+    std::printf("  parts      %zu bodies, %zu surfaces, %zu triangles\n", j["bodies"].size(), j["surfaces"].size(),
+                j["triangles"].get<std::size_t>());
+    const auto& mn = j["bounds"]["min"];
+    const auto& mx = j["bounds"]["max"];
+    std::printf("  bounds     x %.3f .. %.3f  y %.3f .. %.3f  z %.3f .. %.3f (m, easting/northing/elevation)\n",
+                mn[0].get<double>(), mx[0].get<double>(), mn[1].get<double>(), mx[1].get<double>(), mn[2].get<double>(),
+                mx[2].get<double>());
+    if (j.contains("lonlat_bounds"))
+        std::printf("  lon/lat    %.6f .. %.6f E, %.6f .. %.6f N\n", j["lonlat_bounds"]["min"][0].get<double>(),
+                    j["lonlat_bounds"]["max"][0].get<double>(), j["lonlat_bounds"]["min"][1].get<double>(),
+                    j["lonlat_bounds"]["max"][1].get<double>());
+    for (const char* list : {"bodies", "surfaces"}) {
+        for (const auto& p : j[list]) {
+            std::printf("  %-8s %-48s record %-4u %9zu tri  %s", list[0] == 'b' ? "body" : "surface",
+                        p["name"].get<std::string>().c_str(), p["record"].get<unsigned>(), p["triangles"].get<std::size_t>(),
+                        p["closed"].get<bool>() ? "closed" : "open");
+            if (p.contains("volume_m3")) std::printf("  %.4g m3  depth %d", p["volume_m3"].get<double>(), p["nesting_depth"].get<int>());
+            std::printf("\n");
+        }
+    }
+    std::size_t errors = 0, warnings = 0;
+    for (const auto& i : j["issues"]) {
+        std::string sev = i["severity"];
+        errors += sev == "error";
+        warnings += sev == "warning";
+        std::printf("  %-8s %s: %s\n", sev.c_str(), i["part"].get<std::string>().c_str(), i["message"].get<std::string>().c_str());
+    }
+    std::printf("  validation %zu errors, %zu warnings\n", errors, warnings);
+}
+
+}  // namespace
+
+void addInfo(CLI::App& app, int& exitCode) {
+    auto files = std::make_shared<std::vector<std::string>>();
+    auto asJson = std::make_shared<bool>(false);
+    CLI::App* cmd = app.add_subcommand("info", "Describe and validate model files");
+    cmd->add_option("FILE", *files, "Model files (.glb .gltf .obj .ts Geo3DML .xml)")->required();
+    cmd->add_flag("--json", *asJson, "One JSON document (an array when several files are given)");
+    cmd->callback([files, asJson, &exitCode] {
+        json all = json::array();
+        for (const auto& f : *files) {
+            auto m = loadModel(f);
+            if (!m) {
+                std::fprintf(stderr, "geoslice info: %s\n", m.error().message.c_str());
+                all.push_back({{"file", f}, {"ok", false}, {"error", {{"code", errorCodeName(m.error().code)}, {"message", m.error().message}}}});
+                exitCode = 1;
+                continue;
+            }
+            json j = modelJson(f, m.value());
+            if (!j["ok"].get<bool>()) exitCode = 1;
+            if (!*asJson) printText(j);
+            all.push_back(std::move(j));
+        }
+        if (*asJson) std::printf("%s\n", (all.size() == 1 ? all[0] : all).dump(2).c_str());
+    });
+}
+
+}  // namespace geoslice::cli

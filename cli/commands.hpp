@@ -1,0 +1,14 @@
+// The geoslice executable's subcommands. Each add* registers one subcommand on `app`;
+// its callback stores the process exit code in `exitCode` (0 ok, 1 failure, 2 usage).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace geoslice::cli {
+
+void addGenerate(CLI::App& app, int& exitCode);
+void addInfo(CLI::App& app, int& exitCode);
+void addCoords(CLI::App& app, int& exitCode);
+void addClassify(CLI::App& app, int& exitCode);
+
+}  // namespace geoslice::cli

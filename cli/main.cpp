@@ -1,0 +1,27 @@
+// geoslice: one executable, one subcommand per task (generate, info, coords, classify...).
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/commands.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"geoslice: cut 3D geological models with planes and serve the sections"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "geoslice 0.1.0");
+    int exitCode = 0;
+    geoslice::cli::addGenerate(app, exitCode);
+    geoslice::cli::addInfo(app, exitCode);
+    geoslice::cli::addCoords(app, exitCode);
+    geoslice::cli::addClassify(app, exitCode);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "geoslice: error: %s\n", e.what());
+        return 1;
+    }
+    return exitCode;
+}

@@ -1,0 +1,30 @@
+# Every dependency comes from a Debian 12 package (scripts/install-deps.sh).
+find_package(Threads REQUIRED)
+find_package(glm REQUIRED)
+find_package(Eigen3 REQUIRED NO_MODULE)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(pugixml REQUIRED)
+find_package(draco REQUIRED)
+find_package(embree 3 REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(spdlog REQUIRED)
+find_package(fmt REQUIRED)
+
+# GeographicLib ships only a find-module on Debian.
+list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)
+find_package(GeographicLib REQUIRED)
+add_library(geoslice_geographiclib INTERFACE)
+target_include_directories(geoslice_geographiclib SYSTEM INTERFACE ${GeographicLib_INCLUDE_DIRS})
+target_link_libraries(geoslice_geographiclib INTERFACE ${GeographicLib_LIBRARIES})
+
+# tinygltf: Debian's shared library is built without Draco, so model/ compiles the
+# implementation from Debian's header once, with TINYGLTF_ENABLE_DRACO.
+find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)
+find_path(STB_INCLUDE_DIR stb_image.h PATHS /usr/include/stb REQUIRED)
+
+if(GEOSLICE_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(GEOSLICE_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

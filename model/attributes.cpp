@@ -1,0 +1,304 @@
+#include "model/attributes.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace geoslice {
+namespace {
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r' || s.front() == '\n')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '\n')) s.remove_suffix(1);
+    return s;
+}
+
+std::optional<double> parseDouble(std::string_view s) {
+    s = trim(s);
+    if (s.empty()) return std::nullopt;
+    if (s.front() == '+') s.remove_prefix(1);
+    double v = 0.0;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || p != s.data() + s.size() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+std::optional<RecordId> parseId(std::string_view s) {
+    s = trim(s);
+    std::uint64_t v = 0;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || p != s.data() + s.size() || v == 0 || v > 0xFFFFFFFEull) return std::nullopt;
+    return static_cast<RecordId>(v);
+}
+
+// RFC 4180 fields of one record; `pos` advances past the record's line end.
+std::vector<std::string> csvRecord(std::string_view text, std::size_t& pos, bool& badQuote) {
+    std::vector<std::string> fields;
+    std::string cur;
+    bool inQuotes = false;
+    badQuote = false;
+    while (pos < text.size()) {
+        char c = text[pos++];
+        if (inQuotes) {
+            if (c == '"') {
+                if (pos < text.size() && text[pos] == '"') {
+                    cur += '"';
+                    ++pos;
+                } else {
+                    inQuotes = false;
+                }
+            } else {
+                cur += c;
+            }
+        } else if (c == '"') {
+            inQuotes = true;
+        } else if (c == ',') {
+            fields.push_back(std::move(cur));
+            cur.clear();
+        } else if (c == '\n') {
+            break;
+        } else if (c != '\r') {
+            cur += c;
+        }
+    }
+    if (inQuotes) badQuote = true;
+    fields.push_back(std::move(cur));
+    return fields;
+}
+
+int hexDigit(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+}  // namespace
+
+std::optional<Rgba8> parseColour(std::string_view text) {
+    text = trim(text);
+    if (text.empty()) return std::nullopt;
+    if (text.front() == '#') {
+        text.remove_prefix(1);
+        if (text.size() != 6 && text.size() != 8) return std::nullopt;
+        std::uint8_t ch[4] = {0, 0, 0, 255};
+        for (std::size_t i = 0; i < text.size() / 2; ++i) {
+            int hi = hexDigit(text[2 * i]), lo = hexDigit(text[2 * i + 1]);
+            if (hi < 0 || lo < 0) return std::nullopt;
+            ch[i] = static_cast<std::uint8_t>(hi * 16 + lo);
+        }
+        return Rgba8{ch[0], ch[1], ch[2], ch[3]};
+    }
+    // Whitespace- or comma-separated numbers: all <= 1 means 0..1 floats (GOCAD), else 0..255.
+    std::vector<double> v;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        while (i < text.size() && (text[i] == ' ' || text[i] == ',' || text[i] == '\t')) ++i;
+        std::size_t j = i;
+        while (j < text.size() && text[j] != ' ' && text[j] != ',' && text[j] != '\t') ++j;
+        if (j > i) {
+            auto d = parseDouble(text.substr(i, j - i));
+            if (!d || *d < 0.0 || *d > 255.0) return std::nullopt;
+            v.push_back(*d);
+        }
+        i = j;
+    }
+    if (v.size() != 3 && v.size() != 4) return std::nullopt;
+    bool unit = true;
+    for (double d : v) unit = unit && d <= 1.0;
+    auto to8 = [&](double d) { return static_cast<std::uint8_t>(std::lround(unit ? d * 255.0 : d)); };
+    return Rgba8{to8(v[0]), to8(v[1]), to8(v[2]), v.size() == 4 ? to8(v[3]) : std::uint8_t(255)};
+}
+
+std::string formatColour(Rgba8 c) {
+    char buf[16];
+    if (c.a == 255)
+        std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c.r, c.g, c.b);
+    else
+        std::snprintf(buf, sizeof buf, "#%02x%02x%02x%02x", c.r, c.g, c.b, c.a);
+    return buf;
+}
+
+nlohmann::ordered_json AttributeRecord::toJson() const {
+    nlohmann::ordered_json j;
+    j["id"] = id;
+    j["name"] = name;
+    if (!kind.empty()) j["kind"] = kind;
+    if (!lithology.empty()) j["lithology"] = lithology;
+    if (!age.empty()) j["age"] = age;
+    if (!era.empty()) j["era"] = era;
+    j["colour"] = formatColour(colour);
+    if (density) j["density"] = *density;
+    if (grade) j["grade"] = *grade;
+    if (!gradeUnit.empty()) j["grade_unit"] = gradeUnit;
+    for (const auto& [k, v] : extra.items()) j[k] = v;
+    return j;
+}
+
+void AttributeTable::put(AttributeRecord r) {
+    GS_ASSERT(r.id != kNoRecord, "record id 0 is reserved for 'no geology'");
+    records_[r.id] = std::move(r);
+}
+
+RecordId AttributeTable::add(AttributeRecord r) {
+    r.id = nextId();
+    RecordId id = r.id;
+    put(std::move(r));
+    return id;
+}
+
+const AttributeRecord* AttributeTable::find(RecordId id) const {
+    auto it = records_.find(id);
+    return it == records_.end() ? nullptr : &it->second;
+}
+
+AttributeRecord* AttributeTable::find(RecordId id) {
+    auto it = records_.find(id);
+    return it == records_.end() ? nullptr : &it->second;
+}
+
+const AttributeRecord* AttributeTable::findByName(std::string_view name) const {
+    for (const auto& [id, r] : records_)
+        if (r.name == name) return &r;
+    return nullptr;
+}
+
+RecordId AttributeTable::nextId() const { return records_.empty() ? 1 : records_.rbegin()->first + 1; }
+
+nlohmann::ordered_json AttributeTable::toJson() const {
+    nlohmann::ordered_json arr = nlohmann::ordered_json::array();
+    for (const auto& [id, r] : records_) arr.push_back(r.toJson());
+    nlohmann::ordered_json j;
+    j["records"] = std::move(arr);
+    return j;
+}
+
+Result<AttributeTable> AttributeTable::fromJson(const nlohmann::json& j, const std::string& source) {
+    const nlohmann::json* arr = &j;
+    if (j.is_object() && j.contains("records")) arr = &j["records"];
+    if (!arr->is_array())
+        return makeError(ErrorCode::ParseError, source + ": expected an array of records or {\"records\": [...]}");
+    AttributeTable table;
+    std::size_t index = 0;
+    for (const auto& o : *arr) {
+        std::string where = source + ": record " + std::to_string(index++);
+        if (!o.is_object()) return makeError(ErrorCode::ParseError, where + " is not an object");
+        AttributeRecord r;
+        auto idIt = o.find("id");
+        if (idIt == o.end() || !idIt->is_number_unsigned() || idIt->get<std::uint64_t>() == 0 ||
+            idIt->get<std::uint64_t>() > 0xFFFFFFFEull)
+            return makeError(ErrorCode::ParseError, where + ": \"id\" must be an integer in 1..4294967294");
+        r.id = idIt->get<RecordId>();
+        if (table.find(r.id)) return makeError(ErrorCode::ParseError, where + ": duplicate id " + std::to_string(r.id));
+        for (const auto& [key, value] : o.items()) {
+            auto str = [&](std::string& out) -> Status {
+                if (!value.is_string()) return makeError(ErrorCode::ParseError, where + ": \"" + key + "\" must be a string");
+                out = value.get<std::string>();
+                return {};
+            };
+            auto num = [&](std::optional<double>& out) -> Status {
+                if (value.is_null()) return {};
+                if (!value.is_number() || !std::isfinite(value.get<double>()))
+                    return makeError(ErrorCode::ParseError, where + ": \"" + key + "\" must be a finite number");
+                out = value.get<double>();
+                return {};
+            };
+            Status s;
+            if (key == "id") continue;
+            if (key == "name") s = str(r.name);
+            else if (key == "kind") s = str(r.kind);
+            else if (key == "lithology") s = str(r.lithology);
+            else if (key == "age") s = str(r.age);
+            else if (key == "era") s = str(r.era);
+            else if (key == "grade_unit") s = str(r.gradeUnit);
+            else if (key == "density") s = num(r.density);
+            else if (key == "grade") s = num(r.grade);
+            else if (key == "colour" || key == "color") {
+                std::optional<Rgba8> c = value.is_string() ? parseColour(value.get<std::string>()) : std::nullopt;
+                if (!c) return makeError(ErrorCode::ParseError, where + ": \"" + key + "\" is not a colour like \"#a0b0c0\"");
+                r.colour = *c;
+            } else {
+                r.extra[key] = value;
+            }
+            if (!s) return s.error();
+        }
+        table.put(std::move(r));
+    }
+    return table;
+}
+
+Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std::string& source) {
+    std::size_t pos = 0;
+    bool badQuote = false;
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") pos = 3;  // UTF-8 byte order mark
+    std::vector<std::string> header = csvRecord(text, pos, badQuote);
+    if (badQuote) return makeError(ErrorCode::ParseError, source + ": line 1: unterminated quote");
+    int idCol = -1;
+    for (std::size_t c = 0; c < header.size(); ++c) {
+        header[c] = std::string(trim(header[c]));
+        if (header[c] == "id") idCol = static_cast<int>(c);
+    }
+    if (idCol < 0) return makeError(ErrorCode::ParseError, source + ": line 1: the header has no \"id\" column");
+    AttributeTable table;
+    std::size_t line = 1;
+    while (pos < text.size()) {
+        ++line;
+        std::vector<std::string> f = csvRecord(text, pos, badQuote);
+        std::string where = source + ": line " + std::to_string(line);
+        if (badQuote) return makeError(ErrorCode::ParseError, where + ": unterminated quote");
+        if (f.size() == 1 && trim(f[0]).empty()) continue;
+        if (f.size() != header.size())
+            return makeError(ErrorCode::ParseError, where + ": " + std::to_string(f.size()) + " fields, header has " +
+                                                        std::to_string(header.size()));
+        AttributeRecord r;
+        auto id = parseId(f[static_cast<std::size_t>(idCol)]);
+        if (!id) return makeError(ErrorCode::ParseError, where + ": id \"" + f[static_cast<std::size_t>(idCol)] + "\" is not an integer in 1..4294967294");
+        r.id = *id;
+        if (table.find(r.id)) return makeError(ErrorCode::ParseError, where + ": duplicate id " + std::to_string(r.id));
+        for (std::size_t c = 0; c < header.size(); ++c) {
+            const std::string& key = header[c];
+            std::string value(trim(f[c]));
+            if (static_cast<int>(c) == idCol) continue;
+            if (key == "name") r.name = value;
+            else if (key == "kind") r.kind = value;
+            else if (key == "lithology") r.lithology = value;
+            else if (key == "age") r.age = value;
+            else if (key == "era") r.era = value;
+            else if (key == "grade_unit") r.gradeUnit = value;
+            else if (key == "density" || key == "grade") {
+                if (value.empty()) continue;
+                auto d = parseDouble(value);
+                if (!d) return makeError(ErrorCode::ParseError, where + ": " + key + " \"" + value + "\" is not a finite number");
+                (key == "density" ? r.density : r.grade) = *d;
+            } else if (key == "colour" || key == "color") {
+                if (value.empty()) continue;
+                auto col = parseColour(value);
+                if (!col) return makeError(ErrorCode::ParseError, where + ": colour \"" + value + "\" is not like #a0b0c0");
+                r.colour = *col;
+            } else if (auto d = parseDouble(value)) {
+                r.extra[key] = *d;
+            } else {
+                r.extra[key] = value;
+            }
+        }
+        table.put(std::move(r));
+    }
+    return table;
+}
+
+Result<AttributeTable> AttributeTable::load(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return makeError(ErrorCode::IoError, path + ": cannot open attribute table");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    bool json = path.size() >= 5 && path.substr(path.size() - 5) == ".json";
+    if (!json) return fromCsv(text, path);
+    nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded()) return makeError(ErrorCode::ParseError, path + ": not valid JSON");
+    return fromJson(j, path);
+}
+
+}  // namespace geoslice

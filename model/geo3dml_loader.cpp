@@ -1,0 +1,1064 @@
+// Geo3DML loader. Geo3DML is the China Geological Survey's GML-based XML exchange format for
+// 3D geological models (schema and examples: WuZixing/Geo3DML, v1.0).
+//
+// What is read:
+//  - a Geo3DModel root, or every Geo3DModel inlined in a Geo3DProject;
+//  - each GeoFeature under FeatureClasses/FeatureClass/GeoFeatureClass/Features/Feature whose
+//    Geometry/Shape holds triangles: geo3dml:GeoTin (Vertices/Vertex "x y z" with IndexNo,
+//    Triangles/Triangle/VertexList of three IndexNo values), or gml:TriangulatedSurface /
+//    gml:Tin patches of gml:Triangle rings, also when wrapped (gml:Solid, Shell, MultiSurface).
+//    All triangles of one feature form one Part; closed parts become bodies, open ones
+//    surfaces (finishLoadedModel decides finally, by closure);
+//  - the feature's Fields -> one AttributeRecord per part (see buildRecord);
+//  - Metadata/SpatialReferenceSystem/CoordinateReferenceSystem (Identifier "EPSG",
+//    Parameter "4526") or a geometry's srsName -> Model::crs;
+//  - Geo3DModel/Name (or Geo3DProject/Name) -> Model::name.
+// Skipped without error: grids, tetrahedral / cuboid / prism volumes, points and lines
+// (boreholes, sections) and coverages (ShapeProperty). A file with no triangles at all is an
+// Unsupported error that says what the file held.
+//
+// Elements and attributes are matched by local name, so namespace prefixes do not matter.
+// Coordinates are taken as world x east, y north, z up, metres, in the file's order, except
+// that a projected CGCS2000 file written northing first is detected and swapped
+// (fixAxisOrder). Declared counts (posList count, VertexList ItemCount/Length) are only
+// compared with what is present, never used to size anything.
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <unordered_map>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include <iconv.h>
+
+#include <pugixml.hpp>
+
+#include "model/loaders.hpp"
+
+namespace geoslice {
+namespace {
+
+// Innermost elements shown in an error's element path; deeper paths start with ".../".
+constexpr std::size_t kMaxPathElements = 12;
+// Longest piece of input text quoted in an error message, in bytes.
+constexpr std::size_t kMaxQuotedBytes = 40;
+// Gauss-Kruger eastings lie within this distance of the false easting (metres): a 6-degree
+// zone at 18 N (southern China) reaches about 318 km from its central meridian.
+constexpr double kMaxOffsetFromFalseEastingM = 500000.0;
+// Projected northings of CGCS2000 Gauss-Kruger coordinates (northern hemisphere), metres.
+constexpr double kMaxNorthingM = 10002000.0;
+
+// --- small string helpers ------------------------------------------------------------------
+
+bool isXmlSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && isXmlSpace(s.front())) s.remove_prefix(1);
+    while (!s.empty() && isXmlSpace(s.back())) s.remove_suffix(1);
+    return s;
+}
+
+char asciiLower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+
+std::string asciiLowerCopy(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = asciiLower(c);
+    return out;
+}
+
+bool startsWithNoCase(std::string_view s, std::string_view prefix) {
+    if (s.size() < prefix.size()) return false;
+    for (std::size_t i = 0; i < prefix.size(); ++i)
+        if (asciiLower(s[i]) != asciiLower(prefix[i])) return false;
+    return true;
+}
+
+bool isDigits(std::string_view s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// Length of the valid UTF-8 sequence starting at s[i], or 0 when it is not valid (overlong
+// forms, surrogates and code points above U+10FFFF are invalid).
+std::size_t utf8SequenceLength(std::string_view s, std::size_t i) {
+    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = byte(i);
+    if (c < 0x80) return 1;
+    std::size_t len = 0;
+    std::uint32_t cp = 0;
+    if (c >= 0xC2 && c <= 0xDF) {
+        len = 2;
+        cp = c & 0x1Fu;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+        len = 3;
+        cp = c & 0x0Fu;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        len = 4;
+        cp = c & 0x07u;
+    } else {
+        return 0;
+    }
+    if (i + len > s.size()) return 0;
+    for (std::size_t k = 1; k < len; ++k) {
+        if ((byte(i + k) & 0xC0u) != 0x80u) return 0;
+        cp = (cp << 6) | (byte(i + k) & 0x3Fu);
+    }
+    if ((len == 3 && cp < 0x800) || (len == 4 && (cp < 0x10000 || cp > 0x10FFFF))) return 0;
+    if (cp >= 0xD800 && cp <= 0xDFFF) return 0;
+    return len;
+}
+
+bool isValidUtf8(std::string_view s) {
+    for (std::size_t i = 0; i < s.size();) {
+        const std::size_t len = utf8SequenceLength(s, i);
+        if (len == 0) return false;
+        i += len;
+    }
+    return true;
+}
+
+// Input text made safe to put in a message (messages end up in JSON, which needs UTF-8):
+// valid UTF-8 characters are kept, control characters and invalid bytes become \xNN, and
+// the result is cut at about maxBytes.
+std::string quoted(std::string_view s, std::size_t maxBytes = kMaxQuotedBytes) {
+    std::string out;
+    for (std::size_t i = 0; i < s.size();) {
+        if (out.size() >= maxBytes) {
+            out += "...";
+            break;
+        }
+        const std::size_t len = utf8SequenceLength(s, i);
+        const auto c = static_cast<unsigned char>(s[i]);
+        if (len == 0 || c < 0x20 || c == 0x7F) {
+            static constexpr char kHex[] = "0123456789abcdef";
+            out += "\\x";
+            out += kHex[c >> 4];
+            out += kHex[c & 0xF];
+            i += 1;
+        } else {
+            out.append(s.substr(i, len));
+            i += len;
+        }
+    }
+    return out;
+}
+
+// --- pugixml helpers, by local name ---------------------------------------------------------
+
+std::string_view localName(const char* qualified) {
+    std::string_view s(qualified);
+    const std::size_t colon = s.rfind(':');
+    return colon == std::string_view::npos ? s : s.substr(colon + 1);
+}
+
+bool isNamed(pugi::xml_node n, std::string_view local) {
+    return n.type() == pugi::node_element && localName(n.name()) == local;
+}
+
+pugi::xml_node childNamed(pugi::xml_node n, std::string_view local) {
+    for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
+        if (isNamed(c, local)) return c;
+    return {};
+}
+
+pugi::xml_node firstElementChild(pugi::xml_node n) {
+    for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
+        if (c.type() == pugi::node_element) return c;
+    return {};
+}
+
+pugi::xml_attribute attributeNamed(pugi::xml_node n, std::string_view local) {
+    for (pugi::xml_attribute a = n.first_attribute(); a; a = a.next_attribute())
+        if (localName(a.name()) == local) return a;
+    return {};
+}
+
+// Text content directly inside n (all PCDATA and CDATA children, in order), as decoded by
+// pugixml (entities expanded, line ends normalised); not trimmed.
+std::string textOf(pugi::xml_node n) {
+    std::string s;
+    for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
+        if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) s += c.value();
+    return s;
+}
+
+// Calls f(child) for each element child of `parent` named `wrapper` (using its children
+// named `inner`) or named `inner` directly: Geo3DML wraps most lists twice
+// (Features/Feature/GeoFeature), and some writers leave the middle level out.
+template <class F>
+void forEachWrapped(pugi::xml_node parent, std::string_view wrapper, std::string_view inner, F&& f) {
+    for (pugi::xml_node c = parent.first_child(); c; c = c.next_sibling()) {
+        if (isNamed(c, wrapper)) {
+            for (pugi::xml_node d = c.first_child(); d; d = d.next_sibling())
+                if (isNamed(d, inner)) f(d);
+        } else if (isNamed(c, inner)) {
+            f(c);
+        }
+    }
+}
+
+enum class Walk { Descend, Skip, Stop };
+
+// Visits the element descendants of root in document order without recursion (inputs may
+// nest arbitrarily deep). visit returns Descend, Skip (its subtree) or Stop.
+template <class F>
+void walkElements(pugi::xml_node root, F&& visit) {
+    pugi::xml_node n = root.first_child();
+    while (n) {
+        Walk w = Walk::Skip;
+        if (n.type() == pugi::node_element) {
+            w = visit(n);
+            if (w == Walk::Stop) return;
+        }
+        if (w == Walk::Descend && n.first_child()) {
+            n = n.first_child();
+            continue;
+        }
+        while (n != root && !n.next_sibling()) n = n.parent();
+        if (n == root) return;
+        n = n.next_sibling();
+    }
+}
+
+// "/Geo3DModel/FeatureClasses/.../Triangle[7]/VertexList": local names, with a 1-based
+// position among same-named siblings where there are several.
+std::string elementPath(pugi::xml_node n) {
+    std::vector<std::string> parts;
+    bool truncated = false;
+    for (; n && n.type() == pugi::node_element; n = n.parent()) {
+        if (parts.size() == kMaxPathElements) {
+            truncated = true;
+            break;
+        }
+        const std::string_view name = localName(n.name());
+        std::size_t position = 1, same = 1;
+        for (pugi::xml_node s = n.previous_sibling(); s; s = s.previous_sibling())
+            if (s.type() == pugi::node_element && localName(s.name()) == name) ++position, ++same;
+        for (pugi::xml_node s = n.next_sibling(); s && same < 2; s = s.next_sibling())
+            if (s.type() == pugi::node_element && localName(s.name()) == name) ++same;
+        std::string part = quoted(name);
+        if (same > 1) {
+            part += '[';
+            part += std::to_string(position);
+            part += ']';
+        }
+        parts.push_back(std::move(part));
+    }
+    std::string path = truncated ? "..." : "";
+    for (auto it = parts.rbegin(); it != parts.rend(); ++it) path += "/" + *it;
+    return path;
+}
+
+// --- numbers ---------------------------------------------------------------------------------
+
+// Splits on XML white space; calls f(token) for each; stops when f returns false.
+template <class F>
+void forEachToken(std::string_view text, F&& f) {
+    std::size_t i = 0;
+    while (i < text.size()) {
+        while (i < text.size() && isXmlSpace(text[i])) ++i;
+        const std::size_t start = i;
+        while (i < text.size() && !isXmlSpace(text[i])) ++i;
+        if (i > start && !f(text.substr(start, i - start))) return;
+    }
+}
+
+// A whole token as a double (GML xs:double; a leading '+' is allowed). nullopt if it is
+// not a number; NaN and infinities parse and are rejected by the caller.
+std::optional<double> parseDouble(std::string_view token) {
+    if (token.size() > 1 && token.front() == '+' && token[1] != '-' && token[1] != '+') token.remove_prefix(1);
+    double v = 0.0;
+    const char* end = token.data() + token.size();
+    const auto [ptr, ec] = std::from_chars(token.data(), end, v, std::chars_format::general);
+    if (ptr != end) return std::nullopt;
+    if (ec == std::errc::result_out_of_range) {
+        // from_chars leaves v untouched when the value is beyond a double: a negative exponent
+        // underflows towards 0, anything else overflows (and is then rejected as infinite).
+        const std::size_t e = token.find_first_of("eE");
+        if (e != std::string_view::npos && e + 1 < token.size() && token[e + 1] == '-') return 0.0;
+        return std::numeric_limits<double>::infinity();
+    }
+    if (ec != std::errc()) return std::nullopt;
+    return v;
+}
+
+std::optional<std::int64_t> parseInt(std::string_view token) {
+    if (token.size() > 1 && token.front() == '+' && token[1] != '-' && token[1] != '+') token.remove_prefix(1);
+    std::int64_t v = 0;
+    const char* end = token.data() + token.size();
+    const auto [ptr, ec] = std::from_chars(token.data(), end, v);
+    if (ec != std::errc() || ptr != end) return std::nullopt;
+    return v;
+}
+
+// --- the reader ------------------------------------------------------------------------------
+
+// What a file held that is not a TIN, for the "no triangles" message.
+struct Census {
+    std::vector<std::pair<std::string, std::size_t>> items;  // description, count; file order
+    void add(const std::string& what) {
+        for (auto& [name, count] : items)
+            if (name == what) {
+                ++count;
+                return;
+            }
+        items.emplace_back(what, 1);
+    }
+};
+
+// A readable description of a non-TIN geometry element.
+std::string describeGeometry(std::string_view local) {
+    static const std::pair<std::string_view, std::string_view> kNames[] = {
+        {"GeoTin", "empty TIN"},
+        {"TriangulatedSurface", "empty triangulated surface"},
+        {"Tin", "empty triangulated surface"},
+        {"RectifiedGrid", "regular grid"},
+        {"Grid", "grid"},
+        {"GeoTetrahedronVolume", "tetrahedral volume"},
+        {"GeoCuboidVolume", "cuboid volume"},
+        {"GeoTriangularPrismVolume", "triangular prism volume"},
+        {"GeoTruncatedRegularGrid", "truncated regular grid"},
+        {"GeoCornerPointGrid", "corner-point grid"},
+        {"GeoSGrid", "S-grid"},
+        {"GeoPolyhedronVolume", "polyhedron volume"},
+        {"GeoVolume", "volume"},
+        {"Point", "point"},
+        {"MultiPoint", "point set"},
+        {"LineString", "line string"},
+        {"Curve", "curve"},
+        {"CompositeCurve", "curve"},
+        {"MultiCurve", "curve set"},
+        {"Polygon", "polygon"},
+        {"Surface", "polygon surface"},
+        {"MultiSurface", "polygon surface"},
+        {"PolyhedralSurface", "polygon surface"},
+        {"Solid", "solid"},
+    };
+    for (const auto& [name, description] : kNames)
+        if (name == local) return std::string(description) + " (" + std::string(local) + ")";
+    return "<" + quoted(local) + "> geometry";
+}
+
+// True when every undirected edge is used by exactly two triangles (a closed 2-manifold).
+bool isClosed(const Mesh& mesh) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+    edges.reserve(mesh.indices.size());
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+        for (std::size_t k = 0; k < 3; ++k) {
+            std::uint32_t a = mesh.indices[t + k], b = mesh.indices[t + (k + 1) % 3];
+            if (a > b) std::swap(a, b);
+            edges.emplace_back(a, b);
+        }
+    if (edges.empty()) return false;
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        if (j - i != 2) return false;
+        i = j;
+    }
+    return true;
+}
+
+class Reader {
+public:
+    explicit Reader(const std::string& source) : source_(source) {}
+
+    Result<Model> run(std::string_view text);
+
+private:
+    // "<source>: byte 1234 in /Geo3DModel/...: what"
+    Error fail(ErrorCode code, pugi::xml_node at, const std::string& what) const {
+        std::string msg = source_ + ": ";
+        if (at) {
+            const std::ptrdiff_t offset = at.offset_debug();
+            if (offset >= 0) msg += "byte " + std::to_string(offset) + converted_ + " in ";
+            msg += elementPath(at) + ": ";
+        }
+        return makeError(code, msg + what);
+    }
+    Error fail(pugi::xml_node at, const std::string& what) const { return fail(ErrorCode::ParseError, at, what); }
+
+    std::optional<Error> readModelElement(pugi::xml_node modelNode, Model& model);
+    std::optional<Error> readFeature(pugi::xml_node feature, std::string_view className, Model& model);
+    std::optional<Error> appendGeoTin(pugi::xml_node tin, Mesh& mesh) const;
+    std::optional<Error> appendGmlTriangles(pugi::xml_node surface, Mesh& mesh) const;
+    std::optional<Error> checkSrsDimension(pugi::xml_node n) const;
+    std::optional<Error> checkDeclaredCount(pugi::xml_node n, std::string_view attr, std::size_t actual,
+                                            std::string_view what) const;
+    std::optional<Error> readText(pugi::xml_node n, std::string& out) const;
+    Result<AttributeRecord> buildRecord(pugi::xml_node feature, const std::string& featureName,
+                                        std::string_view className, bool closed) const;
+    void applyCrs(Model& model, AttributeRecord* notes) const;
+    Error nothingToLoad(pugi::xml_node root, const std::string& modelName) const;
+
+    const std::string& source_;
+    std::string converted_;      // " (after GB18030 -> UTF-8 conversion)" when it applies
+    std::string declaredCrs_;    // from Metadata, e.g. "EPSG:4526"
+    std::string srsName_;        // first srsName on a geometry
+    std::string modelType_;      // Geo3DModel/Type: 3DModel, Section, Drill, ...
+    Census census_;
+    std::vector<std::string> includes_;  // xi:include hrefs of a project
+    std::size_t featuresWithoutGeometry_ = 0;
+};
+
+// Declared GB2312 / GBK / GB18030 (common in Chinese tools) is converted to UTF-8 here, as
+// pugixml only knows the UTF and Latin-1 encodings. GB18030 is a superset of the other two.
+bool declaresGbEncoding(std::string_view text) {
+    if (!startsWithNoCase(text, "<?xml")) return false;
+    const std::size_t end = text.find("?>");
+    if (end == std::string_view::npos || end > 1024) return false;
+    const std::string decl = asciiLowerCopy(text.substr(0, end));
+    std::size_t at = decl.find("encoding");
+    if (at == std::string::npos) return false;
+    at = decl.find_first_of("\"'", at);
+    if (at == std::string::npos) return false;
+    const std::size_t close = decl.find(decl[at], at + 1);
+    if (close == std::string::npos) return false;
+    const std::string enc = decl.substr(at + 1, close - at - 1);
+    return enc == "gb2312" || enc == "gbk" || enc == "gb18030" || enc == "cp936" || enc == "x-gbk" ||
+           enc == "euc-cn";
+}
+
+// GB18030 -> UTF-8 with iconv. On failure returns the byte offset where it stopped.
+std::variant<std::string, std::size_t> gb18030ToUtf8(std::string_view in) {
+    iconv_t cd = iconv_open("UTF-8", "GB18030");
+    if (cd == reinterpret_cast<iconv_t>(-1)) return std::size_t(0);
+    std::string out;
+    out.resize(in.size() + in.size() / 2 + 16);  // GB18030 -> UTF-8 grows by at most 1.5x
+    char* inPtr = const_cast<char*>(in.data());  // iconv's interface is not const-correct
+    std::size_t inLeft = in.size();
+    char* outPtr = out.data();
+    std::size_t outLeft = out.size();
+    const std::size_t r = iconv(cd, &inPtr, &inLeft, &outPtr, &outLeft);
+    iconv_close(cd);
+    if (r == static_cast<std::size_t>(-1) || inLeft != 0) return static_cast<std::size_t>(inPtr - in.data());
+    out.resize(out.size() - outLeft);
+    return out;
+}
+
+Result<Model> Reader::run(std::string_view text) {
+    if (trim(text).empty()) return fail({}, "empty input, not a Geo3DML document");
+
+    std::string convertedText;
+    pugi::xml_encoding encoding = pugi::encoding_auto;
+    if (declaresGbEncoding(text)) {
+        auto conv = gb18030ToUtf8(text);
+        if (std::holds_alternative<std::size_t>(conv))
+            return fail({}, "byte " + std::to_string(std::get<std::size_t>(conv)) +
+                                ": not valid GB18030 text although the XML declaration says GB2312/GBK/GB18030");
+        convertedText = std::move(std::get<std::string>(conv));
+        text = convertedText;
+        encoding = pugi::encoding_utf8;
+        converted_ = " (of the text converted from GB18030 to UTF-8)";
+    }
+
+    pugi::xml_document doc;
+    const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size(), pugi::parse_default, encoding);
+    if (!parsed) {
+        std::string what = parsed.status == pugi::status_no_document_element
+                               ? "not XML: no root element"
+                               : std::string("not well-formed XML (truncated or malformed): ") + parsed.description();
+        return fail({}, "byte " + std::to_string(parsed.offset) + converted_ + ": " + what);
+    }
+    const pugi::xml_node root = doc.document_element();
+    for (pugi::xml_node n = root.next_sibling(); n; n = n.next_sibling())
+        if (n.type() == pugi::node_element) return fail(n, "a second root element; XML allows one");
+
+    const std::string_view rootName = localName(root.name());
+    Model model;
+    model.source = source_;
+
+    if (rootName == "Geo3DMap")
+        return fail(ErrorCode::Unsupported, root,
+                    "a Geo3DMap holds display styles for layers of a model, no geometry; load the "
+                    "Geo3DModel file its layers refer to");
+    if (rootName == "Geo3DModel") {
+        if (auto err = readModelElement(root, model)) return std::move(*err);
+    } else if (rootName == "Geo3DProject") {
+        std::string projectName;
+        if (auto err = readText(childNamed(root, "Name"), projectName)) return std::move(*err);
+        model.name = std::string(trim(projectName));
+        std::optional<Error> error;
+        walkElements(root, [&](pugi::xml_node n) {
+            const std::string_view name = localName(n.name());
+            if (name == "Geo3DModel") {
+                error = readModelElement(n, model);
+                return error ? Walk::Stop : Walk::Skip;
+            }
+            if (name == "include") {
+                includes_.push_back(quoted(attributeNamed(n, "href").value(), 200));
+                return Walk::Skip;
+            }
+            return Walk::Descend;
+        });
+        if (error) return std::move(*error);
+    } else {
+        return fail(root, "root element is <" + quoted(root.name()) +
+                              ">, not Geo3DML (expected Geo3DModel or Geo3DProject)");
+    }
+
+    if (model.bodies.empty() && model.surfaces.empty()) return nothingToLoad(root, model.name);
+
+    AttributeRecord* notes = nullptr;
+    if (!model.attributes.empty()) notes = model.attributes.find(model.attributes.records().begin()->first);
+    applyCrs(model, notes);
+    finishLoadedModel(model, /*classifyByClosure=*/true);
+    return model;
+}
+
+std::optional<Error> Reader::readText(pugi::xml_node n, std::string& out) const {
+    out = textOf(n);
+    if (!isValidUtf8(out)) return fail(n, "text is not valid UTF-8 (declare the file's real encoding)");
+    return std::nullopt;
+}
+
+std::optional<Error> Reader::readModelElement(pugi::xml_node modelNode, Model& model) {
+    if (model.name.empty()) {
+        std::string name;
+        if (auto err = readText(childNamed(modelNode, "Name"), name)) return err;
+        model.name = std::string(trim(name));
+    }
+    if (modelType_.empty()) modelType_ = quoted(trim(textOf(childNamed(modelNode, "Type"))));
+
+    // Metadata/SpatialReferenceSystem/CoordinateReferenceSystem: <Identifier>EPSG</Identifier>
+    // <Parameter>4526</Parameter> in the samples.
+    const pugi::xml_node crsNode =
+        childNamed(childNamed(childNamed(modelNode, "Metadata"), "SpatialReferenceSystem"), "CoordinateReferenceSystem");
+    if (crsNode && declaredCrs_.empty()) {
+        std::string identifier, parameter;
+        if (auto err = readText(childNamed(crsNode, "Identifier"), identifier)) return err;
+        if (auto err = readText(childNamed(crsNode, "Parameter"), parameter)) return err;
+        const std::string_view id = trim(identifier), param = trim(parameter);
+        if (isDigits(param) && (id.empty() || asciiLowerCopy(id) == "epsg"))
+            declaredCrs_ = "EPSG:" + std::string(param);
+        else if (!id.empty())
+            declaredCrs_ = std::string(id) + (param.empty() ? "" : ":" + std::string(param));
+    }
+
+    std::optional<Error> error;
+    const pugi::xml_node classes = childNamed(modelNode, "FeatureClasses");
+    forEachWrapped(classes, "FeatureClass", "GeoFeatureClass", [&](pugi::xml_node featureClass) {
+        if (error) return;
+        std::string className;
+        if ((error = readText(childNamed(featureClass, "name"), className))) return;
+        forEachWrapped(childNamed(featureClass, "Features"), "Feature", "GeoFeature", [&](pugi::xml_node feature) {
+            if (!error) error = readFeature(feature, trim(className), model);
+        });
+    });
+    return error;
+}
+
+std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_view className, Model& model) {
+    const pugi::xml_node shape = childNamed(childNamed(feature, "Geometry"), "Shape");
+    if (!shape) {
+        ++featuresWithoutGeometry_;
+        return std::nullopt;
+    }
+    Mesh mesh;
+    std::optional<Error> error;
+    walkElements(shape, [&](pugi::xml_node n) {
+        if (srsName_.empty()) {
+            if (const pugi::xml_attribute srs = attributeNamed(n, "srsName")) srsName_ = srs.value();
+        }
+        const std::string_view name = localName(n.name());
+        if (name == "GeoTin") {
+            error = appendGeoTin(n, mesh);
+        } else if (name == "TriangulatedSurface" || name == "Tin") {
+            error = appendGmlTriangles(n, mesh);
+        } else if (name.starts_with("Geo") || name == "RectifiedGrid" || name == "Grid" || name == "Point" ||
+                   name == "LineString") {
+            return Walk::Skip;  // a Geo3DML volume / grid, or a point or line: nothing to triangulate
+        } else {
+            return Walk::Descend;  // gml:Solid, Shell, surfaceMember, MultiSurface... may wrap TINs
+        }
+        return error ? Walk::Stop : Walk::Skip;
+    });
+    if (error) return error;
+
+    if (mesh.indices.empty()) {
+        const pugi::xml_node geometry = firstElementChild(shape);
+        if (geometry) census_.add(describeGeometry(localName(geometry.name())));
+        else ++featuresWithoutGeometry_;
+        return std::nullopt;
+    }
+
+    std::string featureName;
+    if (auto err = readText(childNamed(feature, "name"), featureName)) return err;
+    featureName = std::string(trim(featureName));
+    if (featureName.empty()) featureName = quoted(attributeNamed(feature, "id").value(), 200);
+    if (featureName.empty())
+        featureName = "feature " + std::to_string(model.bodies.size() + model.surfaces.size() + 1);
+
+    // Provisional: finishLoadedModel classifies by closure again, after validation.
+    const bool closed = isClosed(mesh);
+    Result<AttributeRecord> record = buildRecord(feature, featureName, className, closed);
+    if (!record) return record.error();
+
+    Part part;
+    part.name = featureName;
+    part.record = model.attributes.add(std::move(record.value()));
+    part.mesh = std::move(mesh);
+    part.kind = closed ? PartKind::Body : PartKind::Surface;
+    (closed ? model.bodies : model.surfaces).push_back(std::move(part));
+    return std::nullopt;
+}
+
+std::optional<Error> Reader::checkSrsDimension(pugi::xml_node n) const {
+    const pugi::xml_attribute dim = attributeNamed(n, "srsDimension");
+    if (dim && trim(dim.value()) != "3")
+        return fail(n, "srsDimension=\"" + quoted(dim.value()) + "\"; only 3D coordinates (x y z) are supported");
+    return std::nullopt;
+}
+
+std::optional<Error> Reader::checkDeclaredCount(pugi::xml_node n, std::string_view attr, std::size_t actual,
+                                                std::string_view what) const {
+    const pugi::xml_attribute a = attributeNamed(n, attr);
+    if (!a) return std::nullopt;
+    const std::optional<std::int64_t> declared = parseInt(trim(a.value()));
+    if (!declared || *declared < 0)
+        return fail(n, std::string(attr) + "=\"" + quoted(a.value()) + "\" is not a count");
+    if (static_cast<std::uint64_t>(*declared) != actual)
+        return fail(n, std::string(attr) + "=" + std::to_string(*declared) + " but it holds " +
+                           std::to_string(actual) + " " + std::string(what));
+    return std::nullopt;
+}
+
+// Geo3DML's own TIN: Vertices/Vertex ("x y z", attribute IndexNo) and Triangles/Triangle/
+// VertexList (three IndexNo values; NeighborList is ignored). IndexNo is normally the
+// vertex's position; when it is not, a map from IndexNo to position is built.
+std::optional<Error> Reader::appendGeoTin(pugi::xml_node tin, Mesh& mesh) const {
+    if (auto err = checkSrsDimension(tin)) return err;
+    const std::size_t base = mesh.positions.size();
+    std::size_t count = 0;
+    bool identity = true;  // IndexNo == position for every vertex so far
+    std::unordered_map<std::uint64_t, std::uint32_t> byIndexNo;
+
+    for (pugi::xml_node v = childNamed(childNamed(tin, "Vertices"), "Vertex"); v; v = v.next_sibling()) {
+        if (!isNamed(v, "Vertex")) continue;
+        if (auto err = checkSrsDimension(v)) return err;
+        if (base + count >= std::numeric_limits<std::uint32_t>::max())
+            return fail(ErrorCode::OutOfRange, v, "more vertices than 32-bit indices can address");
+        std::array<double, 3> xyz{};
+        std::size_t n = 0;
+        std::optional<Error> error;
+        forEachToken(textOf(v), [&](std::string_view token) {
+            const std::optional<double> value = parseDouble(token);
+            if (!value) error = fail(v, "'" + quoted(token) + "' is not a number");
+            else if (!std::isfinite(*value)) error = fail(v, "coordinate '" + quoted(token) + "' is NaN or infinite");
+            else if (n < 3) xyz[n] = *value;
+            ++n;
+            return !error;
+        });
+        if (error) return error;
+        if (n != 3)
+            return fail(v, "a Vertex has " + std::to_string(n) + " coordinates; expected 3 (x y z)");
+
+        std::uint64_t indexNo = count;
+        if (const pugi::xml_attribute a = attributeNamed(v, "IndexNo")) {
+            const std::optional<std::int64_t> parsed = parseInt(trim(a.value()));
+            if (!parsed || *parsed < 0) return fail(v, "IndexNo=\"" + quoted(a.value()) + "\" is not a vertex index");
+            indexNo = static_cast<std::uint64_t>(*parsed);
+        }
+        if (identity && indexNo != count) {
+            identity = false;
+            byIndexNo.reserve(count + 1);
+            for (std::uint32_t k = 0; k < count; ++k) byIndexNo.emplace(k, k);
+        }
+        if (!identity && !byIndexNo.emplace(indexNo, static_cast<std::uint32_t>(count)).second)
+            return fail(v, "IndexNo " + std::to_string(indexNo) + " is used by two vertices");
+        mesh.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
+        ++count;
+    }
+
+    for (pugi::xml_node t = childNamed(childNamed(tin, "Triangles"), "Triangle"); t; t = t.next_sibling()) {
+        if (!isNamed(t, "Triangle")) continue;
+        const pugi::xml_node list = childNamed(t, "VertexList");
+        if (!list) return fail(t, "a Triangle without a VertexList");
+        std::array<std::uint64_t, 3> tri{};
+        std::size_t n = 0;
+        std::optional<Error> error;
+        forEachToken(textOf(list), [&](std::string_view token) {
+            const std::optional<std::int64_t> value = parseInt(token);
+            if (!value) error = fail(list, "'" + quoted(token) + "' is not a vertex index");
+            else if (*value < 0) error = fail(list, "negative vertex index " + std::to_string(*value));
+            else if (n < 3) tri[n] = static_cast<std::uint64_t>(*value);
+            ++n;
+            return !error;
+        });
+        if (error) return error;
+        if (auto err = checkDeclaredCount(list, "ItemCount", n, "indices")) return err;
+        if (auto err = checkDeclaredCount(list, "Length", n, "indices")) return err;
+        if (n != 3)
+            return fail(list, "a triangle with " + std::to_string(n) + " vertex indices; a TIN triangle has 3");
+        for (const std::uint64_t indexNo : tri) {
+            std::uint32_t position = 0;
+            if (identity) {
+                if (indexNo >= count)
+                    return fail(list, "vertex index " + std::to_string(indexNo) + " is out of range (the TIN has " +
+                                          std::to_string(count) + " vertices)");
+                position = static_cast<std::uint32_t>(indexNo);
+            } else {
+                const auto it = byIndexNo.find(indexNo);
+                if (it == byIndexNo.end())
+                    return fail(list, "vertex index " + std::to_string(indexNo) +
+                                          " is out of range (no Vertex of the TIN has that IndexNo)");
+                position = it->second;
+            }
+            mesh.indices.push_back(static_cast<std::uint32_t>(base) + position);
+        }
+    }
+    return std::nullopt;
+}
+
+// gml:TriangulatedSurface / gml:Tin: patches of gml:Triangle, each an exterior LinearRing of
+// four positions (the last repeats the first) in a posList or in four gml:pos. Vertices with
+// identical coordinates are welded so that shared edges connect.
+std::optional<Error> Reader::appendGmlTriangles(pugi::xml_node surface, Mesh& mesh) const {
+    if (auto err = checkSrsDimension(surface)) return err;
+    std::map<std::array<double, 3>, std::uint32_t> welded;
+    std::optional<Error> error;
+    walkElements(surface, [&](pugi::xml_node tri) {
+        if (!isNamed(tri, "Triangle")) return Walk::Descend;
+        const pugi::xml_node ring = childNamed(childNamed(tri, "exterior"), "LinearRing");
+        if (!ring) {
+            error = fail(tri, "a gml:Triangle without exterior/LinearRing");
+            return Walk::Stop;
+        }
+        std::array<double, 12> coords{};  // up to 4 positions; more is an error below
+        std::size_t n = 0;
+        const auto take = [&](pugi::xml_node at, std::string_view text) {
+            forEachToken(text, [&](std::string_view token) {
+                const std::optional<double> value = parseDouble(token);
+                if (!value) error = fail(at, "'" + quoted(token) + "' is not a number");
+                else if (!std::isfinite(*value)) error = fail(at, "coordinate '" + quoted(token) + "' is NaN or infinite");
+                else if (n < coords.size()) coords[n] = *value;
+                ++n;
+                return !error;
+            });
+        };
+        pugi::xml_node at = ring;
+        if (const pugi::xml_node posList = childNamed(ring, "posList")) {
+            at = posList;
+            if ((error = checkSrsDimension(posList))) return Walk::Stop;
+            take(posList, textOf(posList));
+            if (error) return Walk::Stop;
+            if (n % 3 != 0) {
+                error = fail(posList, "the posList holds " + std::to_string(n) +
+                                          " numbers, not a multiple of 3 (x y z per position)");
+                return Walk::Stop;
+            }
+            if ((error = checkDeclaredCount(posList, "count", n / 3, "positions"))) return Walk::Stop;
+        } else {
+            for (pugi::xml_node pos = childNamed(ring, "pos"); pos && !error; pos = pos.next_sibling()) {
+                if (!isNamed(pos, "pos")) continue;
+                const std::size_t before = n;
+                take(pos, textOf(pos));
+                if (!error && n - before != 3)
+                    error = fail(pos, "a gml:pos has " + std::to_string(n - before) + " coordinates; expected 3 (x y z)");
+            }
+            if (error) return Walk::Stop;
+        }
+        const std::size_t points = n / 3;
+        const bool closedRing = points == 4 && std::equal(coords.begin(), coords.begin() + 3, coords.begin() + 9);
+        if (points != 3 && !closedRing) {
+            error = fail(at, "a gml:Triangle ring has " + std::to_string(points) +
+                                 " positions" + (points == 4 ? " and does not end where it starts" : "") +
+                                 "; expected 4 with the last repeating the first");
+            return Walk::Stop;
+        }
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::array<double, 3> p{coords[3 * k], coords[3 * k + 1], coords[3 * k + 2]};
+            auto [it, inserted] = welded.emplace(p, static_cast<std::uint32_t>(mesh.positions.size()));
+            if (inserted) {
+                if (mesh.positions.size() >= std::numeric_limits<std::uint32_t>::max()) {
+                    error = fail(ErrorCode::OutOfRange, tri, "more vertices than 32-bit indices can address");
+                    return Walk::Stop;
+                }
+                mesh.positions.emplace_back(p[0], p[1], p[2]);
+            }
+            mesh.indices.push_back(it->second);
+        }
+        return Walk::Skip;
+    });
+    return error;
+}
+
+// Field names, tokenised for matching English names: lower case, split at anything that is
+// not a letter or digit and at camelCase boundaries ("rockAge" -> rock, age).
+std::vector<std::string> nameTokens(std::string_view name) {
+    std::vector<std::string> tokens;
+    std::string current;
+    char previous = 0;
+    for (const char c : name) {
+        const bool alnum = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+        const bool upperAfterLower = c >= 'A' && c <= 'Z' && previous >= 'a' && previous <= 'z';
+        if (!alnum || upperAfterLower) {
+            if (!current.empty()) tokens.push_back(std::move(current));
+            current.clear();
+        }
+        if (alnum) current += asciiLower(c);
+        previous = c;
+    }
+    if (!current.empty()) tokens.push_back(std::move(current));
+    return tokens;
+}
+
+bool hasToken(const std::vector<std::string>& tokens, std::string_view t) {
+    return std::find(tokens.begin(), tokens.end(), t) != tokens.end();
+}
+
+bool contains(std::string_view s, std::string_view part) { return s.find(part) != std::string_view::npos; }
+
+enum class FieldRole { None, Name, Lithology, Age, Era, Density, Grade, Colour };
+
+// What a Fields/Field is, from its Name (Chinese or English).
+FieldRole fieldRole(std::string_view name) {
+    const std::vector<std::string> t = nameTokens(name);
+    const bool stratumWord = hasToken(t, "stratigraphic") || hasToken(t, "stratigraphical") ||
+                             hasToken(t, "stratum") || hasToken(t, "formation") || hasToken(t, "strata");
+    if (contains(name, "地层名") || name == "地层" || contains(name, "组名") ||
+        (stratumWord && (t.size() == 1 || hasToken(t, "name"))))
+        return FieldRole::Name;
+    if (contains(name, "岩性") || contains(name, "岩石名称") || hasToken(t, "lithology") || hasToken(t, "lith"))
+        return FieldRole::Lithology;
+    if (contains(name, "时代") || contains(name, "年代") || hasToken(t, "age")) return FieldRole::Age;
+    if (name == "代" || hasToken(t, "era")) return FieldRole::Era;
+    if (contains(name, "密度") || hasToken(t, "density")) return FieldRole::Density;
+    if (contains(name, "品位") || hasToken(t, "grade")) return FieldRole::Grade;
+    if (contains(name, "颜色") || hasToken(t, "colour") || hasToken(t, "color")) return FieldRole::Colour;
+    return FieldRole::None;
+}
+
+// record.kind from the feature class or feature name; "" when neither says.
+std::string kindFromNames(std::string_view className, std::string_view featureName) {
+    for (const std::string_view s : {className, featureName}) {
+        const std::string lower = asciiLowerCopy(s);
+        if (contains(s, "断层") || contains(lower, "fault")) return "fault";
+        if (contains(s, "矿体") || contains(lower, "orebody") || contains(lower, "ore body") ||
+            contains(lower, "ore_body"))
+            return "orebody";
+        if (contains(s, "岩体") || contains(lower, "intrusi")) return "intrusion";
+        if (contains(s, "地形") || contains(s, "地表") || contains(lower, "terrain") || contains(lower, "topograph"))
+            return "terrain";
+        if (contains(s, "地层") || contains(lower, "strat") || contains(lower, "formation")) return "stratum";
+    }
+    return "";
+}
+
+// Adds value under key, or under "key#2", "key#3"... when a field name repeats.
+void putUnique(nlohmann::ordered_json& extra, const std::string& key, nlohmann::ordered_json value) {
+    std::string k = key;
+    for (int n = 2; extra.contains(k); ++n) k = key + "#" + std::to_string(n);
+    extra[k] = std::move(value);
+}
+
+// One record per feature:
+//  - name: the stratigraphic-name field (地层名称, stratigraphic_name...) when it has a value,
+//    else the feature's gml:name; kind from the feature class / feature name;
+//  - lithology (岩性, lithology), age (时代, 年代, age), era, density (密度, density; t/m3,
+//    g/cm3 or kg/m3), grade (品位, grade; unit from swe:uom), colour (颜色, colour);
+//  - extra: "gml:id", "gml:name", "geo3dml:featureClass", then every field in file order with
+//    its value as written (text verbatim; swe:Quantity / swe:Count values as numbers when
+//    they are finite numbers; absent values as null) and "<field>:uom" for units. Keys with
+//    a ':' are the loader's (Field Name is an NCName, which cannot contain ':').
+Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::string& featureName,
+                                            std::string_view className, bool closed) const {
+    AttributeRecord rec;
+    rec.name = featureName;
+    rec.kind = kindFromNames(className, featureName);
+    if (rec.kind.empty()) rec.kind = closed ? "body" : "surface";
+    if (const pugi::xml_attribute id = attributeNamed(feature, "id")) {
+        if (!isValidUtf8(id.value())) return fail(feature, "gml:id is not valid UTF-8");
+        rec.extra["gml:id"] = id.value();
+    }
+    rec.extra["gml:name"] = featureName;
+    if (!className.empty()) rec.extra["geo3dml:featureClass"] = std::string(className);
+
+    bool nameFromField = false;
+    const pugi::xml_node fields = childNamed(feature, "Fields");
+    std::size_t ordinal = 0;
+    for (pugi::xml_node field = fields.first_child(); field; field = field.next_sibling()) {
+        if (!isNamed(field, "Field")) continue;
+        ++ordinal;
+        std::string key = attributeNamed(field, "Name").value();
+        if (!isValidUtf8(key)) return fail(field, "the field's Name is not valid UTF-8");
+        if (key.empty()) key = "field" + std::to_string(ordinal);
+
+        // One swe data component (Text, Quantity, Count, Category, Boolean...) with a value.
+        const pugi::xml_node component = firstElementChild(field);
+        const std::string_view componentName = component ? localName(component.name()) : std::string_view();
+        const pugi::xml_node valueNode = childNamed(component, "value");
+        const std::string uom = attributeNamed(childNamed(component, "uom"), "code").value();
+        if (!isValidUtf8(uom)) return fail(field, "the field's uom is not valid UTF-8");
+
+        nlohmann::ordered_json value;  // null when the field has no value element
+        std::string text;
+        if (valueNode) {
+            if (auto err = readText(valueNode, text)) return std::move(*err);
+            value = text;
+            const std::string_view t = trim(text);
+            if (componentName == "Quantity" || componentName == "Count") {
+                if (const std::optional<std::int64_t> i = parseInt(t); i && componentName == "Count") value = *i;
+                else if (const std::optional<double> d = parseDouble(t); d && std::isfinite(*d)) value = *d;
+            } else if (componentName == "Boolean") {
+                if (t == "true" || t == "1") value = true;
+                else if (t == "false" || t == "0") value = false;
+            }
+        }
+        putUnique(rec.extra, key, value);
+        if (!uom.empty()) putUnique(rec.extra, key + ":uom", uom);
+
+        const std::string_view t = trim(text);
+        if (t.empty()) continue;
+        switch (fieldRole(key)) {
+            case FieldRole::Name:
+                if (!nameFromField) rec.name = std::string(t), nameFromField = true;
+                break;
+            case FieldRole::Lithology:
+                if (rec.lithology.empty()) rec.lithology = std::string(t);
+                break;
+            case FieldRole::Age:
+                if (rec.age.empty()) rec.age = std::string(t);
+                break;
+            case FieldRole::Era:
+                if (rec.era.empty()) rec.era = std::string(t);
+                break;
+            case FieldRole::Density: {
+                const std::optional<double> d = parseDouble(t);
+                const std::string unit = asciiLowerCopy(trim(uom));
+                double scale = 0.0;  // to t/m3; 0 = unknown unit, not mapped
+                if (unit.empty() || unit == "t/m3" || unit == "g/cm3" || unit == "t/m^3" || unit == "g/cm^3") scale = 1.0;
+                else if (unit == "kg/m3" || unit == "kg/m^3") scale = 0.001;
+                if (d && std::isfinite(*d) && scale > 0.0 && !rec.density) rec.density = *d * scale;
+                break;
+            }
+            case FieldRole::Grade: {
+                const std::optional<double> d = parseDouble(t);
+                if (d && std::isfinite(*d) && !rec.grade) {
+                    rec.grade = *d;
+                    rec.gradeUnit = std::string(trim(uom));
+                }
+                break;
+            }
+            case FieldRole::Colour:
+                if (const std::optional<Rgba8> c = parseColour(t)) rec.colour = *c;
+                break;
+            case FieldRole::None:
+                break;
+        }
+    }
+    return rec;
+}
+
+// "EPSG:4526", "urn:ogc:def:crs:EPSG::4526", "urn:ogc:def:crs:EPSG:6.6:4526",
+// "http://www.opengis.net/def/crs/EPSG/0/4526" -> "EPSG:4526"; anything else unchanged.
+std::string normaliseCrsText(std::string_view text) {
+    text = trim(text);
+    const std::string lower = asciiLowerCopy(text);
+    std::size_t codeStart = std::string::npos;
+    if (lower.starts_with("urn:ogc:def:crs:epsg:")) codeStart = lower.rfind(':') + 1;
+    else if (lower.starts_with("http") && contains(lower, "/def/crs/epsg/")) codeStart = lower.rfind('/') + 1;
+    else if (lower.starts_with("epsg:")) codeStart = 5;
+    if (codeStart != std::string::npos && isDigits(text.substr(codeStart)))
+        return "EPSG:" + std::string(text.substr(codeStart));
+    return std::string(text);
+}
+
+// Declared CRS -> model.crs. A CRS geoslice does not support leaves the model local, with the
+// declared text in the first record's extra ("declared_crs", "declared_crs_note"), so it is
+// not lost. For a projected CRS the coordinates are checked against it (fixAxisOrder inside).
+void Reader::applyCrs(Model& model, AttributeRecord* notes) const {
+    const std::string declared = declaredCrs_.empty() ? srsName_ : declaredCrs_;
+    if (trim(declared).empty()) return;
+    const auto note = [&](const char* key, const std::string& value) {
+        if (notes && !notes->extra.contains(key)) notes->extra[key] = quoted(value, 400);
+    };
+    const Result<Crs> crs = Crs::parse(normaliseCrsText(declared));
+    if (!crs) {
+        note("declared_crs", declared);
+        note("declared_crs_note", "not a CRS geoslice supports (" + crs.error().message +
+                                      "); the model is kept in local coordinates");
+        return;
+    }
+    model.crs = crs.value();
+    if (!model.crs.isProjected()) return;
+
+    // Gauss-Kruger: easting = false easting +- a few hundred km, northing 0..10,002 km. Chinese
+    // surveying writes X = northing first; EPSG's axis order for these CRSs is northing first
+    // too, while geoslice's world frame is x = easting. Swap when only the swapped order fits.
+    Aabb box;
+    for (const auto* parts : {&model.bodies, &model.surfaces})
+        for (const Part& p : *parts)
+            for (const glm::dvec3& q : p.mesh.positions) box.extend(q);
+    if (!box.valid()) return;
+    const double fe = model.crs.falseEastingM();
+    const auto eastingFits = [&](double lo, double hi) {
+        return lo >= fe - kMaxOffsetFromFalseEastingM && hi <= fe + kMaxOffsetFromFalseEastingM;
+    };
+    const auto northingFits = [&](double lo, double hi) { return lo >= 0.0 && hi <= kMaxNorthingM; };
+    const bool asWritten = eastingFits(box.min.x, box.max.x) && northingFits(box.min.y, box.max.y);
+    const bool swapped = eastingFits(box.min.y, box.max.y) && northingFits(box.min.x, box.max.x);
+    if (asWritten) return;
+    if (swapped) {
+        for (auto* parts : {&model.bodies, &model.surfaces})
+            for (Part& p : *parts) {
+                for (glm::dvec3& q : p.mesh.positions) std::swap(q.x, q.y);
+                // Swapping two axes mirrors the mesh; swapping two corners keeps outward normals.
+                for (std::size_t t = 0; t + 2 < p.mesh.indices.size(); t += 3)
+                    std::swap(p.mesh.indices[t + 1], p.mesh.indices[t + 2]);
+            }
+        note("axis_order", "coordinates were written northing first (X = north); swapped to x = east, y = north");
+        return;
+    }
+    const auto range = [](double lo, double hi) {
+        return std::to_string(static_cast<long long>(std::floor(lo))) + ".." +
+               std::to_string(static_cast<long long>(std::ceil(hi)));
+    };
+    note("crs_warning", "coordinates (x " + range(box.min.x, box.max.x) + " m, y " + range(box.min.y, box.max.y) +
+                            " m) do not fit " + model.crs.id() + " (eastings near " +
+                            std::to_string(static_cast<long long>(fe)) + " m): the declared CRS may not apply");
+}
+
+Error Reader::nothingToLoad(pugi::xml_node root, const std::string& modelName) const {
+    std::string what = localName(root.name()) == "Geo3DProject" ? "the Geo3DProject" : "the Geo3DModel";
+    if (!modelName.empty()) what += " '" + quoted(modelName, 200) + "'";
+    if (!modelType_.empty() && localName(root.name()) == "Geo3DModel") what += " (Type " + modelType_ + ")";
+    std::string held;
+    for (const auto& [description, count] : census_.items) {
+        if (!held.empty()) held += ", ";
+        held += std::to_string(count) + " " + description;
+    }
+    if (featuresWithoutGeometry_ > 0) {
+        if (!held.empty()) held += ", ";
+        held += std::to_string(featuresWithoutGeometry_) + " feature(s) without geometry";
+    }
+    std::string msg = source_ + ": no TIN triangles to load: " + what;
+    if (!held.empty()) msg += " contains only " + held;
+    else msg += " contains no feature geometry";
+    if (!includes_.empty()) {
+        msg += "; its models are in separate files (xi:include";
+        for (const std::string& href : includes_) msg += " " + href;
+        msg += "): load those";
+    }
+    msg += ". geoslice reads Geo3DML TIN surfaces (GeoTin, gml:TriangulatedSurface); grids, volumes, "
+           "boreholes and section lines are skipped";
+    return makeError(ErrorCode::Unsupported, msg);
+}
+
+}  // namespace
+
+Result<Model> parseGeo3dml(std::string_view text, const std::string& source) {
+    Reader reader(source);
+    return reader.run(text);
+}
+
+}  // namespace geoslice

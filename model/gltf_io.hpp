@@ -1,0 +1,28 @@
+// glTF 2.0 / GLB writing (reading is parseGltf in model/loaders.hpp).
+//
+// Layout written by geoslice: one node + mesh per part, children of a root node whose
+// translation is the model origin. Positions are float32 in the local frame, converted to
+// glTF's y-up axes: glTF (X, Y, Z) = (east, up, -north). The root scene's
+// extras.geoslice holds {version, crs, origin (world x,y,z), attributes}; each node's
+// extras.geoslice holds {kind: "body"|"surface", record}.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "model/model.hpp"
+#include "model/result.hpp"
+
+namespace geoslice {
+
+struct GlbWriteOptions {
+    bool draco = false;          // KHR_draco_mesh_compression on every primitive
+    int dracoPositionBits = 20;  // quantisation: step = model extent / 2^bits per axis
+    int dracoSpeed = 5;          // 0 (best compression) .. 10 (fastest)
+};
+
+Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOptions& options = {});
+Status writeGlb(const Model& model, const std::string& path, const GlbWriteOptions& options = {});
+
+}  // namespace geoslice

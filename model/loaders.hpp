@@ -1,0 +1,41 @@
+// Model loaders. Each names the file and the line (text formats) or byte offset (binary)
+// in its errors, and never crashes or hangs on any input: sizes and counts read from a
+// file are checked against the bytes actually present before anything is allocated.
+//
+// Loaders return world coordinates (x east, y north, z up, metres; depth-positive inputs
+// are converted) and call finishLoadedModel(): parts classified as bodies or surfaces,
+// records created for parts that name none, origin set, validation run.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "model/model.hpp"
+#include "model/result.hpp"
+
+namespace geoslice {
+
+// Dispatches on extension (.glb .gltf .obj .ts .tsurf .xml .geo3dml) and, for unknown
+// extensions, on content. A sidecar "<stem>.attributes.json" or ".csv" next to the file
+// is merged into the attribute table when present.
+Result<Model> loadModel(const std::string& path);
+
+// From bytes in memory; `source` names the input in error messages (fuzzers use these).
+Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::string& source,
+                        const std::string& baseDir = "");
+Result<Model> parseObj(std::string_view text, const std::string& source);
+Result<Model> parseTsurf(std::string_view text, const std::string& source);
+Result<Model> parseGeo3dml(std::string_view text, const std::string& source);
+
+// Reads a whole file; refuses files over maxBytes with an OutOfRange error.
+Result<std::string> readFile(const std::string& path, std::size_t maxBytes = std::size_t(4) << 30);
+
+// Shared by all loaders, after parsing:
+//  - parts with record == 0 get a record named after the part (kind from the part kind);
+//  - when `classifyByClosure`, closed parts become bodies and open ones surfaces;
+//  - origin = rounded bounds centre; validate(model) runs (see model/validate.hpp).
+void finishLoadedModel(Model& model, bool classifyByClosure);
+
+}  // namespace geoslice

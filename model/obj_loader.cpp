@@ -1,0 +1,394 @@
+// Wavefront OBJ loader (polygonal geometry only).
+//
+// Frame: OBJ has no units or axis convention of its own. Geological exports (GOCAD/SKUA,
+// Leapfrog, Micromine, Surpac) write world coordinates with z up, so OBJ is read as world
+// coordinates: x east, y north, z elevation up, metres; no axis swap. A y-up model from a
+// graphics tool will lie on its side and must be converted before loading.
+//
+// What is read:
+//  - `v x y z [w]` (w, and the r g b of the vertex-colour extension, are ignored);
+//  - `f` with `v`, `v/vt`, `v//vn`, `v/vt/vn` corners, negative (relative) indices;
+//    polygons are fan-triangulated from their first corner (exact for convex polygons,
+//    which is what exporters write);
+//  - `o name` and `g name` start a new part: faces before any o/g go into a part named
+//    after the file stem, a `g` inside an `o` gives the part "o/g", and a name seen again
+//    appends to its earlier part (OBJ groups can be reopened);
+//  - texture coordinates, normals, materials, smoothing groups, lines, points and
+//    free-form geometry are ignored; unknown keywords are skipped if the line is text.
+// Vertices are global to the file; each part gets its own compacted vertex array (in
+// first-use order), and finishLoadedModel() classifies closed parts as bodies.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "model/loaders.hpp"
+
+namespace geoslice {
+namespace {
+
+constexpr std::size_t kMaxVertices = std::numeric_limits<std::uint32_t>::max() - 1;
+constexpr std::uint32_t kUnset = std::numeric_limits<std::uint32_t>::max();
+
+bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
+    while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
+    return s;
+}
+
+// Length of the well-formed UTF-8 sequence at s[i], or 0 when it is not one.
+std::size_t utf8Length(std::string_view s, std::size_t i) {
+    auto at = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+    unsigned char c = at(i);
+    if (c < 0x80) return 1;
+    std::size_t n;
+    unsigned char lo = 0x80, hi = 0xBF;  // allowed range of the second byte
+    if (c >= 0xC2 && c <= 0xDF) {
+        n = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+        n = 3;
+        if (c == 0xE0) lo = 0xA0;
+        if (c == 0xED) hi = 0x9F;  // no UTF-16 surrogates
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        n = 4;
+        if (c == 0xF0) lo = 0x90;
+        if (c == 0xF4) hi = 0x8F;
+    } else {
+        return 0;
+    }
+    if (i + n > s.size()) return 0;
+    if (at(i + 1) < lo || at(i + 1) > hi) return 0;
+    for (std::size_t k = 2; k < n; ++k)
+        if (at(i + k) < 0x80 || at(i + k) > 0xBF) return 0;
+    return n;
+}
+
+bool isControl(unsigned char c) { return (c < 0x20 && c != '\t' && c != '\r') || c == 0x7F; }
+
+// 0-based column of the first byte that cannot be in a line of text, or npos. Text has no
+// control bytes but tab and CR; with `utf8`, it must also be well-formed UTF-8.
+std::size_t findNonText(std::string_view s, bool utf8) {
+    for (std::size_t i = 0; i < s.size();) {
+        unsigned char c = static_cast<unsigned char>(s[i]);
+        if (isControl(c)) return i;
+        if (!utf8 || c < 0x80) {
+            ++i;
+            continue;
+        }
+        std::size_t n = utf8Length(s, i);
+        if (n == 0) return i;
+        i += n;
+    }
+    return std::string_view::npos;
+}
+
+// Names go into JSON later, which needs UTF-8: bytes of other encodings become U+FFFD.
+std::string toUtf8(std::string_view s) {
+    std::string out;
+    out.reserve(s.size());
+    for (std::size_t i = 0; i < s.size();) {
+        std::size_t n = utf8Length(s, i);
+        if (n == 0) {
+            out += "\xEF\xBF\xBD";
+            ++i;
+        } else {
+            out.append(s.substr(i, n));
+            i += n;
+        }
+    }
+    return out;
+}
+
+// A short, printable rendering of a token for error messages.
+std::string quoteToken(std::string_view tok) {
+    constexpr std::size_t kMax = 40;
+    std::string out = "'";
+    for (std::size_t i = 0; i < tok.size() && i < kMax; ++i) {
+        unsigned char c = static_cast<unsigned char>(tok[i]);
+        if (c < 0x20 || c >= 0x7F) {
+            static const char* kHex = "0123456789abcdef";
+            out += "\\x";
+            out += kHex[c >> 4];
+            out += kHex[c & 15];
+        } else {
+            out += static_cast<char>(c);
+        }
+    }
+    if (tok.size() > kMax) out += "...";
+    return out + "'";
+}
+
+// Whitespace-separated tokens of one line; a token starting with '#' ends the line.
+class Tokens {
+public:
+    explicit Tokens(std::string_view s) : rest_(s) {}
+    bool next(std::string_view& tok) {
+        while (!rest_.empty() && isBlank(rest_.front())) rest_.remove_prefix(1);
+        if (rest_.empty() || rest_.front() == '#') return false;
+        std::size_t n = 0;
+        while (n < rest_.size() && !isBlank(rest_[n])) ++n;
+        tok = rest_.substr(0, n);
+        rest_.remove_prefix(n);
+        return true;
+    }
+    std::string_view rest() const { return trim(rest_); }
+
+private:
+    std::string_view rest_;
+};
+
+std::optional<double> parseDouble(std::string_view tok) {
+    if (tok.size() > 1 && tok[0] == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
+    double v = 0.0;
+    auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec != std::errc() || end != tok.data() + tok.size()) return std::nullopt;
+    return v;
+}
+
+enum class IntStatus { Ok, NotInteger, TooLarge };
+
+IntStatus parseInt(std::string_view tok, std::int64_t& out) {
+    if (tok.size() > 1 && tok[0] == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
+    auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), out);
+    if (ec == std::errc::result_out_of_range) return IntStatus::TooLarge;
+    if (ec != std::errc() || end != tok.data() + tok.size()) return IntStatus::NotInteger;
+    return IntStatus::Ok;
+}
+
+struct PartBuild {
+    std::string name;
+    std::vector<std::uint32_t> corners;  // global vertex indices, 3 per triangle
+};
+
+class ObjParser {
+public:
+    ObjParser(std::string_view text, const std::string& source) : text_(text), source_(source) {}
+    Result<Model> run();
+
+private:
+    bool nextLine(std::string_view& line);
+    Error fail(const std::string& what) const {
+        return makeError(ErrorCode::ParseError, source_ + ": line " + std::to_string(lineNo_) + ": " + what);
+    }
+    Status checkText(std::string_view line, bool utf8) const;
+    Status readVertex(Tokens& tokens);
+    Status readFace(Tokens& tokens);
+    Status readCorner(std::string_view tok, std::uint32_t& out);
+    std::size_t currentPart();
+
+    std::string_view text_;
+    const std::string& source_;
+    std::size_t pos_ = 0;
+    std::size_t lineNo_ = 0;   // 1-based number of the current line (the first of a continued line)
+    std::size_t nextLineNo_ = 0;
+    std::string joined_;       // a line continued with '\' at line ends
+
+    std::string stem_;
+    std::string object_, group_;
+    std::size_t part_ = std::string::npos;  // into parts_, npos until the first face after o/g
+    std::vector<glm::dvec3> positions_;     // world, metres
+    std::vector<PartBuild> parts_;
+    std::map<std::string, std::size_t> partByName_;
+    std::vector<std::uint32_t> face_;        // corners of the face being read
+};
+
+// Returns the next logical line: a physical line, or several joined by a trailing '\'.
+bool ObjParser::nextLine(std::string_view& line) {
+    auto physical = [&](std::string_view& out) {
+        if (pos_ >= text_.size()) return false;
+        std::size_t end = text_.find('\n', pos_);
+        if (end == std::string_view::npos) end = text_.size();
+        out = text_.substr(pos_, end - pos_);
+        pos_ = end < text_.size() ? end + 1 : text_.size();
+        ++nextLineNo_;
+        if (!out.empty() && out.back() == '\r') out.remove_suffix(1);
+        return true;
+    };
+    if (!physical(line)) return false;
+    lineNo_ = nextLineNo_;
+    if (line.empty() || line.back() != '\\') return true;
+    joined_.assign(line.substr(0, line.size() - 1));
+    std::string_view more;
+    while (physical(more)) {
+        bool continues = !more.empty() && more.back() == '\\';
+        joined_ += ' ';
+        joined_.append(continues ? more.substr(0, more.size() - 1) : more);
+        if (!continues) break;
+    }
+    line = joined_;
+    return true;
+}
+
+Status ObjParser::checkText(std::string_view line, bool utf8) const {
+    std::size_t bad = findNonText(line, utf8);
+    if (bad == std::string_view::npos) return {};
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned>(static_cast<unsigned char>(line[bad])));
+    return fail(std::string("not text: byte ") + hex + " at column " + std::to_string(bad + 1) +
+                (utf8 ? " (binary data, or not UTF-8)" : " (binary data?)"));
+}
+
+Result<Model> ObjParser::run() {
+    if (text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);  // UTF-8 byte order mark
+    stem_ = std::filesystem::path(source_).stem().string();
+    if (stem_.empty()) stem_ = "obj";
+
+    // Keywords we read past without using (attributes, free-form geometry, display).
+    static constexpr std::string_view kIgnored[] = {
+        "vt", "vn", "vp", "l", "p", "s", "usemtl", "mtllib", "cstype", "deg", "bmat", "step", "curv", "curv2",
+        "surf", "parm", "trim", "hole", "scrv", "sp", "end", "con", "mg", "bevel", "c_interp", "d_interp",
+        "lod", "shadow_obj", "trace_obj", "ctech", "stech", "maplib", "usemap"};
+
+    std::string_view line;
+    while (nextLine(line)) {
+        if (Status s = checkText(line, false); !s) return s.error();
+        std::string_view t = trim(line);
+        if (t.empty() || t.front() == '#') continue;
+        Tokens tokens(t);
+        std::string_view keyword;
+        tokens.next(keyword);
+        if (keyword == "v") {
+            if (Status s = readVertex(tokens); !s) return s.error();
+        } else if (keyword == "f" || keyword == "fo") {  // "fo" is the obsolete spelling of "f"
+            if (Status s = readFace(tokens); !s) return s.error();
+        } else if (keyword == "o" || keyword == "g") {
+            // The whole rest of the line is the name (names may hold spaces and '#').
+            std::string name = toUtf8(trim(t.substr(keyword.size())));
+            if (keyword == "o") {
+                object_ = std::move(name);
+                group_.clear();
+            } else {
+                group_ = std::move(name);
+            }
+            part_ = std::string::npos;
+        } else if (std::find(std::begin(kIgnored), std::end(kIgnored), keyword) == std::end(kIgnored)) {
+            if (Status s = checkText(line, true); !s) return s.error();
+        }
+    }
+
+    if (parts_.empty())
+        return makeError(ErrorCode::ParseError,
+                         source_ + (text_.empty() ? ": empty input" : ": no faces ('f' lines)") + ": nothing to load");
+
+    Model model;
+    model.source = source_;
+    model.name = stem_;
+    // Compact each part's vertices: stamp[v] says which part last took global vertex v.
+    std::vector<std::uint32_t> stamp(positions_.size(), kUnset), local(positions_.size(), 0);
+    for (std::size_t p = 0; p < parts_.size(); ++p) {
+        PartBuild& b = parts_[p];
+        Part part;
+        part.name = b.name;
+        part.kind = PartKind::Body;
+        Mesh& mesh = part.mesh;
+        mesh.indices.reserve(b.corners.size());
+        for (std::uint32_t g : b.corners) {
+            if (stamp[g] != p) {
+                stamp[g] = static_cast<std::uint32_t>(p);
+                local[g] = static_cast<std::uint32_t>(mesh.positions.size());
+                mesh.positions.push_back(positions_[g]);
+            }
+            mesh.indices.push_back(local[g]);
+        }
+        std::vector<std::uint32_t>().swap(b.corners);
+        model.bodies.push_back(std::move(part));
+    }
+    finishLoadedModel(model, /*classifyByClosure=*/true);
+    return model;
+}
+
+Status ObjParser::readVertex(Tokens& tokens) {
+    glm::dvec3 p(0.0);
+    std::string_view tok;
+    for (int a = 0; a < 3; ++a) {
+        if (!tokens.next(tok))
+            return fail("'v' needs x y z, found " + std::to_string(a) + " coordinate" + (a == 1 ? "" : "s"));
+        std::optional<double> v = parseDouble(tok);
+        if (!v) return fail("vertex coordinate " + quoteToken(tok) + " is not a number");
+        if (!std::isfinite(*v)) return fail("vertex coordinate " + quoteToken(tok) + " is not a finite number");
+        p[a] = *v;
+    }
+    // Optional w, or r g b of the vertex-colour extension: checked, not used.
+    while (tokens.next(tok))
+        if (!parseDouble(tok)) return fail("vertex value " + quoteToken(tok) + " is not a number");
+    if (positions_.size() >= kMaxVertices) return fail("too many vertices");
+    positions_.push_back(p);
+    return {};
+}
+
+// One face corner: "v", "v/vt", "v//vn" or "v/vt/vn"; returns the 0-based vertex index.
+Status ObjParser::readCorner(std::string_view tok, std::uint32_t& out) {
+    std::size_t slash = tok.find('/');
+    std::string_view vtok = tok.substr(0, slash);
+    std::int64_t v = 0;
+    IntStatus st = parseInt(vtok, v);
+    if (st == IntStatus::NotInteger) return fail("face corner " + quoteToken(tok) + ": vertex index is not an integer");
+    const auto count = static_cast<std::int64_t>(positions_.size());
+    if (st == IntStatus::TooLarge || v == 0 || v > count || v < -count) {
+        if (v == 0 && st == IntStatus::Ok) return fail("face corner " + quoteToken(tok) + ": vertex index 0 (OBJ counts from 1)");
+        return fail("face corner " + quoteToken(tok) + ": vertex index out of range (" + std::to_string(count) +
+                    " vertices defined before this line)");
+    }
+    if (slash != std::string_view::npos) {
+        // Texture and normal indices are not used, only checked for form.
+        std::string_view rest = tok.substr(slash + 1);
+        std::size_t slash2 = rest.find('/');
+        std::string_view vt = rest.substr(0, slash2);
+        std::string_view vn = slash2 == std::string_view::npos ? std::string_view() : rest.substr(slash2 + 1);
+        bool ok = slash2 == std::string_view::npos ? !vt.empty() : !vn.empty();
+        std::int64_t ignored = 0;
+        if (ok && !vt.empty()) ok = parseInt(vt, ignored) == IntStatus::Ok && ignored != 0;
+        if (ok && !vn.empty()) ok = parseInt(vn, ignored) == IntStatus::Ok && ignored != 0;
+        if (!ok) return fail("face corner " + quoteToken(tok) + " is not v, v/vt, v//vn or v/vt/vn");
+    }
+    out = static_cast<std::uint32_t>(v > 0 ? v - 1 : count + v);
+    return {};
+}
+
+std::size_t ObjParser::currentPart() {
+    if (part_ != std::string::npos) return part_;
+    std::string name = object_.empty() ? (group_.empty() ? stem_ : group_)
+                                       : (group_.empty() ? object_ : object_ + "/" + group_);
+    auto [it, inserted] = partByName_.try_emplace(name, parts_.size());
+    if (inserted) parts_.push_back(PartBuild{std::move(name), {}});
+    part_ = it->second;
+    return part_;
+}
+
+Status ObjParser::readFace(Tokens& tokens) {
+    face_.clear();
+    std::string_view tok;
+    while (tokens.next(tok)) {
+        std::uint32_t v = 0;
+        if (Status s = readCorner(tok, v); !s) return s;
+        face_.push_back(v);
+    }
+    if (face_.size() < 3) return fail("a face needs at least 3 vertices, found " + std::to_string(face_.size()));
+    std::vector<std::uint32_t>& corners = parts_[currentPart()].corners;
+    for (std::size_t i = 1; i + 1 < face_.size(); ++i) {
+        corners.push_back(face_[0]);
+        corners.push_back(face_[i]);
+        corners.push_back(face_[i + 1]);
+    }
+    return {};
+}
+
+}  // namespace
+
+Result<Model> parseObj(std::string_view text, const std::string& source) {
+    ObjParser parser(text, source);
+    return parser.run();
+}
+
+}  // namespace geoslice

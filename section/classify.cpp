@@ -1,0 +1,217 @@
+#include "section/classify.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include <embree3/rtcore.h>
+
+namespace geoslice {
+namespace {
+
+constexpr std::array<glm::vec3, 6> kDirections = {
+    glm::vec3(0.5316705f, 0.2876141f, 0.7966510f),  glm::vec3(-0.3120954f, 0.8231507f, -0.4743921f),
+    glm::vec3(0.7071421f, -0.6011239f, 0.3723344f), glm::vec3(-0.6432120f, -0.2213412f, 0.7329412f),
+    glm::vec3(0.2953311f, -0.3187654f, -0.9006543f), glm::vec3(0.9112873f, 0.1012345f, -0.3991234f)};
+constexpr float kBaryEps = 1e-5f;     // hits this close (barycentric) to an edge re-cast the ray
+constexpr float kCosGrazing = 1e-4f;  // |cos| between ray and face below this re-casts the ray
+
+// Context passed through Embree to the filter callbacks (first member: Embree's own).
+struct NearestContext {
+    RTCIntersectContext base;
+    float tEnter = std::numeric_limits<float>::infinity();
+    unsigned enterGeom = RTC_INVALID_GEOMETRY_ID;
+    bool grazing = false;
+};
+struct AllHitsContext {
+    RTCIntersectContext base;
+    std::vector<std::pair<unsigned, float>>* hits = nullptr;
+    bool grazing = false;
+};
+
+bool isGrazing(const RTCFilterFunctionNArguments* a, float dot) {
+    float u = RTCHitN_u(a->hit, a->N, 0), v = RTCHitN_v(a->hit, a->N, 0);
+    float nx = RTCHitN_Ng_x(a->hit, a->N, 0), ny = RTCHitN_Ng_y(a->hit, a->N, 0), nz = RTCHitN_Ng_z(a->hit, a->N, 0);
+    float len = std::sqrt(nx * nx + ny * ny + nz * nz);
+    return u < kBaryEps || v < kBaryEps || u + v > 1.0f - kBaryEps || std::abs(dot) < kCosGrazing * len;
+}
+
+float facing(const RTCFilterFunctionNArguments* a) {
+    return RTCRayN_dir_x(a->ray, a->N, 0) * RTCHitN_Ng_x(a->hit, a->N, 0) +
+           RTCRayN_dir_y(a->ray, a->N, 0) * RTCHitN_Ng_y(a->hit, a->N, 0) +
+           RTCRayN_dir_z(a->ray, a->N, 0) * RTCHitN_Ng_z(a->hit, a->N, 0);
+}
+
+// Keeps exiting hits (Embree then shrinks tfar to them); records and rejects entries.
+void nearestFilter(const RTCFilterFunctionNArguments* a) {
+    if (!a->valid[0]) return;
+    auto* ctx = reinterpret_cast<NearestContext*>(a->context);
+    float dot = facing(a);
+    if (isGrazing(a, dot)) ctx->grazing = true;
+    if (dot <= 0.0f) {
+        float t = RTCRayN_tfar(a->ray, a->N, 0);
+        if (t < ctx->tEnter) {
+            ctx->tEnter = t;
+            ctx->enterGeom = RTCHitN_geomID(a->hit, a->N, 0);
+        }
+        a->valid[0] = 0;
+    }
+}
+
+void allHitsFilter(const RTCFilterFunctionNArguments* a) {
+    if (!a->valid[0]) return;
+    auto* ctx = reinterpret_cast<AllHitsContext*>(a->context);
+    if (isGrazing(a, facing(a))) ctx->grazing = true;
+    ctx->hits->emplace_back(RTCHitN_geomID(a->hit, a->N, 0), RTCRayN_tfar(a->ray, a->N, 0));
+    a->valid[0] = 0;
+}
+
+}  // namespace
+
+struct Classifier::Impl {
+    RTCDevice device = nullptr;
+    RTCScene nearest = nullptr;  // geometries with nearestFilter
+    RTCScene allHits = nullptr;  // same buffers, allHitsFilter
+    std::vector<std::vector<glm::vec4>> vertices;  // local frame, 16-byte stride for Embree
+    std::vector<int> geomToBody;
+    std::vector<int> parentBody;
+    std::vector<int> depth;
+    std::vector<RecordId> records;
+    glm::dvec3 origin{0.0};
+
+    ~Impl() {
+        if (nearest) rtcReleaseScene(nearest);
+        if (allHits) rtcReleaseScene(allHits);
+        if (device) rtcReleaseDevice(device);
+    }
+
+    RTCRayHit makeRay(const glm::vec3& org, const glm::vec3& dir) const {
+        RTCRayHit rh{};
+        rh.ray.org_x = org.x;
+        rh.ray.org_y = org.y;
+        rh.ray.org_z = org.z;
+        rh.ray.dir_x = dir.x;
+        rh.ray.dir_y = dir.y;
+        rh.ray.dir_z = dir.z;
+        rh.ray.tnear = 0.0f;
+        rh.ray.tfar = std::numeric_limits<float>::infinity();
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        return rh;
+    }
+};
+
+Classifier::~Classifier() = default;
+
+Result<std::unique_ptr<Classifier>> Classifier::build(const Model& model) {
+    std::unique_ptr<Classifier> c(new Classifier());
+    c->impl_ = std::make_unique<Impl>();
+    Impl& im = *c->impl_;
+    im.origin = model.origin;
+    im.device = rtcNewDevice("verbose=0");
+    if (!im.device) return makeError(ErrorCode::Internal, "Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    im.nearest = rtcNewScene(im.device);
+    im.allHits = rtcNewScene(im.device);
+    for (RTCScene s : {im.nearest, im.allHits}) {
+        rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_MEDIUM);
+    }
+    for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+        const Part& part = model.bodies[b];
+        im.parentBody.push_back(part.report.parent);
+        im.depth.push_back(part.report.nestingDepth);
+        im.records.push_back(part.record);
+        if (part.mesh.triangleCount() == 0 || !part.report.closed) continue;
+        auto& verts = im.vertices.emplace_back(part.mesh.positions.size());
+        for (std::size_t i = 0; i < verts.size(); ++i) verts[i] = glm::vec4(glm::vec3(part.mesh.positions[i] - model.origin), 0.0f);
+        c->triangles_ += part.mesh.triangleCount();
+        for (RTCScene s : {im.nearest, im.allHits}) {
+            RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, verts.data(), 0, sizeof(glm::vec4), verts.size());
+            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, part.mesh.indices.data(), 0,
+                                       3 * sizeof(std::uint32_t), part.mesh.triangleCount());
+            rtcSetGeometryIntersectFilterFunction(g, s == im.nearest ? nearestFilter : allHitsFilter);
+            rtcCommitGeometry(g);
+            unsigned id = rtcAttachGeometry(s, g);
+            rtcReleaseGeometry(g);
+            if (s == im.nearest) {
+                if (im.geomToBody.size() <= id) im.geomToBody.resize(id + 1, -1);
+                im.geomToBody[id] = static_cast<int>(b);
+            }
+        }
+    }
+    rtcCommitScene(im.nearest);
+    rtcCommitScene(im.allHits);
+    if (RTCError e = rtcGetDeviceError(im.device); e != RTC_ERROR_NONE)
+        return makeError(ErrorCode::Internal, "Embree: scene build failed (error " + std::to_string(e) + ")");
+    // The index buffers are shared with the model: it must outlive the classifier.
+    return c;
+}
+
+int Classifier::classifyBody(const glm::dvec3& world) const {
+    const Impl& im = *impl_;
+    if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z)) return -1;
+    const glm::vec3 org(world - im.origin);
+    for (const auto& dir : kDirections) {
+        NearestContext ctx;
+        rtcInitIntersectContext(&ctx.base);
+        RTCRayHit rh = im.makeRay(org, dir);
+        rtcIntersect1(im.nearest, &ctx.base, &rh);
+        if (ctx.grazing) continue;
+        const bool exits = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        if (!exits) return -1;  // no exit: outside every closed body
+        const float tExit = rh.ray.tfar;
+        const float tol = 1e-6f * tExit + 1e-4f;  // coincident faces of neighbouring bodies
+        if (ctx.enterGeom != RTC_INVALID_GEOMETRY_ID && ctx.tEnter < tExit - tol)
+            return im.parentBody[static_cast<std::size_t>(im.geomToBody[ctx.enterGeom])];
+        return im.geomToBody[rh.hit.geomID];
+    }
+    return classifyBodyByParity(world);
+}
+
+int Classifier::classifyBodyByParity(const glm::dvec3& world) const {
+    const Impl& im = *impl_;
+    if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z)) return -1;
+    const glm::vec3 org(world - im.origin);
+    std::vector<std::pair<unsigned, float>> hits;
+    std::vector<int> counts(im.records.size());
+    int best = -1;
+    for (const auto& dir : kDirections) {
+        hits.clear();
+        AllHitsContext ctx;
+        ctx.hits = &hits;
+        rtcInitIntersectContext(&ctx.base);
+        RTCRayHit rh = im.makeRay(org, dir);
+        rtcIntersect1(im.allHits, &ctx.base, &rh);
+        std::fill(counts.begin(), counts.end(), 0);
+        for (const auto& [geom, t] : hits) ++counts[static_cast<std::size_t>(im.geomToBody[geom])];
+        best = -1;
+        for (std::size_t b = 0; b < counts.size(); ++b)
+            if (counts[b] % 2 == 1 && (best < 0 || im.depth[b] > im.depth[static_cast<std::size_t>(best)])) best = static_cast<int>(b);
+        if (!ctx.grazing) break;
+    }
+    return best;
+}
+
+RecordId Classifier::classify(const glm::dvec3& world) const {
+    int b = classifyBody(world);
+    return b < 0 ? kNoRecord : impl_->records[static_cast<std::size_t>(b)];
+}
+
+void Classifier::classifyBatch(const glm::dvec3* world, std::size_t n, RecordId* out, unsigned threads) const {
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, n / 1024)));
+    auto run = [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t i = lo; i < hi; ++i) out[i] = classify(world[i]);
+    };
+    std::vector<std::thread> pool;
+    std::size_t chunk = (n + threads - 1) / std::max(1u, threads);
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run, std::min(n, t * chunk), std::min(n, (t + 1) * chunk));
+    run(0, std::min(n, chunk));
+    for (auto& th : pool) th.join();
+}
+
+}  // namespace geoslice

@@ -1,0 +1,581 @@
+// Crs (model/crs.hpp) against PROJ (cs2cs, projinfo from proj-bin) and `geoslice coords`.
+//
+// Frames and units: geographic points are (lon, lat) in degrees on CGCS2000; projected
+// points are (easting, northing) in metres, easting including the false easting. That is
+// geoslice's API axis order; cs2cs uses EPSG's order ("lat lon" in, "northing easting" out
+// for these CRSs), so every exchange with cs2cs swaps the axes.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "model/crs.hpp"
+
+namespace geoslice {
+namespace {
+
+// Crs vs PROJ, projected metres. GeographicLib's TransverseMercator (Krüger series to
+// order 6, Karney 2011) is accurate to about 5 nm within the zone, and PROJ's default
+// tmerc (the Poder/Engsager extended algorithm) is of similar accuracy, so the two agree
+// to nanometres; 1e-6 m (1 um) leaves room for cs2cs printing 10 decimals and still
+// catches any parameter error (a wrong CM, false easting or flattening is metres off).
+constexpr double kProjToleranceM = 1e-6;
+// Crs vs PROJ, degrees: 1e-10 deg is 11 um on the ground, again far above both
+// algorithms' error and far below any parameter mistake. cs2cs prints 12 decimals
+// here so that its own rounding (5e-13 deg) stays out of the comparison.
+constexpr double kProjToleranceDeg = 1e-10;
+// Round trip through absolute coordinates, metres on the ground. The algorithmic error
+// of the series pair is far below a nanometre; what remains is double rounding of the
+// absolute projected coordinates: one unit in the last place is 7.5e-9 m for an easting
+// of 35,600,000 m (zone number in the false easting) and 9.3e-10 m for a northing of
+// 5,000,000 m, so a round trip cannot be held to 1e-9 m in every family. Measured
+// maxima: 4.4e-9 m (EPSG:4523), 1.9e-9 m (FE 500 km families).
+constexpr double kRoundTripToleranceM = 1e-8;
+// Degrees to metres on the ground for error estimates (sphere of radius a; a few
+// tenths of a percent is plenty for an error bound).
+constexpr double kMetresPerDegree = 6378137.0 * std::numbers::pi / 180.0;
+
+constexpr int kGeographic = 4490;
+
+Crs crsOrDie(int code) {
+    auto r = Crs::fromEpsg(code);
+    GS_ASSERT(r.ok(), "test CRS must exist");
+    return r.value();
+}
+
+// Absolute path of `name` on $PATH, or "" when not found.
+std::string findOnPath(const std::string& name) {
+    const char* path = std::getenv("PATH");
+    std::stringstream ss(path ? path : "/usr/local/bin:/usr/bin:/bin");
+    std::string dir;
+    while (std::getline(ss, dir, ':')) {
+        if (dir.empty()) continue;
+        const std::string candidate = dir + "/" + name;
+        if (access(candidate.c_str(), X_OK) == 0) return candidate;
+    }
+    return "";
+}
+
+// A file under $TMPDIR (or /tmp) removed when this goes out of scope. mkstemp keeps
+// tests that run in parallel processes apart.
+class TempFile {
+public:
+    explicit TempFile(const std::string& contents) {
+        const char* tmp = std::getenv("TMPDIR");
+        std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/geoslice_crs_test_XXXXXX";
+        std::vector<char> buf(pattern.begin(), pattern.end());
+        buf.push_back('\0');
+        const int fd = mkstemp(buf.data());
+        GS_ASSERT(fd >= 0, "mkstemp failed");
+        close(fd);
+        path_ = buf.data();
+        std::ofstream(path_, std::ios::binary) << contents;
+    }
+    ~TempFile() { std::remove(path_.c_str()); }
+    TempFile(const TempFile&) = delete;
+    TempFile& operator=(const TempFile&) = delete;
+    const std::string& path() const { return path_; }
+
+private:
+    std::string path_;
+};
+
+struct CommandResult {
+    std::string out;  // stdout
+    int exitCode = -1;
+};
+
+CommandResult runCommand(const std::string& command) {
+    CommandResult r;
+    FILE* p = popen(command.c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    size_t n = 0;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+    const int status = pclose(p);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::string quote(const std::string& s) {
+    return "'" + s + "'";
+}
+
+std::vector<std::string> splitLines(const std::string& s) {
+    std::vector<std::string> lines;
+    std::stringstream ss(s);
+    std::string line;
+    while (std::getline(ss, line)) lines.push_back(line);
+    return lines;
+}
+
+// Runs cs2cs from EPSG:`from` to EPSG:`to` on `input` (cs2cs axis order), fails the test
+// when cs2cs is missing or fails, and returns its output lines.
+std::vector<std::string> runCs2cs(int from, int to, const std::string& input, const char* format) {
+    const std::string cs2cs = findOnPath("cs2cs");
+    if (cs2cs.empty()) {
+        ADD_FAILURE()
+            << "cs2cs (PROJ) not found on PATH: run scripts/install-deps.sh (Debian package "
+               "proj-bin)";
+        return {};
+    }
+    TempFile in(input);
+    const auto r = runCommand(quote(cs2cs) + " -f " + format + " EPSG:" + std::to_string(from) +
+                              " EPSG:" + std::to_string(to) + " < " + quote(in.path()) + " 2>&1");
+    EXPECT_EQ(r.exitCode, 0) << "cs2cs EPSG:" << from << " EPSG:" << to << " failed:\n" << r.out;
+    return splitLines(r.out);
+}
+
+// The CRSs compared with PROJ: both 3-degree families (incl. zone 35 = EPSG:4523 and
+// CM 105E = EPSG:4544) and both 6-degree families, the first and last zone of each.
+const std::vector<int> kComparedCodes = {4513, 4523, 4527, 4533, 4534, 4541, 4544,
+                                         4554, 4491, 4496, 4501, 4502, 4507, 4512};
+
+// Points over one zone, (lon, lat) degrees: the whole zone width, edges included, and
+// China's latitudes.
+std::vector<glm::dvec2> zonePoints(const Crs& crs) {
+    const double w = crs.zoneWidthDeg();
+    const double offsets[] = {-0.5, -0.37, -0.21, -0.04, 0.0,
+                              0.13, 0.29,  0.43,  0.5};  // of the width
+    const double lats[] = {3.9, 18.2, 25.0, 31.7, 40.3, 47.9, 53.5};
+    std::vector<glm::dvec2> pts;
+    for (double lat : lats)
+        for (double f : offsets) pts.emplace_back(crs.centralMeridianDeg() + f * w, lat);
+    return pts;
+}
+
+TEST(Crs, ForwardMatchesCs2cs) {
+    int compared = 0;
+    for (int code : kComparedCodes) {
+        const Crs crs = crsOrDie(code);
+        const auto pts = zonePoints(crs);
+        std::string input;
+        char line[128];
+        for (const auto& p : pts) {
+            std::snprintf(line, sizeof line, "%.15g %.15g\n", p.y, p.x);  // cs2cs: lat lon
+            input += line;
+        }
+        const auto out = runCs2cs(kGeographic, code, input, "%.10f");
+        ASSERT_EQ(out.size(), pts.size()) << "EPSG:" << code;
+        for (size_t i = 0; i < pts.size(); ++i) {
+            double north = 0.0, east = 0.0;  // cs2cs: northing easting
+            ASSERT_EQ(std::sscanf(out[i].c_str(), "%lf %lf", &north, &east), 2) << out[i];
+            const auto en = crs.fromLonLat(pts[i].x, pts[i].y);
+            ASSERT_TRUE(en.ok()) << en.error().message;
+            EXPECT_NEAR(en->x, east, kProjToleranceM)
+                << "EPSG:" << code << " lon " << pts[i].x << " lat " << pts[i].y;
+            EXPECT_NEAR(en->y, north, kProjToleranceM)
+                << "EPSG:" << code << " lon " << pts[i].x << " lat " << pts[i].y;
+            ++compared;
+        }
+    }
+    EXPECT_GE(compared, 100);
+}
+
+TEST(Crs, InverseMatchesCs2cs) {
+    int compared = 0;
+    for (int code : kComparedCodes) {
+        const Crs crs = crsOrDie(code);
+        // Eastings across the zone (offsets from the central meridian, metres; a 3-degree
+        // zone is about +-170 km wide at 20 N, a 6-degree one twice that), northings over China.
+        const double scale = crs.zoneWidthDeg() / 3.0;
+        const double xs[] = {-170e3, -123456.789, -60e3, -1.5, 0.0, 25e3, 98765.4321, 170e3};
+        const double ys[] = {431234.5,  2012345.678, 2800000.0, 3456789.012,
+                             4400000.0, 5300000.25,  5930000.0};
+        std::vector<glm::dvec2> en;
+        std::string input;
+        char line[128];
+        for (double y : ys) {
+            for (double x : xs) {
+                en.emplace_back(crs.falseEastingM() + x * scale, y);
+                std::snprintf(line, sizeof line, "%.17g %.17g\n", en.back().y, en.back().x);  // N E
+                input += line;
+            }
+        }
+        const auto out = runCs2cs(code, kGeographic, input, "%.12f");
+        ASSERT_EQ(out.size(), en.size()) << "EPSG:" << code;
+        for (size_t i = 0; i < en.size(); ++i) {
+            double lat = 0.0, lon = 0.0;  // cs2cs: lat lon
+            ASSERT_EQ(std::sscanf(out[i].c_str(), "%lf %lf", &lat, &lon), 2) << out[i];
+            const auto ll = crs.toLonLat(en[i].x, en[i].y);
+            ASSERT_TRUE(ll.ok()) << ll.error().message;
+            EXPECT_NEAR(ll->x, lon, kProjToleranceDeg)
+                << "EPSG:" << code << " E " << en[i].x << " N " << en[i].y;
+            EXPECT_NEAR(ll->y, lat, kProjToleranceDeg)
+                << "EPSG:" << code << " E " << en[i].x << " N " << en[i].y;
+            ++compared;
+        }
+    }
+    EXPECT_GE(compared, 100);
+}
+
+TEST(Crs, ProjectedToProjectedMatchesCs2cs) {
+    // Zone 35 with the zone number in the easting -> CM 108E without: through lon/lat.
+    const Crs from = crsOrDie(4523), to = crsOrDie(4545);
+    const std::vector<glm::dvec2> en = {
+        {35500000.0, 3320113.5}, {35612345.678, 3900000.0}, {35401234.5, 2500000.0}};
+    std::string input;
+    char line[128];
+    for (const auto& p : en) {
+        std::snprintf(line, sizeof line, "%.17g %.17g\n", p.y, p.x);
+        input += line;
+    }
+    const auto out = runCs2cs(4523, 4545, input, "%.10f");
+    ASSERT_EQ(out.size(), en.size());
+    for (size_t i = 0; i < en.size(); ++i) {
+        double north = 0.0, east = 0.0;
+        ASSERT_EQ(std::sscanf(out[i].c_str(), "%lf %lf", &north, &east), 2) << out[i];
+        const auto q = convertPoint(from, to, glm::dvec3(en[i], 123.25));
+        ASSERT_TRUE(q.ok()) << q.error().message;
+        EXPECT_NEAR(q->x, east, kProjToleranceM);
+        EXPECT_NEAR(q->y, north, kProjToleranceM);
+        EXPECT_EQ(q->z, 123.25);  // heights pass through exactly
+    }
+}
+
+TEST(Crs, EpsgTableParses) {
+    for (int code = 4490; code <= 4554; ++code) {
+        const std::string id = "EPSG:" + std::to_string(code);
+        for (const std::string& text :
+             {id, "epsg:" + std::to_string(code), std::to_string(code), "  " + id + "\t\n"}) {
+            const auto c = Crs::parse(text);
+            ASSERT_TRUE(c.ok()) << "\"" << text << "\": " << c.error().message;
+            EXPECT_EQ(c->epsg(), code);
+            EXPECT_EQ(c->id(), id);
+        }
+        const Crs c = crsOrDie(code);
+        if (code == kGeographic) {
+            EXPECT_TRUE(c.isGeographic());
+            EXPECT_EQ(c.zone(), 0);
+            continue;
+        }
+        EXPECT_TRUE(c.isProjected()) << id;
+        // CM 75..135 E in every family; FE 500 km plus zone*1e6 m where the zone is in it.
+        EXPECT_GE(c.centralMeridianDeg(), 75.0) << id;
+        EXPECT_LE(c.centralMeridianDeg(), 135.0) << id;
+        EXPECT_EQ(c.falseEastingM(), 500000.0 + (c.zoneInEasting() ? c.zone() * 1e6 : 0.0)) << id;
+        const double zoneCm = c.zoneWidthDeg() == 3 ? c.zone() * 3.0 : c.zone() * 6.0 - 3.0;
+        EXPECT_EQ(c.centralMeridianDeg(), zoneCm) << id;
+    }
+    for (int code : {0, -1, 4326, 4489, 4555, 32650, 99999}) {
+        const auto c = Crs::fromEpsg(code);
+        ASSERT_FALSE(c.ok()) << code;
+        EXPECT_NE(c.error().message.find(std::to_string(code)), std::string::npos)
+            << c.error().message;
+        const auto p = Crs::parse("EPSG:" + std::to_string(code));
+        ASSERT_FALSE(p.ok()) << code;
+        EXPECT_NE(p.error().message.find(std::to_string(code)), std::string::npos)
+            << p.error().message;
+    }
+}
+
+TEST(Crs, EpsgParametersOfSomeCodes) {
+    struct Expected {
+        int code;
+        int zone;
+        int width;
+        double cmDeg;
+        double feM;
+        bool zoneInEasting;
+        const char* name;
+    };
+    const Expected table[] = {
+        {4491, 13, 6, 75.0, 13500000.0, true, "CGCS2000 / Gauss-Kruger zone 13"},
+        {4501, 23, 6, 135.0, 23500000.0, true, "CGCS2000 / Gauss-Kruger zone 23"},
+        {4502, 13, 6, 75.0, 500000.0, false, "CGCS2000 / Gauss-Kruger CM 75E"},
+        {4507, 18, 6, 105.0, 500000.0, false, "CGCS2000 / Gauss-Kruger CM 105E"},
+        {4512, 23, 6, 135.0, 500000.0, false, "CGCS2000 / Gauss-Kruger CM 135E"},
+        {4513, 25, 3, 75.0, 25500000.0, true, "CGCS2000 / 3-degree Gauss-Kruger zone 25"},
+        {4523, 35, 3, 105.0, 35500000.0, true, "CGCS2000 / 3-degree Gauss-Kruger zone 35"},
+        {4533, 45, 3, 135.0, 45500000.0, true, "CGCS2000 / 3-degree Gauss-Kruger zone 45"},
+        {4534, 25, 3, 75.0, 500000.0, false, "CGCS2000 / 3-degree Gauss-Kruger CM 75E"},
+        {4544, 35, 3, 105.0, 500000.0, false, "CGCS2000 / 3-degree Gauss-Kruger CM 105E"},
+        {4554, 45, 3, 135.0, 500000.0, false, "CGCS2000 / 3-degree Gauss-Kruger CM 135E"},
+    };
+    for (const auto& e : table) {
+        const Crs c = crsOrDie(e.code);
+        EXPECT_EQ(c.kind(), Crs::Kind::GaussKruger) << e.code;
+        EXPECT_EQ(c.zone(), e.zone) << e.code;
+        EXPECT_EQ(c.zoneWidthDeg(), e.width) << e.code;
+        EXPECT_EQ(c.centralMeridianDeg(), e.cmDeg) << e.code;
+        EXPECT_EQ(c.falseEastingM(), e.feM) << e.code;
+        EXPECT_EQ(c.zoneInEasting(), e.zoneInEasting) << e.code;
+        EXPECT_EQ(c.name(), e.name) << e.code;
+    }
+    EXPECT_EQ(crsOrDie(kGeographic).name(), "China Geodetic Coordinate System 2000");
+}
+
+TEST(Crs, EpsgTableMatchesProjinfo) {
+    // Every code's name and PROJ definition as the installed EPSG database has them.
+    const std::string projinfo = findOnPath("projinfo");
+    ASSERT_FALSE(projinfo.empty())
+        << "projinfo (PROJ) not found on PATH: run scripts/install-deps.sh "
+           "(Debian package proj-bin)";
+    std::map<int, std::string> names;  // code -> name
+    for (const auto& line :
+         splitLines(runCommand(quote(projinfo) + " --list-crs --authority EPSG").out)) {
+        int code = 0;
+        char name[256] = {};
+        if (std::sscanf(line.c_str(), "EPSG:%d \"%255[^\"]\"", &code, name) == 2 && code >= 4490 &&
+            code <= 4554)
+            names[code] = name;
+    }
+    ASSERT_EQ(names.size(), 65u);
+    for (const auto& [code, name] : names)
+        EXPECT_EQ(crsOrDie(code).name(), name) << "EPSG:" << code;
+
+    const auto defs = runCommand("for c in $(seq 4491 4554); do printf '%s ' $c; " +
+                                 quote(projinfo) + " -o PROJ -q EPSG:$c; done");
+    ASSERT_EQ(defs.exitCode, 0);
+    int checked = 0;
+    for (const auto& line : splitLines(defs.out)) {
+        int code = 0;
+        double lon0 = 0.0, x0 = 0.0, k = 0.0;
+        char ellps[16] = {};
+        ASSERT_EQ(
+            std::sscanf(line.c_str(),
+                        "%d +proj=tmerc +lat_0=0 +lon_0=%lf +k=%lf +x_0=%lf +y_0=0 +ellps=%15s",
+                        &code, &lon0, &k, &x0, ellps),
+            5)
+            << line;
+        // GRS80 in PROJ is a = 6378137 m, 1/f = 298.257222101, as CGCS2000.
+        EXPECT_STREQ(ellps, "GRS80") << line;
+        const Crs c = crsOrDie(code);
+        EXPECT_EQ(c.centralMeridianDeg(), lon0) << line;
+        EXPECT_EQ(c.falseEastingM(), x0) << line;
+        EXPECT_EQ(k, 1.0) << line;
+        ++checked;
+    }
+    EXPECT_EQ(checked, 64);
+}
+
+TEST(Crs, RoundTripOverZones) {
+    const int codes[] = {4513, 4523, 4533, 4534, 4544, 4554, 4491, 4496, 4501, 4502, 4507, 4512};
+    for (int code : codes) {
+        const Crs c = crsOrDie(code);
+        const double w = c.zoneWidthDeg();
+        double worst = 0.0;
+        for (int i = 0; i <= 40; ++i) {
+            for (int j = 0; j <= 40; ++j) {
+                const double lat = 60.0 * i / 40;  // equator to 60 N
+                const double lon = c.centralMeridianDeg() - w / 2 + w * j / 40;
+                const auto en = c.fromLonLat(lon, lat);
+                ASSERT_TRUE(en.ok()) << en.error().message;
+                const auto ll = c.toLonLat(en->x, en->y);
+                ASSERT_TRUE(ll.ok()) << ll.error().message;
+                const double err = std::hypot(
+                    (ll->y - lat) * kMetresPerDegree,
+                    (ll->x - lon) * kMetresPerDegree * std::cos(lat * std::numbers::pi / 180.0));
+                worst = std::max(worst, err);
+                const auto en2 = c.fromLonLat(ll->x, ll->y);
+                ASSERT_TRUE(en2.ok()) << en2.error().message;
+                worst = std::max(worst, std::hypot(en2->x - en->x, en2->y - en->y));
+            }
+        }
+        EXPECT_LT(worst, kRoundTripToleranceM) << "EPSG:" << code;
+    }
+}
+
+TEST(Crs, ParseForms) {
+    for (const char* text : {"", "local", "LOCAL", "  local ", " \t"}) {
+        const auto c = Crs::parse(text);
+        ASSERT_TRUE(c.ok()) << "\"" << text << "\"";
+        EXPECT_TRUE(c->isLocal());
+        EXPECT_EQ(c->epsg(), 0);
+        EXPECT_EQ(c->id(), "local");
+    }
+    for (const char* text : {"EPSG:abc", "EPSG:", "EPSG:4523x", "EPSG:45 23", "4523.0",
+                             "EPSG:-4523", "WGS84", "EPSG:99999999999999"}) {
+        const auto c = Crs::parse(text);
+        ASSERT_FALSE(c.ok()) << "\"" << text << "\"";
+        EXPECT_NE(c.error().message.find(text), std::string::npos) << c.error().message;
+    }
+    const auto unknown = Crs::parse("EPSG:99999");
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_NE(unknown.error().message.find("99999"), std::string::npos) << unknown.error().message;
+}
+
+TEST(Crs, GaussKrugerForLon) {
+    struct Case {
+        double lon;
+        int width;
+        bool zoneInEasting;
+        int epsg;
+    };
+    const Case cases[] = {
+        {105.4, 3, true, 4523},  {105.4, 3, false, 4544}, {106.4, 3, false, 4544},
+        {106.6, 3, false, 4545}, {75.0, 3, true, 4513},   {135.0, 3, false, 4554},
+        {105.4, 6, true, 4496},  {102.1, 6, false, 4507}, {107.9, 6, true, 4496},
+        {73.6, 6, true, 4491},   {134.7, 6, false, 4512},
+    };
+    for (const auto& k : cases) {
+        const auto c = Crs::gaussKrugerForLon(k.lon, k.width, k.zoneInEasting);
+        ASSERT_TRUE(c.ok()) << k.lon << ": " << c.error().message;
+        EXPECT_EQ(c->epsg(), k.epsg) << k.lon << " width " << k.width;
+        EXPECT_LE(std::fabs(c->centralMeridianDeg() - k.lon), k.width / 2.0) << k.lon;
+    }
+    // Just outside 75..135 E (China's west tip is at 73.5 E): the edge zone, up to one
+    // zone width from its central meridian.
+    const auto west = Crs::gaussKrugerForLon(73.4, 3, true);
+    ASSERT_TRUE(west.ok()) << west.error().message;
+    EXPECT_EQ(west->epsg(), 4513);
+    const auto east = Crs::gaussKrugerForLon(137.0, 3, false);
+    ASSERT_TRUE(east.ok()) << east.error().message;
+    EXPECT_EQ(east->epsg(), 4554);
+    EXPECT_FALSE(Crs::gaussKrugerForLon(10.0, 3, true).ok());
+    EXPECT_FALSE(Crs::gaussKrugerForLon(142.0, 6, true).ok());
+    EXPECT_FALSE(Crs::gaussKrugerForLon(71.9, 3, false).ok());
+    EXPECT_FALSE(Crs::gaussKrugerForLon(105.0, 4, true).ok());
+    EXPECT_FALSE(Crs::gaussKrugerForLon(NAN, 3, true).ok());
+}
+
+TEST(Crs, ErrorPaths) {
+    const Crs gk = crsOrDie(4523);
+    const Crs geo = crsOrDie(kGeographic);
+    const auto nanLon = gk.fromLonLat(NAN, 30.0);
+    ASSERT_FALSE(nanLon.ok());
+    EXPECT_NE(nanLon.error().message.find("nan"), std::string::npos) << nanLon.error().message;
+    EXPECT_FALSE(gk.fromLonLat(105.0, INFINITY).ok());
+    EXPECT_FALSE(gk.toLonLat(-INFINITY, 3e6).ok());
+    EXPECT_FALSE(gk.toLonLat(35500000.0, NAN).ok());
+
+    const auto lat95 = gk.fromLonLat(105.0, 95.0);
+    ASSERT_FALSE(lat95.ok());
+    EXPECT_EQ(lat95.error().code, ErrorCode::OutOfRange);
+    EXPECT_NE(lat95.error().message.find("95"), std::string::npos) << lat95.error().message;
+    EXPECT_FALSE(convertPoint(geo, gk, {105.0, -95.0, 0.0}).ok());
+    EXPECT_FALSE(convertPoint(geo, geo, {105.0, 95.0, 0.0}).ok());
+    EXPECT_FALSE(convertPoint(geo, gk, {105.0, 30.0, NAN}).ok());
+
+    // A longitude beyond the zone edge is still projected (up to 3900 km from the CM) ...
+    EXPECT_TRUE(gk.fromLonLat(112.0, 30.0).ok());
+    // ... but not beyond it, in either direction.
+    const auto far = gk.fromLonLat(150.0, 10.0);
+    ASSERT_FALSE(far.ok());
+    EXPECT_EQ(far.error().code, ErrorCode::OutOfRange);
+    EXPECT_NE(far.error().message.find("150"), std::string::npos) << far.error().message;
+    // An easting without the zone number (500000 m) is 35,000 km from the CM of zone 35.
+    const auto noZone = gk.toLonLat(500000.0, 3e6);
+    ASSERT_FALSE(noZone.ok());
+    EXPECT_EQ(noZone.error().code, ErrorCode::OutOfRange);
+    EXPECT_NE(noZone.error().message.find("500000"), std::string::npos) << noZone.error().message;
+    EXPECT_FALSE(gk.toLonLat(35500000.0 + 3.95e6, 3e6).ok());
+    EXPECT_FALSE(gk.toLonLat(35500000.0, 1.1e7).ok());  // beyond the pole
+
+    // Projection calls on a CRS that is not projected.
+    EXPECT_FALSE(geo.fromLonLat(105.0, 30.0).ok());
+    EXPECT_FALSE(Crs::local().toLonLat(0.0, 0.0).ok());
+
+    // Local mixed with a real CRS names both.
+    const auto mixed = convertPoint(Crs::local(), gk, {1.0, 2.0, 3.0});
+    ASSERT_FALSE(mixed.ok());
+    EXPECT_EQ(mixed.error().code, ErrorCode::InvalidArgument);
+    EXPECT_NE(mixed.error().message.find("local"), std::string::npos) << mixed.error().message;
+    EXPECT_NE(mixed.error().message.find("EPSG:4523"), std::string::npos) << mixed.error().message;
+    EXPECT_FALSE(convertPoint(geo, Crs::local(), {105.0, 30.0, 0.0}).ok());
+}
+
+TEST(Crs, ConvertPointPaths) {
+    const Crs gk3 = crsOrDie(4523), gk3cm = crsOrDie(4544), geo = crsOrDie(kGeographic);
+    const glm::dvec3 ll(105.7, 31.2, -412.5);  // lon, lat degrees; ellipsoidal height metres
+    // local -> local and geographic -> geographic: identity.
+    const auto local = convertPoint(Crs::local(), Crs::local(), {1.5, -2.5, 3.5});
+    ASSERT_TRUE(local.ok());
+    EXPECT_EQ(local.value(), glm::dvec3(1.5, -2.5, 3.5));
+    const auto same = convertPoint(geo, geo, ll);
+    ASSERT_TRUE(same.ok());
+    EXPECT_EQ(same.value(), ll);
+    // Geographic -> projected equals fromLonLat; z passes through.
+    const auto en = convertPoint(geo, gk3, ll);
+    ASSERT_TRUE(en.ok()) << en.error().message;
+    const auto direct = gk3.fromLonLat(ll.x, ll.y);
+    ASSERT_TRUE(direct.ok());
+    EXPECT_EQ(en->x, direct->x);
+    EXPECT_EQ(en->y, direct->y);
+    EXPECT_EQ(en->z, ll.z);
+    // Zone 35 with and without the zone number: same CM, eastings differ by 35,000 km
+    // exactly up to rounding of the absolute easting (ulp(3.5e7 m) = 7.5e-9 m).
+    const auto cm = convertPoint(gk3, gk3cm, en.value());
+    ASSERT_TRUE(cm.ok()) << cm.error().message;
+    EXPECT_NEAR(cm->x, en->x - 35e6, 1e-8);
+    EXPECT_NEAR(cm->y, en->y, 1e-8);
+    // Projected -> geographic returns the point (tolerance: round trip, see above).
+    const auto back = convertPoint(gk3cm, geo, cm.value());
+    ASSERT_TRUE(back.ok());
+    EXPECT_NEAR(back->x, ll.x, kRoundTripToleranceM / kMetresPerDegree);
+    EXPECT_NEAR(back->y, ll.y, kRoundTripToleranceM / kMetresPerDegree);
+    EXPECT_EQ(back->z, ll.z);
+}
+
+// ---- geoslice coords, end to end --------------------------------------------------------
+
+CommandResult runCoords(const std::string& args, const std::string& input) {
+    TempFile in(input);
+    return runCommand(quote(GEOSLICE_BINARY) + " coords " + args + " < " + quote(in.path()) +
+                      " 2>/dev/null");
+}
+
+TEST(CoordsCli, GeographicToGaussKruger) {
+    const auto r = runCoords("--from EPSG:4490 --to EPSG:4523",
+                             "# lon lat h\n105.5 30.25 500\n\n104.1\t29.9\n");
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    const auto lines = splitLines(r.out);
+    ASSERT_EQ(lines.size(), 4u) << r.out;
+    EXPECT_EQ(lines[0], "# lon lat h");
+    EXPECT_EQ(lines[2], "");
+    const Crs gk = crsOrDie(4523);
+    const glm::dvec2 in[] = {{105.5, 30.25}, {104.1, 29.9}};
+    const std::string* outLines[] = {&lines[1], &lines[3]};
+    for (int i = 0; i < 2; ++i) {
+        double e = 0.0, n = 0.0, z = 0.0;
+        const int fields = std::sscanf(outLines[i]->c_str(), "%lf %lf %lf", &e, &n, &z);
+        ASSERT_EQ(fields, i == 0 ? 3 : 2) << *outLines[i];
+        const auto en = gk.fromLonLat(in[i].x, in[i].y);
+        ASSERT_TRUE(en.ok());
+        // Printed with 6 decimals: within half a micrometre.
+        EXPECT_NEAR(e, en->x, 0.6e-6);
+        EXPECT_NEAR(n, en->y, 0.6e-6);
+        if (i == 0) {
+            EXPECT_EQ(z, 500.0);
+        }
+    }
+}
+
+TEST(CoordsCli, GaussKrugerToGeographicAndBadLine) {
+    const auto r = runCoords("--from 4544 --to epsg:4490",
+                             "512345.678 3456789.012\nnot a point\n487000 3300000 12\n");
+    EXPECT_EQ(r.exitCode, 1) << r.out;
+    const auto lines = splitLines(r.out);
+    ASSERT_EQ(lines.size(), 3u) << r.out;
+    EXPECT_EQ(lines[1], "*\t*");
+    const Crs gk = crsOrDie(4544);
+    const glm::dvec2 in[] = {{512345.678, 3456789.012}, {487000.0, 3300000.0}};
+    for (int i = 0; i < 2; ++i) {
+        double lon = 0.0, lat = 0.0;
+        ASSERT_GE(std::sscanf(lines[i * 2].c_str(), "%lf %lf", &lon, &lat), 2) << lines[i * 2];
+        const auto ll = gk.toLonLat(in[i].x, in[i].y);
+        ASSERT_TRUE(ll.ok());
+        // Printed with 10 decimals: within half of 1e-10 degrees.
+        EXPECT_NEAR(lon, ll->x, 0.6e-10);
+        EXPECT_NEAR(lat, ll->y, 0.6e-10);
+    }
+}
+
+TEST(CoordsCli, BadCrsIsUsageError) {
+    EXPECT_EQ(runCoords("--from EPSG:abc --to EPSG:4490", "105 30\n").exitCode, 2);
+    EXPECT_EQ(runCoords("--from EPSG:4490 --to EPSG:99999", "105 30\n").exitCode, 2);
+    EXPECT_EQ(runCoords("--from local --to EPSG:4490", "105 30\n").exitCode, 2);
+}
+
+}  // namespace
+}  // namespace geoslice
