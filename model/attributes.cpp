@@ -176,7 +176,11 @@ nlohmann::ordered_json AttributeTable::toJson() const {
 }
 
 Result<AttributeTable> AttributeTable::fromJson(const nlohmann::json& j, const std::string& source) {
-    const nlohmann::json* arr = &j;
+    return fromJson(nlohmann::ordered_json::parse(j.dump()), source);
+}
+
+Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j, const std::string& source) {
+    const nlohmann::ordered_json* arr = &j;
     if (j.is_object() && j.contains("records")) arr = &j["records"];
     if (!arr->is_array())
         return makeError(ErrorCode::ParseError, source + ": expected an array of records or {\"records\": [...]}");
@@ -296,7 +300,7 @@ Result<AttributeTable> AttributeTable::load(const std::string& path) {
     std::string text = ss.str();
     bool json = path.size() >= 5 && path.substr(path.size() - 5) == ".json";
     if (!json) return fromCsv(text, path);
-    nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(text, nullptr, /*allow_exceptions=*/false);
     if (j.is_discarded()) return makeError(ErrorCode::ParseError, path + ": not valid JSON");
     return fromJson(j, path);
 }

@@ -62,6 +62,8 @@ public:
 
     nlohmann::ordered_json toJson() const;  // {"records":[...]}
     // Accepts {"records":[...]} or a bare array of objects. `source` names the input in errors.
+    // Field order of `extra` follows the input document.
+    static Result<AttributeTable> fromJson(const nlohmann::ordered_json& j, const std::string& source);
     static Result<AttributeTable> fromJson(const nlohmann::json& j, const std::string& source);
     // CSV with a header row; known columns: id,name,kind,lithology,age,era,colour|color,
     // density,grade,grade_unit. Other columns go to `extra` (numbers as numbers).

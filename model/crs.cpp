@@ -165,8 +165,8 @@ Result<Crs> Crs::gaussKrugerForLon(double lonDeg, int zoneWidthDeg, bool zoneInE
     // up to one zone width from its central meridian.
     const int count = zoneWidthDeg == 3 ? kGk3Zones : kGk6Zones;
     index = std::clamp(index, 0, count - 1);
-    const double cm = zoneWidthDeg == 3 ? (kGk3FirstZone + index) * 3.0
-                                        : (kGk6FirstZone + index) * 6.0 - 3.0;
+    const double cm =
+        zoneWidthDeg == 3 ? (kGk3FirstZone + index) * 3.0 : (kGk6FirstZone + index) * 6.0 - 3.0;
     if (std::fabs(lon - cm) > zoneWidthDeg) {
         return makeError(ErrorCode::OutOfRange,
                          "longitude " + num(lonDeg) + " degrees has no CGCS2000 " +
@@ -203,44 +203,47 @@ std::string Crs::name() const {
 
 Result<glm::dvec2> Crs::toLonLat(double eastingM, double northingM) const {
     if (!isProjected()) return notProjected(*this, "toLonLat");
-    const std::string where =
-        id() + " easting " + num(eastingM) + " m, northing " + num(northingM) + " m";
+    // Built only on failure: the success path allocates nothing.
+    const auto where = [&] {
+        return id() + " easting " + num(eastingM) + " m, northing " + num(northingM) + " m";
+    };
     if (!std::isfinite(eastingM) || !std::isfinite(northingM)) {
-        return makeError(ErrorCode::InvalidArgument, where + ": not a finite number");
+        return makeError(ErrorCode::InvalidArgument, where() + ": not a finite number");
     }
     const double x = eastingM - fe_;
     if (std::fabs(x) > kMaxCentralMeridianDistanceM) {
-        return makeError(ErrorCode::OutOfRange, where + ": " + num(std::fabs(x) / 1e3) +
+        return makeError(ErrorCode::OutOfRange, where() + ": " + num(std::fabs(x) / 1e3) +
                                                     " km from the central meridian " + num(lon0_) +
                                                     " E (false easting " + num(fe_) +
                                                     " m), beyond the 3900 km limit");
     }
     if (std::fabs(northingM) > quarterMeridianM()) {
         return makeError(ErrorCode::OutOfRange,
-                         where + ": northing beyond the pole (quarter meridian " +
+                         where() + ": northing beyond the pole (quarter meridian " +
                              num(quarterMeridianM()) + " m)");
     }
     double lat = 0.0, lon = 0.0;
     projection().Reverse(lon0_, x, northingM, lat, lon);
     if (!std::isfinite(lat) || !std::isfinite(lon)) {
-        return makeError(ErrorCode::Internal, where + ": inverse projection failed");
+        return makeError(ErrorCode::Internal, where() + ": inverse projection failed");
     }
     return glm::dvec2(lon, lat);
 }
 
 Result<glm::dvec2> Crs::fromLonLat(double lonDeg, double latDeg) const {
     if (!isProjected()) return notProjected(*this, "fromLonLat");
-    const std::string where =
-        id() + " from lon " + num(lonDeg) + ", lat " + num(latDeg) + " degrees";
+    const auto where = [&] {
+        return id() + " from lon " + num(lonDeg) + ", lat " + num(latDeg) + " degrees";
+    };
     if (!std::isfinite(lonDeg) || !std::isfinite(latDeg)) {
-        return makeError(ErrorCode::InvalidArgument, where + ": not a finite number");
+        return makeError(ErrorCode::InvalidArgument, where() + ": not a finite number");
     }
     if (std::fabs(latDeg) > 90.0) {
-        return makeError(ErrorCode::OutOfRange, where + ": latitude beyond +-90 degrees");
+        return makeError(ErrorCode::OutOfRange, where() + ": latitude beyond +-90 degrees");
     }
     const double dlon = GeographicLib::Math::AngDiff(lon0_, lonDeg);  // [-180, 180]
     if (std::fabs(dlon) > kMaxLonOffsetDeg) {
-        return makeError(ErrorCode::OutOfRange, where + ": " + num(std::fabs(dlon)) +
+        return makeError(ErrorCode::OutOfRange, where() + ": " + num(std::fabs(dlon)) +
                                                     " degrees from the central meridian " +
                                                     num(lon0_) + " E");
     }
@@ -248,7 +251,7 @@ Result<glm::dvec2> Crs::fromLonLat(double lonDeg, double latDeg) const {
     projection().Forward(lon0_, latDeg, lonDeg, x, y);
     if (!std::isfinite(x) || !std::isfinite(y) || std::fabs(x) > kMaxCentralMeridianDistanceM) {
         return makeError(ErrorCode::OutOfRange,
-                         where + ": more than 3900 km from the central meridian " + num(lon0_) +
+                         where() + ": more than 3900 km from the central meridian " + num(lon0_) +
                              " E, where the projection is not accurate");
     }
     return glm::dvec2(x + fe_, y);

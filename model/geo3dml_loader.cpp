@@ -301,51 +301,73 @@ std::optional<std::int64_t> parseInt(std::string_view token) {
 
 // --- the reader ------------------------------------------------------------------------------
 
-// What a file held that is not a TIN, for the "no triangles" message.
+// What a file held that is not a TIN, for the "no triangles" message, in file order.
 struct Census {
-    std::vector<std::pair<std::string, std::size_t>> items;  // description, count; file order
-    void add(const std::string& what) {
-        for (auto& [name, count] : items)
-            if (name == what) {
-                ++count;
+    struct Item {
+        std::string noun;   // "tetrahedral volume"
+        std::string local;  // "GeoTetrahedronVolume"
+        std::size_t count = 0;
+    };
+    std::vector<Item> items;
+
+    void add(std::string_view local) {
+        for (Item& item : items)
+            if (item.local == local) {
+                ++item.count;
                 return;
             }
-        items.emplace_back(what, 1);
+        items.push_back(Item{nounFor(local), quoted(local), 1});
+    }
+
+    // "1 regular grid (RectifiedGrid), 4 points (Point)"
+    std::string describe() const {
+        std::string out;
+        for (const Item& item : items) {
+            if (!out.empty()) out += ", ";
+            out += std::to_string(item.count);
+            out += ' ';
+            out += item.noun;
+            if (item.count > 1) out += 's';
+            out += " (";
+            out += item.local;
+            out += ')';
+        }
+        return out;
+    }
+
+private:
+    static std::string nounFor(std::string_view local) {
+        static const std::pair<std::string_view, std::string_view> kNouns[] = {
+            {"GeoTin", "empty TIN"},
+            {"TriangulatedSurface", "empty triangulated surface"},
+            {"Tin", "empty triangulated surface"},
+            {"RectifiedGrid", "regular grid"},
+            {"Grid", "grid"},
+            {"GeoTetrahedronVolume", "tetrahedral volume"},
+            {"GeoCuboidVolume", "cuboid volume"},
+            {"GeoTriangularPrismVolume", "triangular prism volume"},
+            {"GeoTruncatedRegularGrid", "truncated regular grid"},
+            {"GeoCornerPointGrid", "corner-point grid"},
+            {"GeoSGrid", "S-grid"},
+            {"GeoPolyhedronVolume", "polyhedron volume"},
+            {"GeoVolume", "volume"},
+            {"Point", "point"},
+            {"MultiPoint", "point set"},
+            {"LineString", "line string"},
+            {"Curve", "curve"},
+            {"CompositeCurve", "curve"},
+            {"MultiCurve", "curve set"},
+            {"Polygon", "polygon"},
+            {"Surface", "polygon surface"},
+            {"MultiSurface", "polygon surface"},
+            {"PolyhedralSurface", "polygon surface"},
+            {"Solid", "solid"},
+        };
+        for (const auto& [name, noun] : kNouns)
+            if (name == local) return std::string(noun);
+        return "other geometry";
     }
 };
-
-// A readable description of a non-TIN geometry element.
-std::string describeGeometry(std::string_view local) {
-    static const std::pair<std::string_view, std::string_view> kNames[] = {
-        {"GeoTin", "empty TIN"},
-        {"TriangulatedSurface", "empty triangulated surface"},
-        {"Tin", "empty triangulated surface"},
-        {"RectifiedGrid", "regular grid"},
-        {"Grid", "grid"},
-        {"GeoTetrahedronVolume", "tetrahedral volume"},
-        {"GeoCuboidVolume", "cuboid volume"},
-        {"GeoTriangularPrismVolume", "triangular prism volume"},
-        {"GeoTruncatedRegularGrid", "truncated regular grid"},
-        {"GeoCornerPointGrid", "corner-point grid"},
-        {"GeoSGrid", "S-grid"},
-        {"GeoPolyhedronVolume", "polyhedron volume"},
-        {"GeoVolume", "volume"},
-        {"Point", "point"},
-        {"MultiPoint", "point set"},
-        {"LineString", "line string"},
-        {"Curve", "curve"},
-        {"CompositeCurve", "curve"},
-        {"MultiCurve", "curve set"},
-        {"Polygon", "polygon"},
-        {"Surface", "polygon surface"},
-        {"MultiSurface", "polygon surface"},
-        {"PolyhedralSurface", "polygon surface"},
-        {"Solid", "solid"},
-    };
-    for (const auto& [name, description] : kNames)
-        if (name == local) return std::string(description) + " (" + std::string(local) + ")";
-    return "<" + quoted(local) + "> geometry";
-}
 
 // True when every undirected edge is used by exactly two triangles (a closed 2-manifold).
 bool isClosed(const Mesh& mesh) {
@@ -586,7 +608,7 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
 
     if (mesh.indices.empty()) {
         const pugi::xml_node geometry = firstElementChild(shape);
-        if (geometry) census_.add(describeGeometry(localName(geometry.name())));
+        if (geometry) census_.add(localName(geometry.name()));
         else ++featuresWithoutGeometry_;
         return std::nullopt;
     }
@@ -1032,14 +1054,11 @@ Error Reader::nothingToLoad(pugi::xml_node root, const std::string& modelName) c
     std::string what = localName(root.name()) == "Geo3DProject" ? "the Geo3DProject" : "the Geo3DModel";
     if (!modelName.empty()) what += " '" + quoted(modelName, 200) + "'";
     if (!modelType_.empty() && localName(root.name()) == "Geo3DModel") what += " (Type " + modelType_ + ")";
-    std::string held;
-    for (const auto& [description, count] : census_.items) {
-        if (!held.empty()) held += ", ";
-        held += std::to_string(count) + " " + description;
-    }
+    std::string held = census_.describe();
     if (featuresWithoutGeometry_ > 0) {
         if (!held.empty()) held += ", ";
-        held += std::to_string(featuresWithoutGeometry_) + " feature(s) without geometry";
+        held += std::to_string(featuresWithoutGeometry_);
+        held += featuresWithoutGeometry_ == 1 ? " feature without geometry" : " features without geometry";
     }
     std::string msg = source_ + ": no TIN triangles to load: " + what;
     if (!held.empty()) msg += " contains only " + held;

@@ -697,7 +697,7 @@ Status TsurfParser::readVertex(Tokens& tokens, bool withProperties) {
         std::size_t found = 0;
         if (withProperties) {
             while (tokens.next(tok)) {
-                if (found == columns) {
+                if (found >= columns) {  // too many: count them for the message
                     ++found;
                     continue;
                 }
@@ -816,7 +816,7 @@ Status TsurfParser::finishObject() {
     for (std::size_t v = 0; v < o.positions.size(); ++v) {
         if (remap[v] == kUnresolved) continue;
         remap[v] = static_cast<std::uint32_t>(mesh.positions.size());
-        mesh.positions.push_back(o.positions[v] * scale);
+        mesh.positions.push_back(o.positions[v] * scale + glm::dvec3(0.0));  // + 0: depth 0 gives +0, not -0
         if (columns > 0)
             mesh.propertyValues.insert(mesh.propertyValues.end(), o.properties.begin() + static_cast<std::ptrdiff_t>(v * columns),
                                        o.properties.begin() + static_cast<std::ptrdiff_t>((v + 1) * columns));

@@ -80,6 +80,7 @@ struct Classifier::Impl {
     std::vector<int> depth;
     std::vector<RecordId> records;
     glm::dvec3 origin{0.0};
+    float maxLocalCoord = 0.0f;  // largest |local coordinate|, m: sets the float tolerance
 
     ~Impl() {
         if (nearest) rtcReleaseScene(nearest);
@@ -126,7 +127,10 @@ Result<std::unique_ptr<Classifier>> Classifier::build(const Model& model) {
         im.records.push_back(part.record);
         if (part.mesh.triangleCount() == 0 || !part.report.closed) continue;
         auto& verts = im.vertices.emplace_back(part.mesh.positions.size());
-        for (std::size_t i = 0; i < verts.size(); ++i) verts[i] = glm::vec4(glm::vec3(part.mesh.positions[i] - model.origin), 0.0f);
+        for (std::size_t i = 0; i < verts.size(); ++i) {
+            verts[i] = glm::vec4(glm::vec3(part.mesh.positions[i] - model.origin), 0.0f);
+            im.maxLocalCoord = std::max({im.maxLocalCoord, std::abs(verts[i].x), std::abs(verts[i].y), std::abs(verts[i].z)});
+        }
         c->triangles_ += part.mesh.triangleCount();
         for (RTCScene s : {im.nearest, im.allHits}) {
             RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -164,7 +168,9 @@ int Classifier::classifyBody(const glm::dvec3& world) const {
         const bool exits = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         if (!exits) return -1;  // no exit: outside every closed body
         const float tExit = rh.ray.tfar;
-        const float tol = 1e-6f * tExit + 1e-4f;  // coincident faces of neighbouring bodies
+        // Faces that neighbouring bodies share are coplanar but rounded to float32
+        // separately: their hit distances differ by a few ulps of the local coordinates.
+        const float tol = 1e-6f * (im.maxLocalCoord + tExit) + 1e-4f;
         if (ctx.enterGeom != RTC_INVALID_GEOMETRY_ID && ctx.tEnter < tExit - tol)
             return im.parentBody[static_cast<std::size_t>(im.geomToBody[ctx.enterGeom])];
         return im.geomToBody[rh.hit.geomID];

@@ -12,8 +12,10 @@
 // vertex, or runs nearly parallel to a hit triangle, is re-cast in another direction;
 // classifyByParity() (all hits, parity per body) is the slow reference the tests use.
 //
-// Precision: rays run in the model's local float32 frame (world - origin), so points
-// closer than ~1e-7 x (distance from the origin) to a boundary may fall either side.
+// Precision: rays run in the model's local float32 frame (world - origin). Hits on the
+// two sides of a shared face count as one when within 1e-6 x (model half-extent + hit
+// distance) + 0.1 mm (3 mm for a 6 km model): points nearer than that to a boundary may
+// fall either side, and a body thinner than that along the ray is not resolved.
 // Thread-safety: build once; classify*() may be called from any number of threads.
 #pragma once
 

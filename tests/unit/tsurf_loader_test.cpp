@@ -342,6 +342,12 @@ TEST(TsurfLoader, PvrtxWithTheWrongNumberOfValuesIsAnError) {
         "TRGL 1 2 3\n"
         "END\n");
     expectErrorAt(parseTsurf(text, "pv.ts"), "pv.ts", 7, "expected 2");
+    // Too many values (found by fuzzing: a read past the no-data table).
+    std::string more = tsurf(
+        "PROPERTIES a b\n"
+        "PVRTX 1 0 0 0 1 2 3 4 5\n"
+        "END\n");
+    expectErrorAt(parseTsurf(more, "pv5.ts"), "pv5.ts", 6, "has 5 property values, expected 2");
 }
 
 TEST(TsurfLoader, AtomReusesAnEarlierVertex) {

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Builds geoslice with warnings as errors and runs the whole test suite (unit, fuzz
+# replay; later gl). Usage: bash scripts/test.sh [extra cmake args, e.g. -DGEOSLICE_SANITIZE=ON]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+build=${GEOSLICE_BUILD_DIR:-build}
+jobs=$(nproc)
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DGEOSLICE_WERROR=ON "$@"
+cmake --build "$build" -j"$jobs"
+ctest --test-dir "$build" --output-on-failure -j"$jobs"
