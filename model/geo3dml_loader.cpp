@@ -27,6 +27,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <optional>
@@ -34,6 +35,7 @@
 #include <string_view>
 #include <system_error>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -301,22 +303,25 @@ std::optional<std::int64_t> parseInt(std::string_view token) {
 
 // --- the reader ------------------------------------------------------------------------------
 
-// What a file held that is not a TIN, for the "no triangles" message, in file order.
+// What a file held that is not a TIN, for the "no triangles" message, in file order. Kept
+// per kind of geometry (a bounded set), so that a file of many odd elements stays linear.
 struct Census {
     struct Item {
-        std::string noun;   // "tetrahedral volume"
-        std::string local;  // "GeoTetrahedronVolume"
+        std::string_view noun;            // "tetrahedral volume"
+        std::vector<std::string> locals;  // element names seen, at most kMaxNames
         std::size_t count = 0;
     };
+    static constexpr std::size_t kMaxNames = 3;
     std::vector<Item> items;
 
     void add(std::string_view local) {
-        for (Item& item : items)
-            if (item.local == local) {
-                ++item.count;
-                return;
-            }
-        items.push_back(Item{nounFor(local), quoted(local), 1});
+        const std::string_view noun = nounFor(local);
+        auto it = std::find_if(items.begin(), items.end(), [&](const Item& item) { return item.noun == noun; });
+        if (it == items.end()) it = items.insert(items.end(), Item{noun, {}, 0});
+        ++it->count;
+        const std::string name = quoted(local);
+        if (it->locals.size() < kMaxNames && std::find(it->locals.begin(), it->locals.end(), name) == it->locals.end())
+            it->locals.push_back(name);
     }
 
     // "1 regular grid (RectifiedGrid), 4 points (Point)"
@@ -329,14 +334,17 @@ struct Census {
             out += item.noun;
             if (item.count > 1) out += 's';
             out += " (";
-            out += item.local;
+            for (std::size_t k = 0; k < item.locals.size(); ++k) {
+                if (k > 0) out += ", ";
+                out += item.locals[k];
+            }
             out += ')';
         }
         return out;
     }
 
 private:
-    static std::string nounFor(std::string_view local) {
+    static std::string_view nounFor(std::string_view local) {
         static const std::pair<std::string_view, std::string_view> kNouns[] = {
             {"GeoTin", "empty TIN"},
             {"TriangulatedSurface", "empty triangulated surface"},
@@ -364,8 +372,8 @@ private:
             {"Solid", "solid"},
         };
         for (const auto& [name, noun] : kNouns)
-            if (name == local) return std::string(noun);
-        return "other geometry";
+            if (name == local) return noun;
+        return "other geometry element";
     }
 };
 
@@ -876,12 +884,39 @@ std::string kindFromNames(std::string_view className, std::string_view featureNa
     return "";
 }
 
-// Adds value under key, or under "key#2", "key#3"... when a field name repeats.
-void putUnique(nlohmann::ordered_json& extra, const std::string& key, nlohmann::ordered_json value) {
-    std::string k = key;
-    for (int n = 2; extra.contains(k); ++n) k = key + "#" + std::to_string(n);
-    extra[k] = std::move(value);
-}
+// Builds a record's `extra` in file order. ordered_json finds keys by linear search, so
+// inserting n fields one by one costs O(n^2); a feature with very many fields must not hang
+// the loader. Keys are made unique here (a repeated field name becomes "name#2", "name#3"...)
+// and appended to the underlying vector of ordered_json's object directly.
+class ExtraBuilder {
+public:
+    void put(const std::string& key, nlohmann::ordered_json value) {
+        std::string k = key;
+        if (!used_.insert(k).second) {
+            std::size_t& n = nextSuffix_[key];
+            if (n < 2) n = 2;
+            do k = key + "#" + std::to_string(n++);
+            while (!used_.insert(k).second);
+        }
+        entries_.emplace_back(std::move(k), std::move(value));
+    }
+    bool contains(const std::string& key) const { return used_.count(key) != 0; }
+
+    void moveInto(nlohmann::ordered_json& extra) {
+        if (!extra.is_object()) extra = nlohmann::ordered_json::object();
+        auto& object = extra.get_ref<nlohmann::ordered_json::object_t&>();
+        GS_ASSERT(object.empty(), "ExtraBuilder::moveInto expects an empty object");
+        object.reserve(entries_.size());
+        for (auto& [k, v] : entries_) object.emplace_back(std::move(k), std::move(v));
+        entries_.clear();
+        used_.clear();
+    }
+
+private:
+    std::vector<std::pair<std::string, nlohmann::ordered_json>> entries_;
+    std::unordered_set<std::string> used_;
+    std::unordered_map<std::string, std::size_t> nextSuffix_;
+};
 
 // One record per feature:
 //  - name: the stratigraphic-name field (地层名称, stratigraphic_name...) when it has a value,
@@ -898,12 +933,13 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
     rec.name = featureName;
     rec.kind = kindFromNames(className, featureName);
     if (rec.kind.empty()) rec.kind = closed ? "body" : "surface";
+    ExtraBuilder extra;
     if (const pugi::xml_attribute id = attributeNamed(feature, "id")) {
         if (!isValidUtf8(id.value())) return fail(feature, "gml:id is not valid UTF-8");
-        rec.extra["gml:id"] = id.value();
+        extra.put("gml:id", id.value());
     }
-    rec.extra["gml:name"] = featureName;
-    if (!className.empty()) rec.extra["geo3dml:featureClass"] = std::string(className);
+    extra.put("gml:name", featureName);
+    if (!className.empty()) extra.put("geo3dml:featureClass", std::string(className));
 
     bool nameFromField = false;
     const pugi::xml_node fields = childNamed(feature, "Fields");
@@ -936,8 +972,8 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
                 else if (t == "false" || t == "0") value = false;
             }
         }
-        putUnique(rec.extra, key, value);
-        if (!uom.empty()) putUnique(rec.extra, key + ":uom", uom);
+        extra.put(key, std::move(value));
+        if (!uom.empty()) extra.put(key + ":uom", uom);
 
         const std::string_view t = trim(text);
         if (t.empty()) continue;
@@ -978,6 +1014,7 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
                 break;
         }
     }
+    extra.moveInto(rec.extra);
     return rec;
 }
 
@@ -1041,13 +1078,15 @@ void Reader::applyCrs(Model& model, AttributeRecord* notes) const {
         note("axis_order", "coordinates were written northing first (X = north); swapped to x = east, y = north");
         return;
     }
-    const auto range = [](double lo, double hi) {
-        return std::to_string(static_cast<long long>(std::floor(lo))) + ".." +
-               std::to_string(static_cast<long long>(std::ceil(hi)));
+    const auto metres = [](double v) {  // whole metres; any finite double, however large
+        char buf[64];
+        std::snprintf(buf, sizeof buf, std::fabs(v) < 1e15 ? "%.0f" : "%.6g", v);
+        return std::string(buf);
     };
+    const auto range = [&](double lo, double hi) { return metres(std::floor(lo)) + ".." + metres(std::ceil(hi)); };
     note("crs_warning", "coordinates (x " + range(box.min.x, box.max.x) + " m, y " + range(box.min.y, box.max.y) +
-                            " m) do not fit " + model.crs.id() + " (eastings near " +
-                            std::to_string(static_cast<long long>(fe)) + " m): the declared CRS may not apply");
+                            " m) do not fit " + model.crs.id() + " (eastings near " + metres(fe) +
+                            " m): the declared CRS may not apply");
 }
 
 Error Reader::nothingToLoad(pugi::xml_node root, const std::string& modelName) const {

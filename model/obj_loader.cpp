@@ -190,9 +190,9 @@ private:
     std::string_view text_;
     const std::string& source_;
     std::size_t pos_ = 0;
-    std::size_t lineNo_ = 0;   // 1-based number of the current line (the first of a continued line)
+    std::size_t lineNo_ = 0;  // 1-based number of the current line (the first of a continued line)
     std::size_t nextLineNo_ = 0;
-    std::string joined_;       // a line continued with '\' at line ends
+    std::string joined_;  // a line continued with '\' at line ends
 
     std::string stem_;
     std::string object_, group_;
@@ -200,7 +200,7 @@ private:
     std::vector<glm::dvec3> positions_;     // world, metres
     std::vector<PartBuild> parts_;
     std::map<std::string, std::size_t> partByName_;
-    std::vector<std::uint32_t> face_;        // corners of the face being read
+    std::vector<std::uint32_t> face_;  // corners of the face being read
 };
 
 // Returns the next logical line: a physical line, or several joined by a trailing '\'.
@@ -246,9 +246,10 @@ Result<Model> ObjParser::run() {
 
     // Keywords we read past without using (attributes, free-form geometry, display).
     static constexpr std::string_view kIgnored[] = {
-        "vt", "vn", "vp", "l", "p", "s", "usemtl", "mtllib", "cstype", "deg", "bmat", "step", "curv", "curv2",
-        "surf", "parm", "trim", "hole", "scrv", "sp", "end", "con", "mg", "bevel", "c_interp", "d_interp",
-        "lod", "shadow_obj", "trace_obj", "ctech", "stech", "maplib", "usemap"};
+        "vt",         "vn",        "vp",    "l",     "p",      "s",     "usemtl",   "mtllib",   "cstype",
+        "deg",        "bmat",      "step",  "curv",  "curv2",  "surf",  "parm",     "trim",     "hole",
+        "scrv",       "sp",        "end",   "con",   "mg",     "bevel", "c_interp", "d_interp", "lod",
+        "shadow_obj", "trace_obj", "ctech", "stech", "maplib", "usemap"};
 
     std::string_view line;
     while (nextLine(line)) {
@@ -302,9 +303,21 @@ Result<Model> ObjParser::run() {
             mesh.indices.push_back(local[g]);
         }
         std::vector<std::uint32_t>().swap(b.corners);
+        // One record per part, made here rather than by finishLoadedModel(), whose
+        // look-up by name costs O(records) per part: quadratic for files with many groups.
+        AttributeRecord rec;
+        rec.name = part.name;
+        part.record = model.attributes.add(std::move(rec));
         model.bodies.push_back(std::move(part));
     }
     finishLoadedModel(model, /*classifyByClosure=*/true);
+    // The records' kind follows the classification, as finishLoadedModel() would set it.
+    for (auto* list : {&model.bodies, &model.surfaces}) {
+        for (Part& p : *list) {
+            AttributeRecord* r = model.attributes.find(p.record);
+            if (r && r->kind.empty()) r->kind = p.kind == PartKind::Body ? "body" : "surface";
+        }
+    }
     return model;
 }
 
@@ -336,7 +349,8 @@ Status ObjParser::readCorner(std::string_view tok, std::uint32_t& out) {
     if (st == IntStatus::NotInteger) return fail("face corner " + quoteToken(tok) + ": vertex index is not an integer");
     const auto count = static_cast<std::int64_t>(positions_.size());
     if (st == IntStatus::TooLarge || v == 0 || v > count || v < -count) {
-        if (v == 0 && st == IntStatus::Ok) return fail("face corner " + quoteToken(tok) + ": vertex index 0 (OBJ counts from 1)");
+        if (v == 0 && st == IntStatus::Ok)
+            return fail("face corner " + quoteToken(tok) + ": vertex index 0 (OBJ counts from 1)");
         return fail("face corner " + quoteToken(tok) + ": vertex index out of range (" + std::to_string(count) +
                     " vertices defined before this line)");
     }
@@ -358,8 +372,8 @@ Status ObjParser::readCorner(std::string_view tok, std::uint32_t& out) {
 
 std::size_t ObjParser::currentPart() {
     if (part_ != std::string::npos) return part_;
-    std::string name = object_.empty() ? (group_.empty() ? stem_ : group_)
-                                       : (group_.empty() ? object_ : object_ + "/" + group_);
+    std::string name =
+        object_.empty() ? (group_.empty() ? stem_ : group_) : (group_.empty() ? object_ : object_ + "/" + group_);
     auto [it, inserted] = partByName_.try_emplace(name, parts_.size());
     if (inserted) parts_.push_back(PartBuild{std::move(name), {}});
     part_ = it->second;

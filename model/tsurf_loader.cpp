@@ -275,8 +275,8 @@ private:
     std::string_view text_;
     const std::string& source_;
     std::size_t pos_ = 0;
-    std::size_t lineNo_ = 0;       // 1-based number of the current line
-    std::size_t lastLine_ = 0;     // number of the last line of the input
+    std::size_t lineNo_ = 0;    // 1-based number of the current line
+    std::size_t lastLine_ = 0;  // number of the last line of the input
     bool endsWithNewline_ = true;
     bool inObject_ = false;
 
@@ -285,7 +285,7 @@ private:
     TsurfObject obj_;
     std::set<int> epsgCodes_;
     bool crsAmbiguous_ = false;
-    std::size_t propertyValueBudget_ = 0;  // floats left for per-vertex properties
+    std::size_t propertyValueBudget_ = 0;    // floats left for per-vertex properties
     std::vector<std::size_t> unnamedParts_;  // indices into model_.surfaces
 };
 
@@ -337,8 +337,7 @@ Result<Model> TsurfParser::run() {
         tokens.next(keyword);
         if (!inObject_) {
             if (keyword != "GOCAD") {
-                if (!sawObject)
-                    return fail("not a GOCAD TSurf file: expected 'GOCAD TSurf 1', found " + quoteToken(t));
+                if (!sawObject) return fail("not a GOCAD TSurf file: expected 'GOCAD TSurf 1', found " + quoteToken(t));
                 return fail("expected 'GOCAD' to start the next object, found " + quoteToken(t));
             }
             std::string_view type;
@@ -363,7 +362,8 @@ Result<Model> TsurfParser::run() {
         return failAt(lastLine_, "missing END of the TSurf object that starts on line " +
                                      std::to_string(obj_.startLine) + " (truncated file?)");
     if (!sawObject) {
-        if (text_.empty()) return makeError(ErrorCode::ParseError, source_ + ": empty input (expected 'GOCAD TSurf 1')");
+        if (text_.empty())
+            return makeError(ErrorCode::ParseError, source_ + ": empty input (expected 'GOCAD TSurf 1')");
         return fail("empty input: only blank lines and comments, expected 'GOCAD TSurf 1'");
     }
     if (model_.surfaces.empty())
@@ -403,6 +403,7 @@ Status TsurfParser::readObjectLine(std::string_view keyword, Tokens& tokens, std
         return finishObject();
     }
     if (keyword == "HEADER") return readHeader(tokens.rest());
+    if (keyword.substr(0, 7) == "HEADER{") return readHeader(line.substr(6));
     if (keyword == "GOCAD_ORIGINAL_COORDINATE_SYSTEM") return readCoordinateSystem();
     if (keyword == "GEOLOGICAL_TYPE") {
         obj_.geologicalType = toUtf8(unquote(tokens.rest()));
@@ -549,9 +550,9 @@ Status TsurfParser::readCoordinateSystem() {
             while (tokens.next(tok)) {
                 std::optional<double> m = metresPerUnit(unquote(tok));
                 if (!m)
-                    return makeError(ErrorCode::Unsupported,
-                                     source_ + ": line " + std::to_string(lineNo_) + ": AXIS_UNIT " + quoteToken(unquote(tok)) +
-                                         " is not supported (metres or feet)");
+                    return makeError(ErrorCode::Unsupported, source_ + ": line " + std::to_string(lineNo_) +
+                                                                 ": AXIS_UNIT " + quoteToken(unquote(tok)) +
+                                                                 " is not supported (metres or feet)");
                 if (scale.size() == 3) return fail("AXIS_UNIT has more than three units");
                 scale.push_back(*m);
             }
@@ -632,12 +633,13 @@ Status TsurfParser::fixSchema() {
         return failAt(obj_.esizesLine, "ESIZES has " + std::to_string(sizes.size()) + " entries for " +
                                            std::to_string(n) + " PROPERTIES");
     if (!obj_.noData.empty() && obj_.noData.size() != n)
-        return failAt(obj_.noDataLine, "NO_DATA_VALUES has " + std::to_string(obj_.noData.size()) +
-                                           " entries for " + std::to_string(n) + " PROPERTIES");
+        return failAt(obj_.noDataLine, "NO_DATA_VALUES has " + std::to_string(obj_.noData.size()) + " entries for " +
+                                           std::to_string(n) + " PROPERTIES");
     std::size_t total = 0;
     for (std::size_t s : sizes) total += s;  // each <= kMaxPropertyColumns, count <= kMaxPropertyColumns
     if (total > kMaxPropertyColumns)
-        return failAt(obj_.esizesLine, "the properties have " + std::to_string(total) + " values per vertex, over the limit of " +
+        return failAt(obj_.esizesLine, "the properties have " + std::to_string(total) +
+                                           " values per vertex, over the limit of " +
                                            std::to_string(kMaxPropertyColumns));
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (std::size_t k = 0; k < n; ++k) {
@@ -659,9 +661,12 @@ Status TsurfParser::readVertex(Tokens& tokens, bool withProperties) {
     if (!tokens.next(tok)) return fail(std::string(kw) + " needs an id and x y z");
     VertexKey key;
     switch (parseId(tok, key.id)) {
-    case IdStatus::Ok: break;
-    case IdStatus::NotInteger: return fail(std::string(kw) + " id " + quoteToken(tok) + " is not a non-negative integer");
-    case IdStatus::TooLarge: return fail(std::string(kw) + " id " + quoteToken(tok) + " is out of range");
+        case IdStatus::Ok:
+            break;
+        case IdStatus::NotInteger:
+            return fail(std::string(kw) + " id " + quoteToken(tok) + " is not a non-negative integer");
+        case IdStatus::TooLarge:
+            return fail(std::string(kw) + " id " + quoteToken(tok) + " is out of range");
     }
     glm::dvec3 p(0.0);
     for (int a = 0; a < 3; ++a) {
@@ -669,7 +674,9 @@ Status TsurfParser::readVertex(Tokens& tokens, bool withProperties) {
             return fail(std::string(kw) + " " + std::to_string(key.id) + " needs x y z, found " + std::to_string(a) +
                         " coordinate" + (a == 1 ? "" : "s"));
         std::optional<double> v = parseDouble(tok);
-        if (!v) return fail(std::string(kw) + " " + std::to_string(key.id) + ": coordinate " + quoteToken(tok) + " is not a number");
+        if (!v)
+            return fail(std::string(kw) + " " + std::to_string(key.id) + ": coordinate " + quoteToken(tok) +
+                        " is not a number");
         if (!std::isfinite(*v))
             return fail(std::string(kw) + " " + std::to_string(key.id) + ": coordinate " + quoteToken(tok) +
                         " is not a finite number");
@@ -702,7 +709,9 @@ Status TsurfParser::readVertex(Tokens& tokens, bool withProperties) {
                     continue;
                 }
                 std::optional<double> v = parseDouble(tok);
-                if (!v) return fail("PVRTX " + std::to_string(key.id) + ": property value " + quoteToken(tok) + " is not a number");
+                if (!v)
+                    return fail("PVRTX " + std::to_string(key.id) + ": property value " + quoteToken(tok) +
+                                " is not a number");
                 double d = *v;
                 if (d == obj_.columnNoData[found]) d = nan;
                 if (std::isinf(d) || (std::isfinite(d) && std::fabs(d) > std::numeric_limits<float>::max()))
@@ -712,8 +721,8 @@ Status TsurfParser::readVertex(Tokens& tokens, bool withProperties) {
                 ++found;
             }
             if (found != columns)
-                return fail("PVRTX " + std::to_string(key.id) + " has " + std::to_string(found) + " property values, expected " +
-                            std::to_string(columns));
+                return fail("PVRTX " + std::to_string(key.id) + " has " + std::to_string(found) +
+                            " property values, expected " + std::to_string(columns));
         } else {
             obj_.properties.insert(obj_.properties.end(), columns, std::numeric_limits<float>::quiet_NaN());
         }
@@ -732,9 +741,12 @@ Status TsurfParser::readAtom(Tokens& tokens, std::string_view keyword) {
     for (std::uint64_t* out : {&a.id, &a.ref}) {
         if (!tokens.next(tok)) return fail(kw + " needs an id and the id of the vertex it reuses");
         switch (parseId(tok, *out)) {
-        case IdStatus::Ok: break;
-        case IdStatus::NotInteger: return fail(kw + " id " + quoteToken(tok) + " is not a non-negative integer");
-        case IdStatus::TooLarge: return fail(kw + " id " + quoteToken(tok) + " is out of range");
+            case IdStatus::Ok:
+                break;
+            case IdStatus::NotInteger:
+                return fail(kw + " id " + quoteToken(tok) + " is not a non-negative integer");
+            case IdStatus::TooLarge:
+                return fail(kw + " id " + quoteToken(tok) + " is out of range");
         }
     }
     a.line = lineNo_;
@@ -751,9 +763,12 @@ Status TsurfParser::readTriangle(Tokens& tokens) {
     while (tokens.next(tok)) {
         if (n == 3) return fail("TRGL has more than 3 vertex ids");
         switch (parseId(tok, t.ids[n])) {
-        case IdStatus::Ok: break;
-        case IdStatus::NotInteger: return fail("TRGL vertex id " + quoteToken(tok) + " is not a non-negative integer");
-        case IdStatus::TooLarge: return fail("TRGL vertex id " + quoteToken(tok) + " is out of range");
+            case IdStatus::Ok:
+                break;
+            case IdStatus::NotInteger:
+                return fail("TRGL vertex id " + quoteToken(tok) + " is not a non-negative integer");
+            case IdStatus::TooLarge:
+                return fail("TRGL vertex id " + quoteToken(tok) + " is out of range");
         }
         ++n;
     }
@@ -765,7 +780,8 @@ Status TsurfParser::readTriangle(Tokens& tokens) {
 Status TsurfParser::finishObject() {
     TsurfObject& o = obj_;
     // Keys were appended in line order; a stable sort keeps that order among equal ids.
-    std::stable_sort(o.keys.begin(), o.keys.end(), [](const VertexKey& a, const VertexKey& b) { return a.id < b.id; });
+    auto byId = [](const VertexKey& a, const VertexKey& b) { return a.id < b.id; };
+    if (!std::is_sorted(o.keys.begin(), o.keys.end(), byId)) std::stable_sort(o.keys.begin(), o.keys.end(), byId);
     const VertexKey* dup = nullptr;  // the duplicate with the smallest line, for a stable message
     for (std::size_t i = 1; i < o.keys.size(); ++i)
         if (o.keys[i].id == o.keys[i - 1].id && (!dup || o.keys[i].line < dup->line)) dup = &o.keys[i];
@@ -775,7 +791,13 @@ Status TsurfParser::finishObject() {
         return failAt(dup->line, "duplicate vertex id " + std::to_string(dup->id) + " (already defined on line " +
                                      std::to_string(first->line) + ")");
     }
+    // Ids are usually 1..n without gaps: then an id is its own offset (no search).
+    const bool contiguous = !o.keys.empty() && o.keys.back().id - o.keys.front().id == o.keys.size() - 1;
     auto lookup = [&](std::uint64_t id) -> VertexKey* {
+        if (contiguous) {
+            const std::uint64_t offset = id - o.keys.front().id;  // wraps to huge when id < first
+            return offset < o.keys.size() ? &o.keys[static_cast<std::size_t>(offset)] : nullptr;
+        }
         auto it = std::lower_bound(o.keys.begin(), o.keys.end(), id,
                                    [](const VertexKey& k, std::uint64_t v) { return k.id < v; });
         return it != o.keys.end() && it->id == id ? &*it : nullptr;
@@ -818,7 +840,8 @@ Status TsurfParser::finishObject() {
         remap[v] = static_cast<std::uint32_t>(mesh.positions.size());
         mesh.positions.push_back(o.positions[v] * scale + glm::dvec3(0.0));  // + 0: depth 0 gives +0, not -0
         if (columns > 0)
-            mesh.propertyValues.insert(mesh.propertyValues.end(), o.properties.begin() + static_cast<std::ptrdiff_t>(v * columns),
+            mesh.propertyValues.insert(mesh.propertyValues.end(),
+                                       o.properties.begin() + static_cast<std::ptrdiff_t>(v * columns),
                                        o.properties.begin() + static_cast<std::ptrdiff_t>((v + 1) * columns));
     }
     for (std::uint32_t& i : indices) i = remap[i];

@@ -323,6 +323,35 @@ TEST(Geo3dmlLoader, ChineseFieldNamesMapToRecordFields) {
     EXPECT_DOUBLE_EQ(rec->extra.at(u8s(u8"密度")).get<double>(), 2650.0);              // as written
 }
 
+TEST(Geo3dmlLoader, FieldTypesAndRepeatedNames) {
+    const std::string fields = textField("note", "a") + textField("note", "b") + textField("note", "c") +
+                               "<Field Name=\"n\"><swe:Count><swe:value>7</swe:value></swe:Count></Field>"
+                               "<Field Name=\"ok\"><swe:Boolean><swe:value>true</swe:value></swe:Boolean></Field>"
+                               "<Field Name=\"empty\"><swe:Text/></Field>" +
+                               quantityField("odd", "n/a", "m");
+    Result<Model> r = parseGeo3dml(modelXml(tetraTin(), "", fields), "types.xml");
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const nlohmann::ordered_json& extra = r->attributes.find(r->bodies.at(0).record)->extra;
+    EXPECT_EQ(extra.at("note"), "a");
+    EXPECT_EQ(extra.at("note#2"), "b");
+    EXPECT_EQ(extra.at("note#3"), "c");
+    EXPECT_EQ(extra.at("n"), 7);
+    EXPECT_EQ(extra.at("ok"), true);
+    EXPECT_TRUE(extra.at("empty").is_null());
+    EXPECT_EQ(extra.at("odd"), "n/a");  // a Quantity that is not a number stays text
+    EXPECT_EQ(extra.at("odd:uom"), "m");
+}
+
+TEST(Geo3dmlLoader, ManyFieldsLoadInLinearTime) {
+    // ordered_json looks keys up linearly; the loader must not (this would take minutes).
+    std::string fields;
+    for (int i = 0; i < 50000; ++i) fields += textField("f", std::to_string(i));
+    Result<Model> r = parseGeo3dml(modelXml(tetraTin(), "", fields), "many.xml");
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const nlohmann::ordered_json& extra = r->attributes.find(r->bodies.at(0).record)->extra;
+    EXPECT_EQ(extra.at("f#50000"), "49999");
+}
+
 TEST(Geo3dmlLoader, OpenTinIsASurface) {
     const std::string tin = geoTin({"0 0 0", "100 0 0", "0 100 0", "100 100 5"}, {"0 1 2", "2 1 3"});
     Result<Model> r = parseGeo3dml(modelXml(tin, "", "", "断层", "F1"), "fault.xml");

@@ -74,7 +74,10 @@ TEST(ObjLoader, TwoCubesInTwoGroupsAreTwoBodies) {
         EXPECT_EQ(p->mesh.triangleCount(), 12u);  // 6 quads, 2 triangles each
         EXPECT_EQ(p->mesh.vertexCount(), 8u);     // compacted: only its own cube's corners
         EXPECT_TRUE(p->report.closed);
-        EXPECT_NE(p->record, kNoRecord);
+        const AttributeRecord* rec = m.attributes.find(p->record);
+        ASSERT_NE(rec, nullptr);
+        EXPECT_EQ(rec->name, p->name);
+        EXPECT_EQ(rec->kind, "body");
     }
     EXPECT_EQ(b->mesh.bounds().min, glm::dvec3(5, 0, 0));
     EXPECT_EQ(b->mesh.bounds().max, glm::dvec3(6, 1, 1));
@@ -87,7 +90,8 @@ TEST(ObjLoader, CubeSplitIntoTwoGroupsGivesTwoOpenSurfaces) {
     std::string quads = cubeQuads(1);
     std::size_t third = 0;
     for (int i = 0; i < 3; ++i) third = quads.find('\n', third) + 1;
-    std::string text = cubeVertices(0) + "g bottom_half\n" + quads.substr(0, third) + "g top_half\n" + quads.substr(third);
+    std::string text =
+        cubeVertices(0) + "g bottom_half\n" + quads.substr(0, third) + "g top_half\n" + quads.substr(third);
     auto r = parseObj(text, "split.obj");
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_TRUE(r->bodies.empty());
@@ -154,10 +158,10 @@ TEST(ObjLoader, CornerFormsAndPolygonFans) {
 TEST(ObjLoader, ObjectAndGroupNames) {
     std::string text =
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-        "f 1 2 3\n"             // before any o/g: "names"
-        "o Orebody 1\nf 1 2 4\n"  // "Orebody 1"
-        "g upper\nf 1 3 4\n"      // "Orebody 1/upper"
-        "g\nf 2 3 4\n"            // group closed: back to "Orebody 1"
+        "f 1 2 3\n"                     // before any o/g: "names"
+        "o Orebody 1\nf 1 2 4\n"        // "Orebody 1"
+        "g upper\nf 1 3 4\n"            // "Orebody 1/upper"
+        "g\nf 2 3 4\n"                  // group closed: back to "Orebody 1"
         "o Fault\ng upper\nf 3 2 1\n";  // "Fault/upper"
     auto r = parseObj(text, "dir.v2/names.obj");
     ASSERT_TRUE(r.ok()) << r.error().message;
@@ -178,7 +182,7 @@ TEST(ObjLoader, ObjectAndGroupNames) {
 TEST(ObjLoader, CrlfContinuationsAndComments) {
     std::string text =
         "# comment\r\n"
-        "v 0 0 0 1.0\r\n"         // with w
+        "v 0 0 0 1.0\r\n"          // with w
         "v 1 0 0 0.5 0.2 0.1\r\n"  // with a vertex colour
         "v 0 1 0   # trailing comment\r\n"
         "f 1 2 \\\r\n"

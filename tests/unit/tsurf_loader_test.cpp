@@ -291,9 +291,10 @@ TEST(TsurfLoader, EpsgCodeGoesIntoModelCrs) {
     EXPECT_EQ(r->crs.epsg(), 4526);
 
     // Two objects naming different codes: ambiguous, stays local, text kept.
-    std::string other = "GOCAD TSurf 1\nGOCAD_ORIGINAL_COORDINATE_SYSTEM\nPROJECTION EPSG:4527\n"
-                        "END_ORIGINAL_COORDINATE_SYSTEM\n" +
-                        std::string(kTwoTriangles);
+    std::string other =
+        "GOCAD TSurf 1\nGOCAD_ORIGINAL_COORDINATE_SYSTEM\nPROJECTION EPSG:4527\n"
+        "END_ORIGINAL_COORDINATE_SYSTEM\n" +
+        std::string(kTwoTriangles);
     auto r2 = parseTsurf(text + other, "epsg2.ts");
     ASSERT_TRUE(r2.ok()) << r2.error().message;
     EXPECT_TRUE(r2->crs.isLocal());
@@ -328,8 +329,8 @@ TEST(TsurfLoader, PvrtxPropertiesWithEsizesAndNoData) {
     EXPECT_EQ(v[0], 1.5f);
     EXPECT_EQ(v[1], 1.0f);
     EXPECT_EQ(v[2], 0.0f);
-    EXPECT_TRUE(std::isnan(v[4]));  // -99999 is no data
-    EXPECT_EQ(v[6], 1.0f);          // dir[1] of vertex 2
+    EXPECT_TRUE(std::isnan(v[4]));                                    // -99999 is no data
+    EXPECT_EQ(v[6], 1.0f);                                            // dir[1] of vertex 2
     for (int k = 8; k < 12; ++k) EXPECT_TRUE(std::isnan(v[k])) << k;  // plain VRTX: no data
 }
 
@@ -390,8 +391,7 @@ TEST(TsurfLoader, SeveralObjectsNamesColoursAndGeologicalType) {
         "GOCAD TSurf 1\n"
         "HEADER {name:Top Xujiahe}\n"
         "color: #00ff0080\n" +
-        std::string(kTwoTriangles) +
-        "GOCAD TSurf 1\n" + std::string(kTwoTriangles);
+        std::string(kTwoTriangles) + "GOCAD TSurf 1\n" + std::string(kTwoTriangles);
     auto r = parseTsurf(text, "dir/multi.ts");
     ASSERT_TRUE(r.ok()) << r.error().message;
     auto parts = allParts(r.value());
@@ -520,8 +520,8 @@ TEST(TsurfLoader, VertexErrorsNameTheLine) {
     expectErrorAt(parseTsurf(tsurf("VRTX 1 0 1e999 0\nEND\n"), "big.ts"), "big.ts", 5, "'1e999'");
     expectErrorAt(parseTsurf(tsurf("VRTX 1 0 abc 0\nEND\n"), "abc.ts"), "abc.ts", 5, "not a number");
     expectErrorAt(parseTsurf(tsurf("VRTX 1 0 0\nEND\n"), "short.ts"), "short.ts", 5, "x y z");
-    expectErrorAt(parseTsurf(tsurf("VRTX 1 0 0 0\nVRTX 2 1 0 0\nVRTX 1 0 1 0\nTRGL 1 2 1\nEND\n"), "dup.ts"),
-                  "dup.ts", 7, "duplicate vertex id 1 (already defined on line 5)");
+    expectErrorAt(parseTsurf(tsurf("VRTX 1 0 0 0\nVRTX 2 1 0 0\nVRTX 1 0 1 0\nTRGL 1 2 1\nEND\n"), "dup.ts"), "dup.ts",
+                  7, "duplicate vertex id 1 (already defined on line 5)");
 }
 
 TEST(TsurfLoader, BinaryGarbageIsAnError) {
