@@ -244,7 +244,6 @@ struct TsurfObject {
     std::vector<VertexKey> keys;
     std::vector<Atom> atoms;
     std::vector<Triangle> triangles;
-    std::size_t tfaces = 0;
 };
 
 class TsurfParser {
@@ -394,10 +393,7 @@ Status TsurfParser::readObjectLine(std::string_view keyword, Tokens& tokens, std
     if (keyword == "PVRTX") return readVertex(tokens, true);
     if (keyword == "TRGL") return readTriangle(tokens);
     if (keyword == "ATOM" || keyword == "PATOM") return readAtom(tokens, keyword);
-    if (keyword == "TFACE") {
-        ++obj_.tfaces;
-        return {};
-    }
+    if (keyword == "TFACE") return {};  // a new patch of the same surface: one Part per object
     if (keyword == "END") {
         inObject_ = false;
         return finishObject();

@@ -72,8 +72,7 @@ void allHitsFilter(const RTCFilterFunctionNArguments* a) {
 
 struct Classifier::Impl {
     RTCDevice device = nullptr;
-    RTCScene nearest = nullptr;  // geometries with nearestFilter
-    RTCScene allHits = nullptr;  // same buffers, allHitsFilter
+    RTCScene scene = nullptr;  // one BVH; the filter comes with each query's context
     std::vector<std::vector<glm::vec4>> vertices;  // local frame, 16-byte stride for Embree
     std::vector<int> geomToBody;
     std::vector<int> parentBody;
@@ -83,8 +82,7 @@ struct Classifier::Impl {
     float maxLocalCoord = 0.0f;  // largest |local coordinate|, m: sets the float tolerance
 
     ~Impl() {
-        if (nearest) rtcReleaseScene(nearest);
-        if (allHits) rtcReleaseScene(allHits);
+        if (scene) rtcReleaseScene(scene);
         if (device) rtcReleaseDevice(device);
     }
 
@@ -114,12 +112,9 @@ Result<std::unique_ptr<Classifier>> Classifier::build(const Model& model) {
     im.origin = model.origin;
     im.device = rtcNewDevice("verbose=0");
     if (!im.device) return makeError(ErrorCode::Internal, "Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
-    im.nearest = rtcNewScene(im.device);
-    im.allHits = rtcNewScene(im.device);
-    for (RTCScene s : {im.nearest, im.allHits}) {
-        rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
-        rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_MEDIUM);
-    }
+    im.scene = rtcNewScene(im.device);
+    rtcSetSceneFlags(im.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
+    rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
     for (std::size_t b = 0; b < model.bodies.size(); ++b) {
         const Part& part = model.bodies[b];
         im.parentBody.push_back(part.report.parent);
@@ -132,23 +127,17 @@ Result<std::unique_ptr<Classifier>> Classifier::build(const Model& model) {
             im.maxLocalCoord = std::max({im.maxLocalCoord, std::abs(verts[i].x), std::abs(verts[i].y), std::abs(verts[i].z)});
         }
         c->triangles_ += part.mesh.triangleCount();
-        for (RTCScene s : {im.nearest, im.allHits}) {
-            RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, verts.data(), 0, sizeof(glm::vec4), verts.size());
-            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, part.mesh.indices.data(), 0,
-                                       3 * sizeof(std::uint32_t), part.mesh.triangleCount());
-            rtcSetGeometryIntersectFilterFunction(g, s == im.nearest ? nearestFilter : allHitsFilter);
-            rtcCommitGeometry(g);
-            unsigned id = rtcAttachGeometry(s, g);
-            rtcReleaseGeometry(g);
-            if (s == im.nearest) {
-                if (im.geomToBody.size() <= id) im.geomToBody.resize(id + 1, -1);
-                im.geomToBody[id] = static_cast<int>(b);
-            }
-        }
+        RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, verts.data(), 0, sizeof(glm::vec4), verts.size());
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, part.mesh.indices.data(), 0,
+                                   3 * sizeof(std::uint32_t), part.mesh.triangleCount());
+        rtcCommitGeometry(g);
+        unsigned id = rtcAttachGeometry(im.scene, g);
+        rtcReleaseGeometry(g);
+        if (im.geomToBody.size() <= id) im.geomToBody.resize(id + 1, -1);
+        im.geomToBody[id] = static_cast<int>(b);
     }
-    rtcCommitScene(im.nearest);
-    rtcCommitScene(im.allHits);
+    rtcCommitScene(im.scene);
     if (RTCError e = rtcGetDeviceError(im.device); e != RTC_ERROR_NONE)
         return makeError(ErrorCode::Internal, "Embree: scene build failed (error " + std::to_string(e) + ")");
     // The index buffers are shared with the model: it must outlive the classifier.
@@ -162,8 +151,9 @@ int Classifier::classifyBody(const glm::dvec3& world) const {
     for (const auto& dir : kDirections) {
         NearestContext ctx;
         rtcInitIntersectContext(&ctx.base);
+        ctx.base.filter = nearestFilter;
         RTCRayHit rh = im.makeRay(org, dir);
-        rtcIntersect1(im.nearest, &ctx.base, &rh);
+        rtcIntersect1(im.scene, &ctx.base, &rh);
         if (ctx.grazing) continue;
         const bool exits = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         if (!exits) return -1;  // no exit: outside every closed body
@@ -190,8 +180,9 @@ int Classifier::classifyBodyByParity(const glm::dvec3& world) const {
         AllHitsContext ctx;
         ctx.hits = &hits;
         rtcInitIntersectContext(&ctx.base);
+        ctx.base.filter = allHitsFilter;
         RTCRayHit rh = im.makeRay(org, dir);
-        rtcIntersect1(im.allHits, &ctx.base, &rh);
+        rtcIntersect1(im.scene, &ctx.base, &rh);
         std::fill(counts.begin(), counts.end(), 0);
         for (const auto& [geom, t] : hits) ++counts[static_cast<std::size_t>(im.geomToBody[geom])];
         best = -1;

@@ -1,0 +1,305 @@
+#include "section/bvh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace geoslice {
+namespace {
+
+// One triangle during the build: quantised centroid (16 bits per axis over the model
+// bounds) and its global id. 12 bytes.
+struct Item {
+    std::uint16_t q[3];
+    std::uint16_t pad;
+    std::uint32_t id;
+};
+static_assert(sizeof(Item) == 12);
+
+bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+// Largest float <= x and smallest float >= x: node boxes contain the double triangles.
+float floatDown(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+float floatUp(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+
+struct Builder {
+    Item* items = nullptr;
+    const BvhMesh* meshes = nullptr;
+    const std::uint32_t* meshFirst = nullptr;
+    std::size_t meshCount = 0;
+    glm::dvec3 origin{0.0};
+    BvhNode* nodes = nullptr;
+    std::size_t leafSize = 8;
+    std::map<std::size_t, std::uint32_t> nodeCounts;  // items -> nodes in such a subtree
+    std::mutex memoMutex;
+
+    // Nodes in the subtree of a node holding n items (n >= 1); depends on n only.
+    std::uint32_t nodesFor(std::size_t n) {
+        {
+            std::lock_guard<std::mutex> lock(memoMutex);
+            auto it = nodeCounts.find(n);
+            if (it != nodeCounts.end()) return it->second;
+        }
+        std::uint32_t c = n <= leafSize ? 1u : 1u + nodesFor(n / 2) + nodesFor(n - n / 2);
+        std::lock_guard<std::mutex> lock(memoMutex);
+        nodeCounts[n] = c;
+        return c;
+    }
+
+    std::uint32_t meshOf(std::uint32_t id) const {
+        return static_cast<std::uint32_t>(std::upper_bound(meshFirst, meshFirst + meshCount + 1, id) - meshFirst - 1);
+    }
+
+    void leafBounds(BvhNode& node, std::size_t begin, std::size_t end) const {
+        glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint32_t id = items[i].id;
+            const std::uint32_t m = meshOf(id);
+            const BvhMesh& mesh = meshes[m];
+            const std::size_t t = id - meshFirst[m];
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec3 p = mesh.positions[mesh.indices[3 * t + static_cast<std::size_t>(k)]] - origin;
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+        }
+        for (int k = 0; k < 3; ++k) {
+            node.lo[k] = floatDown(lo[k]);
+            node.hi[k] = floatUp(hi[k]);
+        }
+    }
+
+    // Builds the node at `index` over items [begin, end). Its children, if any, go to
+    // childBase and childBase + 1; the left child's descendants follow from childBase + 2,
+    // then the right child's.
+    void build(std::uint32_t index, std::size_t begin, std::size_t end, std::uint32_t childBase, int parallelLevels) {
+        BvhNode& node = nodes[index];
+        const std::size_t n = end - begin;
+        if (n <= leafSize) {
+            node.first = static_cast<std::uint32_t>(begin);
+            node.count = static_cast<std::uint32_t>(n);
+            leafBounds(node, begin, end);
+            return;
+        }
+        std::uint16_t qlo[3] = {0xFFFF, 0xFFFF, 0xFFFF}, qhi[3] = {0, 0, 0};
+        for (std::size_t i = begin; i < end; ++i)
+            for (int k = 0; k < 3; ++k) {
+                qlo[k] = std::min(qlo[k], items[i].q[k]);
+                qhi[k] = std::max(qhi[k], items[i].q[k]);
+            }
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+            if (qhi[k] - qlo[k] > qhi[axis] - qlo[axis]) axis = k;
+        const std::size_t mid = begin + n / 2;
+        std::nth_element(items + begin, items + mid, items + end, [axis](const Item& a, const Item& b) {
+            return a.q[axis] != b.q[axis] ? a.q[axis] < b.q[axis] : a.id < b.id;
+        });
+        const std::uint32_t leftNodes = nodesFor(n / 2);
+        const std::uint32_t leftBase = childBase + 2, rightBase = childBase + 2 + (leftNodes - 1);
+        node.first = childBase;
+        node.count = 0;
+        if (parallelLevels > 0) {
+            std::thread left([&] { build(childBase, begin, mid, leftBase, parallelLevels - 1); });
+            build(childBase + 1, mid, end, rightBase, parallelLevels - 1);
+            left.join();
+        } else {
+            build(childBase, begin, mid, leftBase, 0);
+            build(childBase + 1, mid, end, rightBase, 0);
+        }
+        const BvhNode &l = nodes[childBase], &r = nodes[childBase + 1];
+        for (int k = 0; k < 3; ++k) {
+            node.lo[k] = std::min(l.lo[k], r.lo[k]);
+            node.hi[k] = std::max(l.hi[k], r.hi[k]);
+        }
+    }
+};
+
+struct NodeTest {
+    glm::dvec3 centre, half;
+    explicit NodeTest(const BvhNode& nd)
+        : centre(0.5 * (double(nd.lo[0]) + double(nd.hi[0])), 0.5 * (double(nd.lo[1]) + double(nd.hi[1])),
+                 0.5 * (double(nd.lo[2]) + double(nd.hi[2]))),
+          half(0.5 * (double(nd.hi[0]) - double(nd.lo[0])), 0.5 * (double(nd.hi[1]) - double(nd.lo[1])),
+               0.5 * (double(nd.hi[2]) - double(nd.lo[2]))) {}
+    double radius(const glm::dvec3& axis) const {
+        return std::abs(axis.x) * half.x + std::abs(axis.y) * half.y + std::abs(axis.z) * half.z;
+    }
+};
+
+// Can the box hold a triangle with a vertex at distance < 0 and one at >= 0? The margin
+// covers rounding in this double arithmetic only (the box itself is conservative).
+bool straddles(const NodeTest& t, const LocalPlane& plane) {
+    const double s = glm::dot(plane.n, t.centre) + plane.d;
+    const double r = t.radius(plane.n);
+    const double tol = 1e-12 * (std::abs(plane.d) + std::abs(t.centre.x) + std::abs(t.centre.y) +
+                                std::abs(t.centre.z) + r);
+    return s - r < tol && s + r > -tol;
+}
+
+bool overlapsRect(const NodeTest& t, const PlaneRect& rect) {
+    const glm::dvec3 c = t.centre - rect.originLocal;
+    const double cu = glm::dot(c, rect.u), cv = glm::dot(c, rect.v);
+    const double ru = t.radius(rect.u), rv = t.radius(rect.v);
+    const double tol = 1e-9 * (std::abs(cu) + std::abs(cv) + ru + rv) + 1e-9;
+    return cu + ru >= rect.u0 - tol && cu - ru <= rect.u1 + tol && cv + rv >= rect.v0 - tol &&
+           cv - rv <= rect.v1 + tol;
+}
+
+template <bool kRect>
+void query(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, const PlaneRect* rect,
+           std::vector<std::uint32_t>& out, BvhQueryStats* stats) {
+    if (bvh.nodes.empty()) return;
+    BvhQueryStats st;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    const glm::dvec3 origin = bvh.origin;
+    while (top > 0) {
+        const BvhNode& nd = bvh.nodes[stack[--top]];
+        ++st.nodesVisited;
+        const NodeTest t(nd);
+        if (!straddles(t, plane)) continue;
+        if constexpr (kRect) {
+            if (!overlapsRect(t, *rect)) continue;
+        }
+        if (nd.count == 0) {
+            stack[top++] = nd.first + 1;
+            stack[top++] = nd.first;
+            continue;
+        }
+        for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
+            const std::uint32_t id = bvh.triangles[i];
+            const std::uint32_t m = bvh.meshOf(id);
+            const BvhMesh& mesh = meshes[m];
+            const std::uint32_t* tri = mesh.indices + 3 * std::size_t(id - bvh.meshFirst[m]);
+            ++st.trianglesTested;
+            glm::dvec3 p[3];
+            int positive = 0;
+            for (int k = 0; k < 3; ++k) {
+                p[k] = mesh.positions[tri[k]] - origin;
+                positive += plane.distance(p[k]) >= 0.0;
+            }
+            if (positive == 0 || positive == 3) continue;
+            if constexpr (kRect) {
+                double umin = std::numeric_limits<double>::infinity(), umax = -umin, vmin = umin, vmax = -umin;
+                for (const auto& q : p) {
+                    const glm::dvec3 r = q - rect->originLocal;
+                    const double a = glm::dot(r, rect->u), b = glm::dot(r, rect->v);
+                    umin = std::min(umin, a);
+                    umax = std::max(umax, a);
+                    vmin = std::min(vmin, b);
+                    vmax = std::max(vmax, b);
+                }
+                if (umax < rect->u0 || umin > rect->u1 || vmax < rect->v0 || vmin > rect->v1) continue;
+            }
+            ++st.trianglesCrossing;
+            out.push_back(id);
+        }
+    }
+    if (stats) {
+        stats->nodesVisited += st.nodesVisited;
+        stats->trianglesTested += st.trianglesTested;
+        stats->trianglesCrossing += st.trianglesCrossing;
+    }
+}
+
+}  // namespace
+
+std::uint32_t Bvh::meshOf(std::uint32_t globalTriangle) const {
+    return static_cast<std::uint32_t>(std::upper_bound(meshFirst.begin(), meshFirst.end(), globalTriangle) -
+                                      meshFirst.begin() - 1);
+}
+
+Result<Bvh> buildBvh(const BvhMesh* meshes, std::size_t meshCount, const glm::dvec3& origin,
+                     const BvhOptions& options) {
+    if (options.maxLeafSize < 1 || options.maxLeafSize > 64)
+        return makeError(ErrorCode::InvalidArgument,
+                         "BVH leaf size " + std::to_string(options.maxLeafSize) + " is outside 1..64");
+    Bvh bvh;
+    bvh.origin = origin;
+    bvh.meshFirst.resize(meshCount + 1, 0);
+    std::size_t total = 0;
+    for (std::size_t m = 0; m < meshCount; ++m) {
+        total += meshes[m].triangleCount;
+        if (total >= std::numeric_limits<std::uint32_t>::max() - 1)
+            return makeError(ErrorCode::OutOfRange, "the model has " + std::to_string(total) +
+                                                        "+ triangles; the section BVH holds at most 2^32 - 2");
+        bvh.meshFirst[m + 1] = static_cast<std::uint32_t>(total);
+    }
+
+    // Bounds of the finite vertices (local), for centroid quantisation.
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (std::size_t m = 0; m < meshCount; ++m)
+        for (std::size_t i = 0; i < meshes[m].vertexCount; ++i) {
+            const glm::dvec3& p = meshes[m].positions[i];
+            if (!finite(p)) continue;
+            lo = glm::min(lo, p - origin);
+            hi = glm::max(hi, p - origin);
+        }
+    std::vector<Item> items;
+    items.reserve(total);
+    if (lo.x <= hi.x) {
+        glm::dvec3 scale;
+        for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 65535.0 / (hi[k] - lo[k]) : 0.0;
+        for (std::size_t m = 0; m < meshCount; ++m) {
+            const BvhMesh& mesh = meshes[m];
+            for (std::size_t t = 0; t < mesh.triangleCount; ++t) {
+                const glm::dvec3& a = mesh.positions[mesh.indices[3 * t]];
+                const glm::dvec3& b = mesh.positions[mesh.indices[3 * t + 1]];
+                const glm::dvec3& c = mesh.positions[mesh.indices[3 * t + 2]];
+                if (!finite(a) || !finite(b) || !finite(c)) continue;
+                const glm::dvec3 q = ((a + b + c) * (1.0 / 3.0) - origin - lo) * scale;
+                Item it{};
+                for (int k = 0; k < 3; ++k)
+                    it.q[k] = static_cast<std::uint16_t>(std::clamp(q[k] + 0.5, 0.0, 65535.0));
+                it.id = bvh.meshFirst[m] + static_cast<std::uint32_t>(t);
+                items.push_back(it);
+            }
+        }
+    }
+    if (items.empty()) return bvh;
+
+    Builder b;
+    b.items = items.data();
+    b.meshes = meshes;
+    b.meshFirst = bvh.meshFirst.data();
+    b.meshCount = meshCount;
+    b.origin = origin;
+    b.leafSize = options.maxLeafSize;
+    const std::uint32_t nodeCount = b.nodesFor(items.size());
+    bvh.nodes.resize(nodeCount);
+    b.nodes = bvh.nodes.data();
+    unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    int levels = 0;
+    while ((2u << levels) <= threads && levels < 4) ++levels;
+    if (items.size() < 100000) levels = 0;
+    b.build(0, 0, items.size(), 1, levels);
+
+    bvh.triangles.resize(items.size());
+    for (std::size_t i = 0; i < items.size(); ++i) bvh.triangles[i] = items[i].id;
+    return bvh;
+}
+
+void queryPlane(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, std::vector<std::uint32_t>& out,
+                BvhQueryStats* stats) {
+    query<false>(bvh, meshes, plane, nullptr, out, stats);
+}
+
+void queryPlaneRect(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, const PlaneRect& rect,
+                    std::vector<std::uint32_t>& out, BvhQueryStats* stats) {
+    query<true>(bvh, meshes, plane, &rect, out, stats);
+}
+
+}  // namespace geoslice

@@ -1,0 +1,92 @@
+#include "section/plane_cut.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace geoslice {
+namespace {
+
+bool lexLess(const glm::dvec3& a, const glm::dvec3& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.z < b.z;
+}
+
+// Crossing of the edge pq (local) with the plane; sp and sq have opposite signs under the
+// rule (one >= 0, the other < 0). Symmetric in (p, q): bit-identical from either side.
+glm::dvec3 edgePoint(glm::dvec3 p, double sp, glm::dvec3 q, double sq) {
+    if (sp == 0.0) return p;
+    if (sq == 0.0) return q;
+    if (lexLess(q, p)) {
+        std::swap(p, q);
+        std::swap(sp, sq);
+    }
+    return p + (q - p) * (sp / (sp - sq));
+}
+
+std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
+    return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
+}
+
+// Cuts triangle t of part p; appends at most one segment.
+inline void cutOne(const SectionIndex& index, std::size_t p, std::size_t t, PlaneCut& out) {
+    const SectionPart& part = index.parts[p];
+    const Mesh& mesh = part.part->mesh;
+    const std::uint32_t* tri = mesh.indices.data() + 3 * t;
+    glm::dvec3 q[3];
+    double s[3];
+    int positive = 0;
+    for (int k = 0; k < 3; ++k) {
+        q[k] = mesh.positions[tri[k]] - index.origin;
+        s[k] = out.plane.distance(q[k]);
+        positive += s[k] >= 0.0;
+    }
+    if (positive == 0 || positive == 3) return;
+    if (!std::isfinite(s[0] + s[1] + s[2])) return;  // left out of the BVH too
+    const std::uint32_t w[3] = {part.weld(tri[0]), part.weld(tri[1]), part.weld(tri[2])};
+    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) return;  // degenerate: no edges of its own
+    CutSegment seg;
+    for (int k = 0; k < 3; ++k) {
+        const int k1 = k == 2 ? 0 : k + 1;
+        const bool in = s[k] >= 0.0, in1 = s[k1] >= 0.0;
+        if (in == in1) continue;
+        const glm::dvec2 uv = out.frame.toPlane(edgePoint(q[k], s[k], q[k1], s[k1]));
+        if (!in) {  // removed -> kept: the segment starts here
+            seg.a = uv;
+            seg.keyA = edgeKey(w[k], w[k1]);
+        } else {
+            seg.b = uv;
+            seg.keyB = edgeKey(w[k], w[k1]);
+        }
+    }
+    out.parts[p].push_back(seg);
+    ++out.segments;
+}
+
+}  // namespace
+
+void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out) {
+    out.frame = makeSectionFrame(plane, index.origin);
+    out.plane = toLocal(plane, index.origin);
+    out.parts.resize(index.parts.size());
+    for (auto& v : out.parts) v.clear();
+    out.segments = 0;
+}
+
+void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std::size_t count, PlaneCut& out) {
+    const Bvh& bvh = index.bvh;
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::uint32_t id = triangles[i];
+        const std::uint32_t p = bvh.meshOf(id);
+        cutOne(index, p, id - bvh.meshFirst[p], out);
+    }
+}
+
+void cutAllTriangles(const SectionIndex& index, PlaneCut& out) {
+    for (std::size_t p = 0; p < index.parts.size(); ++p) {
+        const std::size_t n = index.parts[p].part->mesh.triangleCount();
+        for (std::size_t t = 0; t < n; ++t) cutOne(index, p, t, out);
+    }
+}
+
+}  // namespace geoslice

@@ -1,0 +1,50 @@
+// Plane ∩ triangles -> oriented segments per part, in plane u/v metres.
+//
+// Every value is computed in double from the parts' double vertices in the local frame
+// (world - origin). Signs follow the rule of section/plane.hpp (distance 0 counts as
+// positive), so each triangle is either uncut or crossed on exactly two edges. The point
+// on a crossed edge is a function of the edge's two positions only (computed from the
+// lexicographically smaller endpoint; exactly the vertex when its distance is 0), so the
+// two triangles that share an edge, and two parts with coincident faces, produce
+// bit-identical points. Segments carry the welded edge keys they start and end on:
+// chaining (section/contours.hpp) is topological.
+//
+// Orientation: a segment runs from the crossing on the triangle edge that goes from the
+// removed side to the kept side (in the triangle's vertex order) to the crossing on the
+// edge that leaves the kept side. For an outward, counter-clockwise body this puts the
+// body's interior on the left in plane u/v (SectionFrame: u x v = -n), so outer loops are
+// counter-clockwise and cavities clockwise.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "section/plane.hpp"
+#include "section/section_index.hpp"
+
+namespace geoslice {
+
+struct CutSegment {
+    std::uint64_t keyA = 0, keyB = 0;  // welded edge (lo << 32 | hi) at a and at b
+    glm::dvec2 a{0.0}, b{0.0};         // plane u/v, metres
+};
+
+struct PlaneCut {
+    SectionFrame frame;
+    LocalPlane plane;
+    std::vector<std::vector<CutSegment>> parts;  // per SectionIndex part
+    std::size_t segments = 0;
+};
+
+// Prepares `out` for a cut of `index` by `plane` (world): frame, local plane, empty parts
+// (vectors keep their capacity between calls).
+void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out);
+
+// Cuts the listed global triangles (e.g. from queryPlane), appending to out.parts.
+void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std::size_t count, PlaneCut& out);
+
+// Brute force: cuts every triangle of every part, no BVH (the paper's "CPU geometric
+// intersection" baseline, and the reference the BVH path is checked against).
+void cutAllTriangles(const SectionIndex& index, PlaneCut& out);
+
+}  // namespace geoslice
