@@ -196,7 +196,9 @@ Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j,
             return makeError(ErrorCode::ParseError, where + ": \"id\" must be an integer in 1..4294967294");
         r.id = idIt->get<RecordId>();
         if (table.find(r.id)) return makeError(ErrorCode::ParseError, where + ": duplicate id " + std::to_string(r.id));
-        for (const auto& [key, value] : o.items()) {
+        for (const auto& item : o.items()) {
+            const std::string& key = item.key();
+            const auto& value = item.value();
             auto str = [&](std::string& out) -> Status {
                 if (!value.is_string()) return makeError(ErrorCode::ParseError, where + ": \"" + key + "\" must be a string");
                 out = value.get<std::string>();

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <unordered_map>
 
 #include "model/validate.hpp"
 
@@ -57,11 +58,13 @@ void finishLoadedModel(Model& model, bool classifyByClosure) {
             (closed ? model.bodies : model.surfaces).push_back(std::move(p));
         }
     }
+    std::unordered_map<std::string, RecordId> byName;  // first record of each name
+    for (const auto& [id, r] : model.attributes.records()) byName.emplace(r.name, id);
     for (auto* list : {&model.bodies, &model.surfaces}) {
         for (auto& p : *list) {
             if (p.record != kNoRecord && model.attributes.find(p.record)) continue;
-            if (const AttributeRecord* r = model.attributes.findByName(p.name)) {
-                p.record = r->id;
+            if (auto it = byName.find(p.name); it != byName.end()) {
+                p.record = it->second;
                 continue;
             }
             AttributeRecord rec;
@@ -73,6 +76,7 @@ void finishLoadedModel(Model& model, bool classifyByClosure) {
             } else {
                 p.record = model.attributes.add(std::move(rec));
             }
+            byName.emplace(p.name, p.record);
         }
     }
     model.recentre();

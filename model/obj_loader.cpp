@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "model/loaders.hpp"
+#include "model/text_scan.hpp"
 
 namespace geoslice {
 namespace {
@@ -39,122 +40,7 @@ namespace {
 constexpr std::size_t kMaxVertices = std::numeric_limits<std::uint32_t>::max() - 1;
 constexpr std::uint32_t kUnset = std::numeric_limits<std::uint32_t>::max();
 
-bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
-    while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
-    return s;
-}
-
-// Length of the well-formed UTF-8 sequence at s[i], or 0 when it is not one.
-std::size_t utf8Length(std::string_view s, std::size_t i) {
-    auto at = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
-    unsigned char c = at(i);
-    if (c < 0x80) return 1;
-    std::size_t n;
-    unsigned char lo = 0x80, hi = 0xBF;  // allowed range of the second byte
-    if (c >= 0xC2 && c <= 0xDF) {
-        n = 2;
-    } else if (c >= 0xE0 && c <= 0xEF) {
-        n = 3;
-        if (c == 0xE0) lo = 0xA0;
-        if (c == 0xED) hi = 0x9F;  // no UTF-16 surrogates
-    } else if (c >= 0xF0 && c <= 0xF4) {
-        n = 4;
-        if (c == 0xF0) lo = 0x90;
-        if (c == 0xF4) hi = 0x8F;
-    } else {
-        return 0;
-    }
-    if (i + n > s.size()) return 0;
-    if (at(i + 1) < lo || at(i + 1) > hi) return 0;
-    for (std::size_t k = 2; k < n; ++k)
-        if (at(i + k) < 0x80 || at(i + k) > 0xBF) return 0;
-    return n;
-}
-
-bool isControl(unsigned char c) { return (c < 0x20 && c != '\t' && c != '\r') || c == 0x7F; }
-
-// 0-based column of the first byte that cannot be in a line of text, or npos. Text has no
-// control bytes but tab and CR; with `utf8`, it must also be well-formed UTF-8.
-std::size_t findNonText(std::string_view s, bool utf8) {
-    for (std::size_t i = 0; i < s.size();) {
-        unsigned char c = static_cast<unsigned char>(s[i]);
-        if (isControl(c)) return i;
-        if (!utf8 || c < 0x80) {
-            ++i;
-            continue;
-        }
-        std::size_t n = utf8Length(s, i);
-        if (n == 0) return i;
-        i += n;
-    }
-    return std::string_view::npos;
-}
-
-// Names go into JSON later, which needs UTF-8: bytes of other encodings become U+FFFD.
-std::string toUtf8(std::string_view s) {
-    std::string out;
-    out.reserve(s.size());
-    for (std::size_t i = 0; i < s.size();) {
-        std::size_t n = utf8Length(s, i);
-        if (n == 0) {
-            out += "\xEF\xBF\xBD";
-            ++i;
-        } else {
-            out.append(s.substr(i, n));
-            i += n;
-        }
-    }
-    return out;
-}
-
-// A short, printable rendering of a token for error messages.
-std::string quoteToken(std::string_view tok) {
-    constexpr std::size_t kMax = 40;
-    std::string out = "'";
-    for (std::size_t i = 0; i < tok.size() && i < kMax; ++i) {
-        unsigned char c = static_cast<unsigned char>(tok[i]);
-        if (c < 0x20 || c >= 0x7F) {
-            static const char* kHex = "0123456789abcdef";
-            out += "\\x";
-            out += kHex[c >> 4];
-            out += kHex[c & 15];
-        } else {
-            out += static_cast<char>(c);
-        }
-    }
-    if (tok.size() > kMax) out += "...";
-    return out + "'";
-}
-
-// Whitespace-separated tokens of one line; a token starting with '#' ends the line.
-class Tokens {
-public:
-    explicit Tokens(std::string_view s) : rest_(s) {}
-    bool next(std::string_view& tok) {
-        while (!rest_.empty() && isBlank(rest_.front())) rest_.remove_prefix(1);
-        if (rest_.empty() || rest_.front() == '#') return false;
-        std::size_t n = 0;
-        while (n < rest_.size() && !isBlank(rest_[n])) ++n;
-        tok = rest_.substr(0, n);
-        rest_.remove_prefix(n);
-        return true;
-    }
-    std::string_view rest() const { return trim(rest_); }
-
-private:
-    std::string_view rest_;
-};
-
-std::optional<double> parseDouble(std::string_view tok) {
-    if (tok.size() > 1 && tok[0] == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
-    double v = 0.0;
-    auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (ec != std::errc() || end != tok.data() + tok.size()) return std::nullopt;
-    return v;
-}
+using namespace geoslice::text;
 
 enum class IntStatus { Ok, NotInteger, TooLarge };
 
@@ -256,7 +142,7 @@ Result<Model> ObjParser::run() {
         if (Status s = checkText(line, false); !s) return s.error();
         std::string_view t = trim(line);
         if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
+        Tokens tokens(t, '#');
         std::string_view keyword;
         tokens.next(keyword);
         if (keyword == "v") {

@@ -230,7 +230,8 @@ MeshReport analyseMesh(Mesh& mesh, bool fixOrientation) {
         else if (fwd != 1) ++r.inconsistentEdges;
         i = j;
     }
-    r.closed = r.boundaryEdges == 0 && r.nonManifoldEdges == 0;
+    // A mesh whose triangles are all degenerate has no edges: it encloses nothing.
+    r.closed = !edges.empty() && r.boundaryEdges == 0 && r.nonManifoldEdges == 0;
     r.consistentlyOriented = r.inconsistentEdges == 0 && r.nonManifoldEdges == 0;
 
     // Components: triangles grouped by the union-find root of their first vertex.
