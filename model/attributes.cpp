@@ -1,5 +1,6 @@
 #include "model/attributes.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -75,6 +76,15 @@ int hexDigit(char c) {
     return -1;
 }
 
+// Appends key -> value to a JSON object without the linear key search of ordered_json's
+// operator[] (which makes records with thousands of fields quadratic). The caller
+// guarantees that the key is not there yet.
+template <class V>
+void appendField(nlohmann::ordered_json& object, const std::string& key, V&& value) {
+    object.get_ref<nlohmann::ordered_json::object_t&>().std::vector<std::pair<const std::string, nlohmann::ordered_json>>::emplace_back(
+        key, nlohmann::ordered_json(std::forward<V>(value)));
+}
+
 }  // namespace
 
 std::optional<Rgba8> parseColour(std::string_view text) {
@@ -133,7 +143,13 @@ nlohmann::ordered_json AttributeRecord::toJson() const {
     if (density) j["density"] = *density;
     if (grade) j["grade"] = *grade;
     if (!gradeUnit.empty()) j["grade_unit"] = gradeUnit;
-    for (const auto& [k, v] : extra.items()) j[k] = v;
+    // Extra fields follow; one named like a typed field above is shadowed by it.
+    const std::size_t typed = j.size();
+    for (const auto& [k, v] : extra.items()) {
+        bool shadowed = false;
+        for (std::size_t i = 0; i < typed && !shadowed; ++i) shadowed = (j.begin() + static_cast<std::ptrdiff_t>(i)).key() == k;
+        if (!shadowed) appendField(j, k, v);
+    }
     return j;
 }
 
@@ -226,7 +242,7 @@ Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j,
                 if (!c) return makeError(ErrorCode::ParseError, where + ": \"" + key + "\" is not a colour like \"#a0b0c0\"");
                 r.colour = *c;
             } else {
-                r.extra[key] = value;
+                appendField(r.extra, key, value);  // keys of a parsed object are unique
             }
             if (!s) return s.error();
         }
@@ -247,6 +263,13 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
         if (header[c] == "id") idCol = static_cast<int>(c);
     }
     if (idCol < 0) return makeError(ErrorCode::ParseError, source + ": line 1: the header has no \"id\" column");
+    {
+        std::vector<std::string> sorted = header;
+        std::sort(sorted.begin(), sorted.end());
+        for (std::size_t c = 1; c < sorted.size(); ++c)
+            if (sorted[c] == sorted[c - 1])
+                return makeError(ErrorCode::ParseError, source + ": line 1: column \"" + sorted[c] + "\" appears twice");
+    }
     AttributeTable table;
     std::size_t line = 1;
     while (pos < text.size()) {
@@ -284,9 +307,9 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
                 if (!col) return makeError(ErrorCode::ParseError, where + ": colour \"" + value + "\" is not like #a0b0c0");
                 r.colour = *col;
             } else if (auto d = parseDouble(value)) {
-                r.extra[key] = *d;
+                appendField(r.extra, key, *d);  // header names are unique (checked above)
             } else {
-                r.extra[key] = value;
+                appendField(r.extra, key, value);
             }
         }
         table.put(std::move(r));

@@ -85,3 +85,34 @@ TEST(Attributes, AddAssignsNextIdAndFindsByName) {
     EXPECT_EQ(t.findByName("b")->id, 10u);
     EXPECT_EQ(t.findByName("zz"), nullptr);
 }
+
+TEST(Attributes, ManyExtraFieldsStayLinear) {
+    // ordered_json's operator[] searches linearly; 50,000 fields would take minutes if
+    // every insertion searched. This finishes in milliseconds when appends are O(1).
+    std::string header = "id", row = "1";
+    for (int i = 0; i < 50000; ++i) {
+        header += ",f" + std::to_string(i);
+        row += "," + std::to_string(i);
+    }
+    auto t = AttributeTable::fromCsv(header + "\n" + row + "\n", "wide.csv");
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    const auto& extra = t->find(1)->extra;
+    ASSERT_EQ(extra.size(), 50000u);
+    EXPECT_EQ((extra.end() - 1).key(), "f49999");
+    auto j = t->toJson();
+    EXPECT_EQ(j["records"][0].size(), 50000u + 3u);  // id, name, colour + extras
+    auto dup = AttributeTable::fromCsv("id,name,name\n1,a,b\n", "dup.csv");
+    ASSERT_FALSE(dup.ok());
+    EXPECT_NE(dup.error().message.find("appears twice"), std::string::npos);
+}
+
+TEST(Attributes, ExtraNamedLikeATypedFieldIsShadowed) {
+    AttributeRecord r;
+    r.id = 3;
+    r.name = "typed";
+    r.extra["name"] = "extra";
+    r.extra["note"] = "kept";
+    auto j = r.toJson();
+    EXPECT_EQ(j["name"], "typed");
+    EXPECT_EQ(j["note"], "kept");
+}
