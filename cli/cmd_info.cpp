@@ -66,6 +66,7 @@ json modelJson(const std::string& file, const Model& m) {
     j["surfaces"] = json::array();
     for (const auto& p : m.surfaces) j["surfaces"].push_back(partJson(m, p));
     j["attributes"] = m.attributes.toJson()["records"];
+    j["notes"] = m.notes;
     j["issues"] = json::array();
     for (const auto& i : m.validation.issues)
         j["issues"].push_back({{"severity", severityName(i.severity)}, {"part", i.part}, {"message", i.message}});
@@ -75,7 +76,11 @@ json modelJson(const std::string& file, const Model& m) {
 
 void printText(const json& j) {
     std::printf("%s: %s\n", j["file"].get<std::string>().c_str(), j["name"].get<std::string>().c_str());
-    std::printf("  CRS        %s (%s)\n", j["crs"]["id"].get<std::string>().c_str(), j["crs"]["name"].get<std::string>().c_str());
+    if (j["crs"]["id"] == "local")
+        std::printf("  CRS        %s\n", j["crs"]["name"].get<std::string>().c_str());
+    else
+        std::printf("  CRS        %s (%s)\n", j["crs"]["id"].get<std::string>().c_str(), j["crs"]["name"].get<std::string>().c_str());
+    for (const auto& [k, v] : j["notes"].items()) std::printf("  note       %s: %s\n", k.c_str(), v.get<std::string>().c_str());
     std::printf("  parts      %zu bodies, %zu surfaces, %zu triangles\n", j["bodies"].size(), j["surfaces"].size(),
                 j["triangles"].get<std::size_t>());
     const auto& mn = j["bounds"]["min"];

@@ -19,7 +19,7 @@ endif()
 # Fuzz builds instrument every library for coverage and ASan/UBSan; only the fuzz targets
 # link libFuzzer's main (tests/fuzz/CMakeLists.txt).
 if(GEOSLICE_FUZZ)
-  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined)
 endif()
 if(GEOSLICE_TSAN)

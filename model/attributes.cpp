@@ -144,12 +144,10 @@ nlohmann::ordered_json AttributeRecord::toJson() const {
     if (grade) j["grade"] = *grade;
     if (!gradeUnit.empty()) j["grade_unit"] = gradeUnit;
     // Extra fields follow; one named like a typed field above is shadowed by it.
-    const std::size_t typed = j.size();
-    for (const auto& [k, v] : extra.items()) {
-        bool shadowed = false;
-        for (std::size_t i = 0; i < typed && !shadowed; ++i) shadowed = (j.begin() + static_cast<std::ptrdiff_t>(i)).key() == k;
-        if (!shadowed) appendField(j, k, v);
-    }
+    std::vector<std::string> typed;
+    for (const auto& [k, v] : j.items()) typed.push_back(k);
+    for (const auto& [k, v] : extra.items())
+        if (std::find(typed.begin(), typed.end(), k) == typed.end()) appendField(j, k, v);
     return j;
 }
 

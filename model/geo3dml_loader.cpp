@@ -427,14 +427,14 @@ private:
     std::optional<Error> readText(pugi::xml_node n, std::string& out) const;
     Result<AttributeRecord> buildRecord(pugi::xml_node feature, const std::string& featureName,
                                         std::string_view className, bool closed) const;
-    void applyCrs(Model& model, AttributeRecord* notes) const;
+    void applyCrs(Model& model) const;
     Error nothingToLoad(pugi::xml_node root, const std::string& modelName) const;
 
     const std::string& source_;
-    std::string converted_;      // " (after GB18030 -> UTF-8 conversion)" when it applies
-    std::string declaredCrs_;    // from Metadata, e.g. "EPSG:4526"
-    std::string srsName_;        // first srsName on a geometry
-    std::string modelType_;      // Geo3DModel/Type: 3DModel, Section, Drill, ...
+    std::string converted_;    // " (after GB18030 -> UTF-8 conversion)" when it applies
+    std::string declaredCrs_;  // from Metadata, e.g. "EPSG:4526"
+    std::string srsName_;      // first srsName on a geometry
+    std::string modelType_;    // Geo3DModel/Type: 3DModel, Section, Drill, ...
     Census census_;
     std::vector<std::string> includes_;  // xi:include hrefs of a project
     std::size_t featuresWithoutGeometry_ = 0;
@@ -454,8 +454,7 @@ bool declaresGbEncoding(std::string_view text) {
     const std::size_t close = decl.find(decl[at], at + 1);
     if (close == std::string::npos) return false;
     const std::string enc = decl.substr(at + 1, close - at - 1);
-    return enc == "gb2312" || enc == "gbk" || enc == "gb18030" || enc == "cp936" || enc == "x-gbk" ||
-           enc == "euc-cn";
+    return enc == "gb2312" || enc == "gbk" || enc == "gb18030" || enc == "cp936" || enc == "x-gbk" || enc == "euc-cn";
 }
 
 // GB18030 -> UTF-8 with iconv. On failure returns the byte offset where it stopped.
@@ -532,15 +531,13 @@ Result<Model> Reader::run(std::string_view text) {
         });
         if (error) return std::move(*error);
     } else {
-        return fail(root, "root element is <" + quoted(root.name()) +
-                              ">, not Geo3DML (expected Geo3DModel or Geo3DProject)");
+        return fail(root,
+                    "root element is <" + quoted(root.name()) + ">, not Geo3DML (expected Geo3DModel or Geo3DProject)");
     }
 
     if (model.bodies.empty() && model.surfaces.empty()) return nothingToLoad(root, model.name);
 
-    AttributeRecord* notes = nullptr;
-    if (!model.attributes.empty()) notes = model.attributes.find(model.attributes.records().begin()->first);
-    applyCrs(model, notes);
+    applyCrs(model);
     finishLoadedModel(model, /*classifyByClosure=*/true);
     return model;
 }
@@ -561,8 +558,8 @@ std::optional<Error> Reader::readModelElement(pugi::xml_node modelNode, Model& m
 
     // Metadata/SpatialReferenceSystem/CoordinateReferenceSystem: <Identifier>EPSG</Identifier>
     // <Parameter>4526</Parameter> in the samples.
-    const pugi::xml_node crsNode =
-        childNamed(childNamed(childNamed(modelNode, "Metadata"), "SpatialReferenceSystem"), "CoordinateReferenceSystem");
+    const pugi::xml_node crsNode = childNamed(childNamed(childNamed(modelNode, "Metadata"), "SpatialReferenceSystem"),
+                                              "CoordinateReferenceSystem");
     if (crsNode && declaredCrs_.empty()) {
         std::string identifier, parameter;
         if (auto err = readText(childNamed(crsNode, "Identifier"), identifier)) return err;
@@ -616,8 +613,10 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
 
     if (mesh.indices.empty()) {
         const pugi::xml_node geometry = firstElementChild(shape);
-        if (geometry) census_.add(localName(geometry.name()));
-        else ++featuresWithoutGeometry_;
+        if (geometry)
+            census_.add(localName(geometry.name()));
+        else
+            ++featuresWithoutGeometry_;
         return std::nullopt;
     }
 
@@ -625,8 +624,7 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
     if (auto err = readText(childNamed(feature, "name"), featureName)) return err;
     featureName = std::string(trim(featureName));
     if (featureName.empty()) featureName = quoted(attributeNamed(feature, "id").value(), 200);
-    if (featureName.empty())
-        featureName = "feature " + std::to_string(model.bodies.size() + model.surfaces.size() + 1);
+    if (featureName.empty()) featureName = "feature " + std::to_string(model.bodies.size() + model.surfaces.size() + 1);
 
     // Provisional: finishLoadedModel classifies by closure again, after validation.
     const bool closed = isClosed(mesh);
@@ -654,11 +652,10 @@ std::optional<Error> Reader::checkDeclaredCount(pugi::xml_node n, std::string_vi
     const pugi::xml_attribute a = attributeNamed(n, attr);
     if (!a) return std::nullopt;
     const std::optional<std::int64_t> declared = parseInt(trim(a.value()));
-    if (!declared || *declared < 0)
-        return fail(n, std::string(attr) + "=\"" + quoted(a.value()) + "\" is not a count");
+    if (!declared || *declared < 0) return fail(n, std::string(attr) + "=\"" + quoted(a.value()) + "\" is not a count");
     if (static_cast<std::uint64_t>(*declared) != actual)
-        return fail(n, std::string(attr) + "=" + std::to_string(*declared) + " but it holds " +
-                           std::to_string(actual) + " " + std::string(what));
+        return fail(n, std::string(attr) + "=" + std::to_string(*declared) + " but it holds " + std::to_string(actual) +
+                           " " + std::string(what));
     return std::nullopt;
 }
 
@@ -682,15 +679,17 @@ std::optional<Error> Reader::appendGeoTin(pugi::xml_node tin, Mesh& mesh) const 
         std::optional<Error> error;
         forEachToken(textOf(v), [&](std::string_view token) {
             const std::optional<double> value = parseDouble(token);
-            if (!value) error = fail(v, "'" + quoted(token) + "' is not a number");
-            else if (!std::isfinite(*value)) error = fail(v, "coordinate '" + quoted(token) + "' is NaN or infinite");
-            else if (n < 3) xyz[n] = *value;
+            if (!value)
+                error = fail(v, "'" + quoted(token) + "' is not a number");
+            else if (!std::isfinite(*value))
+                error = fail(v, "coordinate '" + quoted(token) + "' is NaN or infinite");
+            else if (n < 3)
+                xyz[n] = *value;
             ++n;
             return !error;
         });
         if (error) return error;
-        if (n != 3)
-            return fail(v, "a Vertex has " + std::to_string(n) + " coordinates; expected 3 (x y z)");
+        if (n != 3) return fail(v, "a Vertex has " + std::to_string(n) + " coordinates; expected 3 (x y z)");
 
         std::uint64_t indexNo = count;
         if (const pugi::xml_attribute a = attributeNamed(v, "IndexNo")) {
@@ -718,17 +717,19 @@ std::optional<Error> Reader::appendGeoTin(pugi::xml_node tin, Mesh& mesh) const 
         std::optional<Error> error;
         forEachToken(textOf(list), [&](std::string_view token) {
             const std::optional<std::int64_t> value = parseInt(token);
-            if (!value) error = fail(list, "'" + quoted(token) + "' is not a vertex index");
-            else if (*value < 0) error = fail(list, "negative vertex index " + std::to_string(*value));
-            else if (n < 3) tri[n] = static_cast<std::uint64_t>(*value);
+            if (!value)
+                error = fail(list, "'" + quoted(token) + "' is not a vertex index");
+            else if (*value < 0)
+                error = fail(list, "negative vertex index " + std::to_string(*value));
+            else if (n < 3)
+                tri[n] = static_cast<std::uint64_t>(*value);
             ++n;
             return !error;
         });
         if (error) return error;
         if (auto err = checkDeclaredCount(list, "ItemCount", n, "indices")) return err;
         if (auto err = checkDeclaredCount(list, "Length", n, "indices")) return err;
-        if (n != 3)
-            return fail(list, "a triangle with " + std::to_string(n) + " vertex indices; a TIN triangle has 3");
+        if (n != 3) return fail(list, "a triangle with " + std::to_string(n) + " vertex indices; a TIN triangle has 3");
         for (const std::uint64_t indexNo : tri) {
             std::uint32_t position = 0;
             if (identity) {
@@ -768,9 +769,12 @@ std::optional<Error> Reader::appendGmlTriangles(pugi::xml_node surface, Mesh& me
         const auto take = [&](pugi::xml_node at, std::string_view text) {
             forEachToken(text, [&](std::string_view token) {
                 const std::optional<double> value = parseDouble(token);
-                if (!value) error = fail(at, "'" + quoted(token) + "' is not a number");
-                else if (!std::isfinite(*value)) error = fail(at, "coordinate '" + quoted(token) + "' is NaN or infinite");
-                else if (n < coords.size()) coords[n] = *value;
+                if (!value)
+                    error = fail(at, "'" + quoted(token) + "' is not a number");
+                else if (!std::isfinite(*value))
+                    error = fail(at, "coordinate '" + quoted(token) + "' is NaN or infinite");
+                else if (n < coords.size())
+                    coords[n] = *value;
                 ++n;
                 return !error;
             });
@@ -793,15 +797,16 @@ std::optional<Error> Reader::appendGmlTriangles(pugi::xml_node surface, Mesh& me
                 const std::size_t before = n;
                 take(pos, textOf(pos));
                 if (!error && n - before != 3)
-                    error = fail(pos, "a gml:pos has " + std::to_string(n - before) + " coordinates; expected 3 (x y z)");
+                    error =
+                        fail(pos, "a gml:pos has " + std::to_string(n - before) + " coordinates; expected 3 (x y z)");
             }
             if (error) return Walk::Stop;
         }
         const std::size_t points = n / 3;
         const bool closedRing = points == 4 && std::equal(coords.begin(), coords.begin() + 3, coords.begin() + 9);
         if (points != 3 && !closedRing) {
-            error = fail(at, "a gml:Triangle ring has " + std::to_string(points) +
-                                 " positions" + (points == 4 ? " and does not end where it starts" : "") +
+            error = fail(at, "a gml:Triangle ring has " + std::to_string(points) + " positions" +
+                                 (points == 4 ? " and does not end where it starts" : "") +
                                  "; expected 4 with the last repeating the first");
             return Walk::Stop;
         }
@@ -853,8 +858,8 @@ enum class FieldRole { None, Name, Lithology, Age, Era, Density, Grade, Colour }
 // What a Fields/Field is, from its Name (Chinese or English).
 FieldRole fieldRole(std::string_view name) {
     const std::vector<std::string> t = nameTokens(name);
-    const bool stratumWord = hasToken(t, "stratigraphic") || hasToken(t, "stratigraphical") ||
-                             hasToken(t, "stratum") || hasToken(t, "formation") || hasToken(t, "strata");
+    const bool stratumWord = hasToken(t, "stratigraphic") || hasToken(t, "stratigraphical") || hasToken(t, "stratum") ||
+                             hasToken(t, "formation") || hasToken(t, "strata");
     if (contains(name, "地层名") || name == "地层" || contains(name, "组名") ||
         (stratumWord && (t.size() == 1 || hasToken(t, "name"))))
         return FieldRole::Name;
@@ -965,11 +970,15 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
             value = text;
             const std::string_view t = trim(text);
             if (componentName == "Quantity" || componentName == "Count") {
-                if (const std::optional<std::int64_t> i = parseInt(t); i && componentName == "Count") value = *i;
-                else if (const std::optional<double> d = parseDouble(t); d && std::isfinite(*d)) value = *d;
+                if (const std::optional<std::int64_t> i = parseInt(t); i && componentName == "Count")
+                    value = *i;
+                else if (const std::optional<double> d = parseDouble(t); d && std::isfinite(*d))
+                    value = *d;
             } else if (componentName == "Boolean") {
-                if (t == "true" || t == "1") value = true;
-                else if (t == "false" || t == "0") value = false;
+                if (t == "true" || t == "1")
+                    value = true;
+                else if (t == "false" || t == "0")
+                    value = false;
             }
         }
         extra.put(key, std::move(value));
@@ -994,8 +1003,10 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
                 const std::optional<double> d = parseDouble(t);
                 const std::string unit = asciiLowerCopy(trim(uom));
                 double scale = 0.0;  // to t/m3; 0 = unknown unit, not mapped
-                if (unit.empty() || unit == "t/m3" || unit == "g/cm3" || unit == "t/m^3" || unit == "g/cm^3") scale = 1.0;
-                else if (unit == "kg/m3" || unit == "kg/m^3") scale = 0.001;
+                if (unit.empty() || unit == "t/m3" || unit == "g/cm3" || unit == "t/m^3" || unit == "g/cm^3")
+                    scale = 1.0;
+                else if (unit == "kg/m3" || unit == "kg/m^3")
+                    scale = 0.001;
                 if (d && std::isfinite(*d) && scale > 0.0 && !rec.density) rec.density = *d * scale;
                 break;
             }
@@ -1024,28 +1035,31 @@ std::string normaliseCrsText(std::string_view text) {
     text = trim(text);
     const std::string lower = asciiLowerCopy(text);
     std::size_t codeStart = std::string::npos;
-    if (lower.starts_with("urn:ogc:def:crs:epsg:")) codeStart = lower.rfind(':') + 1;
-    else if (lower.starts_with("http") && contains(lower, "/def/crs/epsg/")) codeStart = lower.rfind('/') + 1;
-    else if (lower.starts_with("epsg:")) codeStart = 5;
+    if (lower.starts_with("urn:ogc:def:crs:epsg:"))
+        codeStart = lower.rfind(':') + 1;
+    else if (lower.starts_with("http") && contains(lower, "/def/crs/epsg/"))
+        codeStart = lower.rfind('/') + 1;
+    else if (lower.starts_with("epsg:"))
+        codeStart = 5;
     if (codeStart != std::string::npos && isDigits(text.substr(codeStart)))
         return "EPSG:" + std::string(text.substr(codeStart));
     return std::string(text);
 }
 
 // Declared CRS -> model.crs. A CRS geoslice does not support leaves the model local, with the
-// declared text in the first record's extra ("declared_crs", "declared_crs_note"), so it is
+// declared text in the model's notes ("declared_crs", "declared_crs_note"), so it is
 // not lost. For a projected CRS the coordinates are checked against it (fixAxisOrder inside).
-void Reader::applyCrs(Model& model, AttributeRecord* notes) const {
+void Reader::applyCrs(Model& model) const {
     const std::string declared = declaredCrs_.empty() ? srsName_ : declaredCrs_;
     if (trim(declared).empty()) return;
     const auto note = [&](const char* key, const std::string& value) {
-        if (notes && !notes->extra.contains(key)) notes->extra[key] = quoted(value, 400);
+        model.notes.emplace(key, quoted(value, 400));
     };
     const Result<Crs> crs = Crs::parse(normaliseCrsText(declared));
     if (!crs) {
         note("declared_crs", declared);
-        note("declared_crs_note", "not a CRS geoslice supports (" + crs.error().message +
-                                      "); the model is kept in local coordinates");
+        note("declared_crs_note",
+             "not a CRS geoslice supports (" + crs.error().message + "); the model is kept in local coordinates");
         return;
     }
     model.crs = crs.value();
@@ -1100,15 +1114,18 @@ Error Reader::nothingToLoad(pugi::xml_node root, const std::string& modelName) c
         held += featuresWithoutGeometry_ == 1 ? " feature without geometry" : " features without geometry";
     }
     std::string msg = source_ + ": no TIN triangles to load: " + what;
-    if (!held.empty()) msg += " contains only " + held;
-    else msg += " contains no feature geometry";
+    if (!held.empty())
+        msg += " contains only " + held;
+    else
+        msg += " contains no feature geometry";
     if (!includes_.empty()) {
         msg += "; its models are in separate files (xi:include";
         for (const std::string& href : includes_) msg += " " + href;
         msg += "): load those";
     }
-    msg += ". geoslice reads Geo3DML TIN surfaces (GeoTin, gml:TriangulatedSurface); grids, volumes, "
-           "boreholes and section lines are skipped";
+    msg +=
+        ". geoslice reads Geo3DML TIN surfaces (GeoTin, gml:TriangulatedSurface); grids, volumes, "
+        "boreholes and section lines are skipped";
     return makeError(ErrorCode::Unsupported, msg);
 }
 

@@ -286,7 +286,7 @@ Result<AccessorView> viewAccessor(const tinygltf::Model& g, int index, const std
     auto fail = [&](const std::string& what) { return makeError(ErrorCode::ParseError, where + ": " + what); };
     if (index < 0 || static_cast<std::size_t>(index) >= g.accessors.size()) return fail("accessor " + std::to_string(index) + " does not exist");
     const auto& a = g.accessors[static_cast<std::size_t>(index)];
-    if (a.sparse.isSparse) return fail("sparse accessors are not supported");
+    if (a.sparse.isSparse) return makeError(ErrorCode::Unsupported, where + ": sparse accessors are not supported");
     if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= g.bufferViews.size())
         return fail("accessor " + std::to_string(index) + " has no valid bufferView");
     const auto& bv = g.bufferViews[static_cast<std::size_t>(a.bufferView)];

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -102,6 +103,9 @@ struct Model {
     Crs crs;                     // Crs::local() when the model has no CRS
     glm::dvec3 origin{0.0};      // world point that local coordinates are relative to
     ValidationReport validation; // from the last validate()
+    // Loader notes about the whole model (provenance, declared CRS, axis order, warnings),
+    // key -> text; kept out of the attribute records, which describe geology.
+    std::map<std::string, std::string> notes;
 
     Aabb bounds() const;
     std::size_t triangleCount() const;

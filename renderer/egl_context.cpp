@@ -14,32 +14,49 @@ namespace {
 
 std::string eglErrorName(EGLint error) {
     switch (error) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
-    case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-    case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
-    case EGL_BAD_DEVICE_EXT: return "EGL_BAD_DEVICE_EXT";
-    default: {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "EGL error 0x%04x", error);
-        return buf;
-    }
+        case EGL_SUCCESS:
+            return "EGL_SUCCESS";
+        case EGL_NOT_INITIALIZED:
+            return "EGL_NOT_INITIALIZED";
+        case EGL_BAD_ACCESS:
+            return "EGL_BAD_ACCESS";
+        case EGL_BAD_ALLOC:
+            return "EGL_BAD_ALLOC";
+        case EGL_BAD_ATTRIBUTE:
+            return "EGL_BAD_ATTRIBUTE";
+        case EGL_BAD_CONFIG:
+            return "EGL_BAD_CONFIG";
+        case EGL_BAD_CONTEXT:
+            return "EGL_BAD_CONTEXT";
+        case EGL_BAD_CURRENT_SURFACE:
+            return "EGL_BAD_CURRENT_SURFACE";
+        case EGL_BAD_DISPLAY:
+            return "EGL_BAD_DISPLAY";
+        case EGL_BAD_MATCH:
+            return "EGL_BAD_MATCH";
+        case EGL_BAD_NATIVE_PIXMAP:
+            return "EGL_BAD_NATIVE_PIXMAP";
+        case EGL_BAD_NATIVE_WINDOW:
+            return "EGL_BAD_NATIVE_WINDOW";
+        case EGL_BAD_PARAMETER:
+            return "EGL_BAD_PARAMETER";
+        case EGL_BAD_SURFACE:
+            return "EGL_BAD_SURFACE";
+        case EGL_CONTEXT_LOST:
+            return "EGL_CONTEXT_LOST";
+        case EGL_BAD_DEVICE_EXT:
+            return "EGL_BAD_DEVICE_EXT";
+        default: {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "EGL error 0x%04x", error);
+            return buf;
+        }
     }
 }
 
 Error eglFailure(const char* backend, const std::string& what) {
-    return makeError(ErrorCode::Unsupported, std::string(backend) + ": " + what + " failed: " + eglErrorName(eglGetError()));
+    return makeError(ErrorCode::Unsupported,
+                     std::string(backend) + ": " + what + " failed: " + eglErrorName(eglGetError()));
 }
 
 bool hasExtension(const char* list, const char* name) {
@@ -110,17 +127,33 @@ public:
         const bool noConfig = hasExtension(displayExts, "EGL_KHR_no_config_context");
         const bool surfaceless = hasExtension(displayExts, "EGL_KHR_surfaceless_context");
         if (!noConfig || !surfaceless) {
-            const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                            EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_NONE};
+            const EGLint configAttribs[] = {EGL_SURFACE_TYPE,
+                                            EGL_PBUFFER_BIT,
+                                            EGL_RENDERABLE_TYPE,
+                                            EGL_OPENGL_BIT,
+                                            EGL_RED_SIZE,
+                                            8,
+                                            EGL_GREEN_SIZE,
+                                            8,
+                                            EGL_BLUE_SIZE,
+                                            8,
+                                            EGL_NONE};
             EGLint n = 0;
-            if (!eglChooseConfig(display_, configAttribs, &config, 1, &n)) return eglFailure(backendName_, "eglChooseConfig");
+            if (!eglChooseConfig(display_, configAttribs, &config, 1, &n))
+                return eglFailure(backendName_, "eglChooseConfig");
             if (n < 1)
-                return makeError(ErrorCode::Unsupported, std::string(backendName_) +
-                                                             ": no EGL config with EGL_OPENGL_BIT and EGL_PBUFFER_BIT");
+                return makeError(ErrorCode::Unsupported,
+                                 std::string(backendName_) + ": no EGL config with EGL_OPENGL_BIT and EGL_PBUFFER_BIT");
         }
-        EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                                   EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                   EGL_CONTEXT_OPENGL_DEBUG, options.debugOutput ? EGL_TRUE : EGL_FALSE, EGL_NONE};
+        EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                   4,
+                                   EGL_CONTEXT_MINOR_VERSION,
+                                   5,
+                                   EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                   EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                   EGL_CONTEXT_OPENGL_DEBUG,
+                                   options.debugOutput ? EGL_TRUE : EGL_FALSE,
+                                   EGL_NONE};
         context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, contextAttribs);
         if (context_ == EGL_NO_CONTEXT) return eglFailure(backendName_, "eglCreateContext(OpenGL 4.5 core)");
         if (!surfaceless) {
@@ -130,8 +163,8 @@ public:
         }
         if (auto s = makeCurrent(); !s) return s;
         const char* vendor = eglQueryString(display_, EGL_VENDOR);
-        platform = "EGL " + std::to_string(major) + "." + std::to_string(minor) + " (" + (vendor ? vendor : "?") + ") " +
-                   platform + (noConfig ? "" : " [config]") + (surfaceless ? "" : " [pbuffer]");
+        platform = "EGL " + std::to_string(major) + "." + std::to_string(minor) + " (" + (vendor ? vendor : "?") +
+                   ") " + platform + (noConfig ? "" : " [config]") + (surfaceless ? "" : " [pbuffer]");
         return finishCreation(backend, &eglGetProcForTable, nullptr, std::move(platform));
     }
 
@@ -152,7 +185,8 @@ Result<DeviceApi> deviceApi(const char* backend) {
     const char* clientExts = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     for (const char* ext : {"EGL_EXT_platform_base", "EGL_EXT_platform_device"})
         if (!hasExtension(clientExts, ext))
-            return makeError(ErrorCode::Unsupported, std::string(backend) + ": EGL client extension " + ext + " missing");
+            return makeError(ErrorCode::Unsupported,
+                             std::string(backend) + ": EGL client extension " + ext + " missing");
     if (!hasExtension(clientExts, "EGL_EXT_device_enumeration") && !hasExtension(clientExts, "EGL_EXT_device_base"))
         return makeError(ErrorCode::Unsupported, std::string(backend) + ": EGL_EXT_device_enumeration missing");
     DeviceApi api;
@@ -201,8 +235,9 @@ Result<std::unique_ptr<GlContext>> createEglDeviceContext(const GlContextOptions
     int pick = -1;
     if (options.eglDeviceIndex >= 0) {
         if (options.eglDeviceIndex >= int(descs.size()))
-            return makeError(ErrorCode::InvalidArgument, "egl-device: device index " + std::to_string(options.eglDeviceIndex) +
-                                                             " out of range (" + std::to_string(descs.size()) + " devices)");
+            return makeError(ErrorCode::InvalidArgument,
+                             "egl-device: device index " + std::to_string(options.eglDeviceIndex) + " out of range (" +
+                                 std::to_string(descs.size()) + " devices)");
         pick = options.eglDeviceIndex;
     } else {
         for (const auto& d : descs)
@@ -212,7 +247,8 @@ Result<std::unique_ptr<GlContext>> createEglDeviceContext(const GlContextOptions
             }
         if (pick < 0 && !requireHardware) pick = 0;
         if (pick < 0)
-            return makeError(ErrorCode::Unsupported, "egl-device: no hardware device among " + std::to_string(descs.size()) +
+            return makeError(ErrorCode::Unsupported, "egl-device: no hardware device among " +
+                                                         std::to_string(descs.size()) +
                                                          " EGL device(s) (software only)");
     }
     EGLDisplay display = api->getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, (*devices)[std::size_t(pick)], nullptr);
@@ -231,11 +267,14 @@ Result<std::unique_ptr<GlContext>> createEglSurfacelessContext(const GlContextOp
     const char* clientExts = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     for (const char* ext : {"EGL_EXT_platform_base", "EGL_MESA_platform_surfaceless"})
         if (!hasExtension(clientExts, ext))
-            return makeError(ErrorCode::Unsupported, std::string(backend) + ": EGL client extension " + ext + " missing");
+            return makeError(ErrorCode::Unsupported,
+                             std::string(backend) + ": EGL client extension " + ext + " missing");
     auto getPlatformDisplay = eglProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
-    if (!getPlatformDisplay) return makeError(ErrorCode::Unsupported, "egl-surfaceless: eglGetPlatformDisplayEXT not found");
+    if (!getPlatformDisplay)
+        return makeError(ErrorCode::Unsupported, "egl-surfaceless: eglGetPlatformDisplayEXT not found");
     EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (display == EGL_NO_DISPLAY) return eglFailure(backend, "eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA)");
+    if (display == EGL_NO_DISPLAY)
+        return eglFailure(backend, "eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA)");
     std::unique_ptr<EglContext> ctx(new EglContext());
     if (auto s = ctx->init(display, GlBackend::EglSurfaceless, options, "surfaceless"); !s) return s.error();
     std::unique_ptr<GlContext> base = std::move(ctx);
@@ -252,7 +291,8 @@ Result<std::vector<EglDeviceDesc>> listEglDevices() {
     auto devices = detail::queryDevices(*api, "egl-device");
     if (!devices) return devices.error();
     std::vector<EglDeviceDesc> out;
-    for (std::size_t i = 0; i < devices->size(); ++i) out.push_back(detail::describeDevice(*api, (*devices)[i], int(i)));
+    for (std::size_t i = 0; i < devices->size(); ++i)
+        out.push_back(detail::describeDevice(*api, (*devices)[i], int(i)));
     return out;
 }
 

@@ -8,10 +8,14 @@ namespace geoslice {
 
 const char* glBackendName(GlBackend backend) {
     switch (backend) {
-    case GlBackend::Auto: return "auto";
-    case GlBackend::EglDevice: return "egl-device";
-    case GlBackend::EglSurfaceless: return "egl-surfaceless";
-    case GlBackend::OsMesa: return "osmesa";
+        case GlBackend::Auto:
+            return "auto";
+        case GlBackend::EglDevice:
+            return "egl-device";
+        case GlBackend::EglSurfaceless:
+            return "egl-surfaceless";
+        case GlBackend::OsMesa:
+            return "osmesa";
     }
     return "?";
 }
@@ -70,10 +74,14 @@ Status GlContext::finishCreation(GlBackend backend, GlFunctions::ProcAddressFn g
 
 Result<std::unique_ptr<GlContext>> GlContext::create(const GlContextOptions& options) {
     switch (options.backend) {
-    case GlBackend::EglDevice: return detail::createEglDeviceContext(options, false);
-    case GlBackend::EglSurfaceless: return detail::createEglSurfacelessContext(options);
-    case GlBackend::OsMesa: return detail::createOsMesaContext(options);
-    case GlBackend::Auto: break;
+        case GlBackend::EglDevice:
+            return detail::createEglDeviceContext(options, false);
+        case GlBackend::EglSurfaceless:
+            return detail::createEglSurfacelessContext(options);
+        case GlBackend::OsMesa:
+            return detail::createOsMesaContext(options);
+        case GlBackend::Auto:
+            break;
     }
     std::string tried;
     auto note = [&tried](const Error& e) { tried += (tried.empty() ? "" : "; ") + e.message; };

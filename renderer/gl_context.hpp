@@ -41,8 +41,8 @@ std::optional<GlBackend> parseGlBackend(std::string_view name);
 
 struct GlContextOptions {
     GlBackend backend = GlBackend::Auto;
-    int eglDeviceIndex = -1;  // egl-device: index into listEglDevices(); -1 = prefer hardware
-    bool debugOutput = false; // create a debug context (KHR_debug) where the backend allows
+    int eglDeviceIndex = -1;   // egl-device: index into listEglDevices(); -1 = prefer hardware
+    bool debugOutput = false;  // create a debug context (KHR_debug) where the backend allows
 };
 
 // What the context runs on, for logs and the health endpoint.
@@ -57,7 +57,7 @@ struct GlContextInfo {
     bool software = false;                // llvmpipe / softpipe / swrast
     int maxRenderbufferSize = 0;          // GL_MAX_RENDERBUFFER_SIZE
     int maxViewportWidth = 0, maxViewportHeight = 0;  // GL_MAX_VIEWPORT_DIMS
-    std::string describe() const;         // one line: backend, vendor, renderer, version
+    std::string describe() const;                     // one line: backend, vendor, renderer, version
 };
 
 // One EGL device as EGL_EXT_device_enumeration reports it (no context needed).
@@ -91,8 +91,7 @@ public:
 protected:
     GlContext() = default;
     // Backends call this once the context is current: loads gl_, fills info_, checks 4.5.
-    Status finishCreation(GlBackend backend, GlFunctions::ProcAddressFn getProc, void* user,
-                          std::string platform);
+    Status finishCreation(GlBackend backend, GlFunctions::ProcAddressFn getProc, void* user, std::string platform);
 
     GlFunctions gl_;
     GlContextInfo info_;

@@ -18,100 +18,100 @@
 namespace geoslice {
 
 // X(type of the pointer, name without "gl").
-#define GEOSLICE_GL_FUNCTIONS(X)                                                          \
-    /* state and queries */                                                               \
-    X(PFNGLGETERRORPROC, GetError)                                                        \
-    X(PFNGLGETSTRINGPROC, GetString)                                                      \
-    X(PFNGLGETSTRINGIPROC, GetStringi)                                                    \
-    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                  \
-    X(PFNGLGETFLOATVPROC, GetFloatv)                                                      \
-    X(PFNGLENABLEPROC, Enable)                                                            \
-    X(PFNGLDISABLEPROC, Disable)                                                          \
-    X(PFNGLENABLEIPROC, Enablei)                                                          \
-    X(PFNGLDISABLEIPROC, Disablei)                                                        \
-    X(PFNGLVIEWPORTPROC, Viewport)                                                        \
-    X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                      \
-    X(PFNGLDEPTHMASKPROC, DepthMask)                                                      \
-    X(PFNGLCLIPCONTROLPROC, ClipControl)                                                  \
-    X(PFNGLCULLFACEPROC, CullFace)                                                        \
-    X(PFNGLFRONTFACEPROC, FrontFace)                                                      \
-    X(PFNGLPOLYGONOFFSETPROC, PolygonOffset)                                              \
-    X(PFNGLSTENCILFUNCPROC, StencilFunc)                                                  \
-    X(PFNGLSTENCILOPPROC, StencilOp)                                                      \
-    X(PFNGLSTENCILMASKPROC, StencilMask)                                                  \
-    X(PFNGLCOLORMASKIPROC, ColorMaski)                                                    \
-    X(PFNGLLINEWIDTHPROC, LineWidth)                                                      \
-    X(PFNGLFINISHPROC, Finish)                                                            \
-    X(PFNGLFLUSHPROC, Flush)                                                              \
-    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                  \
-    X(PFNGLREADPIXELSPROC, ReadPixels)                                                    \
-    X(PFNGLREADNPIXELSPROC, ReadnPixels)                                                  \
-    X(PFNGLDEBUGMESSAGECALLBACKPROC, DebugMessageCallback)                                \
-    /* shaders and programs */                                                            \
-    X(PFNGLCREATESHADERPROC, CreateShader)                                                \
-    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                \
-    X(PFNGLCOMPILESHADERPROC, CompileShader)                                              \
-    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                  \
-    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                        \
-    X(PFNGLDELETESHADERPROC, DeleteShader)                                                \
-    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                              \
-    X(PFNGLATTACHSHADERPROC, AttachShader)                                                \
-    X(PFNGLDETACHSHADERPROC, DetachShader)                                                \
-    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                  \
-    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                                \
-    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                      \
-    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                              \
-    X(PFNGLUSEPROGRAMPROC, UseProgram)                                                    \
-    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                    \
-    X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                        \
-    X(PFNGLPROGRAMUNIFORM1UIPROC, ProgramUniform1ui)                                      \
-    X(PFNGLPROGRAMUNIFORM1FPROC, ProgramUniform1f)                                        \
-    X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                      \
-    X(PFNGLPROGRAMUNIFORM4FVPROC, ProgramUniform4fv)                                      \
-    X(PFNGLPROGRAMUNIFORMMATRIX4FVPROC, ProgramUniformMatrix4fv)                          \
-    /* buffers and vertex arrays (DSA) */                                                 \
-    X(PFNGLCREATEBUFFERSPROC, CreateBuffers)                                              \
-    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                              \
-    X(PFNGLNAMEDBUFFERSTORAGEPROC, NamedBufferStorage)                                    \
-    X(PFNGLNAMEDBUFFERSUBDATAPROC, NamedBufferSubData)                                    \
-    X(PFNGLBINDBUFFERPROC, BindBuffer)                                                    \
-    X(PFNGLMAPNAMEDBUFFERRANGEPROC, MapNamedBufferRange)                                  \
-    X(PFNGLUNMAPNAMEDBUFFERPROC, UnmapNamedBuffer)                                        \
-    X(PFNGLCREATEVERTEXARRAYSPROC, CreateVertexArrays)                                    \
-    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                    \
-    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                          \
-    X(PFNGLVERTEXARRAYVERTEXBUFFERPROC, VertexArrayVertexBuffer)                          \
-    X(PFNGLVERTEXARRAYELEMENTBUFFERPROC, VertexArrayElementBuffer)                        \
-    X(PFNGLVERTEXARRAYATTRIBFORMATPROC, VertexArrayAttribFormat)                          \
-    X(PFNGLVERTEXARRAYATTRIBBINDINGPROC, VertexArrayAttribBinding)                        \
-    X(PFNGLENABLEVERTEXARRAYATTRIBPROC, EnableVertexArrayAttrib)                          \
-    /* drawing */                                                                         \
-    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                    \
-    X(PFNGLDRAWELEMENTSPROC, DrawElements)                                                \
-    X(PFNGLDRAWELEMENTSBASEVERTEXPROC, DrawElementsBaseVertex)                            \
-    /* framebuffers and renderbuffers (DSA) */                                            \
-    X(PFNGLCREATEFRAMEBUFFERSPROC, CreateFramebuffers)                                    \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                    \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                          \
-    X(PFNGLNAMEDFRAMEBUFFERRENDERBUFFERPROC, NamedFramebufferRenderbuffer)                \
-    X(PFNGLNAMEDFRAMEBUFFERDRAWBUFFERSPROC, NamedFramebufferDrawBuffers)                  \
-    X(PFNGLNAMEDFRAMEBUFFERREADBUFFERPROC, NamedFramebufferReadBuffer)                    \
-    X(PFNGLCHECKNAMEDFRAMEBUFFERSTATUSPROC, CheckNamedFramebufferStatus)                  \
-    X(PFNGLCLEARNAMEDFRAMEBUFFERFVPROC, ClearNamedFramebufferfv)                          \
-    X(PFNGLCLEARNAMEDFRAMEBUFFERUIVPROC, ClearNamedFramebufferuiv)                        \
-    X(PFNGLCLEARNAMEDFRAMEBUFFERFIPROC, ClearNamedFramebufferfi)                          \
-    X(PFNGLBLITNAMEDFRAMEBUFFERPROC, BlitNamedFramebuffer)                                \
-    X(PFNGLCREATERENDERBUFFERSPROC, CreateRenderbuffers)                                  \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                  \
-    X(PFNGLNAMEDRENDERBUFFERSTORAGEPROC, NamedRenderbufferStorage)                        \
-    X(PFNGLNAMEDRENDERBUFFERSTORAGEMULTISAMPLEPROC, NamedRenderbufferStorageMultisample)  \
-    /* timing and sync */                                                                 \
-    X(PFNGLCREATEQUERIESPROC, CreateQueries)                                              \
-    X(PFNGLDELETEQUERIESPROC, DeleteQueries)                                              \
-    X(PFNGLQUERYCOUNTERPROC, QueryCounter)                                                \
-    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)                                  \
-    X(PFNGLFENCESYNCPROC, FenceSync)                                                      \
-    X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync)                                            \
+#define GEOSLICE_GL_FUNCTIONS(X)                                                         \
+    /* state and queries */                                                              \
+    X(PFNGLGETERRORPROC, GetError)                                                       \
+    X(PFNGLGETSTRINGPROC, GetString)                                                     \
+    X(PFNGLGETSTRINGIPROC, GetStringi)                                                   \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                 \
+    X(PFNGLGETFLOATVPROC, GetFloatv)                                                     \
+    X(PFNGLENABLEPROC, Enable)                                                           \
+    X(PFNGLDISABLEPROC, Disable)                                                         \
+    X(PFNGLENABLEIPROC, Enablei)                                                         \
+    X(PFNGLDISABLEIPROC, Disablei)                                                       \
+    X(PFNGLVIEWPORTPROC, Viewport)                                                       \
+    X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                     \
+    X(PFNGLDEPTHMASKPROC, DepthMask)                                                     \
+    X(PFNGLCLIPCONTROLPROC, ClipControl)                                                 \
+    X(PFNGLCULLFACEPROC, CullFace)                                                       \
+    X(PFNGLFRONTFACEPROC, FrontFace)                                                     \
+    X(PFNGLPOLYGONOFFSETPROC, PolygonOffset)                                             \
+    X(PFNGLSTENCILFUNCPROC, StencilFunc)                                                 \
+    X(PFNGLSTENCILOPPROC, StencilOp)                                                     \
+    X(PFNGLSTENCILMASKPROC, StencilMask)                                                 \
+    X(PFNGLCOLORMASKIPROC, ColorMaski)                                                   \
+    X(PFNGLLINEWIDTHPROC, LineWidth)                                                     \
+    X(PFNGLFINISHPROC, Finish)                                                           \
+    X(PFNGLFLUSHPROC, Flush)                                                             \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                 \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                                                   \
+    X(PFNGLREADNPIXELSPROC, ReadnPixels)                                                 \
+    X(PFNGLDEBUGMESSAGECALLBACKPROC, DebugMessageCallback)                               \
+    /* shaders and programs */                                                           \
+    X(PFNGLCREATESHADERPROC, CreateShader)                                               \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                               \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                                             \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                 \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                       \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                                               \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                             \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                                               \
+    X(PFNGLDETACHSHADERPROC, DetachShader)                                               \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                 \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                               \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                     \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                             \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                                                   \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                   \
+    X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                       \
+    X(PFNGLPROGRAMUNIFORM1UIPROC, ProgramUniform1ui)                                     \
+    X(PFNGLPROGRAMUNIFORM1FPROC, ProgramUniform1f)                                       \
+    X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                     \
+    X(PFNGLPROGRAMUNIFORM4FVPROC, ProgramUniform4fv)                                     \
+    X(PFNGLPROGRAMUNIFORMMATRIX4FVPROC, ProgramUniformMatrix4fv)                         \
+    /* buffers and vertex arrays (DSA) */                                                \
+    X(PFNGLCREATEBUFFERSPROC, CreateBuffers)                                             \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                             \
+    X(PFNGLNAMEDBUFFERSTORAGEPROC, NamedBufferStorage)                                   \
+    X(PFNGLNAMEDBUFFERSUBDATAPROC, NamedBufferSubData)                                   \
+    X(PFNGLBINDBUFFERPROC, BindBuffer)                                                   \
+    X(PFNGLMAPNAMEDBUFFERRANGEPROC, MapNamedBufferRange)                                 \
+    X(PFNGLUNMAPNAMEDBUFFERPROC, UnmapNamedBuffer)                                       \
+    X(PFNGLCREATEVERTEXARRAYSPROC, CreateVertexArrays)                                   \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                   \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                         \
+    X(PFNGLVERTEXARRAYVERTEXBUFFERPROC, VertexArrayVertexBuffer)                         \
+    X(PFNGLVERTEXARRAYELEMENTBUFFERPROC, VertexArrayElementBuffer)                       \
+    X(PFNGLVERTEXARRAYATTRIBFORMATPROC, VertexArrayAttribFormat)                         \
+    X(PFNGLVERTEXARRAYATTRIBBINDINGPROC, VertexArrayAttribBinding)                       \
+    X(PFNGLENABLEVERTEXARRAYATTRIBPROC, EnableVertexArrayAttrib)                         \
+    /* drawing */                                                                        \
+    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                   \
+    X(PFNGLDRAWELEMENTSPROC, DrawElements)                                               \
+    X(PFNGLDRAWELEMENTSBASEVERTEXPROC, DrawElementsBaseVertex)                           \
+    /* framebuffers and renderbuffers (DSA) */                                           \
+    X(PFNGLCREATEFRAMEBUFFERSPROC, CreateFramebuffers)                                   \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                   \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                         \
+    X(PFNGLNAMEDFRAMEBUFFERRENDERBUFFERPROC, NamedFramebufferRenderbuffer)               \
+    X(PFNGLNAMEDFRAMEBUFFERDRAWBUFFERSPROC, NamedFramebufferDrawBuffers)                 \
+    X(PFNGLNAMEDFRAMEBUFFERREADBUFFERPROC, NamedFramebufferReadBuffer)                   \
+    X(PFNGLCHECKNAMEDFRAMEBUFFERSTATUSPROC, CheckNamedFramebufferStatus)                 \
+    X(PFNGLCLEARNAMEDFRAMEBUFFERFVPROC, ClearNamedFramebufferfv)                         \
+    X(PFNGLCLEARNAMEDFRAMEBUFFERUIVPROC, ClearNamedFramebufferuiv)                       \
+    X(PFNGLCLEARNAMEDFRAMEBUFFERFIPROC, ClearNamedFramebufferfi)                         \
+    X(PFNGLBLITNAMEDFRAMEBUFFERPROC, BlitNamedFramebuffer)                               \
+    X(PFNGLCREATERENDERBUFFERSPROC, CreateRenderbuffers)                                 \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                 \
+    X(PFNGLNAMEDRENDERBUFFERSTORAGEPROC, NamedRenderbufferStorage)                       \
+    X(PFNGLNAMEDRENDERBUFFERSTORAGEMULTISAMPLEPROC, NamedRenderbufferStorageMultisample) \
+    /* timing and sync */                                                                \
+    X(PFNGLCREATEQUERIESPROC, CreateQueries)                                             \
+    X(PFNGLDELETEQUERIESPROC, DeleteQueries)                                             \
+    X(PFNGLQUERYCOUNTERPROC, QueryCounter)                                               \
+    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)                                 \
+    X(PFNGLFENCESYNCPROC, FenceSync)                                                     \
+    X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync)                                           \
     X(PFNGLDELETESYNCPROC, DeleteSync)
 
 struct GlFunctions {

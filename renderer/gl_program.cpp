@@ -59,8 +59,8 @@ std::string GlProgram::withDefines(std::string_view source, const std::vector<st
     return out;
 }
 
-Result<GlProgram> GlProgram::build(const GlFunctions& gl, std::string_view vertexShader, std::string_view fragmentShader,
-                                   const std::vector<std::string>& defines) {
+Result<GlProgram> GlProgram::build(const GlFunctions& gl, std::string_view vertexShader,
+                                   std::string_view fragmentShader, const std::vector<std::string>& defines) {
     std::string label = std::string(vertexShader) + "+" + std::string(fragmentShader);
     for (const std::string& d : defines) label += " -D" + d;
     auto vs = compile(gl, GL_VERTEX_SHADER, vertexShader, label, defines);

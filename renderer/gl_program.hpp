@@ -17,8 +17,8 @@ class GlProgram {
 public:
     // Compiles and links. On failure the error (and stderr) carries the stage, the defines
     // and the driver's info log.
-    static Result<GlProgram> build(const GlFunctions& gl, std::string_view vertexShader, std::string_view fragmentShader,
-                                   const std::vector<std::string>& defines = {});
+    static Result<GlProgram> build(const GlFunctions& gl, std::string_view vertexShader,
+                                   std::string_view fragmentShader, const std::vector<std::string>& defines = {});
     // Inserts the defines into `source` after its first line (the #version line).
     static std::string withDefines(std::string_view source, const std::vector<std::string>& defines);
 

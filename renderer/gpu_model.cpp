@@ -48,7 +48,8 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
         if (auto s = add(p, true); !s) return s.error();
     for (const Part& p : model.surfaces)
         if (auto s = add(p, false); !s) return s.error();
-    if (positions.empty()) return makeError(ErrorCode::InvalidArgument, "model " + model.name + " has no triangles to draw");
+    if (positions.empty())
+        return makeError(ErrorCode::InvalidArgument, "model " + model.name + " has no triangles to draw");
 
     gl.CreateBuffers(1, &g->vertexBuffer_);
     gl.NamedBufferStorage(g->vertexBuffer_, GLsizeiptr(positions.size() * sizeof(glm::vec3)), positions.data(), 0);
@@ -61,8 +62,9 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
     gl.VertexArrayAttribFormat(g->vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
     gl.VertexArrayAttribBinding(g->vao_, 0, 0);
     if (GLenum e = gl.GetError(); e != GL_NO_ERROR)
-        return makeError(e == GL_OUT_OF_MEMORY ? ErrorCode::OutOfRange : ErrorCode::Internal,
-                         "uploading model " + model.name + " (" + std::to_string(g->triangles_) + " triangles): " + glErrorName(e));
+        return makeError(
+            e == GL_OUT_OF_MEMORY ? ErrorCode::OutOfRange : ErrorCode::Internal,
+            "uploading model " + model.name + " (" + std::to_string(g->triangles_) + " triangles): " + glErrorName(e));
     return g;
 }
 

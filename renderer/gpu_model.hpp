@@ -24,9 +24,9 @@ public:
         GLint baseVertex = 0;
         GLsizei indexCount = 0;
         std::size_t firstIndex = 0;
-        bool body = true;              // closed body (caps) or open surface
+        bool body = true;  // closed body (caps) or open surface
         RecordId record = kNoRecord;
-        glm::vec4 colour{0.6f};        // attribute record colour, 0..1
+        glm::vec4 colour{0.6f};                // attribute record colour, 0..1
         RecordId containerRecord = kNoRecord;  // innermost containing body (validation's parent)
         glm::vec4 containerColour{0.6f};
     };

@@ -43,7 +43,8 @@ const OsMesaLibrary& osMesaLibrary() {
             l.error += std::string(l.error.empty() ? "" : "; ") + (e ? e : name);
         }
         if (!l.handle) return l;
-        l.createContextAttribs = reinterpret_cast<OSMesaCreateContextAttribsFn>(dlsym(l.handle, "OSMesaCreateContextAttribs"));
+        l.createContextAttribs =
+            reinterpret_cast<OSMesaCreateContextAttribsFn>(dlsym(l.handle, "OSMesaCreateContextAttribs"));
         l.makeCurrent = reinterpret_cast<OSMesaMakeCurrentFn>(dlsym(l.handle, "OSMesaMakeCurrent"));
         l.destroyContext = reinterpret_cast<OSMesaDestroyContextFn>(dlsym(l.handle, "OSMesaDestroyContext"));
         l.getProcAddress = reinterpret_cast<OSMesaGetProcAddressFn>(dlsym(l.handle, "OSMesaGetProcAddress"));
@@ -56,9 +57,7 @@ const OsMesaLibrary& osMesaLibrary() {
     return lib;
 }
 
-void* osMesaProc(const char* name, void* user) {
-    return static_cast<const OsMesaLibrary*>(user)->getProcAddress(name);
-}
+void* osMesaProc(const char* name, void* user) { return static_cast<const OsMesaLibrary*>(user)->getProcAddress(name); }
 
 class OsMesaGlContext final : public GlContext {
 public:
@@ -75,8 +74,21 @@ public:
     void releaseCurrent() override { lib_.makeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0); }
 
     Status init() {
-        const int attribs[] = {kOsMesaFormat, kOsMesaRgba, kOsMesaDepthBits, 0, kOsMesaStencilBits, 0, kOsMesaAccumBits, 0,
-                               kOsMesaProfile, kOsMesaCoreProfile, kOsMesaContextMajor, 4, kOsMesaContextMinor, 5, 0};
+        const int attribs[] = {kOsMesaFormat,
+                               kOsMesaRgba,
+                               kOsMesaDepthBits,
+                               0,
+                               kOsMesaStencilBits,
+                               0,
+                               kOsMesaAccumBits,
+                               0,
+                               kOsMesaProfile,
+                               kOsMesaCoreProfile,
+                               kOsMesaContextMajor,
+                               4,
+                               kOsMesaContextMinor,
+                               5,
+                               0};
         ctx_ = lib_.createContextAttribs(attribs, nullptr);
         if (!ctx_)
             return makeError(ErrorCode::Unsupported,

@@ -69,10 +69,12 @@ struct SliceImage {
     std::vector<RecordId> ids;       // row 0 at the top (when read)
     std::vector<float> depth;        // window depth, row 0 at the top (when read)
     ClipMethod clipUsed = ClipMethod::ClipDistance;
-    glm::dmat4 viewProj{1.0};        // local -> clip of this image
-    double drawMs = 0.0;             // clear + draw + glFinish, wall clock
-    double readbackMs = 0.0;         // glReadPixels of what was read, wall clock
-    RecordId idAt(int column, int row) const { return ids[std::size_t(row) * std::size_t(width) + std::size_t(column)]; }
+    glm::dmat4 viewProj{1.0};  // local -> clip of this image
+    double drawMs = 0.0;       // clear + draw + glFinish, wall clock
+    double readbackMs = 0.0;   // glReadPixels of what was read, wall clock
+    RecordId idAt(int column, int row) const {
+        return ids[std::size_t(row) * std::size_t(width) + std::size_t(column)];
+    }
 };
 
 class SliceRenderer {

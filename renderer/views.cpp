@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -59,8 +59,10 @@ ProfileView profileAround(const WorldPlane& plane, const Aabb& bounds, int width
     glm::dvec2 centre = 0.5 * (lo + hi);
     size *= 1.0 + 2.0 * margin;
     const double aspect = double(width) / double(std::max(height, 1));
-    if (size.x / size.y < aspect) size.x = size.y * aspect;
-    else size.y = size.x / aspect;
+    if (size.x / size.y < aspect)
+        size.x = size.y * aspect;
+    else
+        size.y = size.x / aspect;
     ProfileView v;
     v.plane = plane;
     v.uMin = centre.x - 0.5 * size.x;
@@ -84,10 +86,16 @@ Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3
     PlaneBasis b = planeBasis(*unit);
     // Depth: signed distance s along +n from the plane; the kept side is s >= 0. The range
     // starts a little on the removed side so that the plane itself is not at the near plane.
-    double sFar = 1.0;
-    for (const glm::dvec3& c : corners(worldBounds)) sFar = std::max(sFar, glm::dot(b.n, c) + unit->w);
-    const double sNear = -0.01 * sFar;
-    sFar *= 1.01;
+    // The range covers the whole model (union mode keeps material on the removed side too)
+    // and starts a little before the plane, so that the plane is never at the near plane.
+    double sMin = 0.0, sMax = 1.0;
+    for (const glm::dvec3& c : corners(worldBounds)) {
+        const double s = glm::dot(b.n, c) + unit->w;
+        sMin = std::min(sMin, s);
+        sMax = std::max(sMax, s);
+    }
+    const double pad = 0.01 * (sMax - sMin);
+    const double sNear = sMin - pad, sFar = sMax + pad;
     // Each clip coordinate is an affine function of the local position q:
     // u = q.u + uOff, v = q.v + vOff, s = q.n + sOff, with the offsets in double.
     const double uOff = glm::dot(origin - b.origin, b.u), vOff = glm::dot(origin - b.origin, b.v);
@@ -106,8 +114,8 @@ Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3
     return t;
 }
 
-Result<ViewTransform> perspectiveTransform(const PerspectiveView& view, const glm::dvec3& origin, const Aabb& worldBounds,
-                                           int width, int height) {
+Result<ViewTransform> perspectiveTransform(const PerspectiveView& view, const glm::dvec3& origin,
+                                           const Aabb& worldBounds, int width, int height) {
     const glm::dvec3 dir = view.target - view.eye;
     if (!(glm::length(dir) > 0.0) || !std::isfinite(glm::length(dir)))
         return makeError(ErrorCode::InvalidArgument, "perspective view needs eye != target (finite)");
@@ -126,7 +134,8 @@ Result<ViewTransform> perspectiveTransform(const PerspectiveView& view, const gl
     }
     const double farZ = std::max(zMax * 1.01, 1.0);
     const double nearZ = std::max(zMin * 0.99, farZ * 1e-5);
-    const glm::dmat4 proj = glm::perspective(glm::radians(view.fovYDegrees), double(width) / double(height), nearZ, farZ);
+    const glm::dmat4 proj =
+        glm::perspective(glm::radians(view.fovYDegrees), double(width) / double(height), nearZ, farZ);
     ViewTransform t;
     t.viewProj = proj * viewM;
     t.lightDir = defaultLight();

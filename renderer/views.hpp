@@ -41,7 +41,8 @@ struct ProfileView {
 };
 // A profile frame that covers the projection of `bounds` onto the plane, grown by
 // `margin` x its size on each side, with the aspect ratio of width x height (centred).
-ProfileView profileAround(const WorldPlane& unitPlane, const Aabb& worldBounds, int width, int height, double margin = 0.02);
+ProfileView profileAround(const WorldPlane& unitPlane, const Aabb& worldBounds, int width, int height,
+                          double margin = 0.02);
 // World point at the centre of pixel (column, row), row 0 at the top.
 glm::dvec3 profilePixelWorld(const ProfileView& view, int width, int height, int column, int row);
 
@@ -53,13 +54,13 @@ struct PerspectiveView {
 
 // Local -> clip, and what the fragment stage needs.
 struct ViewTransform {
-    glm::dmat4 viewProj{1.0};  // local frame -> clip, double
+    glm::dmat4 viewProj{1.0};            // local frame -> clip, double
     glm::dvec3 lightDir{0.0, 0.0, 1.0};  // local frame (= world directions), unit
     bool orthographic = false;
 };
 // Depth spans the model's bounds (worldBounds) seen from the view; `origin` is Model::origin.
 Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3& origin, const Aabb& worldBounds);
-Result<ViewTransform> perspectiveTransform(const PerspectiveView& view, const glm::dvec3& origin, const Aabb& worldBounds,
-                                           int width, int height);
+Result<ViewTransform> perspectiveTransform(const PerspectiveView& view, const glm::dvec3& origin,
+                                           const Aabb& worldBounds, int width, int height);
 
 }  // namespace geoslice

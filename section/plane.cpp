@@ -49,8 +49,9 @@ SectionFrame makeSectionFrame(const Plane& plane, const glm::dvec3& modelOrigin)
         f.u = glm::normalize(f.u - plane.normal * glm::dot(f.u, plane.normal));
     }
     f.v = glm::cross(f.u, plane.normal);
-    const LocalPlane lp = toLocal(plane, modelOrigin);
-    f.originLocal = -lp.n * lp.d;  // projection of the local origin (0, 0, 0)
+    // The foot of the perpendicular from world (0, 0, 0), as the renderer's PlaneBasis:
+    // u/v coordinates depend on the plane alone, so both engines share pixel frames.
+    f.originLocal = -plane.d * plane.normal - modelOrigin;
     return f;
 }
 

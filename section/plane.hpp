@@ -51,7 +51,8 @@ struct LocalPlane {
 LocalPlane toLocal(const Plane& plane, const glm::dvec3& origin);
 
 // The section frame: orthonormal world axes u (horizontal), v and the plane normal n,
-// with v = u x n (so v points up on vertical planes) and u x v = -n: a viewer on the
+// with v = u x n (so v points up on vertical planes) and u x v = -n (the renderer's
+// PlaneBasis, right-handed as (u, v, -n)): a viewer on the
 // removed side, looking along +n at the cut face of the kept half, sees u to the right
 // and v up; counter-clockwise loops in u/v are outer boundaries.
 //   u = normalize(n x z) for non-horizontal planes, world x for horizontal ones
@@ -60,7 +61,7 @@ struct SectionFrame {
     glm::dvec3 normal{0.0, 0.0, 1.0};  // world unit normal (kept side)
     glm::dvec3 u{1.0, 0.0, 0.0};       // world unit vector, horizontal
     glm::dvec3 v{0.0, -1.0, 0.0};      // world unit vector, v = u x n
-    glm::dvec3 originLocal{0.0};       // local point on the plane that is (u, v) = (0, 0)
+    glm::dvec3 originLocal{0.0};       // local point on the plane that is (u, v) = (0, 0): world -d n
     glm::dvec3 modelOrigin{0.0};       // Model::origin (world)
 
     // local (metres) -> plane u/v (metres); the point is projected onto the plane.
@@ -73,7 +74,10 @@ struct SectionFrame {
     glm::dvec3 originWorld() const { return modelOrigin + originLocal; }
 };
 
-// The frame of `plane`, its u/v origin the projection of the model origin onto the plane.
+// The frame of `plane`, its u/v origin the foot of the perpendicular from world (0, 0, 0)
+// (-d n): the same u, v and origin as renderer/views.hpp's PlaneBasis, so a u/v rectangle
+// names the same pixels in both engines. Far from the world origin (Gauss-Kruger eastings)
+// u/v values are large (3.5e7 m) but double keeps them to 1e-8 m.
 SectionFrame makeSectionFrame(const Plane& plane, const glm::dvec3& modelOrigin);
 
 }  // namespace geoslice

@@ -2,6 +2,7 @@
 // tinygltf, libdraco for KHR_draco_mesh_compression): any bytes must give a model or an
 // error that starts with the input's name, never a crash, a hang or an unbounded
 // allocation. There is no model folder, so every external buffer must be refused.
+// Seeds: tests/fuzz/corpus/gltf; binary ones are named *.glb.seed because .gitignore drops *.glb.
 #include <cstddef>
 #include <cstdint>
 #include <string>

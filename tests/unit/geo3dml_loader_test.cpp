@@ -87,26 +87,31 @@ std::vector<std::array<std::uint32_t, 3>> canonical(std::vector<std::array<std::
 
 std::vector<std::array<std::uint32_t, 3>> trianglesOf(const Mesh& m) {
     std::vector<std::array<std::uint32_t, 3>> tris;
-    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) tris.push_back({m.indices[t], m.indices[t + 1], m.indices[t + 2]});
+    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
+        tris.push_back({m.indices[t], m.indices[t + 1], m.indices[t + 2]});
     return tris;
 }
 
 // A minimal Geo3DModel with one feature. `shape` is the geometry inside Geometry/Shape.
-std::string modelXml(const std::string& shape, const std::string& metadata = "",
-                     const std::string& fields = "", const std::string& className = "地层",
-                     const std::string& featureName = "T1") {
+std::string modelXml(const std::string& shape, const std::string& metadata = "", const std::string& fields = "",
+                     const std::string& className = "地层", const std::string& featureName = "T1") {
     return R"(<?xml version="1.0" encoding="UTF-8"?>
 <geo3dml:Geo3DModel xmlns:geo3dml="https://www.iheg.cgs.gov.cn/Standard/geo3dml"
   xmlns="https://www.iheg.cgs.gov.cn/Standard/geo3dml" xmlns:gml="http://www.opengis.net/gml/3.2"
   xmlns:swe="http://www.opengis.net/swe/2.0">
   <Name>测试模型</Name>
   <Type>3DModel</Type>
-  <Metadata>)" + metadata + R"(</Metadata>
-  <FeatureClasses><FeatureClass><GeoFeatureClass gml:id="fc1"><gml:name>)" + className +
+  <Metadata>)" +
+           metadata + R"(</Metadata>
+  <FeatureClasses><FeatureClass><GeoFeatureClass gml:id="fc1"><gml:name>)" +
+           className +
            R"(</gml:name>
-    <Features><Feature><GeoFeature gml:id="f1"><gml:name>)" + featureName + R"(</gml:name>
-      <Fields>)" + fields + R"(</Fields>
-      <Geometry><Shape>)" + shape + R"(</Shape></Geometry>
+    <Features><Feature><GeoFeature gml:id="f1"><gml:name>)" +
+           featureName + R"(</gml:name>
+      <Fields>)" +
+           fields + R"(</Fields>
+      <Geometry><Shape>)" +
+           shape + R"(</Shape></Geometry>
     </GeoFeature></Feature></Features>
   </GeoFeatureClass></FeatureClass></FeatureClasses>
 </geo3dml:Geo3DModel>
@@ -157,7 +162,8 @@ void expectError(const Result<Model>& r, ErrorCode code, const std::string& sour
     ASSERT_FALSE(r.ok()) << "expected an error mentioning " << (fragments.empty() ? "" : fragments[0]);
     EXPECT_EQ(r.error().code, code) << r.error().message;
     EXPECT_NE(r.error().message.find(source), std::string::npos) << r.error().message;
-    for (const std::string& f : fragments) EXPECT_NE(r.error().message.find(f), std::string::npos) << "missing '" << f << "' in: " << r.error().message;
+    for (const std::string& f : fragments)
+        EXPECT_NE(r.error().message.find(f), std::string::npos) << "missing '" << f << "' in: " << r.error().message;
 }
 
 TEST(Geo3dmlLoader, Volume2ClosedTinBodyWithCountsFromXml) {
@@ -175,7 +181,9 @@ TEST(Geo3dmlLoader, Volume2ClosedTinBodyWithCountsFromXml) {
 
     const Part& body = m.bodies[0];
     EXPECT_EQ(body.name, expected[0].featureName);
-    EXPECT_EQ(body.name, "\xe5\x9c\xb0\xe5\xb1\x82" "A");  // 地层A, as bytes
+    EXPECT_EQ(body.name,
+              "\xe5\x9c\xb0\xe5\xb1\x82"
+              "A");  // 地层A, as bytes
     EXPECT_EQ(body.kind, PartKind::Body);
     EXPECT_TRUE(body.report.closed);
     EXPECT_EQ(body.mesh.vertexCount(), expected[0].positions.size());
@@ -238,15 +246,13 @@ TEST(Geo3dmlLoader, DeclaredEpsg4526IsRecognised) {
     ASSERT_EQ(r->bodies.size(), 1u);
     EXPECT_TRUE(r->bodies[0].report.closed);
     EXPECT_EQ(r->bodies[0].mesh.positions[0].x, 38500100.0);  // as written: easting first
-    const AttributeRecord* rec = r->attributes.find(r->bodies[0].record);
-    ASSERT_NE(rec, nullptr);
-    EXPECT_FALSE(rec->extra.contains("crs_warning"));
-    EXPECT_FALSE(rec->extra.contains("axis_order"));
+    EXPECT_FALSE(r->notes.count("crs_warning"));
+    EXPECT_FALSE(r->notes.count("axis_order"));
 }
 
 TEST(Geo3dmlLoader, Epsg4526OnSampleCoordinatesIsKeptWithAWarning) {
     // The samples declare EPSG:4526 on coordinates of 0..200 m, which cannot be eastings of
-    // zone 38; the CRS is kept as declared and the mismatch noted on the first record.
+    // zone 38; the CRS is kept as declared and the mismatch noted in the model's notes.
     std::string xml = readSample("model_Volume_2.xml");
     const std::string anchor = "<Version>1.0.0</Version>";
     ASSERT_NE(xml.find(anchor), std::string::npos);
@@ -254,10 +260,8 @@ TEST(Geo3dmlLoader, Epsg4526OnSampleCoordinatesIsKeptWithAWarning) {
     Result<Model> r = parseGeo3dml(xml, "volume2_4526.xml");
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_EQ(r->crs.epsg(), 4526);
-    const AttributeRecord* first = r->attributes.find(r->attributes.records().begin()->first);
-    ASSERT_NE(first, nullptr);
-    ASSERT_TRUE(first->extra.contains("crs_warning"));
-    EXPECT_NE(first->extra.at("crs_warning").get<std::string>().find("EPSG:4526"), std::string::npos);
+    ASSERT_TRUE(r->notes.count("crs_warning"));
+    EXPECT_NE(r->notes.at("crs_warning").find("EPSG:4526"), std::string::npos);
 }
 
 TEST(Geo3dmlLoader, NorthingFirstCoordinatesAreSwappedToEastingFirst) {
@@ -272,30 +276,29 @@ TEST(Geo3dmlLoader, NorthingFirstCoordinatesAreSwappedToEastingFirst) {
     EXPECT_TRUE(body.report.closed);
     EXPECT_FALSE(body.report.flipped);  // winding was swapped with the axes: still outward
     EXPECT_GT(body.report.signedVolume, 0.0);
-    EXPECT_TRUE(r->attributes.find(body.record)->extra.contains("axis_order"));
+    EXPECT_TRUE(r->notes.count("axis_order"));
 }
 
 TEST(Geo3dmlLoader, SrsNameForms) {
     for (const std::string srs :
          {"EPSG:4526", "urn:ogc:def:crs:EPSG::4526", "http://www.opengis.net/def/crs/EPSG/0/4526"}) {
         SCOPED_TRACE(srs);
-        Result<Model> r = parseGeo3dml(modelXml(tetraTin(38500100.0, 4400100.0, 0.0, " srsName=\"" + srs + "\"")),
-                                       "srsname.xml");
+        Result<Model> r =
+            parseGeo3dml(modelXml(tetraTin(38500100.0, 4400100.0, 0.0, " srsName=\"" + srs + "\"")), "srsname.xml");
         ASSERT_TRUE(r.ok()) << r.error().message;
         EXPECT_EQ(r->crs.epsg(), 4526);
     }
 }
 
 TEST(Geo3dmlLoader, UnsupportedCrsStaysLocalAndIsRecorded) {
-    const std::string srs = "<SpatialReferenceSystem><CoordinateReferenceSystem><Identifier>EPSG</Identifier>"
-                            "<Parameter>32650</Parameter></CoordinateReferenceSystem></SpatialReferenceSystem>";
+    const std::string srs =
+        "<SpatialReferenceSystem><CoordinateReferenceSystem><Identifier>EPSG</Identifier>"
+        "<Parameter>32650</Parameter></CoordinateReferenceSystem></SpatialReferenceSystem>";
     Result<Model> r = parseGeo3dml(modelXml(tetraTin(), srs), "utm.xml");
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_TRUE(r->crs.isLocal());
-    const AttributeRecord* first = r->attributes.find(r->attributes.records().begin()->first);
-    ASSERT_NE(first, nullptr);
-    EXPECT_EQ(first->extra.at("declared_crs").get<std::string>(), "EPSG:32650");
-    EXPECT_TRUE(first->extra.contains("declared_crs_note"));
+    EXPECT_EQ(r->notes.at("declared_crs"), "EPSG:32650");
+    EXPECT_TRUE(r->notes.count("declared_crs_note"));
 }
 
 TEST(Geo3dmlLoader, ChineseFieldNamesMapToRecordFields) {
@@ -320,7 +323,7 @@ TEST(Geo3dmlLoader, ChineseFieldNamesMapToRecordFields) {
     EXPECT_EQ(rec->gradeUnit, "g/t");
     EXPECT_EQ(rec->colour, (Rgba8{255, 0, 0, 255}));
     EXPECT_EQ(rec->extra.at(u8s(u8"备注")).get<std::string>(), u8s(u8"  保留空格  "));  // verbatim
-    EXPECT_DOUBLE_EQ(rec->extra.at(u8s(u8"密度")).get<double>(), 2650.0);              // as written
+    EXPECT_DOUBLE_EQ(rec->extra.at(u8s(u8"密度")).get<double>(), 2650.0);               // as written
 }
 
 TEST(Geo3dmlLoader, FieldTypesAndRepeatedNames) {
@@ -365,8 +368,8 @@ TEST(Geo3dmlLoader, OpenTinIsASurface) {
 }
 
 TEST(Geo3dmlLoader, IndexNoNeedNotBePositions) {
-    const std::string tin = geoTin({"0 0 0", "100 0 0", "0 100 0", "0 0 100"}, {"10 12 11", "10 11 13", "10 13 12", "11 12 13"},
-                                   "", {"10", "11", "12", "13"});
+    const std::string tin = geoTin({"0 0 0", "100 0 0", "0 100 0", "0 0 100"},
+                                   {"10 12 11", "10 11 13", "10 13 12", "11 12 13"}, "", {"10", "11", "12", "13"});
     Result<Model> r = parseGeo3dml(modelXml(tin), "indexno.xml");
     ASSERT_TRUE(r.ok()) << r.error().message;
     ASSERT_EQ(r->bodies.size(), 1u);
@@ -376,8 +379,8 @@ TEST(Geo3dmlLoader, IndexNoNeedNotBePositions) {
 
 TEST(Geo3dmlLoader, GmlTriangulatedSurfaceIsWelded) {
     const auto tri = [](const std::string& a, const std::string& b, const std::string& c) {
-        return "<gml:Triangle><gml:exterior><gml:LinearRing><gml:posList srsDimension=\"3\" count=\"4\">" + a + " " + b +
-               " " + c + " " + a + "</gml:posList></gml:LinearRing></gml:exterior></gml:Triangle>";
+        return "<gml:Triangle><gml:exterior><gml:LinearRing><gml:posList srsDimension=\"3\" count=\"4\">" + a + " " +
+               b + " " + c + " " + a + "</gml:posList></gml:LinearRing></gml:exterior></gml:Triangle>";
     };
     const std::string o = "0 0 0", x = "100 0 0", y = "0 100 0", z = "0 0 100";
     const std::string shape = "<gml:TriangulatedSurface><gml:patches>" + tri(o, y, x) + tri(o, x, z) + tri(o, z, y) +
@@ -393,8 +396,10 @@ TEST(Geo3dmlLoader, GmlTriangulatedSurfaceIsWelded) {
 TEST(Geo3dmlLoader, ProjectWithInlineModel) {
     const std::string model = modelXml(tetraTin());
     const std::string inner = model.substr(model.find("<geo3dml:Geo3DModel"));
-    const std::string xml = "<Geo3DProject xmlns=\"https://www.iheg.cgs.gov.cn/Standard/geo3dml\"><Name>示例项目</Name>"
-                            "<Models><Model>" + inner + "</Model></Models></Geo3DProject>";
+    const std::string xml =
+        "<Geo3DProject xmlns=\"https://www.iheg.cgs.gov.cn/Standard/geo3dml\"><Name>示例项目</Name>"
+        "<Models><Model>" +
+        inner + "</Model></Models></Geo3DProject>";
     Result<Model> r = parseGeo3dml(xml, "project_inline.xml");
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_EQ(r->name, u8s(u8"示例项目"));
@@ -469,9 +474,10 @@ TEST(Geo3dmlLoader, CoordinateCountNotMultipleOf3) {
     expectError(parseGeo3dml(modelXml(tin), "two.xml"), ErrorCode::ParseError, "two.xml", {"2 coordinates"});
     const std::string four = geoTin({"0 0 0", "1 0 0 7", "0 1 0"}, {"0 1 2"});
     expectError(parseGeo3dml(modelXml(four), "four.xml"), ErrorCode::ParseError, "four.xml", {"4 coordinates"});
-    const std::string gml = "<gml:TriangulatedSurface><gml:patches><gml:Triangle><gml:exterior><gml:LinearRing>"
-                            "<gml:posList>0 0 0 1 0 0 0 1 0 0 0</gml:posList></gml:LinearRing></gml:exterior>"
-                            "</gml:Triangle></gml:patches></gml:TriangulatedSurface>";
+    const std::string gml =
+        "<gml:TriangulatedSurface><gml:patches><gml:Triangle><gml:exterior><gml:LinearRing>"
+        "<gml:posList>0 0 0 1 0 0 0 1 0 0 0</gml:posList></gml:LinearRing></gml:exterior>"
+        "</gml:Triangle></gml:patches></gml:TriangulatedSurface>";
     expectError(parseGeo3dml(modelXml(gml), "poslist.xml"), ErrorCode::ParseError, "poslist.xml",
                 {"11 numbers", "not a multiple of 3"});
 }
@@ -479,19 +485,22 @@ TEST(Geo3dmlLoader, CoordinateCountNotMultipleOf3) {
 TEST(Geo3dmlLoader, TriangleWithTooFewIndices) {
     const std::string tin = geoTin({"0 0 0", "1 0 0", "0 1 0"}, {"0 1"});
     expectError(parseGeo3dml(modelXml(tin), "short.xml"), ErrorCode::ParseError, "short.xml", {"2 vertex indices"});
-    const std::string none = "<GeoTin><Vertices><Vertex>0 0 0</Vertex></Vertices><Triangles><Triangle/></Triangles></GeoTin>";
+    const std::string none =
+        "<GeoTin><Vertices><Vertex>0 0 0</Vertex></Vertices><Triangles><Triangle/></Triangles></GeoTin>";
     expectError(parseGeo3dml(modelXml(none), "nolist.xml"), ErrorCode::ParseError, "nolist.xml", {"VertexList"});
 }
 
 TEST(Geo3dmlLoader, HugeDeclaredCountsAreNotTrusted) {
-    const std::string gml = "<gml:TriangulatedSurface><gml:patches><gml:Triangle><gml:exterior><gml:LinearRing>"
-                            "<gml:posList count=\"4000000000000\">0 0 0 1 0 0 0 1 0 0 0 0</gml:posList>"
-                            "</gml:LinearRing></gml:exterior></gml:Triangle></gml:patches></gml:TriangulatedSurface>";
+    const std::string gml =
+        "<gml:TriangulatedSurface><gml:patches><gml:Triangle><gml:exterior><gml:LinearRing>"
+        "<gml:posList count=\"4000000000000\">0 0 0 1 0 0 0 1 0 0 0 0</gml:posList>"
+        "</gml:LinearRing></gml:exterior></gml:Triangle></gml:patches></gml:TriangulatedSurface>";
     expectError(parseGeo3dml(modelXml(gml), "count.xml"), ErrorCode::ParseError, "count.xml",
                 {"count=4000000000000", "holds 4 positions"});
-    const std::string tin = "<GeoTin><Vertices><Vertex>0 0 0</Vertex><Vertex>1 0 0</Vertex><Vertex>0 1 0</Vertex>"
-                            "</Vertices><Triangles><Triangle><VertexList ItemCount=\"999999999999\">0 1 2</VertexList>"
-                            "</Triangle></Triangles></GeoTin>";
+    const std::string tin =
+        "<GeoTin><Vertices><Vertex>0 0 0</Vertex><Vertex>1 0 0</Vertex><Vertex>0 1 0</Vertex>"
+        "</Vertices><Triangles><Triangle><VertexList ItemCount=\"999999999999\">0 1 2</VertexList>"
+        "</Triangle></Triangles></GeoTin>";
     expectError(parseGeo3dml(modelXml(tin), "itemcount.xml"), ErrorCode::ParseError, "itemcount.xml",
                 {"ItemCount=999999999999"});
     // A huge IndexNo is only a key, never a size.

@@ -22,6 +22,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <string>
@@ -42,12 +43,12 @@ using Json = nlohmann::json;
 constexpr double kFloatLocalTol = 1.0 / 8192.0 + 1e-8;  // 2^-13 m + double rounding at 3.55e7 m
 // Draco (see the file comment): half a step, plus 1/16 step because libdraco multiplies by
 // 1/step in float32 (near 2^20 quantisation units a float's spacing is 1/8 unit), plus four
-// float32 roundings: the local value and the dequantisation product (half of 2^-12 m each,
-// values under 4096 m), the difference to the minimum and the product q * step (half of 2^-11 m
-// each, values up to the 6000 m extent).
+// float32 roundings: of the local value and of the result min + q * step (values under
+// 4096 m: 2^-13 m each), and of the intermediates x - min and q * step (values up to the
+// 6000 m extent: 2^-12 m each).
 constexpr double kDracoSteps = 0.5 + 1.0 / 16.0;
 constexpr double kDracoFloatTol = 2.0 / 8192.0 + 2.0 / 4096.0;
-constexpr double kGenericTol = 1e-12;                   // see the file comment
+constexpr double kGenericTol = 1e-12;  // see the file comment
 
 // ---------------------------------------------------------------------------------------
 // Helpers: bytes, base64, GLB containers.
@@ -55,7 +56,8 @@ constexpr double kGenericTol = 1e-12;                   // see the file comment
 Result<Model> parseText(const std::string& text, const std::string& source, const std::string& baseDir = "") {
     return parseGltf(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), source, baseDir);
 }
-Result<Model> parseBytes(const std::vector<std::uint8_t>& b, const std::string& source, const std::string& baseDir = "") {
+Result<Model> parseBytes(const std::vector<std::uint8_t>& b, const std::string& source,
+                         const std::string& baseDir = "") {
     return parseGltf(b.data(), b.size(), source, baseDir);
 }
 
@@ -93,7 +95,8 @@ GlbParts splitGlb(const std::vector<std::uint8_t>& glb) {
     const std::size_t binAt = 20 + std::size_t(jsonLen);
     if (binAt + 8 <= glb.size()) {
         const std::uint32_t binLen = getU32(glb, binAt);
-        p.bin.assign(glb.begin() + static_cast<std::ptrdiff_t>(binAt + 8), glb.begin() + static_cast<std::ptrdiff_t>(binAt + 8 + binLen));
+        p.bin.assign(glb.begin() + static_cast<std::ptrdiff_t>(binAt + 8),
+                     glb.begin() + static_cast<std::ptrdiff_t>(binAt + 8 + binLen));
     }
     return p;
 }
@@ -167,20 +170,39 @@ Json genericDoc(const std::vector<std::uint8_t>& buffer) {
     doc["scenes"] = Json::array({Json{{"name", "generic"}, {"nodes", {0, 2, 3, 4}}}});
     doc["nodes"] = Json::array({
         // glTF: T(10,20,30) * R(90 deg about +Y) * S(2); its child adds T(1,0,0).
-        Json{{"name", "frame"}, {"translation", {10, 20, 30}}, {"rotation", {0, s, 0, s}}, {"scale", {2, 2, 2}}, {"children", Json::array({1})}},
-        Json{{"name", "granite stock"}, {"translation", {1, 0, 0}}, {"mesh", 0}, {"extras", Json{{"lithology", "granite"}, {"density", 2.7}}}},
+        Json{{"name", "frame"},
+             {"translation", {10, 20, 30}},
+             {"rotation", {0, s, 0, s}},
+             {"scale", {2, 2, 2}},
+             {"children", Json::array({1})}},
+        Json{{"name", "granite stock"},
+             {"translation", {1, 0, 0}},
+             {"mesh", 0},
+             {"extras", Json{{"lithology", "granite"}, {"density", 2.7}}}},
         Json{{"name", "mirrored cube"}, {"translation", {100, 0, 0}}, {"scale", {-1, 1, 1}}, {"mesh", 0}},
         Json{{"name", "fault F1"}, {"translation", {0, 0, -50}}, {"mesh", 1}},
         Json{{"name", "matrix cube"}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 50, 60, 70, 1}}, {"mesh", 0}},
     });
     doc["meshes"] = Json::array({
-        Json{{"name", "cube"}, {"primitives", Json::array({Json{{"attributes", Json{{"POSITION", 0}}}, {"indices", 1}, {"mode", 4}}})}},
-        Json{{"name", "quad"}, {"primitives", Json::array({Json{{"attributes", Json{{"POSITION", 2}}}, {"indices", 3}}})}},
+        Json{{"name", "cube"},
+             {"primitives", Json::array({Json{{"attributes", Json{{"POSITION", 0}}}, {"indices", 1}, {"mode", 4}}})}},
+        Json{{"name", "quad"},
+             {"primitives", Json::array({Json{{"attributes", Json{{"POSITION", 2}}}, {"indices", 3}}})}},
     });
     doc["accessors"] = Json::array({
-        Json{{"bufferView", 0}, {"componentType", 5126}, {"count", 8}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}},
+        Json{{"bufferView", 0},
+             {"componentType", 5126},
+             {"count", 8},
+             {"type", "VEC3"},
+             {"min", {0, 0, 0}},
+             {"max", {1, 1, 1}}},
         Json{{"bufferView", 1}, {"componentType", 5125}, {"count", 36}, {"type", "SCALAR"}},
-        Json{{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {4, 3, 0}}},
+        Json{{"bufferView", 2},
+             {"componentType", 5126},
+             {"count", 4},
+             {"type", "VEC3"},
+             {"min", {0, 0, 0}},
+             {"max", {4, 3, 0}}},
         Json{{"bufferView", 3}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}},
     });
     doc["bufferViews"] = Json::array({
@@ -189,7 +211,8 @@ Json genericDoc(const std::vector<std::uint8_t>& buffer) {
         Json{{"buffer", 0}, {"byteOffset", 240}, {"byteLength", 48}},
         Json{{"buffer", 0}, {"byteOffset", 288}, {"byteLength", 12}},
     });
-    doc["buffers"] = Json::array({Json{{"byteLength", buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(buffer)}}});
+    doc["buffers"] = Json::array(
+        {Json{{"byteLength", buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(buffer)}}});
     return doc;
 }
 
@@ -199,10 +222,13 @@ Json singleMeshDoc(const std::vector<std::uint8_t>& buf, const std::string& name
     doc["asset"] = {{"version", "2.0"}};
     doc["scenes"] = Json::array({Json{{"nodes", Json::array({0})}}});
     doc["nodes"] = Json::array({Json{{"name", name}, {"mesh", 0}}});
-    doc["meshes"] = Json::array({Json{{"primitives", Json::array({Json{{"attributes", Json{{"POSITION", 0}}}, {"mode", mode}}})}}});
-    doc["accessors"] = Json::array({Json{{"bufferView", 0}, {"componentType", 5126}, {"count", buf.size() / 12}, {"type", "VEC3"}}});
+    doc["meshes"] =
+        Json::array({Json{{"primitives", Json::array({Json{{"attributes", Json{{"POSITION", 0}}}, {"mode", mode}}})}}});
+    doc["accessors"] =
+        Json::array({Json{{"bufferView", 0}, {"componentType", 5126}, {"count", buf.size() / 12}, {"type", "VEC3"}}});
     doc["bufferViews"] = Json::array({Json{{"buffer", 0}, {"byteLength", buf.size()}}});
-    doc["buffers"] = Json::array({Json{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}});
+    doc["buffers"] =
+        Json::array({Json{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}});
     return doc;
 }
 Json genericDoc() { return genericDoc(genericBuffer()); }
@@ -307,7 +333,8 @@ struct VertexGrid {
         for (std::uint32_t i = 0; i < p.size(); ++i) cells[key(p[i])].push_back(i);
     }
     static std::array<long long, 3> key(const glm::dvec3& p) {
-        return {static_cast<long long>(std::floor(p.x)), static_cast<long long>(std::floor(p.y)), static_cast<long long>(std::floor(p.z))};
+        return {static_cast<long long>(std::floor(p.x)), static_cast<long long>(std::floor(p.y)),
+                static_cast<long long>(std::floor(p.z))};
     }
     // All original vertices within `tol` on every axis.
     std::vector<std::uint32_t> near(const glm::dvec3& p, double tol) const {
@@ -584,8 +611,23 @@ TEST(Gltf, TruncatedGlbIsAnErrorAtEveryLength) {
     for (bool draco : {false, true}) {
         const auto good = smallGlb(draco);
         const std::size_t binAt = 20 + getU32(good, 12);
-        std::vector<std::size_t> cuts = {1, 3, 4, 12, 16, 19, 20, 21, 100, binAt - 1, binAt, binAt + 4, binAt + 8,
-                                         binAt + 9, good.size() / 2, good.size() - 4, good.size() - 1};
+        std::vector<std::size_t> cuts = {1,
+                                         3,
+                                         4,
+                                         12,
+                                         16,
+                                         19,
+                                         20,
+                                         21,
+                                         100,
+                                         binAt - 1,
+                                         binAt,
+                                         binAt + 4,
+                                         binAt + 8,
+                                         binAt + 9,
+                                         good.size() / 2,
+                                         good.size() - 4,
+                                         good.size() - 1};
         for (std::size_t n = 23; n < good.size(); n += good.size() / 37) cuts.push_back(n);
         for (std::size_t n : cuts) {
             std::vector<std::uint8_t> cut(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(n));
@@ -606,8 +648,10 @@ TEST(Gltf, AccessorCountPastItsBuffer) {
     for (const char* field : {"bufferView", "accessor"}) {
         for (std::uint64_t offset : {18446744073709551615ull, 18446744073709551516ull, 9223372036854775808ull}) {
             doc = genericDoc();
-            if (std::string(field) == "bufferView") doc["bufferViews"][0]["byteOffset"] = offset;
-            else doc["accessors"][0]["byteOffset"] = offset;
+            if (std::string(field) == "bufferView")
+                doc["bufferViews"][0]["byteOffset"] = offset;
+            else
+                doc["accessors"][0]["byteOffset"] = offset;
             expectError(parseText(doc.dump(), "offset.gltf"), "offset.gltf", {"accessor 0", "runs past its buffer"});
         }
     }
@@ -632,7 +676,8 @@ TEST(Gltf, NanPositionLoadsWithAValidationError) {
     EXPECT_TRUE(r->validation.hasErrors());
     bool named = false;
     for (const auto& issue : r->validation.issues)
-        if (issue.severity == ValidationIssue::Severity::Error && issue.message.find("NaN or Inf") != std::string::npos) {
+        if (issue.severity == ValidationIssue::Severity::Error &&
+            issue.message.find("NaN or Inf") != std::string::npos) {
             named = true;
             EXPECT_FALSE(issue.part.empty());
         }
@@ -654,8 +699,10 @@ TEST(Gltf, ManyNanPositionsDoNotBreakValidation) {
     std::vector<float> pos(3 * n);
     for (std::size_t i = 0; i < n; ++i)
         for (int a = 0; a < 3; ++a)
-            pos[3 * i + static_cast<std::size_t>(a)] = (i + static_cast<std::size_t>(a)) % 2 ? std::numeric_limits<float>::quiet_NaN()
-                                                                                              : static_cast<float>((i * 7 + static_cast<std::size_t>(a) * 13) % 17);
+            pos[3 * i + static_cast<std::size_t>(a)] =
+                (i + static_cast<std::size_t>(a)) % 2
+                    ? std::numeric_limits<float>::quiet_NaN()
+                    : static_cast<float>((i * 7 + static_cast<std::size_t>(a) * 13) % 17);
     std::vector<std::uint8_t> buf(pos.size() * 4);
     std::memcpy(buf.data(), pos.data(), buf.size());
     Json doc = singleMeshDoc(buf, "nan soup", 4);
@@ -716,7 +763,8 @@ TEST(Gltf, NodeCycleAndBadReferences) {
 
     Json badAccessor = genericDoc();
     badAccessor["meshes"][1]["primitives"][0]["attributes"]["POSITION"] = 17;
-    expectError(parseText(badAccessor.dump(), "accessor.gltf"), "accessor.gltf", {"fault F1", "accessor 17 does not exist"});
+    expectError(parseText(badAccessor.dump(), "accessor.gltf"), "accessor.gltf",
+                {"fault F1", "accessor 17 does not exist"});
 
     Json badMode = genericDoc();
     badMode["meshes"][1]["primitives"][0]["mode"] = 9;
@@ -737,7 +785,8 @@ TEST(Gltf, ExternalFilesOutsideTheFolderAreRefused) {
                                   "file:///etc/passwd", "sub/../../../secret.bin", "..\\..\\secret.bin"}) {
         Json doc = genericDoc();
         doc["buffers"][0]["uri"] = uri;
-        expectError(parseText(doc.dump(), "outside.gltf", dir.string()), "outside.gltf", {"buffer 0", "outside the model's folder"});
+        expectError(parseText(doc.dump(), "outside.gltf", dir.string()), "outside.gltf",
+                    {"buffer 0", "outside the model's folder"});
     }
     // A symbolic link inside the folder that leads out of it.
     std::error_code ec;
@@ -751,7 +800,8 @@ TEST(Gltf, ExternalFilesOutsideTheFolderAreRefused) {
 }
 
 TEST(Gltf, NoMeshes) {
-    const std::string text = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"name": "empty"}]})";
+    const std::string text =
+        R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"name": "empty"}]})";
     expectError(parseText(text, "nomesh.gltf"), "nomesh.gltf", {"no triangle meshes"});
     // Points only: no triangles either.
     Json doc = genericDoc();
@@ -776,11 +826,14 @@ TEST(Gltf, MalformedDracoIsAnError) {
     const auto good = smallGlb(/*draco=*/true);
     ASSERT_TRUE(parseBytes(good, "good.glb").ok());
     const GlbParts parts = splitGlb(good);
-    auto ext = [](Json& j) -> Json& { return j["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]; };
+    auto ext = [](Json& j) -> Json& {
+        return j["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"];
+    };
 
     GlbParts p = parts;
     ext(p.json)["bufferView"] = 99;
-    expectError(parseBytes(joinGlb(p.json, p.bin), "view.glb"), "view.glb", {"KHR_draco_mesh_compression", "bufferView 99 does not exist"});
+    expectError(parseBytes(joinGlb(p.json, p.bin), "view.glb"), "view.glb",
+                {"KHR_draco_mesh_compression", "bufferView 99 does not exist"});
 
     p = parts;
     ext(p.json)["bufferView"] = -1;
@@ -805,9 +858,11 @@ TEST(Gltf, MalformedDracoIsAnError) {
     expectError(parseBytes(joinGlb(p.json, p.bin), "long.glb"), "long.glb", {"runs past its buffer"});
 
     p = parts;
-    const std::size_t offset = p.json["bufferViews"][static_cast<std::size_t>(view)].value("byteOffset", std::size_t(0));
+    const std::size_t offset =
+        p.json["bufferViews"][static_cast<std::size_t>(view)].value("byteOffset", std::size_t(0));
     for (std::size_t i = 0; i < 64; ++i) p.bin[offset + i] = static_cast<std::uint8_t>(i * 37 + 11);
-    expectError(parseBytes(joinGlb(p.json, p.bin), "garbage.glb"), "garbage.glb", {"KHR_draco_mesh_compression", "cannot decode"});
+    expectError(parseBytes(joinGlb(p.json, p.bin), "garbage.glb"), "garbage.glb",
+                {"KHR_draco_mesh_compression", "cannot decode"});
 
     p = parts;
     p.json["bufferViews"][static_cast<std::size_t>(view)]["byteLength"] = 10;

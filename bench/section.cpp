@@ -1,0 +1,257 @@
+// bench_section [--sizes L1,L4] [--planes 50] [--size 1024] [--tile 256] [--leaf 8]:
+// the exact section engine. For each model size: generate + validate, build the section
+// index (BVH + welds), then for `planes` random planes through the model time separately
+// the BVH query, the cut (segments), contour assembly, the full-frame fill (colour + ID),
+// a tile straight from the BVH, the whole section image end to end, and the brute-force
+// cut of every triangle (the paper's "CPU geometric intersection" baseline). Prints JSON
+// with medians (ms) and the per-size build figures.
+#include <cstdio>
+#include <ctime>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_util.hpp"
+#include "model/synthetic.hpp"
+#include "model/validate.hpp"
+#include "section/contours.hpp"
+#include "section/plane_cut.hpp"
+#include "section/raster.hpp"
+#include "section/section_index.hpp"
+
+using namespace geoslice;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+double currentRssMiB() {
+    FILE* f = std::fopen("/proc/self/statm", "r");
+    if (!f) return 0.0;
+    long pages = 0, rss = 0;
+    if (std::fscanf(f, "%ld %ld", &pages, &rss) != 2) rss = 0;
+    std::fclose(f);
+    return double(rss) * 4096.0 / (1024.0 * 1024.0);
+}
+
+// Same plane mix as the unit tests: a third vertical, a third near-horizontal, a third any.
+Plane randomPlane(const Aabb& b, std::mt19937_64& rng, int kind) {
+    std::uniform_real_distribution<double> u01(0.1, 0.9), ang(0.0, 6.283185307179586), sym(-1.0, 1.0);
+    const glm::dvec3 p(b.min.x + u01(rng) * (b.max.x - b.min.x), b.min.y + u01(rng) * (b.max.y - b.min.y),
+                       b.min.z + u01(rng) * (b.max.z - b.min.z));
+    glm::dvec3 n;
+    const double t = ang(rng);
+    if (kind % 3 == 0) n = {std::cos(t), std::sin(t), 0.0};
+    else if (kind % 3 == 1) n = glm::normalize(glm::dvec3(0.1 * std::cos(t), 0.1 * std::sin(t), sym(rng) < 0 ? -1.0 : 1.0));
+    else n = glm::normalize(glm::dvec3(sym(rng), sym(rng), sym(rng)) + glm::dvec3(1e-9));
+    return Plane{n, -glm::dot(n, p)};
+}
+
+// Resets the process's peak RSS (Linux: "5" to clear_refs), so VmHWM measures one phase.
+void resetPeakRss() {
+    if (FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
+        std::fputs("5", f);
+        std::fclose(f);
+    }
+}
+double peakRssSinceResetMiB() {
+    FILE* f = std::fopen("/proc/self/status", "r");
+    if (!f) return 0.0;
+    char line[256];
+    double kb = 0.0;
+    while (std::fgets(line, sizeof line, f))
+        if (!std::strncmp(line, "VmHWM:", 6)) kb = std::atof(line + 6);
+    std::fclose(f);
+    return kb / 1024.0;
+}
+
+double ms(double t0) { return (bench::nowSeconds() - t0) * 1000.0; }
+
+// CPU time of this thread (s): on a shared machine it shows the cost without the waiting.
+double threadCpuSeconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+double processCpuSeconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string sizes = "L1,L4";
+    int planes = 50, side = 1024, tileSide = 256;
+    unsigned leaf = 8;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--sizes")) sizes = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--planes")) planes = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--size")) side = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--tile")) tileSide = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--leaf")) leaf = static_cast<unsigned>(std::stoul(argv[i + 1]));
+    }
+    json results = json::array();
+    std::stringstream list(sizes);
+    std::string size;
+    while (std::getline(list, size, ',')) {
+        SyntheticOptions so;
+        so.triangles = namedModelSize(size) ? *namedModelSize(size) : std::stoul(size);
+        so.crs = Crs::fromEpsg(4523).value();
+        double t = bench::nowSeconds();
+        auto model = generateSynthetic(so);
+        if (!model) {
+            std::fprintf(stderr, "%s\n", model.error().message.c_str());
+            return 1;
+        }
+        validate(model.value());
+        const double genS = bench::nowSeconds() - t;
+        const double rssBefore = currentRssMiB();
+        resetPeakRss();
+        BvhOptions bo;
+        bo.maxLeafSize = leaf;
+        t = bench::nowSeconds();
+        const double cpu0 = processCpuSeconds();
+        auto index = buildSectionIndex(model.value(), bo);
+        const double buildS = bench::nowSeconds() - t;
+        const double buildCpuS = processCpuSeconds() - cpu0;
+        if (!index) {
+            std::fprintf(stderr, "%s\n", index.error().message.c_str());
+            return 1;
+        }
+        const double rssAfter = currentRssMiB();
+        const double rssPeakBuild = peakRssSinceResetMiB();
+        const SectionIndex& idx = *index.value();
+
+        std::vector<double> cQuery, cCut, cAssemble, cFill, cEnd, nodesVisited, trisTested, tFillReused, tSection, tQuery, tCut, tAssemble, tContours, tFill, tTile, tEnd, tBrute, crossing, segments;
+        std::mt19937_64 rng(7);
+        const Aabb bounds = model->bounds();
+        std::size_t openChains = 0;
+        std::vector<std::uint32_t> tris;
+        PlaneCut cut, brute;
+        SectionImage reused;
+        for (int k = 0; k < planes; ++k) {
+            const Plane p = randomPlane(bounds, rng, k);
+            // Query, cut and assembly timed one by one.
+            beginCut(idx, p, cut);
+            tris.clear();
+            BvhQueryStats qs;
+            double c = threadCpuSeconds();
+            double s = bench::nowSeconds();
+            queryPlane(idx.bvh, idx.meshes.data(), cut.plane, tris, &qs);
+            tQuery.push_back(ms(s));
+            cQuery.push_back(1000.0 * (threadCpuSeconds() - c));
+            nodesVisited.push_back(double(qs.nodesVisited));
+            trisTested.push_back(double(qs.trianglesTested));
+            c = threadCpuSeconds();
+            s = bench::nowSeconds();
+            cutTriangles(idx, tris.data(), tris.size(), cut);
+            tCut.push_back(ms(s));
+            cCut.push_back(1000.0 * (threadCpuSeconds() - c));
+            Section section;
+            section.plane = p;
+            c = threadCpuSeconds();
+            s = bench::nowSeconds();
+            assembleContours(idx, cut, section);
+            tAssemble.push_back(ms(s));
+            cAssemble.push_back(1000.0 * (threadCpuSeconds() - c));
+            tContours.push_back(tQuery.back() + tCut.back() + tAssemble.back());
+            crossing.push_back(double(tris.size()));
+            segments.push_back(double(cut.segments));
+            for (const auto& b : section.bodies) openChains += b.openChains;
+
+            const FrameRect full = fitFrame(section, side, side);
+            // Fill into fresh buffers (allocation and page faults included).
+            bool ok = true;
+            std::string why;
+            {
+                s = bench::nowSeconds();
+                auto img = rasterizeSection(idx, section, full, side, side);
+                tFill.push_back(ms(s));
+                if (!img) ok = false, why = img.error().message;
+            }
+            // The same into buffers kept from the previous plane (a render worker's).
+            c = threadCpuSeconds();
+            s = bench::nowSeconds();
+            ok = rasterizeSection(idx, section, full, side, side, RasterOptions{}, reused).ok() && ok;
+            tFillReused.push_back(ms(s));
+            cFill.push_back(1000.0 * (threadCpuSeconds() - c));
+            // A tile of tileSide pixels at the same scale, at the frame centre, from the BVH.
+            const double pu = (full.u1 - full.u0) / side, pv = (full.v1 - full.v0) / side;
+            const double cu = 0.5 * (full.u0 + full.u1), cv = 0.5 * (full.v0 + full.v1);
+            const FrameRect tile{cu, cv, cu + tileSide * pu, cv + tileSide * pv};
+            {
+                s = bench::nowSeconds();
+                auto timg = renderTile(idx, p, tile, tileSide, tileSide);
+                tTile.push_back(ms(s));
+                if (!timg) ok = false, why = timg.error().message;
+            }
+            // End to end: validated plane -> section -> colour + ID image (reused buffers).
+            c = threadCpuSeconds();
+            s = bench::nowSeconds();
+            auto sec = computeSection(idx, p);
+            tSection.push_back(ms(s));
+            if (sec) ok = rasterizeSection(idx, sec.value(), full, side, side, RasterOptions{}, reused).ok() && ok;
+            else ok = false, why = sec.error().message;
+            tEnd.push_back(ms(s));
+            cEnd.push_back(1000.0 * (threadCpuSeconds() - c));
+            s = bench::nowSeconds();
+            beginCut(idx, p, brute);
+            cutAllTriangles(idx, brute);
+            tBrute.push_back(ms(s));
+            if (!ok || brute.segments != cut.segments) {
+                std::fprintf(stderr, "plane %d: failure (%s)\n", k, why.empty() ? "segment count mismatch" : why.c_str());
+                return 1;
+            }
+        }
+        results.push_back({
+            {"model", size},
+            {"triangles", model->triangleCount()},
+            {"generate_and_validate_s", genS},
+            {"index_build_s", buildS},
+            {"index_build_cpu_s", buildCpuS},
+            {"index_bytes_mib", double(idx.memoryBytes()) / (1024.0 * 1024.0)},
+            {"bvh_nodes", idx.bvh.nodes.size()},
+            {"bvh_leaf_size", leaf},
+            {"rss_before_index_mib", rssBefore},
+            {"rss_after_index_mib", rssAfter},
+            {"index_build_peak_extra_mib", rssPeakBuild - rssBefore},
+            {"planes", planes},
+            {"median_triangles_crossing", bench::median(crossing)},
+            {"median_segments", bench::median(segments)},
+            {"open_chains_total", openChains},
+            {"median_ms",
+             {{"bvh_query", bench::median(tQuery)},
+              {"cut", bench::median(tCut)},
+              {"contour_assembly", bench::median(tAssemble)},
+              {"contours_total", bench::median(tContours)},
+              {"fill_" + std::to_string(side) + "_fresh_buffers", bench::median(tFill)},
+              {"fill_" + std::to_string(side), bench::median(tFillReused)},
+              {"tile_" + std::to_string(tileSide), bench::median(tTile)},
+              {"compute_section", bench::median(tSection)},
+              {"end_to_end_" + std::to_string(side), bench::median(tEnd)},
+              {"brute_force_cut", bench::median(tBrute)}}},
+            {"median_cpu_ms",
+             {{"bvh_query", bench::median(cQuery)},
+              {"cut", bench::median(cCut)},
+              {"contour_assembly", bench::median(cAssemble)},
+              {"fill_" + std::to_string(side), bench::median(cFill)},
+              {"end_to_end_" + std::to_string(side), bench::median(cEnd)}}},
+            {"median_nodes_visited", bench::median(nodesVisited)},
+            {"median_triangles_tested", bench::median(trisTested)},
+        });
+        std::fprintf(stderr, "%s done\n", size.c_str());
+    }
+    json out = {{"benchmark", "section"},
+                {"cores", std::thread::hardware_concurrency()},
+                {"image", std::to_string(side) + "x" + std::to_string(side)},
+                {"results", results},
+                {"peak_rss_mib", bench::peakRssMiB()}};
+    std::printf("%s\n", out.dump(2).c_str());
+    return 0;
+}

@@ -1,0 +1,331 @@
+#include "section/contours.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+namespace geoslice {
+namespace {
+
+constexpr std::uint64_t kNoKey = ~0ull;  // edge keys have lo < hi, so never all ones
+constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+
+// Edge key -> the (up to) two segment ends on that edge; end = segment * 2 + (0: a, 1: b).
+struct EndTable {
+    struct Entry {
+        std::uint64_t key;
+        std::uint32_t e0, e1;
+    };
+    std::vector<Entry> slots;
+    std::size_t mask = 0;
+    std::size_t overfull = 0;  // ends beyond two on one edge (non-manifold)
+
+    void reset(std::size_t ends) {
+        std::size_t cap = 16;
+        while (cap < 2 * ends) cap <<= 1;
+        slots.assign(cap, Entry{kNoKey, kNone, kNone});
+        mask = cap - 1;
+        overfull = 0;
+    }
+    static std::size_t hash(std::uint64_t k) {
+        k ^= k >> 33;
+        k *= 0xff51afd7ed558ccdull;
+        k ^= k >> 33;
+        return static_cast<std::size_t>(k);
+    }
+    Entry& find(std::uint64_t key) {
+        std::size_t h = hash(key) & mask;
+        while (slots[h].key != key && slots[h].key != kNoKey) h = (h + 1) & mask;
+        return slots[h];
+    }
+    void insert(std::uint64_t key, std::uint32_t end) {
+        Entry& e = find(key);
+        e.key = key;
+        if (e.e0 == kNone) e.e0 = end;
+        else if (e.e1 == kNone) e.e1 = end;
+        else ++overfull;
+    }
+    // The other end on the same edge as `end`, or kNone.
+    std::uint32_t partner(std::uint64_t key, std::uint32_t end) {
+        const Entry& e = find(key);
+        if (e.e0 == end) return e.e1;
+        if (e.e1 == end) return e.e0;
+        return kNone;
+    }
+};
+
+struct Chain {
+    std::vector<glm::dvec2> points;
+    bool closed = false;
+};
+
+void pushPoint(std::vector<glm::dvec2>& pts, const glm::dvec2& p) {
+    if (pts.empty() || pts.back() != p) pts.push_back(p);
+}
+
+// Walks from segment `start`, entering it at its a end (forward) or b end.
+Chain walk(const std::vector<CutSegment>& segs, EndTable& table, std::vector<char>& visited, std::uint32_t start,
+           bool forward) {
+    Chain c;
+    std::uint32_t cur = start;
+    for (;;) {
+        visited[cur] = 1;
+        const CutSegment& s = segs[cur];
+        pushPoint(c.points, forward ? s.a : s.b);
+        const std::uint32_t exitEnd = 2 * cur + (forward ? 1u : 0u);
+        const std::uint32_t other = table.partner(forward ? s.keyB : s.keyA, exitEnd);
+        if (other == kNone) {
+            pushPoint(c.points, forward ? s.b : s.a);
+            return c;
+        }
+        const std::uint32_t next = other >> 1;
+        if (next == start) {
+            c.closed = true;
+            break;
+        }
+        if (visited[next]) {  // non-manifold tangle: stop here, open
+            pushPoint(c.points, forward ? s.b : s.a);
+            return c;
+        }
+        forward = (other & 1u) == 0;
+        cur = next;
+    }
+    if (c.points.size() > 1 && c.points.back() == c.points.front()) c.points.pop_back();
+    return c;
+}
+
+struct RingInfo {
+    Ring ring;
+    double area = 0.0;  // signed
+    glm::dvec2 lo{0.0}, hi{0.0};
+    glm::dvec2 probe{0.0};  // a point of the ring used for containment tests
+    int depth = 0;
+};
+
+RingInfo makeRingInfo(Ring ring) {
+    RingInfo r;
+    r.area = ringArea(ring);
+    r.lo = glm::dvec2(std::numeric_limits<double>::infinity());
+    r.hi = -r.lo;
+    for (const auto& p : ring) {
+        r.lo = glm::min(r.lo, p);
+        r.hi = glm::max(r.hi, p);
+    }
+    // Midpoint of the longest edge: away from the vertices where loops may touch.
+    double best = -1.0;
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+        const glm::dvec2 &a = ring[i], &b = ring[(i + 1) % ring.size()];
+        const double l = glm::dot(b - a, b - a);
+        if (l > best) {
+            best = l;
+            r.probe = 0.5 * (a + b);
+        }
+    }
+    r.ring = std::move(ring);
+    return r;
+}
+
+bool boxInside(const RingInfo& inner, const RingInfo& outer) {
+    return inner.lo.x >= outer.lo.x && inner.lo.y >= outer.lo.y && inner.hi.x <= outer.hi.x &&
+           inner.hi.y <= outer.hi.y;
+}
+
+// Even-odd assembly of a region's rings into polygons; returns the area.
+double assemble(std::vector<RingInfo>& rings, std::vector<SectionPolygon>& out) {
+    const std::size_t n = rings.size();
+    std::vector<std::vector<std::uint32_t>> containers(n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j)
+            if (i != j && boxInside(rings[i], rings[j]) && pointInRing(rings[i].probe, rings[j].ring))
+                containers[i].push_back(static_cast<std::uint32_t>(j));
+    for (std::size_t i = 0; i < n; ++i) rings[i].depth = static_cast<int>(containers[i].size());
+    std::vector<std::int64_t> polygonOf(n, -1);
+    double area = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (rings[i].depth % 2 != 0) continue;
+        if (rings[i].area < 0.0) std::reverse(rings[i].ring.begin(), rings[i].ring.end());
+        polygonOf[i] = static_cast<std::int64_t>(out.size());
+        area += std::abs(rings[i].area);
+        out.push_back(SectionPolygon{std::move(rings[i].ring), {}});
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        if (rings[i].depth % 2 == 0) continue;
+        std::int64_t host = -1;
+        for (std::uint32_t j : containers[i])
+            if (rings[j].depth == rings[i].depth - 1) host = polygonOf[j];
+        if (host < 0) continue;  // cannot happen for non-crossing loops
+        if (rings[i].area > 0.0) std::reverse(rings[i].ring.begin(), rings[i].ring.end());
+        area -= std::abs(rings[i].area);
+        out[static_cast<std::size_t>(host)].holes.push_back(std::move(rings[i].ring));
+    }
+    return area;
+}
+
+double msSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+double ringArea(const Ring& ring) {
+    if (ring.size() < 3) return 0.0;
+    const glm::dvec2 o = ring[0];
+    double a = 0.0;
+    for (std::size_t i = 1; i + 1 < ring.size(); ++i) {
+        const glm::dvec2 p = ring[i] - o, q = ring[i + 1] - o;
+        a += p.x * q.y - p.y * q.x;
+    }
+    return 0.5 * a;
+}
+
+bool pointInRing(const glm::dvec2& p, const Ring& ring) {
+    bool inside = false;
+    const std::size_t n = ring.size();
+    for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+        const glm::dvec2 &a = ring[i], &b = ring[j];
+        if ((a.y > p.y) != (b.y > p.y)) {
+            const double x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
+            if (p.x < x) inside = !inside;
+        }
+    }
+    return inside;
+}
+
+void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& out) {
+    out.frame = cut.frame;
+    out.bodies.clear();
+    out.traces.clear();
+    EndTable table;
+    std::vector<char> visited;
+    // Closed loops of every body, kept until the regions (host + nested) are assembled.
+    std::vector<std::vector<Ring>> loops(index.bodyCount);
+    std::vector<std::size_t> open(index.bodyCount, 0);
+    for (std::size_t p = 0; p < index.parts.size(); ++p) {
+        const std::vector<CutSegment>& segs = cut.parts[p];
+        if (segs.empty()) continue;
+        table.reset(2 * segs.size());
+        for (std::uint32_t i = 0; i < segs.size(); ++i) {
+            table.insert(segs[i].keyA, 2 * i);
+            table.insert(segs[i].keyB, 2 * i + 1);
+        }
+        visited.assign(segs.size(), 0);
+        const bool body = index.parts[p].kind == PartKind::Body;
+        if (!body) {
+            // Open ends first, so each polyline is walked from one end.
+            for (std::uint32_t i = 0; i < segs.size(); ++i) {
+                if (visited[i]) continue;
+                const bool freeA = table.partner(segs[i].keyA, 2 * i) == kNone;
+                const bool freeB = table.partner(segs[i].keyB, 2 * i + 1) == kNone;
+                if (!freeA && !freeB) continue;
+                Chain c = walk(segs, table, visited, i, freeA);
+                if (c.points.size() >= 2)
+                    out.traces.push_back(SectionTrace{static_cast<std::uint32_t>(p), index.parts[p].record,
+                                                      std::move(c.points), false});
+            }
+        }
+        for (std::uint32_t i = 0; i < segs.size(); ++i) {
+            if (visited[i]) continue;
+            Chain c = walk(segs, table, visited, i, true);
+            if (body) {
+                if (!c.closed) ++open[p];
+                else if (c.points.size() >= 3) loops[p].push_back(std::move(c.points));
+            } else if (c.points.size() >= 2) {
+                out.traces.push_back(SectionTrace{static_cast<std::uint32_t>(p), index.parts[p].record,
+                                                  std::move(c.points), c.closed});
+            }
+        }
+    }
+
+    // Regions: a body's loops plus those of the bodies nested directly inside it.
+    std::vector<std::vector<std::uint32_t>> children(index.bodyCount);
+    for (std::size_t b = 0; b < index.bodyCount; ++b) {
+        const int parent = index.parts[b].parent;
+        if (parent >= 0 && static_cast<std::size_t>(parent) < index.bodyCount && !loops[b].empty())
+            children[static_cast<std::size_t>(parent)].push_back(static_cast<std::uint32_t>(b));
+    }
+    for (std::size_t b = 0; b < index.bodyCount; ++b) {
+        if (loops[b].empty() && open[b] == 0) continue;
+        std::vector<RingInfo> rings;
+        for (const Ring& r : loops[b]) rings.push_back(makeRingInfo(r));
+        if (!loops[b].empty())
+            for (std::uint32_t c : children[b])
+                for (const Ring& r : loops[c]) rings.push_back(makeRingInfo(r));
+        BodySection bs;
+        bs.part = static_cast<std::uint32_t>(b);
+        bs.record = index.parts[b].record;
+        bs.openChains = open[b];
+        bs.area = assemble(rings, bs.polygons);
+        out.bodies.push_back(std::move(bs));
+    }
+
+    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const auto& b : out.bodies)
+        for (const auto& poly : b.polygons)
+            for (const auto& p : poly.outer) {
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+    for (const auto& t : out.traces)
+        for (const auto& p : t.points) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    out.lo = lo.x <= hi.x ? lo : glm::dvec2(0.0);
+    out.hi = lo.x <= hi.x ? hi : glm::dvec2(0.0);
+}
+
+Result<Plane> checkSectionPlane(const SectionIndex& index, const Plane& plane) {
+    auto p = makePlane(plane.normal.x, plane.normal.y, plane.normal.z, plane.d);
+    if (!p) return p.error();
+    const Aabb& b = index.bounds;
+    if (!b.valid()) return makeError(ErrorCode::InvalidArgument, "the model has no finite vertices to cut");
+    double smin = std::numeric_limits<double>::infinity(), smax = -smin;
+    const LocalPlane lp = toLocal(p.value(), index.origin);
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec3 c((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+        const double s = lp.distanceWorld(c, index.origin);
+        smin = std::min(smin, s);
+        smax = std::max(smax, s);
+    }
+    if (smin >= 0.0 || smax < 0.0) {
+        char buf[512];
+        std::snprintf(buf, sizeof buf,
+                      "plane (%.9g, %.9g, %.9g, %.9g) misses the model: its bounds [%.3f, %.3f, %.3f] - [%.3f, %.3f, "
+                      "%.3f] lie entirely on the %s side",
+                      p->normal.x, p->normal.y, p->normal.z, p->d, b.min.x, b.min.y, b.min.z, b.max.x, b.max.y,
+                      b.max.z, smin >= 0.0 ? "kept" : "removed");
+        return makeError(ErrorCode::OutOfRange, buf);
+    }
+    return p;
+}
+
+Result<Section> computeSection(const SectionIndex& index, const Plane& plane, SectionTimings* timings) {
+    auto checked = checkSectionPlane(index, plane);
+    if (!checked) return checked.error();
+    auto t0 = std::chrono::steady_clock::now();
+    PlaneCut cut;
+    beginCut(index, checked.value(), cut);
+    std::vector<std::uint32_t> tris;
+    queryPlane(index.bvh, index.meshes.data(), cut.plane, tris);
+    const double queryMs = msSince(t0);
+    auto t1 = std::chrono::steady_clock::now();
+    cutTriangles(index, tris.data(), tris.size(), cut);
+    const double cutMs = msSince(t1);
+    auto t2 = std::chrono::steady_clock::now();
+    Section s;
+    s.plane = checked.value();
+    assembleContours(index, cut, s);
+    if (timings) {
+        timings->queryMs = queryMs;
+        timings->cutMs = cutMs;
+        timings->contourMs = msSince(t2);
+        timings->trianglesCrossing = tris.size();
+        timings->segments = cut.segments;
+    }
+    return s;
+}
+
+}  // namespace geoslice

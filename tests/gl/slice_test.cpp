@@ -1,0 +1,237 @@
+// The slicing pass against the exact oracle (section/classify.hpp): for an orthographic
+// profile of a plane, the ID at each pixel centre must equal Classifier::classify(world point
+// of that pixel on the plane). Compared on pixels whose oracle 3x3 neighbourhood is one
+// body: within a pixel of a boundary the rasteriser's and the oracle's float32 rounding may
+// fall either side, and the pixel footprint straddles two bodies anyway. Tolerance: >= 99.9%
+// of those pixels agree. A failing comparison writes the actual and expected ID images
+// (PGM) into the working directory.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "gl_test_util.hpp"
+#include "renderer/gpu_model.hpp"
+#include "renderer/slice_renderer.hpp"
+#include "section/classify.hpp"
+
+using namespace geoslice;
+using namespace geoslice::test;
+
+namespace {
+
+constexpr std::size_t kTriangles = 50000;
+constexpr int kSize = 256;
+constexpr double kMinAgreement = 0.999;
+
+struct Agreement {
+    std::size_t compared = 0, agree = 0, oracleBodies = 0;
+    double fraction() const { return compared ? double(agree) / double(compared) : 0.0; }
+};
+
+void writePgm(const std::string& path, const std::vector<RecordId>& ids, int w, int h) {
+    std::ofstream f(path, std::ios::binary);
+    f << "P5\n" << w << " " << h << "\n255\n";
+    for (RecordId id : ids) f.put(char(std::uint8_t(id * 23u)));
+}
+
+// World points of the pixel centres of a profile image, row 0 at the top.
+std::vector<RecordId> oracleProfile(const Classifier& c, const ProfileView& view, int w, int h) {
+    std::vector<glm::dvec3> pts(std::size_t(w) * std::size_t(h));
+    for (int r = 0; r < h; ++r)
+        for (int col = 0; col < w; ++col)
+            pts[std::size_t(r) * std::size_t(w) + std::size_t(col)] = profilePixelWorld(view, w, h, col, r);
+    std::vector<RecordId> ids(pts.size());
+    c.classifyBatch(pts.data(), pts.size(), ids.data(), 2);
+    return ids;
+}
+
+// `valid` (optional) masks pixels that have a defined oracle value.
+Agreement compare(const std::vector<RecordId>& actual, const std::vector<RecordId>& oracle, int w, int h,
+                  const std::vector<char>* valid = nullptr) {
+    Agreement a;
+    for (int r = 1; r + 1 < h; ++r)
+        for (int col = 1; col + 1 < w; ++col) {
+            const std::size_t i = std::size_t(r) * std::size_t(w) + std::size_t(col);
+            const RecordId id = oracle[i];
+            if (id == kNoRecord) continue;
+            bool uniform = true;
+            for (int dr = -1; dr <= 1 && uniform; ++dr)
+                for (int dc = -1; dc <= 1 && uniform; ++dc) {
+                    const std::size_t j = std::size_t(r + dr) * std::size_t(w) + std::size_t(col + dc);
+                    uniform = oracle[j] == id && (!valid || (*valid)[j]);
+                }
+            if (!uniform) continue;
+            ++a.compared;
+            a.agree += actual[i] == id ? 1 : 0;
+            if (actual[i] != id && std::getenv("GEOSLICE_GL_VERBOSE"))
+                std::printf("  mismatch at (%d, %d): rendered %u, oracle %u\n", col, r, actual[i], id);
+        }
+    for (RecordId id : oracle) a.oracleBodies += id != kNoRecord ? 1 : 0;
+    return a;
+}
+
+WorldPlane randomPlane(std::mt19937_64& rng, const Aabb& b) {
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> u(0.2, 0.8);
+    glm::dvec3 n;
+    do n = glm::dvec3(g(rng), g(rng), g(rng));
+    while (glm::length(n) < 1e-3);
+    n = glm::normalize(n);
+    const glm::dvec3 p = b.min + glm::dvec3(u(rng), u(rng), u(rng)) * b.size();
+    return {n.x, n.y, n.z, -glm::dot(n, p)};
+}
+
+class SliceOracle : public ::testing::Test {
+protected:
+    void load(OreVariant ore, std::uint64_t seed, const char* crs = nullptr) {
+        ctx = makeContext();
+        ASSERT_TRUE(ctx);
+        std::printf("[ gl       ] %s\n", ctx->info().describe().c_str());
+        model = makeMine(kTriangles, seed, ore, crs);
+        auto c = Classifier::build(model);
+        ASSERT_TRUE(c.ok()) << c.error().message;
+        classifier = std::move(c).value();
+        auto g = GpuModel::upload(*ctx, model);
+        ASSERT_TRUE(g.ok()) << g.error().message;
+        gpu = std::move(g).value();
+        auto r = SliceRenderer::create(*ctx);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        renderer = std::move(r).value();
+    }
+
+    // Renders the profile of `plane` framed on `frame` and compares with the oracle.
+    Agreement profile(const WorldPlane& plane, const Aabb& frame, ClipMethod clip, const std::string& tag) {
+        SliceRequest req;
+        req.width = req.height = kSize;
+        req.planes = {plane};
+        req.clip = clip;
+        const ProfileView view = profileAround(plane, frame, kSize, kSize);
+        req.view = view;
+        req.readColour = false;
+        auto img = renderer->render(*gpu, req);
+        EXPECT_TRUE(img.ok()) << img.error().message;
+        if (!img.ok()) return {};
+        const std::vector<RecordId> oracle = oracleProfile(*classifier, view, kSize, kSize);
+        Agreement a = compare(img->ids, oracle, kSize, kSize);
+        std::printf("[ %-8s ] %s plane (%.3f %.3f %.3f %.1f): %zu/%zu agree (%.4f%%), %.1f ms draw, %.2f ms read\n",
+                    tag.c_str(), clipMethodName(clip), plane.x, plane.y, plane.z, plane.w, a.agree, a.compared,
+                    100.0 * a.fraction(), img->drawMs, img->readbackMs);
+        if (a.fraction() < kMinAgreement) {
+            writePgm("gl_fail_" + tag + "_actual.pgm", img->ids, kSize, kSize);
+            writePgm("gl_fail_" + tag + "_oracle.pgm", oracle, kSize, kSize);
+        }
+        return a;
+    }
+
+    const Part* lens() const {
+        for (const Part& p : model.bodies)
+            if (p.report.parent >= 0 || p.name.find("orebody") != std::string::npos) return &p;
+        return nullptr;
+    }
+
+    std::unique_ptr<GlContext> ctx;
+    Model model;
+    std::unique_ptr<Classifier> classifier;
+    std::unique_ptr<GpuModel> gpu;
+    std::unique_ptr<SliceRenderer> renderer;
+};
+
+}  // namespace
+
+TEST_F(SliceOracle, RandomPlanesMatchTheOracle) {
+    load(OreVariant::Nested, 7);
+    ASSERT_TRUE(gpu);
+    std::mt19937_64 rng(20240611);
+    for (int i = 0; i < 6; ++i) {
+        const WorldPlane plane = randomPlane(rng, model.bounds());
+        const ClipMethod clip = i % 2 ? ClipMethod::Discard : ClipMethod::ClipDistance;
+        Agreement a = profile(plane, model.bounds(), clip, "random" + std::to_string(i));
+        if (a.compared < 2000) continue;  // the plane barely touches the model
+        EXPECT_GE(a.fraction(), kMinAgreement) << "plane " << i;
+    }
+}
+
+// The paper's caps fail here: a lens inside its host without a hole. The inner body wins.
+TEST_F(SliceOracle, NestedLensWins) {
+    load(OreVariant::Nested, 3);
+    const Part* ore = lens();
+    ASSERT_NE(ore, nullptr);
+    ASSERT_GE(ore->report.parent, 0) << "the nested variant's lens must have a container";
+    const Aabb lb = ore->mesh.bounds();
+    Aabb frame = lb;
+    frame.extend(lb.centre() + 1.5 * (lb.max - lb.centre()));
+    frame.extend(lb.centre() + 1.5 * (lb.min - lb.centre()));
+    for (glm::dvec3 n : {glm::dvec3(0, 1, 0), glm::dvec3(0.6, -0.7, 0.2), glm::dvec3(0.1, 0.2, -0.97)}) {
+        n = glm::normalize(n);
+        const WorldPlane plane(n.x, n.y, n.z, -glm::dot(n, lb.centre()));
+        for (ClipMethod clip : {ClipMethod::ClipDistance, ClipMethod::Discard}) {
+            Agreement a = profile(plane, frame, clip, std::string("lens_") + clipMethodName(clip));
+            EXPECT_GT(a.compared, 5000u);
+            EXPECT_GE(a.fraction(), kMinAgreement);
+        }
+    }
+}
+
+TEST_F(SliceOracle, PartitionLensMatches) {
+    load(OreVariant::Partition, 3);
+    const Part* ore = lens();
+    ASSERT_NE(ore, nullptr);
+    const Aabb lb = ore->mesh.bounds();
+    const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, 0.9, 0.1));
+    const WorldPlane plane(n.x, n.y, n.z, -glm::dot(n, lb.centre()));
+    Agreement a = profile(plane, lb, ClipMethod::ClipDistance, "partition");
+    EXPECT_GT(a.compared, 5000u);
+    EXPECT_GE(a.fraction(), kMinAgreement);
+}
+
+// A perspective view from the removed side: where the pixel's ray crosses the plane inside a
+// body, the ID is the oracle's record of that crossing point.
+TEST_F(SliceOracle, PerspectiveCutMatchesTheOracle) {
+    load(OreVariant::Nested, 11);
+    const Aabb b = model.bounds();
+    const glm::dvec3 n = glm::normalize(glm::dvec3(0.2, 1.0, 0.15));
+    const glm::dvec3 centre = b.centre();
+    const WorldPlane plane(n.x, n.y, n.z, -glm::dot(n, centre));
+    PerspectiveView pv;
+    pv.target = centre;
+    pv.eye = centre - n * (1.6 * glm::length(b.size())) + glm::dvec3(900.0, 0.0, 1500.0);
+    pv.fovYDegrees = 35.0;
+    SliceRequest req;
+    req.width = req.height = kSize;
+    req.planes = {plane};
+    req.view = pv;
+    auto img = renderer->render(*gpu, req);
+    ASSERT_TRUE(img.ok()) << img.error().message;
+    const glm::dmat4 inv = glm::inverse(img->viewProj);
+    std::vector<glm::dvec3> pts(std::size_t(kSize) * kSize);
+    std::vector<char> valid(pts.size(), 0);
+    for (int r = 0; r < kSize; ++r)
+        for (int c = 0; c < kSize; ++c) {
+            const double x = 2.0 * (c + 0.5) / kSize - 1.0, y = 1.0 - 2.0 * (r + 0.5) / kSize;
+            glm::dvec4 a = inv * glm::dvec4(x, y, -1.0, 1.0), e = inv * glm::dvec4(x, y, 1.0, 1.0);
+            const glm::dvec3 p0 = glm::dvec3(a) / a.w + model.origin, p1 = glm::dvec3(e) / e.w + model.origin;
+            const double s0 = glm::dot(n, p0) + plane.w, s1 = glm::dot(n, p1) + plane.w;
+            const std::size_t i = std::size_t(r) * kSize + std::size_t(c);
+            if (s0 >= 0.0 || s1 <= 0.0) continue;  // the ray does not reach the plane from the removed side
+            pts[i] = p0 + (p1 - p0) * (s0 / (s0 - s1));
+            valid[i] = 1;
+        }
+    std::vector<RecordId> oracle(pts.size());
+    classifier->classifyBatch(pts.data(), pts.size(), oracle.data(), 2);
+    for (std::size_t i = 0; i < oracle.size(); ++i)
+        if (!valid[i]) oracle[i] = kNoRecord;
+    Agreement a = compare(img->ids, oracle, kSize, kSize, &valid);
+    std::printf("[ persp    ] %zu/%zu agree (%.4f%%), %.1f ms draw\n", a.agree, a.compared, 100.0 * a.fraction(),
+                img->drawMs);
+    EXPECT_GT(a.compared, 5000u);
+    EXPECT_GE(a.fraction(), kMinAgreement);
+    if (a.fraction() < kMinAgreement) {
+        writePgm("gl_fail_persp_actual.pgm", img->ids, kSize, kSize);
+        writePgm("gl_fail_persp_oracle.pgm", oracle, kSize, kSize);
+    }
+}

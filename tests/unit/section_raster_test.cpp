@@ -1,0 +1,173 @@
+// Section fills: exact pixel-centre IDs, exact-area coverage, seamless shared boundaries,
+// tiles, bad sizes, and the ID buffer against the Embree oracle on random planes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "section/classify.hpp"
+#include "section/raster.hpp"
+#include "section_test_util.hpp"
+#include "test_meshes.hpp"
+
+using namespace geoslice;
+using namespace geoslice::test;
+
+namespace {
+
+Model modelOf(std::vector<Part> bodies) {
+    Model m;
+    m.bodies = std::move(bodies);
+    m.recentre();
+    validate(m);
+    return m;
+}
+
+}  // namespace
+
+TEST(SectionRaster, BoxIdsAndExactCoverage) {
+    Model m = modelOf({makePart("box", PartKind::Body, 4, boxMesh({0, 0, 0}, {10.3, 6.1, 5}))});
+    AttributeRecord rec;
+    rec.id = 4;
+    rec.name = "box";
+    rec.colour = Rgba8{200, 100, 50, 255};
+    m.attributes.put(rec);
+    auto idx = indexFor(m);
+    auto s = computeSection(*idx, horizontalPlane(2.5));  // plan view: u east, v north
+    ASSERT_TRUE(s.ok());
+    EXPECT_NEAR(s->frame.u.x, 1.0, 1e-15);
+    EXPECT_NEAR(s->frame.v.y, 1.0, 1e-15);
+    // A frame 1 m per pixel, offset by a fraction so edges fall inside pixels.
+    const glm::dvec2 o = s->frame.toPlane(glm::dvec3(0, 0, 0) - m.origin);
+    FrameRect rect{o.x - 2.25, o.y - 1.6, o.x - 2.25 + 16, o.y - 1.6 + 12};
+    auto img = rasterizeSection(*idx, s.value(), rect, 16, 12);
+    ASSERT_TRUE(img.ok());
+    std::size_t inside = 0;
+    double coverage = 0.0;
+    for (int j = 0; j < 12; ++j)
+        for (int i = 0; i < 16; ++i) {
+            const glm::dvec3 w = img->frame.pixelCentreWorld(i, j);
+            const bool truth = w.x > 0 && w.x < 10.3 && w.y > 0 && w.y < 6.1;
+            const std::uint32_t id = img->ids[static_cast<std::size_t>(j) * 16 + static_cast<std::size_t>(i)];
+            EXPECT_EQ(id, truth ? 4u : 0u) << i << "," << j;
+            inside += id != 0;
+            coverage += img->rgba[4 * (static_cast<std::size_t>(j) * 16 + static_cast<std::size_t>(i)) + 3] / 255.0;
+        }
+    EXPECT_EQ(inside, 66u);  // 11 x 6 centres
+    // Exact-area AA: the alpha sum is the area in pixels, up to 8-bit rounding per edge pixel.
+    EXPECT_NEAR(coverage, 10.3 * 6.1, 0.1);  // 36 edge pixels x 0.5/255
+    // Inside pixels carry the record's colour exactly.
+    const std::uint8_t* px = &img->rgba[4 * (5 * 16 + 6)];
+    EXPECT_EQ(px[0], 200);
+    EXPECT_EQ(px[1], 100);
+    EXPECT_EQ(px[2], 50);
+    EXPECT_EQ(px[3], 255);
+}
+
+TEST(SectionRaster, SharedBoundariesHaveNoSeams) {
+    // Two boxes meeting at x = 5.37; the union must be fully opaque along the seam.
+    Model m = modelOf({makePart("w", PartKind::Body, 1, boxMesh({0, 0, 0}, {5.37, 10, 10})),
+                       makePart("e", PartKind::Body, 2, boxMesh({5.37, 0, 0}, {10, 10, 10}))});
+    auto idx = indexFor(m);
+    const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, -1.0, 0.2));
+    auto s = computeSection(*idx, Plane{n, -glm::dot(n, glm::dvec3(5, 5, 5))});
+    ASSERT_TRUE(s.ok());
+    const int W = 200, H = 160;
+    auto img = rasterizeSection(*idx, s.value(), fitFrame(s.value(), W, H, 0.05), W, H);
+    ASSERT_TRUE(img.ok());
+    std::size_t interior = 0, seamOk = 0;
+    for (int j = 0; j < H; ++j)
+        for (int i = 1; i + 1 < W; ++i) {
+            const std::size_t k = static_cast<std::size_t>(j) * W + static_cast<std::size_t>(i);
+            const std::uint32_t a = img->ids[k - 1], b = img->ids[k], c = img->ids[k + 1];
+            if (a == 0 || b == 0 || c == 0) continue;
+            if (j == 0 || j + 1 == H || img->ids[k - W] == 0 || img->ids[k + W] == 0) continue;
+            if (a != c) {  // across the seam
+                ++interior;
+                seamOk += img->rgba[4 * k + 3] >= 254;
+            }
+        }
+    EXPECT_GT(interior, 50u);
+    EXPECT_EQ(seamOk, interior);
+}
+
+TEST(SectionRaster, TileMatchesTheFullImage) {
+    Model m = generatedModel(30000);
+    auto idx = indexFor(m);
+    std::mt19937_64 rng(8);
+    for (int k = 0; k < 6; ++k) {
+        const Plane p = randomPlane(m.bounds(), rng, k);
+        auto s = computeSection(*idx, p);
+        ASSERT_TRUE(s.ok());
+        const int W = 256, H = 256;
+        const FrameRect full = fitFrame(s.value(), W, H);
+        auto img = rasterizeSection(*idx, s.value(), full, W, H);
+        ASSERT_TRUE(img.ok());
+        // The 64 x 64 tile at pixel (128, 64), same pixel grid.
+        const double pu = (full.u1 - full.u0) / W, pv = (full.v1 - full.v0) / H;
+        const FrameRect tile{full.u0 + 128 * pu, full.v1 - 128 * pv, full.u0 + 192 * pu, full.v1 - 64 * pv};
+        auto t = renderTile(*idx, p, tile, 64, 64);
+        ASSERT_TRUE(t.ok()) << t.error().message;
+        std::size_t same = 0;
+        for (int j = 0; j < 64; ++j)
+            for (int i = 0; i < 64; ++i)
+                same += t->ids[static_cast<std::size_t>(j) * 64 + static_cast<std::size_t>(i)] ==
+                        img->ids[static_cast<std::size_t>(j + 64) * W + static_cast<std::size_t>(i + 128)];
+        // Pixel coordinates round differently in the two frames: a centre within ~1e-12 px
+        // of an edge may flip. Expect all, allow a handful.
+        EXPECT_GE(same, 64u * 64u - 4u) << "plane " << k;
+    }
+}
+
+TEST(SectionRaster, BadSizesAndRectanglesAreErrors) {
+    Model m = modelOf({makePart("box", PartKind::Body, 1, boxMesh({0, 0, 0}, {10, 10, 10}))});
+    auto idx = indexFor(m);
+    auto s = computeSection(*idx, horizontalPlane(5));
+    ASSERT_TRUE(s.ok());
+    const FrameRect r = fitFrame(s.value(), 10, 10);
+    for (auto [w, h] : {std::pair{0, 10}, std::pair{10, 0}, std::pair{100000, 10}, std::pair{-1, 5}}) {
+        auto img = rasterizeSection(*idx, s.value(), r, w, h);
+        ASSERT_FALSE(img.ok());
+        EXPECT_EQ(img.error().code, ErrorCode::OutOfRange);
+        EXPECT_NE(img.error().message.find("image size"), std::string::npos);
+    }
+    EXPECT_FALSE(rasterizeSection(*idx, s.value(), FrameRect{0, 0, 0, 1}, 10, 10).ok());
+    EXPECT_FALSE(rasterizeSection(*idx, s.value(), FrameRect{0, 0, NAN, 1}, 10, 10).ok());
+    EXPECT_FALSE(renderTile(*idx, Plane{{0, 0, 1}, -100}, r, 10, 10).ok());
+}
+
+TEST(SectionRaster, IdBufferEqualsTheOracle) {
+    // >= 99.99% of pixel centres, over 50 random planes, 128 x 128, ~50K-triangle model.
+    Model m = generatedModel(50000);
+    auto idx = indexFor(m);
+    auto oracle = Classifier::build(m);
+    ASSERT_TRUE(oracle.ok());
+    std::mt19937_64 rng(2024);
+    const int W = 128, H = 128;
+    std::size_t total = 0, agree = 0, inside = 0;
+    std::vector<glm::dvec3> pts(static_cast<std::size_t>(W) * H);
+    std::vector<RecordId> truth(pts.size());
+    RasterOptions opt;
+    opt.colour = false;
+    for (int k = 0; k < 50; ++k) {
+        const Plane p = randomPlane(m.bounds(), rng, k);
+        auto s = computeSection(*idx, p);
+        ASSERT_TRUE(s.ok()) << s.error().message;
+        auto img = rasterizeSection(*idx, s.value(), fitFrame(s.value(), W, H), W, H, opt);
+        ASSERT_TRUE(img.ok());
+        for (int j = 0; j < H; ++j)
+            for (int i = 0; i < W; ++i) pts[static_cast<std::size_t>(j) * W + static_cast<std::size_t>(i)] = img->frame.pixelCentreWorld(i, j);
+        (*oracle)->classifyBatch(pts.data(), pts.size(), truth.data(), 2);
+        std::size_t planeAgree = 0;
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            planeAgree += img->ids[i] == truth[i];
+            inside += truth[i] != 0;
+        }
+        EXPECT_GE(planeAgree, pts.size() - 8) << "plane " << k;
+        agree += planeAgree;
+        total += pts.size();
+    }
+    EXPECT_GE(double(agree) / double(total), 0.9999) << agree << " / " << total;
+    EXPECT_GT(inside, total / 4);  // the frames are mostly geology, not background
+    RecordProperty("agreement", std::to_string(double(agree) / double(total)));
+}

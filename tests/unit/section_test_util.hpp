@@ -1,0 +1,87 @@
+// Helpers shared by the section_*_test.cpp files: generated models, random planes
+// through a model, and an independent brute-force section area (no BVH, no chaining).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "model/synthetic.hpp"
+#include "model/validate.hpp"
+#include "section/contours.hpp"
+#include "section/section_index.hpp"
+
+namespace geoslice::test {
+
+inline Model generatedModel(std::size_t triangles, OreVariant ore = OreVariant::Nested, std::uint64_t seed = 1) {
+    SyntheticOptions o;
+    o.triangles = triangles;
+    o.ore = ore;
+    o.seed = seed;
+    auto m = generateSynthetic(o);
+    EXPECT_TRUE(m.ok()) << (m.ok() ? "" : m.error().message);
+    Model model = std::move(m).value();
+    validate(model);
+    return model;
+}
+
+inline std::unique_ptr<SectionIndex> indexFor(const Model& m) {
+    auto idx = buildSectionIndex(m);
+    EXPECT_TRUE(idx.ok()) << (idx.ok() ? "" : idx.error().message);
+    return std::move(idx).value();
+}
+
+// A plane through a random point of the middle 80% of the bounds: a third vertical, a
+// third near-horizontal, a third any direction.
+inline Plane randomPlane(const Aabb& b, std::mt19937_64& rng, int kind) {
+    std::uniform_real_distribution<double> u01(0.1, 0.9), ang(0.0, 6.283185307179586), sym(-1.0, 1.0);
+    const glm::dvec3 p(b.min.x + u01(rng) * (b.max.x - b.min.x), b.min.y + u01(rng) * (b.max.y - b.min.y),
+                       b.min.z + u01(rng) * (b.max.z - b.min.z));
+    glm::dvec3 n;
+    const double t = ang(rng);
+    if (kind % 3 == 0) n = {std::cos(t), std::sin(t), 0.0};
+    else if (kind % 3 == 1) n = glm::normalize(glm::dvec3(0.1 * std::cos(t), 0.1 * std::sin(t), sym(rng) < 0 ? -1.0 : 1.0));
+    else n = glm::normalize(glm::dvec3(sym(rng), sym(rng), sym(rng)) + glm::dvec3(1e-9));
+    return Plane{n, -glm::dot(n, p)};
+}
+
+// Signed area (m², counter-clockwise in the section frame positive) of the cut of one
+// mesh by the plane, by Green's theorem over the cut segments of every triangle, each
+// oriented from the triangle's normal: no BVH, no chaining, no welding.
+inline double bruteForceArea(const Mesh& mesh, const Plane& plane, const SectionFrame& frame, const glm::dvec3& origin) {
+    double area = 0.0;
+    const glm::dvec2 ref = frame.toPlane(glm::dvec3(0.0));  // keeps the products small
+    const double dLocal = plane.d + glm::dot(plane.normal, origin);
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        glm::dvec3 p[3];
+        double s[3];
+        for (int k = 0; k < 3; ++k) {
+            p[k] = mesh.positions[mesh.indices[3 * t + static_cast<std::size_t>(k)]] - origin;
+            s[k] = glm::dot(plane.normal, p[k]) + dLocal;
+        }
+        glm::dvec3 pts[2];
+        int n = 0;
+        for (int k = 0; k < 3; ++k) {
+            const int k1 = (k + 1) % 3;
+            if ((s[k] >= 0.0) == (s[k1] >= 0.0)) continue;
+            const double f = s[k] / (s[k] - s[k1]);
+            if (n < 2) pts[n++] = p[k] + f * (p[k1] - p[k]);
+        }
+        if (n != 2) continue;
+        // Interior on the left in u/v: the segment runs along N x n.
+        const glm::dvec3 normal = glm::cross(p[1] - p[0], p[2] - p[0]);
+        const glm::dvec3 dir = glm::cross(normal, plane.normal);
+        if (glm::dot(pts[1] - pts[0], dir) < 0.0) std::swap(pts[0], pts[1]);
+        const glm::dvec2 a = frame.toPlane(pts[0]) - ref, b = frame.toPlane(pts[1]) - ref;
+        area += 0.5 * (a.x * b.y - a.y * b.x);
+    }
+    return area;
+}
+
+inline double bodyArea(const Section& s, std::uint32_t part) {
+    for (const auto& b : s.bodies)
+        if (b.part == part) return b.area;
+    return 0.0;
+}
+
+}  // namespace geoslice::test
