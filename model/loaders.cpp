@@ -89,6 +89,7 @@ Result<Model> loadModel(const std::string& path) {
     const std::string& data = bytes.value();
     const std::string ext = lowerExtension(path);
     std::string baseDir = std::filesystem::path(path).parent_path().string();
+    if (baseDir.empty()) baseDir = ".";  // a bare file name: its folder is the working directory
 
     Result<Model> model = makeError(ErrorCode::Unsupported, path + ": unknown model format");
     auto starts = [&](std::string_view magic) { return data.compare(0, magic.size(), magic) == 0; };

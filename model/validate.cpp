@@ -5,6 +5,7 @@
 #include <atomic>
 #include <optional>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <thread>
 
@@ -38,11 +39,15 @@ bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.
 std::vector<std::uint32_t> weldByPosition(const std::vector<glm::dvec3>& pos) {
     std::vector<std::uint32_t> order(pos.size());
     std::iota(order.begin(), order.end(), 0u);
+    // A strict weak order even with NaN (NaN sorts after every number): std::sort needs one.
+    auto key = [](double v) { return std::isnan(v) ? std::numeric_limits<double>::infinity() : v; };
     auto less = [&](std::uint32_t a, std::uint32_t b) {
         const auto &p = pos[a], &q = pos[b];
-        if (p.x != q.x) return p.x < q.x;
-        if (p.y != q.y) return p.y < q.y;
-        if (p.z != q.z) return p.z < q.z;
+        for (int k = 0; k < 3; ++k) {
+            const bool pn = std::isnan(p[k]), qn = std::isnan(q[k]);
+            if (pn != qn) return qn;  // numbers before NaN
+            if (key(p[k]) != key(q[k])) return key(p[k]) < key(q[k]);
+        }
         return a < b;
     };
     std::sort(order.begin(), order.end(), less);
