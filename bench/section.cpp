@@ -1,14 +1,15 @@
-// bench_section [--sizes L1,L4] [--planes 50] [--size 1024] [--tile 256] [--leaf 8]:
+// bench_section [--sizes L1,L4] [--planes 50] [--size 1024] [--tile 256] [--leaf 8] [--oracle 256]:
 // the exact section engine. For each model size: generate + validate, build the section
 // index (BVH + welds), then for `planes` random planes through the model time separately
 // the BVH query, the cut (segments), contour assembly, the full-frame fill (colour + ID),
 // a tile straight from the BVH, the whole section image end to end, and the brute-force
 // cut of every triangle (the paper's "CPU geometric intersection" baseline). Prints JSON
-// with medians (ms) and the per-size build figures.
+// with medians (ms) and the per-size build figures. --oracle N also compares an N x N ID
+// buffer per plane with the Embree oracle (section/classify.hpp) at every pixel centre.
 #include <cstdio>
-#include <ctime>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <random>
 #include <sstream>
 #include <string>
@@ -19,6 +20,7 @@
 #include "bench/bench_util.hpp"
 #include "model/synthetic.hpp"
 #include "model/validate.hpp"
+#include "section/classify.hpp"
 #include "section/contours.hpp"
 #include "section/plane_cut.hpp"
 #include "section/raster.hpp"
@@ -45,9 +47,12 @@ Plane randomPlane(const Aabb& b, std::mt19937_64& rng, int kind) {
                        b.min.z + u01(rng) * (b.max.z - b.min.z));
     glm::dvec3 n;
     const double t = ang(rng);
-    if (kind % 3 == 0) n = {std::cos(t), std::sin(t), 0.0};
-    else if (kind % 3 == 1) n = glm::normalize(glm::dvec3(0.1 * std::cos(t), 0.1 * std::sin(t), sym(rng) < 0 ? -1.0 : 1.0));
-    else n = glm::normalize(glm::dvec3(sym(rng), sym(rng), sym(rng)) + glm::dvec3(1e-9));
+    if (kind % 3 == 0)
+        n = {std::cos(t), std::sin(t), 0.0};
+    else if (kind % 3 == 1)
+        n = glm::normalize(glm::dvec3(0.1 * std::cos(t), 0.1 * std::sin(t), sym(rng) < 0 ? -1.0 : 1.0));
+    else
+        n = glm::normalize(glm::dvec3(sym(rng), sym(rng), sym(rng)) + glm::dvec3(1e-9));
     return Plane{n, -glm::dot(n, p)};
 }
 
@@ -89,12 +94,20 @@ int main(int argc, char** argv) {
     std::string sizes = "L1,L4";
     int planes = 50, side = 1024, tileSide = 256;
     unsigned leaf = 8;
+    int oracleSide = 0;
     for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--sizes")) sizes = argv[i + 1];
-        else if (!std::strcmp(argv[i], "--planes")) planes = std::stoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--size")) side = std::stoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--tile")) tileSide = std::stoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--leaf")) leaf = static_cast<unsigned>(std::stoul(argv[i + 1]));
+        if (!std::strcmp(argv[i], "--sizes"))
+            sizes = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--planes"))
+            planes = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--size"))
+            side = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--tile"))
+            tileSide = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--oracle"))
+            oracleSide = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--leaf"))
+            leaf = static_cast<unsigned>(std::stoul(argv[i + 1]));
     }
     json results = json::array();
     std::stringstream list(sizes);
@@ -128,31 +141,45 @@ int main(int argc, char** argv) {
         const double rssPeakBuild = peakRssSinceResetMiB();
         const SectionIndex& idx = *index.value();
 
-        std::vector<double> cQuery, cCut, cAssemble, cFill, cEnd, nodesVisited, trisTested, tFillReused, tSection, tQuery, tCut, tAssemble, tContours, tFill, tTile, tEnd, tBrute, crossing, segments;
+        std::vector<double> tQueryTris, tContours2, tEnd2, cCut, cAssemble, cFill, cEnd, nodesVisited, trisTested,
+            tFillReused, tSection, tQuery, tCut, tAssemble, tContours, tFill, tTile, tEnd, tBrute, crossing, segments;
         std::mt19937_64 rng(7);
         const Aabb bounds = model->bounds();
-        std::size_t openChains = 0;
+        std::size_t openChains = 0, oraclePixels = 0, oracleDiffer = 0;
+        std::unique_ptr<Classifier> oracle;
+        if (oracleSide > 0) {
+            auto c = Classifier::build(model.value());
+            if (!c) {
+                std::fprintf(stderr, "%s\n", c.error().message.c_str());
+                return 1;
+            }
+            oracle = std::move(c).value();
+        }
+        std::vector<glm::dvec3> oraclePts;
+        std::vector<RecordId> oracleIds;
         std::vector<std::uint32_t> tris;
         PlaneCut cut, brute;
         SectionImage reused;
         for (int k = 0; k < planes; ++k) {
             const Plane p = randomPlane(bounds, rng, k);
             // Query, cut and assembly timed one by one.
-            beginCut(idx, p, cut);
+            // The crossing triangles themselves (queryPlane tests each leaf triangle).
             tris.clear();
             BvhQueryStats qs;
-            double c = threadCpuSeconds();
             double s = bench::nowSeconds();
-            queryPlane(idx.bvh, idx.meshes.data(), cut.plane, tris, &qs);
-            tQuery.push_back(ms(s));
-            cQuery.push_back(1000.0 * (threadCpuSeconds() - c));
-            nodesVisited.push_back(double(qs.nodesVisited));
-            trisTested.push_back(double(qs.trianglesTested));
-            c = threadCpuSeconds();
-            s = bench::nowSeconds();
-            cutTriangles(idx, tris.data(), tris.size(), cut);
-            tCut.push_back(ms(s));
+            queryPlane(idx.bvh, idx.meshes.data(), toLocal(p, idx.origin), tris, &qs);
+            tQueryTris.push_back(ms(s));
+            crossing.push_back(double(tris.size()));
+            // The section path: leaves (traversal only), then their triangles cut, then assembly.
+            beginCut(idx, p, cut);
+            CutStats cs;
+            double c = threadCpuSeconds();
+            cutWithBvh(idx, nullptr, cut, 1, &cs);
             cCut.push_back(1000.0 * (threadCpuSeconds() - c));
+            tQuery.push_back(cs.queryMs);
+            tCut.push_back(cs.cutMs);
+            nodesVisited.push_back(double(cs.nodesVisited));
+            trisTested.push_back(double(cs.trianglesTested));
             Section section;
             section.plane = p;
             c = threadCpuSeconds();
@@ -161,13 +188,44 @@ int main(int argc, char** argv) {
             tAssemble.push_back(ms(s));
             cAssemble.push_back(1000.0 * (threadCpuSeconds() - c));
             tContours.push_back(tQuery.back() + tCut.back() + tAssemble.back());
-            crossing.push_back(double(tris.size()));
             segments.push_back(double(cut.segments));
+            // The same with the cut on two threads.
+            {
+                SectionOptions two;
+                two.threads = 2;
+                s = bench::nowSeconds();
+                auto sec2 = computeSection(idx, p, two);
+                tContours2.push_back(ms(s));
+                if (sec2) {
+                    RasterOptions ro;
+                    auto img2 =
+                        rasterizeSection(idx, sec2.value(), fitFrame(sec2.value(), side, side), side, side, ro, reused);
+                    (void)img2;
+                }
+                tEnd2.push_back(ms(s));
+            }
             for (const auto& b : section.bodies) openChains += b.openChains;
 
             const FrameRect full = fitFrame(section, side, side);
             // Fill into fresh buffers (allocation and page faults included).
             bool ok = true;
+            if (oracle) {
+                RasterOptions idsOnly;
+                idsOnly.colour = false;
+                auto oimg = rasterizeSection(idx, section, fitFrame(section, oracleSide, oracleSide), oracleSide,
+                                             oracleSide, idsOnly);
+                if (oimg) {
+                    oraclePts.resize(oimg->ids.size());
+                    oracleIds.resize(oimg->ids.size());
+                    for (int j = 0; j < oracleSide; ++j)
+                        for (int i = 0; i < oracleSide; ++i)
+                            oraclePts[std::size_t(j) * std::size_t(oracleSide) + std::size_t(i)] =
+                                oimg->frame.pixelCentreWorld(i, j);
+                    oracle->classifyBatch(oraclePts.data(), oraclePts.size(), oracleIds.data());
+                    for (std::size_t i = 0; i < oracleIds.size(); ++i) oracleDiffer += oracleIds[i] != oimg->ids[i];
+                    oraclePixels += oracleIds.size();
+                }
+            }
             std::string why;
             {
                 s = bench::nowSeconds();
@@ -196,8 +254,10 @@ int main(int argc, char** argv) {
             s = bench::nowSeconds();
             auto sec = computeSection(idx, p);
             tSection.push_back(ms(s));
-            if (sec) ok = rasterizeSection(idx, sec.value(), full, side, side, RasterOptions{}, reused).ok() && ok;
-            else ok = false, why = sec.error().message;
+            if (sec)
+                ok = rasterizeSection(idx, sec.value(), full, side, side, RasterOptions{}, reused).ok() && ok;
+            else
+                ok = false, why = sec.error().message;
             tEnd.push_back(ms(s));
             cEnd.push_back(1000.0 * (threadCpuSeconds() - c));
             s = bench::nowSeconds();
@@ -205,7 +265,8 @@ int main(int argc, char** argv) {
             cutAllTriangles(idx, brute);
             tBrute.push_back(ms(s));
             if (!ok || brute.segments != cut.segments) {
-                std::fprintf(stderr, "plane %d: failure (%s)\n", k, why.empty() ? "segment count mismatch" : why.c_str());
+                std::fprintf(stderr, "plane %d: failure (%s)\n", k,
+                             why.empty() ? "segment count mismatch" : why.c_str());
                 return 1;
             }
         }
@@ -225,25 +286,29 @@ int main(int argc, char** argv) {
             {"median_triangles_crossing", bench::median(crossing)},
             {"median_segments", bench::median(segments)},
             {"open_chains_total", openChains},
+            {"oracle_pixel_centres", oraclePixels},
+            {"oracle_differ", oracleDiffer},
             {"median_ms",
-             {{"bvh_query", bench::median(tQuery)},
+             {{"bvh_query_crossing_triangles", bench::median(tQueryTris)},
+              {"bvh_query", bench::median(tQuery)},
               {"cut", bench::median(tCut)},
               {"contour_assembly", bench::median(tAssemble)},
               {"contours_total", bench::median(tContours)},
+              {"contours_total_2_threads", bench::median(tContours2)},
               {"fill_" + std::to_string(side) + "_fresh_buffers", bench::median(tFill)},
               {"fill_" + std::to_string(side), bench::median(tFillReused)},
               {"tile_" + std::to_string(tileSide), bench::median(tTile)},
               {"compute_section", bench::median(tSection)},
               {"end_to_end_" + std::to_string(side), bench::median(tEnd)},
+              {"end_to_end_" + std::to_string(side) + "_2_threads", bench::median(tEnd2)},
               {"brute_force_cut", bench::median(tBrute)}}},
             {"median_cpu_ms",
-             {{"bvh_query", bench::median(cQuery)},
-              {"cut", bench::median(cCut)},
+             {{"bvh_query_and_cut", bench::median(cCut)},
               {"contour_assembly", bench::median(cAssemble)},
               {"fill_" + std::to_string(side), bench::median(cFill)},
               {"end_to_end_" + std::to_string(side), bench::median(cEnd)}}},
             {"median_nodes_visited", bench::median(nodesVisited)},
-            {"median_triangles_tested", bench::median(trisTested)},
+            {"median_leaf_triangles_cut", bench::median(trisTested)},
         });
         std::fprintf(stderr, "%s done\n", size.c_str());
     }

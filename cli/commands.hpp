@@ -10,6 +10,7 @@ void addGenerate(CLI::App& app, int& exitCode);
 void addInfo(CLI::App& app, int& exitCode);
 void addCoords(CLI::App& app, int& exitCode);
 void addClassify(CLI::App& app, int& exitCode);
+void addSection(CLI::App& app, int& exitCode);
 void addRender(CLI::App& app, int& exitCode);
 
 }  // namespace geoslice::cli

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     geoslice::cli::addInfo(app, exitCode);
     geoslice::cli::addCoords(app, exitCode);
     geoslice::cli::addClassify(app, exitCode);
+    geoslice::cli::addSection(app, exitCode);
     geoslice::cli::addRender(app, exitCode);
     try {
         app.parse(argc, argv);

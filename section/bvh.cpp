@@ -143,8 +143,8 @@ struct NodeTest {
 bool straddles(const NodeTest& t, const LocalPlane& plane) {
     const double s = glm::dot(plane.n, t.centre) + plane.d;
     const double r = t.radius(plane.n);
-    const double tol = 1e-12 * (std::abs(plane.d) + std::abs(t.centre.x) + std::abs(t.centre.y) +
-                                std::abs(t.centre.z) + r);
+    const double tol =
+        1e-12 * (std::abs(plane.d) + std::abs(t.centre.x) + std::abs(t.centre.y) + std::abs(t.centre.z) + r);
     return s - r < tol && s + r > -tol;
 }
 
@@ -153,8 +153,43 @@ bool overlapsRect(const NodeTest& t, const PlaneRect& rect) {
     const double cu = glm::dot(c, rect.u), cv = glm::dot(c, rect.v);
     const double ru = t.radius(rect.u), rv = t.radius(rect.v);
     const double tol = 1e-9 * (std::abs(cu) + std::abs(cv) + ru + rv) + 1e-9;
-    return cu + ru >= rect.u0 - tol && cu - ru <= rect.u1 + tol && cv + rv >= rect.v0 - tol &&
-           cv - rv <= rect.v1 + tol;
+    return cu + ru >= rect.u0 - tol && cu - ru <= rect.u1 + tol && cv + rv >= rect.v0 - tol && cv - rv <= rect.v1 + tol;
+}
+
+// Calls onLeaf(node) for every leaf that straddles the plane (and overlaps the rectangle).
+template <bool kRect, class OnLeaf>
+void traverse(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* rect, BvhQueryStats& st, OnLeaf&& onLeaf) {
+    if (bvh.nodes.empty()) return;
+    auto hit = [&](const BvhNode& nd) {
+        ++st.nodesVisited;
+        const NodeTest t(nd);
+        if (!straddles(t, plane)) return false;
+        if constexpr (kRect) {
+            if (!overlapsRect(t, *rect)) return false;
+        }
+        return true;
+    };
+    const BvhNode& root = bvh.nodes[0];
+    if (!hit(root)) return;
+    if (root.count) {
+        onLeaf(root);
+        return;
+    }
+    // Stack of sibling pairs (even indices): both children are tested from one cache line.
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = root.first;
+    while (top > 0) {
+        const std::uint32_t pair = stack[--top];
+        for (std::uint32_t c = pair; c < pair + 2; ++c) {
+            const BvhNode& nd = bvh.nodes[c];
+            if (!hit(nd)) continue;
+            if (nd.count)
+                onLeaf(nd);
+            else
+                stack[top++] = nd.first;
+        }
+    }
 }
 
 template <bool kRect>
@@ -162,23 +197,8 @@ void query(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, const
            std::vector<std::uint32_t>& out, BvhQueryStats* stats) {
     if (bvh.nodes.empty()) return;
     BvhQueryStats st;
-    std::uint32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
     const glm::dvec3 origin = bvh.origin;
-    while (top > 0) {
-        const BvhNode& nd = bvh.nodes[stack[--top]];
-        ++st.nodesVisited;
-        const NodeTest t(nd);
-        if (!straddles(t, plane)) continue;
-        if constexpr (kRect) {
-            if (!overlapsRect(t, *rect)) continue;
-        }
-        if (nd.count == 0) {
-            stack[top++] = nd.first + 1;
-            stack[top++] = nd.first;
-            continue;
-        }
+    auto leaf = [&](const BvhNode& nd) {
         for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
             const std::uint32_t id = bvh.triangles[i];
             const std::uint32_t m = bvh.meshOf(id);
@@ -207,7 +227,8 @@ void query(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, const
             ++st.trianglesCrossing;
             out.push_back(id);
         }
-    }
+    };
+    traverse<kRect>(bvh, plane, rect, st, leaf);
     if (stats) {
         stats->nodesVisited += st.nodesVisited;
         stats->trianglesTested += st.trianglesTested;
@@ -262,8 +283,7 @@ Result<Bvh> buildBvh(const BvhMesh* meshes, std::size_t meshCount, const glm::dv
                 if (!finite(a) || !finite(b) || !finite(c)) continue;
                 const glm::dvec3 q = ((a + b + c) * (1.0 / 3.0) - origin - lo) * scale;
                 Item it{};
-                for (int k = 0; k < 3; ++k)
-                    it.q[k] = static_cast<std::uint16_t>(std::clamp(q[k] + 0.5, 0.0, 65535.0));
+                for (int k = 0; k < 3; ++k) it.q[k] = static_cast<std::uint16_t>(std::clamp(q[k] + 0.5, 0.0, 65535.0));
                 it.id = bvh.meshFirst[m] + static_cast<std::uint32_t>(t);
                 items.push_back(it);
             }
@@ -278,18 +298,36 @@ Result<Bvh> buildBvh(const BvhMesh* meshes, std::size_t meshCount, const glm::dv
     b.meshCount = meshCount;
     b.origin = origin;
     b.leafSize = options.maxLeafSize;
-    const std::uint32_t nodeCount = b.nodesFor(items.size());
-    bvh.nodes.resize(nodeCount);
+    const std::uint32_t nodeCount = b.nodesFor(items.size()) + 1;  // + padding at index 1
+    bvh.nodes.resize(nodeCount, BvhNode{{0, 0, 0}, 0, {0, 0, 0}, 0});
     b.nodes = bvh.nodes.data();
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     int levels = 0;
     while ((2u << levels) <= threads && levels < 4) ++levels;
     if (items.size() < 100000) levels = 0;
-    b.build(0, 0, items.size(), 1, levels);
+    b.build(0, 0, items.size(), 2, levels);
 
     bvh.triangles.resize(items.size());
     for (std::size_t i = 0; i < items.size(); ++i) bvh.triangles[i] = items[i].id;
     return bvh;
+}
+
+void queryPlaneLeaves(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* rect,
+                      std::vector<std::uint32_t>& leaves, BvhQueryStats* stats) {
+    BvhQueryStats st;
+    const BvhNode* base = bvh.nodes.data();
+    auto onLeaf = [&](const BvhNode& nd) {
+        leaves.push_back(static_cast<std::uint32_t>(&nd - base));
+        st.trianglesTested += nd.count;
+    };
+    if (rect)
+        traverse<true>(bvh, plane, rect, st, onLeaf);
+    else
+        traverse<false>(bvh, plane, nullptr, st, onLeaf);
+    if (stats) {
+        stats->nodesVisited += st.nodesVisited;
+        stats->trianglesTested += st.trianglesTested;
+    }
 }
 
 void queryPlane(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, std::vector<std::uint32_t>& out,

@@ -44,9 +44,12 @@ struct EndTable {
     void insert(std::uint64_t key, std::uint32_t end) {
         Entry& e = find(key);
         e.key = key;
-        if (e.e0 == kNone) e.e0 = end;
-        else if (e.e1 == kNone) e.e1 = end;
-        else ++overfull;
+        if (e.e0 == kNone)
+            e.e0 = end;
+        else if (e.e1 == kNone)
+            e.e1 = end;
+        else
+            ++overfull;
     }
     // The other end on the same edge as `end`, or kNone.
     std::uint32_t partner(std::uint64_t key, std::uint32_t end) {
@@ -129,8 +132,7 @@ RingInfo makeRingInfo(Ring ring) {
 }
 
 bool boxInside(const RingInfo& inner, const RingInfo& outer) {
-    return inner.lo.x >= outer.lo.x && inner.lo.y >= outer.lo.y && inner.hi.x <= outer.hi.x &&
-           inner.hi.y <= outer.hi.y;
+    return inner.lo.x >= outer.lo.x && inner.lo.y >= outer.lo.y && inner.hi.x <= outer.hi.x && inner.hi.y <= outer.hi.y;
 }
 
 // Even-odd assembly of a region's rings into polygons; returns the area.
@@ -222,19 +224,21 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
                 if (!freeA && !freeB) continue;
                 Chain c = walk(segs, table, visited, i, freeA);
                 if (c.points.size() >= 2)
-                    out.traces.push_back(SectionTrace{static_cast<std::uint32_t>(p), index.parts[p].record,
-                                                      std::move(c.points), false});
+                    out.traces.push_back(
+                        SectionTrace{static_cast<std::uint32_t>(p), index.parts[p].record, std::move(c.points), false});
             }
         }
         for (std::uint32_t i = 0; i < segs.size(); ++i) {
             if (visited[i]) continue;
             Chain c = walk(segs, table, visited, i, true);
             if (body) {
-                if (!c.closed) ++open[p];
-                else if (c.points.size() >= 3) loops[p].push_back(std::move(c.points));
+                if (!c.closed)
+                    ++open[p];
+                else if (c.points.size() >= 3)
+                    loops[p].push_back(std::move(c.points));
             } else if (c.points.size() >= 2) {
-                out.traces.push_back(SectionTrace{static_cast<std::uint32_t>(p), index.parts[p].record,
-                                                  std::move(c.points), c.closed});
+                out.traces.push_back(
+                    SectionTrace{static_cast<std::uint32_t>(p), index.parts[p].record, std::move(c.points), c.closed});
             }
         }
     }
@@ -295,34 +299,30 @@ Result<Plane> checkSectionPlane(const SectionIndex& index, const Plane& plane) {
         std::snprintf(buf, sizeof buf,
                       "plane (%.9g, %.9g, %.9g, %.9g) misses the model: its bounds [%.3f, %.3f, %.3f] - [%.3f, %.3f, "
                       "%.3f] lie entirely on the %s side",
-                      p->normal.x, p->normal.y, p->normal.z, p->d, b.min.x, b.min.y, b.min.z, b.max.x, b.max.y,
-                      b.max.z, smin >= 0.0 ? "kept" : "removed");
+                      p->normal.x, p->normal.y, p->normal.z, p->d, b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z,
+                      smin >= 0.0 ? "kept" : "removed");
         return makeError(ErrorCode::OutOfRange, buf);
     }
     return p;
 }
 
-Result<Section> computeSection(const SectionIndex& index, const Plane& plane, SectionTimings* timings) {
+Result<Section> computeSection(const SectionIndex& index, const Plane& plane, const SectionOptions& options,
+                               SectionTimings* timings) {
     auto checked = checkSectionPlane(index, plane);
     if (!checked) return checked.error();
-    auto t0 = std::chrono::steady_clock::now();
     PlaneCut cut;
     beginCut(index, checked.value(), cut);
-    std::vector<std::uint32_t> tris;
-    queryPlane(index.bvh, index.meshes.data(), cut.plane, tris);
-    const double queryMs = msSince(t0);
-    auto t1 = std::chrono::steady_clock::now();
-    cutTriangles(index, tris.data(), tris.size(), cut);
-    const double cutMs = msSince(t1);
-    auto t2 = std::chrono::steady_clock::now();
+    CutStats cs;
+    cutWithBvh(index, nullptr, cut, options.threads, &cs);
+    const auto t2 = std::chrono::steady_clock::now();
     Section s;
     s.plane = checked.value();
     assembleContours(index, cut, s);
     if (timings) {
-        timings->queryMs = queryMs;
-        timings->cutMs = cutMs;
+        timings->queryMs = cs.queryMs;
+        timings->cutMs = cs.cutMs;
         timings->contourMs = msSince(t2);
-        timings->trianglesCrossing = tris.size();
+        timings->trianglesTested = cs.trianglesTested;
         timings->segments = cut.segments;
     }
     return s;

@@ -65,13 +65,18 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
 
 struct SectionTimings {
     double queryMs = 0.0, cutMs = 0.0, contourMs = 0.0;
-    std::size_t trianglesCrossing = 0, segments = 0;
+    std::size_t trianglesTested = 0, segments = 0;
+};
+
+struct SectionOptions {
+    unsigned threads = 1;  // 1 or 2: the cut of the BVH leaves' triangles (see cutWithBvh)
 };
 
 // Validates the plane, queries the BVH, cuts and assembles.
 // Errors: InvalidArgument (non-finite plane, zero normal); OutOfRange when the plane
 // misses the model's bounding box (names the plane and the bounds).
-Result<Section> computeSection(const SectionIndex& index, const Plane& plane, SectionTimings* timings = nullptr);
+Result<Section> computeSection(const SectionIndex& index, const Plane& plane, const SectionOptions& options = {},
+                               SectionTimings* timings = nullptr);
 
 // Checks a plane (a, b, c, d) against the model: makePlane plus the bounding-box test.
 Result<Plane> checkSectionPlane(const SectionIndex& index, const Plane& plane);

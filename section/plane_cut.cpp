@@ -1,7 +1,9 @@
 #include "section/plane_cut.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 namespace geoslice {
 namespace {
@@ -79,6 +81,67 @@ void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std
         const std::uint32_t id = triangles[i];
         const std::uint32_t p = bvh.meshOf(id);
         cutOne(index, p, id - bvh.meshFirst[p], out);
+    }
+}
+
+void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out, unsigned threads, CutStats* stats) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<std::uint32_t> leaves;
+    BvhQueryStats qs;
+    queryPlaneLeaves(index.bvh, out.plane, rect, leaves, &qs);
+    const auto t1 = std::chrono::steady_clock::now();
+    const Bvh& bvh = index.bvh;
+    // The cut is bound by memory latency (a leaf's triangle ids, their indices, then their
+    // vertices): prefetch the indices four leaves ahead and the vertices two leaves ahead.
+    auto prefetch = [&](std::size_t l, bool vertices) {
+        const BvhNode& nd = bvh.nodes[leaves[l]];
+        for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
+            const std::uint32_t id = bvh.triangles[i];
+            const std::uint32_t p = bvh.meshOf(id);
+            const Mesh& mesh = index.parts[p].part->mesh;
+            const std::uint32_t* tri = mesh.indices.data() + 3 * std::size_t(id - bvh.meshFirst[p]);
+            if (!vertices) {
+                __builtin_prefetch(tri);
+                continue;
+            }
+            for (int k = 0; k < 3; ++k) __builtin_prefetch(&mesh.positions[tri[k]]);
+        }
+    };
+    auto cutRange = [&](std::size_t lo, std::size_t hi, PlaneCut& dst) {
+        for (std::size_t l = lo; l < hi; ++l) {
+            if (l + 4 < hi) prefetch(l + 4, false);
+            if (l + 2 < hi) prefetch(l + 2, true);
+            const BvhNode& nd = bvh.nodes[leaves[l]];
+            for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
+                const std::uint32_t id = bvh.triangles[i];
+                const std::uint32_t p = bvh.meshOf(id);
+                cutOne(index, p, id - bvh.meshFirst[p], dst);
+            }
+        }
+    };
+    if (threads >= 2 && qs.trianglesTested >= 4096) {
+        // Split point: half of the tested triangles.
+        std::size_t split = 0, acc = 0;
+        while (split < leaves.size() && 2 * acc < qs.trianglesTested) acc += bvh.nodes[leaves[split++]].count;
+        PlaneCut second;
+        second.frame = out.frame;
+        second.plane = out.plane;
+        second.parts.resize(out.parts.size());
+        std::thread worker([&] { cutRange(split, leaves.size(), second); });
+        cutRange(0, split, out);
+        worker.join();
+        for (std::size_t p = 0; p < out.parts.size(); ++p)
+            out.parts[p].insert(out.parts[p].end(), second.parts[p].begin(), second.parts[p].end());
+        out.segments += second.segments;
+    } else {
+        cutRange(0, leaves.size(), out);
+    }
+    if (stats) {
+        stats->nodesVisited = qs.nodesVisited;
+        stats->leaves = leaves.size();
+        stats->trianglesTested = qs.trianglesTested;
+        stats->queryMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        stats->cutMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
     }
 }
 

@@ -43,6 +43,18 @@ void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out);
 // Cuts the listed global triangles (e.g. from queryPlane), appending to out.parts.
 void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std::size_t count, PlaneCut& out);
 
+struct CutStats {
+    std::size_t nodesVisited = 0, leaves = 0, trianglesTested = 0;
+    double queryMs = 0.0, cutMs = 0.0;  // BVH traversal, then the leaves' triangles
+};
+
+// The cut through the BVH: the leaves that straddle the plane (and overlap `rect` when not
+// null) are found first, then their triangles are cut, each vertex read once. With
+// threads = 2 the leaves are split in two halves by triangle count and the second half's
+// segments are appended after the first's, so the output never depends on timing.
+void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out, unsigned threads = 1,
+                CutStats* stats = nullptr);
+
 // Brute force: cuts every triangle of every part, no BVH (the paper's "CPU geometric
 // intersection" baseline, and the reference the BVH path is checked against).
 void cutAllTriangles(const SectionIndex& index, PlaneCut& out);

@@ -24,8 +24,7 @@ Float4 premultiplied(Rgba8 c) {
 // Pixel coordinates of plane u/v points (x right, y down).
 struct ToPixel {
     double u0, v1, sx, sy;
-    explicit ToPixel(const PixelFrame& f)
-        : u0(f.rect.u0), v1(f.rect.v1), sx(1.0 / f.pixelU()), sy(1.0 / f.pixelV()) {}
+    explicit ToPixel(const PixelFrame& f) : u0(f.rect.u0), v1(f.rect.v1), sx(1.0 / f.pixelU()), sy(1.0 / f.pixelV()) {}
     glm::dvec2 operator()(const glm::dvec2& uv) const { return {(uv.x - u0) * sx, (v1 - uv.y) * sy}; }
 };
 
@@ -260,7 +259,8 @@ struct ColourRaster {
         const Float4 bg = premultiplied(background);
         std::vector<std::uint32_t> active;
         for (int y = 0; y < H; ++y) {
-            for (std::uint32_t k = rowStart[static_cast<std::size_t>(y)]; k < rowStart[static_cast<std::size_t>(y) + 1]; ++k)
+            for (std::uint32_t k = rowStart[static_cast<std::size_t>(y)]; k < rowStart[static_cast<std::size_t>(y) + 1];
+                 ++k)
                 active.push_back(order[k]);
             for (std::size_t k = 0; k < active.size();) {
                 const Piece& p = pieces[active[k]];
@@ -272,7 +272,8 @@ struct ColourRaster {
                     ++k;
                 }
             }
-            resolveRow(bg, reinterpret_cast<std::uint32_t*>(rgba) + static_cast<std::size_t>(y) * static_cast<std::size_t>(W));
+            resolveRow(
+                bg, reinterpret_cast<std::uint32_t*>(rgba) + static_cast<std::size_t>(y) * static_cast<std::size_t>(W));
         }
     }
 };
@@ -294,7 +295,8 @@ void drawLine(const FillLine& line, const ToPixel& toPx, float width, int W, int
             const double dist = glm::length(c - (p + t * d));
             const double cv = std::clamp(hw + 0.5 - dist, 0.0, 1.0);
             if (cv <= 0.0) return;
-            const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(W) + static_cast<std::size_t>(i);
+            const std::size_t k =
+                static_cast<std::size_t>(j) * static_cast<std::size_t>(W) + static_cast<std::size_t>(i);
             const auto c8 = static_cast<std::uint8_t>(cv * 255.0 + 0.5);
             if (cov[k] == 0) touched.push_back(static_cast<std::uint32_t>(k));
             cov[k] = std::max(cov[k], c8);
@@ -302,14 +304,16 @@ void drawLine(const FillLine& line, const ToPixel& toPx, float width, int W, int
         // Walk the major axis; cover the minor axis within reach of the line.
         const int a = xMajor ? 0 : 1, b = 1 - a;
         const int lim = xMajor ? W : H;
-        const double lo = std::max(std::min(p[a], q[a]) - reach, 0.0), hi = std::min(std::max(p[a], q[a]) + reach, double(lim));
+        const double lo = std::max(std::min(p[a], q[a]) - reach, 0.0),
+                     hi = std::min(std::max(p[a], q[a]) + reach, double(lim));
         const double slope = d[a] != 0.0 ? d[b] / d[a] : 0.0;
         for (int m = static_cast<int>(std::floor(lo)); m < static_cast<int>(std::ceil(hi)); ++m) {
             double t = m + 0.5;
             t = std::clamp(t, std::min(p[a], q[a]), std::max(p[a], q[a]));
             const double centre = p[b] + (t - p[a]) * slope;
             const double span = reach * std::sqrt(1.0 + slope * slope);
-            for (int n = static_cast<int>(std::floor(centre - span)); n <= static_cast<int>(std::ceil(centre + span)); ++n)
+            for (int n = static_cast<int>(std::floor(centre - span)); n <= static_cast<int>(std::ceil(centre + span));
+                 ++n)
                 xMajor ? plot(m, n) : plot(n, m);
         }
     };
@@ -454,8 +458,8 @@ FrameRect fitFrame(const Section& section, int width, int height, double margin)
     return FrameRect{lo.x, lo.y, hi.x, hi.y};
 }
 
-Status rasterizeSection(const SectionIndex& index, const Section& section, const FrameRect& rect, int width,
-                        int height, const RasterOptions& options, SectionImage& out) {
+Status rasterizeSection(const SectionIndex& index, const Section& section, const FrameRect& rect, int width, int height,
+                        const RasterOptions& options, SectionImage& out) {
     std::vector<FillRegion> regions;
     std::vector<FillLine> lines;
     sectionFill(index, section, regions, lines);
@@ -479,7 +483,6 @@ Result<SectionImage> renderTile(const SectionIndex& index, const Plane& plane, c
     auto checked = checkSectionPlane(index, plane);
     if (!checked) return checked.error();
     if (Status s = checkFrame(rect, width, height); !s) return s.error();
-    auto t0 = std::chrono::steady_clock::now();
     PlaneCut cut;
     beginCut(index, checked.value(), cut);
     PlaneRect strip;
@@ -490,10 +493,8 @@ Result<SectionImage> renderTile(const SectionIndex& index, const Plane& plane, c
     strip.u1 = rect.u1;
     strip.v0 = rect.v0;
     strip.v1 = rect.v1;
-    std::vector<std::uint32_t> tris;
-    queryPlaneRect(index.bvh, index.meshes.data(), cut.plane, strip, tris);
-    auto t1 = std::chrono::steady_clock::now();
-    cutTriangles(index, tris.data(), tris.size(), cut);
+    CutStats cs;
+    cutWithBvh(index, &strip, cut, 1, &cs);
     auto t2 = std::chrono::steady_clock::now();
 
     // Regions from raw segments: a body's own (interior on the left) plus its directly
@@ -531,10 +532,10 @@ Result<SectionImage> renderTile(const SectionIndex& index, const Plane& plane, c
     if (Status s = rasterize(regions.data(), regions.size(), lines.data(), lines.size(), frame, options, img); !s)
         return s.error();
     if (timings) {
-        timings->queryMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
-        timings->cutMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
+        timings->queryMs = cs.queryMs;
+        timings->cutMs = cs.cutMs;
         timings->fillMs = msSince(t2);
-        timings->trianglesCrossing = tris.size();
+        timings->trianglesTested = cs.trianglesTested;
     }
     return img;
 }

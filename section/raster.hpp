@@ -78,14 +78,14 @@ struct RasterOptions {
 struct FillRegion {
     RecordId record = kNoRecord;
     Rgba8 colour;
-    int depth = 0;  // painting order of the ID buffer (deeper last)
+    int depth = 0;                                 // painting order of the ID buffer (deeper last)
     std::vector<std::array<glm::dvec2, 2>> edges;  // plane u/v metres
 };
 struct FillLine {
     Rgba8 colour;
     std::vector<glm::dvec2> points;  // plane u/v metres
-    bool closed = false;  // a loop: the last point joins the first
-    bool pairs = false;   // independent segments (p0, p1), (p2, p3)... instead of a polyline
+    bool closed = false;             // a loop: the last point joins the first
+    bool pairs = false;              // independent segments (p0, p1), (p2, p3)... instead of a polyline
 };
 
 constexpr int kMaxImageSide = 16384;
@@ -111,12 +111,12 @@ FrameRect fitFrame(const Section& section, int width, int height, double margin 
 Result<SectionImage> rasterizeSection(const SectionIndex& index, const Section& section, const FrameRect& rect,
                                       int width, int height, const RasterOptions& options = {});
 // The same into `out`, reusing its buffers (a render worker keeps one per thread).
-Status rasterizeSection(const SectionIndex& index, const Section& section, const FrameRect& rect, int width,
-                        int height, const RasterOptions& options, SectionImage& out);
+Status rasterizeSection(const SectionIndex& index, const Section& section, const FrameRect& rect, int width, int height,
+                        const RasterOptions& options, SectionImage& out);
 
 struct TileTimings {
     double queryMs = 0.0, cutMs = 0.0, fillMs = 0.0;
-    std::size_t trianglesCrossing = 0;
+    std::size_t trianglesTested = 0;
 };
 
 // One tile of the section by `plane`, straight from the BVH: only triangles crossing the

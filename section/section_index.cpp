@@ -80,8 +80,8 @@ Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, cons
                 sp.closed = p.report.closed;
             }
             index->parts.push_back(std::move(sp));
-            index->meshes.push_back(
-                BvhMesh{p.mesh.positions.data(), p.mesh.positions.size(), p.mesh.indices.data(), p.mesh.triangleCount()});
+            index->meshes.push_back(BvhMesh{p.mesh.positions.data(), p.mesh.positions.size(), p.mesh.indices.data(),
+                                            p.mesh.triangleCount()});
         }
 
     // Welds in parallel with the BVH build (they touch different memory).

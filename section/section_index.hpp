@@ -22,9 +22,9 @@ struct SectionPart {
     const Part* part = nullptr;
     PartKind kind = PartKind::Body;
     RecordId record = kNoRecord;
-    Rgba8 colour;      // from the attribute table, grey when the record has none
-    int parent = -1;   // part index of the innermost body containing this body, or -1
-    int depth = 0;     // nesting depth (validation's)
+    Rgba8 colour;     // from the attribute table, grey when the record has none
+    int parent = -1;  // part index of the innermost body containing this body, or -1
+    int depth = 0;    // nesting depth (validation's)
     bool closed = false;
     // Welded vertex id per vertex (equal positions share the smallest index); empty when
     // every vertex of the part already has a distinct position (identity).

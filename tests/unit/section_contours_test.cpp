@@ -50,7 +50,7 @@ TEST(SectionContours, BoxHorizontalAndTilted) {
     EXPECT_EQ(s.bodies[0].openChains, 0u);
     ASSERT_EQ(s.bodies[0].polygons.size(), 1u);
     EXPECT_TRUE(s.bodies[0].polygons[0].holes.empty());
-    EXPECT_NEAR(s.bodies[0].area, 200.0, 1e-9);  // exact up to rounding
+    EXPECT_NEAR(s.bodies[0].area, 200.0, 1e-9);               // exact up to rounding
     EXPECT_GT(ringArea(s.bodies[0].polygons[0].outer), 0.0);  // outer rings counter-clockwise
 
     // Tilted across all four vertical edges: area = base / |n_z|.
@@ -126,8 +126,8 @@ TEST(SectionContours, SphereAgainstAnalyticAndBruteForce) {
     auto idx = indexFor(m);
     std::mt19937_64 rng(5);
     for (int k = 0; k < 10; ++k) {
-        const glm::dvec3 n = glm::normalize(glm::dvec3(std::normal_distribution<>()(rng), std::normal_distribution<>()(rng),
-                                                       std::normal_distribution<>()(rng)));
+        const glm::dvec3 n = glm::normalize(glm::dvec3(
+            std::normal_distribution<>()(rng), std::normal_distribution<>()(rng), std::normal_distribution<>()(rng)));
         const double h = 0.6 * r * (k / 10.0);  // distance of the plane from the centre
         const Plane p{n, -glm::dot(n, glm::dvec3(100, 200, 300)) - h};
         Section s = cut(*idx, p);

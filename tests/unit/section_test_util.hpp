@@ -39,16 +39,20 @@ inline Plane randomPlane(const Aabb& b, std::mt19937_64& rng, int kind) {
                        b.min.z + u01(rng) * (b.max.z - b.min.z));
     glm::dvec3 n;
     const double t = ang(rng);
-    if (kind % 3 == 0) n = {std::cos(t), std::sin(t), 0.0};
-    else if (kind % 3 == 1) n = glm::normalize(glm::dvec3(0.1 * std::cos(t), 0.1 * std::sin(t), sym(rng) < 0 ? -1.0 : 1.0));
-    else n = glm::normalize(glm::dvec3(sym(rng), sym(rng), sym(rng)) + glm::dvec3(1e-9));
+    if (kind % 3 == 0)
+        n = {std::cos(t), std::sin(t), 0.0};
+    else if (kind % 3 == 1)
+        n = glm::normalize(glm::dvec3(0.1 * std::cos(t), 0.1 * std::sin(t), sym(rng) < 0 ? -1.0 : 1.0));
+    else
+        n = glm::normalize(glm::dvec3(sym(rng), sym(rng), sym(rng)) + glm::dvec3(1e-9));
     return Plane{n, -glm::dot(n, p)};
 }
 
 // Signed area (m², counter-clockwise in the section frame positive) of the cut of one
 // mesh by the plane, by Green's theorem over the cut segments of every triangle, each
 // oriented from the triangle's normal: no BVH, no chaining, no welding.
-inline double bruteForceArea(const Mesh& mesh, const Plane& plane, const SectionFrame& frame, const glm::dvec3& origin) {
+inline double bruteForceArea(const Mesh& mesh, const Plane& plane, const SectionFrame& frame,
+                             const glm::dvec3& origin) {
     double area = 0.0;
     const glm::dvec2 ref = frame.toPlane(glm::dvec3(0.0));  // keeps the products small
     const double dLocal = plane.d + glm::dot(plane.normal, origin);
