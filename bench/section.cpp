@@ -25,6 +25,7 @@
 #include "section/plane_cut.hpp"
 #include "section/raster.hpp"
 #include "section/section_index.hpp"
+#include "tests/common/random_plane.hpp"
 
 using namespace geoslice;
 using json = nlohmann::ordered_json;
@@ -40,21 +41,6 @@ double currentRssMiB() {
     return double(rss) * 4096.0 / (1024.0 * 1024.0);
 }
 
-// Same plane mix as the unit tests: a third vertical, a third near-horizontal, a third any.
-Plane randomPlane(const Aabb& b, std::mt19937_64& rng, int kind) {
-    std::uniform_real_distribution<double> u01(0.1, 0.9), ang(0.0, 6.283185307179586), sym(-1.0, 1.0);
-    const glm::dvec3 p(b.min.x + u01(rng) * (b.max.x - b.min.x), b.min.y + u01(rng) * (b.max.y - b.min.y),
-                       b.min.z + u01(rng) * (b.max.z - b.min.z));
-    glm::dvec3 n;
-    const double t = ang(rng);
-    if (kind % 3 == 0)
-        n = {std::cos(t), std::sin(t), 0.0};
-    else if (kind % 3 == 1)
-        n = glm::normalize(glm::dvec3(0.1 * std::cos(t), 0.1 * std::sin(t), sym(rng) < 0 ? -1.0 : 1.0));
-    else
-        n = glm::normalize(glm::dvec3(sym(rng), sym(rng), sym(rng)) + glm::dvec3(1e-9));
-    return Plane{n, -glm::dot(n, p)};
-}
 
 // Resets the process's peak RSS (Linux: "5" to clear_refs), so VmHWM measures one phase.
 void resetPeakRss() {
@@ -161,7 +147,7 @@ int main(int argc, char** argv) {
         PlaneCut cut, brute;
         SectionImage reused;
         for (int k = 0; k < planes; ++k) {
-            const Plane p = randomPlane(bounds, rng, k);
+            const Plane p = test::randomPlane(bounds, rng, k);
             // Query, cut and assembly timed one by one.
             // The crossing triangles themselves (queryPlane tests each leaf triangle).
             tris.clear();

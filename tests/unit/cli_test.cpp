@@ -1,7 +1,7 @@
 // End-to-end tests of the geoslice executable: generate, info, classify.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -9,12 +9,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/common/run_command.hpp"
+
 namespace {
 
-struct CmdResult {
-    int exitCode = -1;
-    std::string out;
-};
+using geoslice::test::CmdResult;
 
 CmdResult run(const std::string& args, const std::string& input = "") {
     std::string cmd = std::string(GEOSLICE_BINARY) + " " + args + " 2>/dev/null";
@@ -24,14 +23,7 @@ CmdResult run(const std::string& args, const std::string& input = "") {
         std::ofstream(inFile) << input;
         cmd += " < " + inFile;
     }
-    CmdResult r;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-    int status = pclose(p);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    CmdResult r = geoslice::test::runCommand(cmd);
     if (!inFile.empty()) std::filesystem::remove(inFile);
     return r;
 }

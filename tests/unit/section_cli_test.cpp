@@ -10,27 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
-namespace {
+#include "tests/common/run_command.hpp"
 
-struct CmdResult {
-    int exitCode = -1;
-    std::string out;
-};
-
-CmdResult runGeoslice(const std::string& args) {
-    const std::string cmd = std::string(GEOSLICE_BINARY) + " " + args + " 2>/dev/null";
-    CmdResult r;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-    const int status = pclose(p);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-}  // namespace
+using geoslice::test::CmdResult;
+using geoslice::test::runGeoslice;
 
 TEST(SectionCli, ImagesAreasAndErrors) {
     const auto dir = std::filesystem::temp_directory_path() / ("gs_section_cli_" + std::to_string(::getpid()));
