@@ -612,6 +612,9 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
                 if (!table) return table.error();
                 model.attributes = std::move(table.value());
             }
+            if (gs.contains("notes") && gs["notes"].is_object())
+                for (const auto& [key, value] : gs["notes"].items())
+                    if (value.is_string()) model.notes[key] = value.get<std::string>();
         }
     } else {
         // No scene: show the nodes that are nobody's child (a child listed as a root too
@@ -786,7 +789,8 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
     doc["scenes"] = {{{"name", model.name}, {"nodes", {0}},
                       {"extras", {{"geoslice", {{"version", 1}, {"crs", model.crs.id()},
                                                 {"origin", {model.origin.x, model.origin.y, model.origin.z}},
-                                                {"attributes", model.attributes.toJson()["records"]}}}}}}};
+                                                {"attributes", model.attributes.toJson()["records"]},
+                                                {"notes", model.notes}}}}}}};
     doc["nodes"] = nodes;
     doc["meshes"] = meshes;
     doc["accessors"] = accessors;

@@ -156,6 +156,7 @@ TEST(Synthetic, RoundTripsThroughGlb) {
     o.crs = Crs::fromEpsg(4523).value();
     auto m = generateSynthetic(o);
     ASSERT_TRUE(m.ok());
+    m->notes["provenance"] = "geoslice generate, seed 1";  // model notes travel in scene extras
     auto bytes = encodeGlb(m.value());
     ASSERT_TRUE(bytes.ok());
     auto back = parseGltf(bytes->data(), bytes->size(), "synthetic.glb");
@@ -164,6 +165,7 @@ TEST(Synthetic, RoundTripsThroughGlb) {
     EXPECT_EQ(back->bodies.size(), m->bodies.size());
     EXPECT_EQ(back->surfaces.size(), m->surfaces.size());
     EXPECT_EQ(back->crs.epsg(), 4523);
+    EXPECT_EQ(back->notes, m->notes);
     EXPECT_EQ(back->attributes.toJson(), m->attributes.toJson());
     EXPECT_FALSE(back->validation.hasErrors());
     // Positions go through float32 in the local frame: |local| <= ~3.1 km, so the error is
