@@ -5,6 +5,7 @@
 // transform, area of each body in m², trace count) on stdout.
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,7 +66,7 @@ json vec3(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
 
 void addSection(CLI::App& app, int& exitCode) {
     struct Opts {
-        std::string model, plane, size = "1024x1024";
+        std::string model, plane, size = "1024x1024", frame;
         std::vector<std::string> outs;
         double elevation = NAN;
         bool areas = false;
@@ -82,6 +83,8 @@ void addSection(CLI::App& app, int& exitCode) {
         cmd->add_option("--elevation", o->elevation, "Horizontal slice at this elevation (m), seen from above");
     planeOpt->excludes(elevOpt);
     cmd->add_option("--size", o->size, "Image size WxH in pixels (default 1024x1024)");
+    cmd->add_option("--frame", o->frame,
+                    "Frame u0,u1,v0,v1 in plane metres (default: the section's extent); same meaning as in render");
     cmd->add_option("--out", o->outs, "Output file, repeatable: .ppm = colour, .pgm = record ids (16-bit)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
     cmd->add_option("--threads", o->threads, "Threads for the cut: 1 or 2 (default 1)");
@@ -109,6 +112,14 @@ void addSection(CLI::App& app, int& exitCode) {
         if (std::sscanf(o->size.c_str(), "%dx%d%c", &width, &height, &extra) != 2)
             return fail("--size \"" + o->size + "\" is not WxH", 2);
         if (Status s = checkFrame(FrameRect{}, width, height); !s) return fail("--size: " + s.error().message, 2);
+        std::optional<FrameRect> givenFrame;
+        if (!o->frame.empty()) {
+            FrameRect r;
+            if (std::sscanf(o->frame.c_str(), "%lf,%lf,%lf,%lf%c", &r.u0, &r.u1, &r.v0, &r.v1, &extra) != 4)
+                return fail("--frame \"" + o->frame + "\" is not u0,u1,v0,v1 (four numbers, plane metres)", 2);
+            if (Status s = checkFrame(r, width, height); !s) return fail("--frame: " + s.error().message, 2);
+            givenFrame = r;
+        }
         for (const auto& out : o->outs)
             if (!endsWith(out, ".ppm") && !endsWith(out, ".pgm"))
                 return fail("--out \"" + out + "\": the extension must be .ppm (colour) or .pgm (record ids)", 2);
@@ -125,7 +136,7 @@ void addSection(CLI::App& app, int& exitCode) {
         so.threads = o->threads;
         auto section = computeSection(*index.value(), plane, so);
         if (!section) return fail(section.error().message, 1);
-        const FrameRect rect = fitFrame(section.value(), width, height);
+        const FrameRect rect = givenFrame ? *givenFrame : fitFrame(section.value(), width, height);
         RasterOptions ro;
         ro.background = Rgba8{0, 0, 0, 0};
         auto img = rasterizeSection(*index.value(), section.value(), rect, width, height, ro);
