@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--runs")) runs = std::stoi(argv[i + 1]);
     }
     SyntheticOptions so;
-    so.triangles = namedModelSize(size) ? *namedModelSize(size) : std::stoul(size);
+    so.triangles = bench::triangleCountFor(size);
     so.crs = Crs::fromEpsg(4523).value();
     double t0 = bench::nowSeconds();
     auto model = generateSynthetic(so);

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
         if (pid == 0) {
             close(fds[0]);
             SyntheticOptions so;
-            so.triangles = namedModelSize(size) ? *namedModelSize(size) : std::stoul(size);
+            so.triangles = bench::triangleCountFor(size);
             so.crs = Crs::fromEpsg(4523).value();
             double t0 = bench::nowSeconds();
             auto m = generateSynthetic(so);

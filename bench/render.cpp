@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
             backends = argv[i + 1];
     }
     SyntheticOptions so;
-    so.triangles = namedModelSize(size) ? *namedModelSize(size) : std::stoul(size);
+    so.triangles = bench::triangleCountFor(size);
     so.crs = Crs::fromEpsg(4523).value();
     const double t0 = bench::nowSeconds();
     auto model = generateSynthetic(so);

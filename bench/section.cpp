@@ -32,47 +32,8 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
-double currentRssMiB() {
-    FILE* f = std::fopen("/proc/self/statm", "r");
-    if (!f) return 0.0;
-    long pages = 0, rss = 0;
-    if (std::fscanf(f, "%ld %ld", &pages, &rss) != 2) rss = 0;
-    std::fclose(f);
-    return double(rss) * 4096.0 / (1024.0 * 1024.0);
-}
-
-
-// Resets the process's peak RSS (Linux: "5" to clear_refs), so VmHWM measures one phase.
-void resetPeakRss() {
-    if (FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
-        std::fputs("5", f);
-        std::fclose(f);
-    }
-}
-double peakRssSinceResetMiB() {
-    FILE* f = std::fopen("/proc/self/status", "r");
-    if (!f) return 0.0;
-    char line[256];
-    double kb = 0.0;
-    while (std::fgets(line, sizeof line, f))
-        if (!std::strncmp(line, "VmHWM:", 6)) kb = std::atof(line + 6);
-    std::fclose(f);
-    return kb / 1024.0;
-}
-
 double ms(double t0) { return (bench::nowSeconds() - t0) * 1000.0; }
 
-// CPU time of this thread (s): on a shared machine it shows the cost without the waiting.
-double threadCpuSeconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-double processCpuSeconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 }  // namespace
 
@@ -100,7 +61,7 @@ int main(int argc, char** argv) {
     std::string size;
     while (std::getline(list, size, ',')) {
         SyntheticOptions so;
-        so.triangles = namedModelSize(size) ? *namedModelSize(size) : std::stoul(size);
+        so.triangles = bench::triangleCountFor(size);
         so.crs = Crs::fromEpsg(4523).value();
         double t = bench::nowSeconds();
         auto model = generateSynthetic(so);
@@ -110,21 +71,21 @@ int main(int argc, char** argv) {
         }
         validate(model.value());
         const double genS = bench::nowSeconds() - t;
-        const double rssBefore = currentRssMiB();
-        resetPeakRss();
+        const double rssBefore = bench::currentRssMiB();
+        bench::resetPeakRss();
         BvhOptions bo;
         bo.maxLeafSize = leaf;
         t = bench::nowSeconds();
-        const double cpu0 = processCpuSeconds();
+        const double cpu0 = bench::processCpuSeconds();
         auto index = buildSectionIndex(model.value(), bo);
         const double buildS = bench::nowSeconds() - t;
-        const double buildCpuS = processCpuSeconds() - cpu0;
+        const double buildCpuS = bench::processCpuSeconds() - cpu0;
         if (!index) {
             std::fprintf(stderr, "%s\n", index.error().message.c_str());
             return 1;
         }
-        const double rssAfter = currentRssMiB();
-        const double rssPeakBuild = peakRssSinceResetMiB();
+        const double rssAfter = bench::currentRssMiB();
+        const double rssPeakBuild = bench::peakRssSinceResetMiB();
         const SectionIndex& idx = *index.value();
 
         std::vector<double> tQueryTris, tContours2, tEnd2, cCut, cAssemble, cFill, cEnd, nodesVisited, trisTested,
@@ -159,20 +120,20 @@ int main(int argc, char** argv) {
             // The section path: leaves (traversal only), then their triangles cut, then assembly.
             beginCut(idx, p, cut);
             CutStats cs;
-            double c = threadCpuSeconds();
+            double c = bench::threadCpuSeconds();
             cutWithBvh(idx, nullptr, cut, 1, &cs);
-            cCut.push_back(1000.0 * (threadCpuSeconds() - c));
+            cCut.push_back(1000.0 * (bench::threadCpuSeconds() - c));
             tQuery.push_back(cs.queryMs);
             tCut.push_back(cs.cutMs);
             nodesVisited.push_back(double(cs.nodesVisited));
             trisTested.push_back(double(cs.trianglesTested));
             Section section;
             section.plane = p;
-            c = threadCpuSeconds();
+            c = bench::threadCpuSeconds();
             s = bench::nowSeconds();
             assembleContours(idx, cut, section);
             tAssemble.push_back(ms(s));
-            cAssemble.push_back(1000.0 * (threadCpuSeconds() - c));
+            cAssemble.push_back(1000.0 * (bench::threadCpuSeconds() - c));
             tContours.push_back(tQuery.back() + tCut.back() + tAssemble.back());
             segments.push_back(double(cut.segments));
             // The same with the cut on two threads.
@@ -220,11 +181,11 @@ int main(int argc, char** argv) {
                 if (!img) ok = false, why = img.error().message;
             }
             // The same into buffers kept from the previous plane (a render worker's).
-            c = threadCpuSeconds();
+            c = bench::threadCpuSeconds();
             s = bench::nowSeconds();
             ok = rasterizeSection(idx, section, full, side, side, RasterOptions{}, reused).ok() && ok;
             tFillReused.push_back(ms(s));
-            cFill.push_back(1000.0 * (threadCpuSeconds() - c));
+            cFill.push_back(1000.0 * (bench::threadCpuSeconds() - c));
             // A tile of tileSide pixels at the same scale, at the frame centre, from the BVH.
             const double pu = (full.u1 - full.u0) / side, pv = (full.v1 - full.v0) / side;
             const double cu = 0.5 * (full.u0 + full.u1), cv = 0.5 * (full.v0 + full.v1);
@@ -236,7 +197,7 @@ int main(int argc, char** argv) {
                 if (!timg) ok = false, why = timg.error().message;
             }
             // End to end: validated plane -> section -> colour + ID image (reused buffers).
-            c = threadCpuSeconds();
+            c = bench::threadCpuSeconds();
             s = bench::nowSeconds();
             auto sec = computeSection(idx, p);
             tSection.push_back(ms(s));
@@ -245,7 +206,7 @@ int main(int argc, char** argv) {
             else
                 ok = false, why = sec.error().message;
             tEnd.push_back(ms(s));
-            cEnd.push_back(1000.0 * (threadCpuSeconds() - c));
+            cEnd.push_back(1000.0 * (bench::threadCpuSeconds() - c));
             s = bench::nowSeconds();
             beginCut(idx, p, brute);
             cutAllTriangles(idx, brute);

@@ -21,7 +21,7 @@ using namespace geoslice;
 TEST(EnginesAgree, RendererAndExactSectionGiveTheSameIds) {
     constexpr int kSize = 256;
     constexpr double kMinAgreement = 0.999;
-    Model model = test::makeMine(50000, 3, OreVariant::Nested, "EPSG:4523");
+    Model model = test::syntheticModel(50000, OreVariant::Nested, 3, "EPSG:4523");
     auto ctx = test::makeContext();
     ASSERT_TRUE(ctx);
     auto gpu = GpuModel::upload(*ctx, model);

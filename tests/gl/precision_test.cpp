@@ -16,7 +16,7 @@ using namespace geoslice::test;
 TEST(Precision, OriginAndGaussKrugerGiveIdenticalIds) {
     auto ctx = makeContext();
     ASSERT_TRUE(ctx);
-    Model gk = makeMine(20000, 5, OreVariant::Nested, "EPSG:4523");
+    Model gk = syntheticModel(20000, OreVariant::Nested, 5, "EPSG:4523");
     ASSERT_GT(gk.origin.x, 35'000'000.0);
     // The same geometry moved to the origin. gk.origin is whole metres and every easting lies
     // within a factor 2 of it, so world - origin is exact in double (Sterbenz).
@@ -75,7 +75,7 @@ TEST(Limits, SizesBeyondTheDeviceFailClearly) {
             << s.error().message;
         EXPECT_NE(s.error().message.find("8192"), std::string::npos) << s.error().message;
     }
-    Model m = makeMine(2000, 1);
+    Model m = syntheticModel(2000);
     auto gpu = GpuModel::upload(*ctx, m);
     ASSERT_TRUE(gpu.ok());
     SliceRequest req;
@@ -96,7 +96,7 @@ TEST(Limits, UnionWithClipDistanceFallsBackToDiscard) {
     ASSERT_TRUE(ctx);
     auto renderer = SliceRenderer::create(*ctx);
     ASSERT_TRUE(renderer.ok());
-    Model m = makeMine(2000, 1);
+    Model m = syntheticModel(2000);
     auto gpu = GpuModel::upload(*ctx, m);
     ASSERT_TRUE(gpu.ok());
     const glm::dvec3 c = m.bounds().centre();

@@ -92,7 +92,7 @@ protected:
         ctx = makeContext();
         ASSERT_TRUE(ctx);
         std::printf("[ gl       ] %s\n", ctx->info().describe().c_str());
-        model = makeMine(kTriangles, seed, ore, crs);
+        model = syntheticModel(kTriangles, ore, seed, crs);
         auto c = Classifier::build(model);
         ASSERT_TRUE(c.ok()) << c.error().message;
         classifier = std::move(c).value();

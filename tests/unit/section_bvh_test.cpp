@@ -32,7 +32,7 @@ std::vector<std::uint32_t> bruteCrossing(const SectionIndex& idx, const LocalPla
 }  // namespace
 
 TEST(SectionBvh, PlaneQueryEqualsBruteForce) {
-    Model m = generatedModel(20000);
+    Model m = syntheticModel(20000);
     auto idx = indexFor(m);
     EXPECT_EQ(idx->bvh.triangles.size(), m.triangleCount());
     std::mt19937_64 rng(1);
@@ -50,7 +50,7 @@ TEST(SectionBvh, PlaneQueryEqualsBruteForce) {
 }
 
 TEST(SectionBvh, RectQueryKeepsEveryTriangleInTheRectangle) {
-    Model m = generatedModel(20000);
+    Model m = syntheticModel(20000);
     auto idx = indexFor(m);
     std::mt19937_64 rng(2);
     for (int k = 0; k < 20; ++k) {
@@ -90,7 +90,7 @@ TEST(SectionBvh, RectQueryKeepsEveryTriangleInTheRectangle) {
 }
 
 TEST(SectionBvh, DeterministicAcrossThreadCounts) {
-    Model m = generatedModel(200000);
+    Model m = syntheticModel(200000);
     std::vector<BvhMesh> meshes;
     for (const auto* list : {&m.bodies, &m.surfaces})
         for (const Part& p : *list)

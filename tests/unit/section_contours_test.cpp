@@ -213,7 +213,7 @@ TEST(SectionContours, RandomPlanesThroughGeneratedModels) {
     // Every body gives closed loops, and each body's area (host minus nested lens) equals an
     // independent brute-force cut to 1e-6 relative (both double; observed ~1e-12).
     for (OreVariant ore : {OreVariant::Nested, OreVariant::Partition}) {
-        Model m = generatedModel(30000, ore, ore == OreVariant::Nested ? 3 : 4);
+        Model m = syntheticModel(30000, ore, ore == OreVariant::Nested ? 3 : 4);
         auto idx = indexFor(m);
         std::mt19937_64 rng(11);
         for (int k = 0; k < 30; ++k) {

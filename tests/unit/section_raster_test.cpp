@@ -93,7 +93,7 @@ TEST(SectionRaster, SharedBoundariesHaveNoSeams) {
 }
 
 TEST(SectionRaster, TileMatchesTheFullImage) {
-    Model m = generatedModel(30000);
+    Model m = syntheticModel(30000);
     auto idx = indexFor(m);
     std::mt19937_64 rng(8);
     for (int k = 0; k < 6; ++k) {
@@ -141,7 +141,7 @@ TEST(SectionRaster, IdBufferEqualsTheOracle) {
     // >= 99.99% of pixel centres, over 50 random planes, 128 x 128, ~50K-triangle models
     // (nested lens and partition with cavity).
     for (OreVariant ore : {OreVariant::Nested, OreVariant::Partition}) {
-        Model m = generatedModel(50000, ore);
+        Model m = syntheticModel(50000, ore);
         auto idx = indexFor(m);
         auto oracle = Classifier::build(m);
         ASSERT_TRUE(oracle.ok());

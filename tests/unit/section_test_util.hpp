@@ -11,27 +11,15 @@
 #include "section/contours.hpp"
 #include "section/section_index.hpp"
 #include "tests/common/random_plane.hpp"
+#include "tests/common/synthetic_model.hpp"
 
 namespace geoslice::test {
-
-inline Model generatedModel(std::size_t triangles, OreVariant ore = OreVariant::Nested, std::uint64_t seed = 1) {
-    SyntheticOptions o;
-    o.triangles = triangles;
-    o.ore = ore;
-    o.seed = seed;
-    auto m = generateSynthetic(o);
-    EXPECT_TRUE(m.ok()) << (m.ok() ? "" : m.error().message);
-    Model model = std::move(m).value();
-    validate(model);
-    return model;
-}
 
 inline std::unique_ptr<SectionIndex> indexFor(const Model& m) {
     auto idx = buildSectionIndex(m);
     EXPECT_TRUE(idx.ok()) << (idx.ok() ? "" : idx.error().message);
     return std::move(idx).value();
 }
-
 
 // Signed area (m², counter-clockwise in the section frame positive) of the cut of one
 // mesh by the plane, by Green's theorem over the cut segments of every triangle, each

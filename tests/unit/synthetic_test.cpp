@@ -7,19 +7,15 @@
 #include "model/loaders.hpp"
 #include "model/synthetic.hpp"
 #include "model/validate.hpp"
+#include "tests/common/synthetic_model.hpp"
 
 using namespace geoslice;
 
 namespace {
 
+// What the generator produced, before validation could fix anything.
 Model generate(std::size_t triangles, OreVariant ore = OreVariant::Nested, std::uint64_t seed = 1) {
-    SyntheticOptions o;
-    o.triangles = triangles;
-    o.ore = ore;
-    o.seed = seed;
-    auto m = generateSynthetic(o);
-    EXPECT_TRUE(m.ok()) << (m.ok() ? "" : m.error().message);
-    return std::move(m).value();
+    return test::syntheticModel(triangles, ore, seed, nullptr, /*validated=*/false);
 }
 
 }  // namespace
