@@ -1,12 +1,19 @@
 // geoslice render MODEL --plane a,b,c,d [--plane ...] [--union] [--profile [--frame u0,u1,v0,v1] |
-//   --eye x,y,z --target x,y,z [--up x,y,z] [--fov deg]] [--size WxH] --out img.png [--ids ids.pgm]
+//   --eye x,y,z --target x,y,z [--up x,y,z] [--fov deg]] [--size WxH] --out img.jpg|png|webp
+//   [--quality Q] [--lossless] [--ids ids.pgm]
 //   [--gl auto|egl-device|egl-surfaceless|osmesa] [--device N] [--clip clip-distance|discard]
+//   [--background transparent|#rrggbb[aa]] [--exaggeration F [--pivot Z]] [--aa auto|none|fxaa|msaa]
+//   [--no-traces]
 // Renders one frame of the slicing pass (renderer/slice_renderer.hpp) on a headless context.
 // Planes are world (a,b,c,d), kept where a*x+b*y+c*z+d >= 0; points are world easting,
 // northing, elevation in metres. The profile looks at the first plane's cut face (along +n).
+// With --exaggeration F the picture is stretched vertically by F about elevation --pivot:
+// --eye/--target are true world points (mapped into display space here); --frame is in the
+// display plane's u/v metres.
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +21,7 @@
 #include "model/loaders.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
+#include "renderer/image_encode.hpp"
 #include "renderer/image_io.hpp"
 #include "renderer/slice_renderer.hpp"
 
@@ -43,6 +51,11 @@ struct RenderArgs {
     bool unionMode = false, profile = false;
     double fov = 45.0;
     int device = -1;
+    int quality = -1;  // JPEG/WebP quality; -1 = the encoder's default
+    bool lossless = false;
+    double exaggeration = 1.0, pivot = 0.0;
+    std::string aa = "auto";
+    bool noTraces = false;
 };
 
 int run(const RenderArgs& a) {
@@ -64,9 +77,36 @@ int run(const RenderArgs& a) {
         return fail("--clip " + a.clip + ": expected clip-distance or discard");
     req.clip = a.clip == "discard" ? ClipMethod::Discard : ClipMethod::ClipDistance;
     req.combine = a.unionMode ? PlaneCombine::Union : PlaneCombine::Intersection;
-    auto bg = parseColour(a.background);
-    if (!bg) return fail("--background " + a.background + ": expected #rrggbb or #rrggbbaa");
+    auto bg = a.background == "transparent" ? std::optional<Rgba8>(Rgba8{0, 0, 0, 0}) : parseColour(a.background);
+    if (!bg) return fail("--background " + a.background + ": expected transparent, #rrggbb or #rrggbbaa");
     req.background = *bg;
+    if (a.aa == "auto")
+        req.antiAlias = AntiAlias::Auto;
+    else if (a.aa == "none")
+        req.antiAlias = AntiAlias::None;
+    else if (a.aa == "fxaa")
+        req.antiAlias = AntiAlias::Fxaa;
+    else if (a.aa == "msaa")
+        req.antiAlias = AntiAlias::Msaa;
+    else
+        return fail("--aa " + a.aa + ": expected auto, none, fxaa or msaa");
+    req.drawTraces = !a.noTraces;
+    req.exaggeration.factor = a.exaggeration;
+    req.exaggeration.pivotZ = a.pivot;
+    if (auto s = checkExaggeration(req.exaggeration); !s) return fail("--exaggeration: " + s.error().message);
+    const VerticalExaggeration& ve = req.exaggeration;
+
+    // The colour format comes from --out's extension; checked before any work is done.
+    auto format = imageFormatFromPath(a.out);
+    if (!format) return fail("--out: " + format.error().message);
+    EncodeOptions enc;
+    if (a.quality != -1) {
+        if (a.quality < 1 || a.quality > 100)
+            return fail("--quality " + std::to_string(a.quality) + ": expected 1..100");
+        enc.jpegQuality = enc.webpQuality = a.quality;
+    }
+    enc.webpLossless = a.lossless;
+    if (!a.ids.empty() && !a.ids.ends_with(".pgm")) return fail("--ids " + a.ids + ": expected a .pgm path");
 
     auto model = loadModel(a.model);
     if (!model) return fail(model.error().message);
@@ -74,9 +114,9 @@ int run(const RenderArgs& a) {
     if (perspective) {
         PerspectiveView pv;
         if (!parseNumbers(a.eye, 3, v)) return fail("--eye: expected x,y,z");
-        pv.eye = {v[0], v[1], v[2]};
+        pv.eye = ve.toDisplay({v[0], v[1], v[2]});
         if (!parseNumbers(a.target.empty() ? std::string() : a.target, 3, v)) return fail("--target: expected x,y,z");
-        pv.target = {v[0], v[1], v[2]};
+        pv.target = ve.toDisplay({v[0], v[1], v[2]});
         if (!parseNumbers(a.up, 3, v)) return fail("--up: expected x,y,z");
         pv.up = {v[0], v[1], v[2]};
         pv.fovYDegrees = a.fov;
@@ -85,7 +125,8 @@ int run(const RenderArgs& a) {
         if (req.planes.empty()) return fail("a profile needs --plane (or give --eye/--target for a 3D view)");
         auto unit = normalizePlane(req.planes[0]);
         if (!unit) return fail("--plane: " + unit.error().message);
-        ProfileView pv = profileAround(*unit, model->bounds(), req.width, req.height);
+        ProfileView pv =
+            profileAround(ve.planeToDisplay(*unit), ve.boundsToDisplay(model->bounds()), req.width, req.height);
         if (!a.frame.empty()) {
             if (!parseNumbers(a.frame, 4, v)) return fail("--frame: expected u0,u1,v0,v1 (plane metres)");
             pv.uMin = v[0], pv.uMax = v[1], pv.vMin = v[2], pv.vMax = v[3];
@@ -106,14 +147,14 @@ int run(const RenderArgs& a) {
     req.readIds = !a.ids.empty();
     auto img = (*renderer)->render(**gpu, req);
     if (!img) return fail(img.error().message);
-    if (auto s = writePngRgba(a.out, img->rgba, img->width, img->height); !s) return fail(s.error().message);
+    if (auto s = writeImage(a.out, img->rgba.data(), img->width, img->height, enc); !s) return fail(s.error().message);
     if (!a.ids.empty())
         if (auto s = writeIdsPgm16(a.ids, img->ids, img->width, img->height); !s) return fail(s.error().message);
     std::fprintf(stderr,
-                 "geoslice render: %dx%d, %zu triangles, %s, draw+finish %.1f ms (first frame, includes JIT), readback "
-                 "%.2f ms -> %s\n",
+                 "geoslice render: %dx%d, %zu triangles, %s, draw+finish %.1f ms (first frame, includes JIT), "
+                 "anti-aliasing %s %.1f ms, readback %.2f ms, %zu trace segments -> %s\n",
                  img->width, img->height, (*gpu)->triangleCount(), clipMethodName(img->clipUsed), img->drawMs,
-                 img->readbackMs, a.out.c_str());
+                 antiAliasName(img->aaUsed), img->aaMs, img->readbackMs, img->traceSegments, a.out.c_str());
     return 0;
 }
 
@@ -121,8 +162,8 @@ int run(const RenderArgs& a) {
 
 void addRender(CLI::App& app, int& exitCode) {
     auto a = std::make_shared<RenderArgs>();
-    CLI::App* cmd =
-        app.add_subcommand("render", "Render a cut of a model on a headless GL context (PNG colour, 16-bit PGM ids)");
+    CLI::App* cmd = app.add_subcommand(
+        "render", "Render a cut of a model on a headless GL context (JPEG/PNG/WebP colour, 16-bit PGM ids)");
     cmd->add_option("MODEL", a->model, "Model file")->required();
     cmd->add_option("--plane", a->planes,
                     "Cut plane a,b,c,d in world coordinates (repeat up to 6); kept where ax+by+cz+d >= 0");
@@ -134,12 +175,21 @@ void addRender(CLI::App& app, int& exitCode) {
     cmd->add_option("--up", a->up, "Perspective up direction (default 0,0,1)");
     cmd->add_option("--fov", a->fov, "Vertical field of view, degrees (default 45)");
     cmd->add_option("--size", a->size, "Image size WxH (default 1024x1024, at most 8192x8192)");
-    cmd->add_option("--out", a->out, "Colour image (.png)")->required();
+    cmd->add_option("--out", a->out, "Colour image; the format follows the extension: .jpg/.jpeg, .png, .webp")
+        ->required();
+    cmd->add_option("--quality", a->quality, "JPEG/WebP quality 1..100 (default 85 JPEG, 80 WebP)");
+    cmd->add_flag("--lossless", a->lossless, "WebP: lossless instead of lossy");
     cmd->add_option("--ids", a->ids, "Record-id image (16-bit .pgm, 0 = no geology)");
     cmd->add_option("--gl", a->gl, "GL backend: auto, egl-device, egl-surfaceless, osmesa");
     cmd->add_option("--device", a->device, "EGL device index for egl-device (default: prefer hardware)");
     cmd->add_option("--clip", a->clip, "clip-distance (default) or discard (the paper's fragment mask)");
-    cmd->add_option("--background", a->background, "Background #rrggbb[aa] (default transparent)");
+    cmd->add_option("--background", a->background, "Background: transparent (default) or #rrggbb[aa]");
+    cmd->add_option("--exaggeration", a->exaggeration,
+                    "Vertical exaggeration of the picture (default 1; ids and cut planes stay true)");
+    cmd->add_option("--aa", a->aa,
+                    "Anti-aliasing of the colour image: auto (MSAA on a GPU, FXAA on llvmpipe), none, fxaa, msaa");
+    cmd->add_flag("--no-traces", a->noTraces, "Do not draw fault traces on the cut");
+    cmd->add_option("--pivot", a->pivot, "Elevation (m) that exaggeration keeps in place (default 0)");
     cmd->callback([a, &exitCode] { exitCode = run(*a); });
 }
 

@@ -1,10 +1,16 @@
-// geoslice section MODEL (--plane a,b,c,d | --elevation z) [--size WxH] [--out F.ppm|F.pgm]...
-// [--areas]: the exact section engine from the command line. Writes the colour image as
-// binary PPM (composited over white) and the ID buffer as 16-bit binary PGM (record ids,
-// big-endian, 0 = none); --areas prints JSON (plane, section frame, pixel -> world
-// transform, area of each body in m², trace count) on stdout.
+// geoslice section MODEL (--plane a,b,c,d | --elevation z | --line x1,y1,x2,y2[,...])
+// [--size WxH] [--frame u0,u1,v0,v1] [--out F.png|F.jpg|F.webp|F.ppm|F.pgm]... [--geojson F]
+// [--geojson-frame plane|world] [--svg F] [--areas]: the exact section engine from the
+// command line. Colour images go through renderer/image_encode.hpp (PNG, JPEG, WebP) or
+// binary PPM (composited over white); the ID buffer is written as 16-bit binary PGM
+// (record ids, big-endian, 0 = none). --geojson / --svg write the polygons and traces
+// (section/vector_export.hpp). --areas prints JSON (plane or line, frame, pixel -> world
+// transform, area of each body in m², trace count) on stdout. With --line the section is
+// vertical along the map polyline: u = distance along the line (m), v = elevation (m).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,9 +19,12 @@
 
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
+#include "renderer/image_encode.hpp"
 #include "section/contours.hpp"
+#include "section/polyline.hpp"
 #include "section/raster.hpp"
 #include "section/section_index.hpp"
+#include "section/vector_export.hpp"
 
 namespace geoslice::cli {
 namespace {
@@ -26,14 +35,13 @@ bool endsWith(const std::string& s, const std::string& suffix) {
     return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-Status writePpm(const std::string& path, const SectionImage& img) {
+Status writePpm(const std::string& path, const std::vector<std::uint8_t>& rgba, int W, int H) {
     FILE* f = std::fopen(path.c_str(), "wb");
     if (!f) return makeError(ErrorCode::IoError, "cannot open " + path + " for writing");
-    const int W = img.frame.width, H = img.frame.height;
     std::fprintf(f, "P6\n%d %d\n255\n", W, H);
     std::vector<std::uint8_t> rgb(std::size_t(W) * std::size_t(H) * 3);
     for (std::size_t i = 0; i < std::size_t(W) * std::size_t(H); ++i) {
-        const std::uint8_t* p = &img.rgba[4 * i];
+        const std::uint8_t* p = &rgba[4 * i];
         const unsigned a = p[3];
         for (int c = 0; c < 3; ++c)
             rgb[3 * i + std::size_t(c)] = static_cast<std::uint8_t>((p[c] * a + 255 * (255 - a) + 127) / 255);
@@ -43,18 +51,18 @@ Status writePpm(const std::string& path, const SectionImage& img) {
     return {};
 }
 
-Status writePgm16(const std::string& path, const SectionImage& img) {
-    std::vector<std::uint8_t> data(img.ids.size() * 2);
-    for (std::size_t i = 0; i < img.ids.size(); ++i) {
-        if (img.ids[i] > 65535)
+Status writePgm16(const std::string& path, const std::vector<std::uint32_t>& ids, int W, int H) {
+    std::vector<std::uint8_t> data(ids.size() * 2);
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        if (ids[i] > 65535)
             return makeError(ErrorCode::OutOfRange,
-                             "record id " + std::to_string(img.ids[i]) + " does not fit a 16-bit PGM (" + path + ")");
-        data[2 * i] = static_cast<std::uint8_t>(img.ids[i] >> 8);
-        data[2 * i + 1] = static_cast<std::uint8_t>(img.ids[i] & 0xFF);
+                             "record id " + std::to_string(ids[i]) + " does not fit a 16-bit PGM (" + path + ")");
+        data[2 * i] = static_cast<std::uint8_t>(ids[i] >> 8);
+        data[2 * i + 1] = static_cast<std::uint8_t>(ids[i] & 0xFF);
     }
     FILE* f = std::fopen(path.c_str(), "wb");
     if (!f) return makeError(ErrorCode::IoError, "cannot open " + path + " for writing");
-    std::fprintf(f, "P5\n%d %d\n65535\n", img.frame.width, img.frame.height);
+    std::fprintf(f, "P5\n%d %d\n65535\n", W, H);
     const bool ok = std::fwrite(data.data(), 1, data.size(), f) == data.size();
     if (std::fclose(f) != 0 || !ok) return makeError(ErrorCode::IoError, "cannot write " + path);
     return {};
@@ -62,11 +70,36 @@ Status writePgm16(const std::string& path, const SectionImage& img) {
 
 json vec3(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
 
+Status writeText(const std::string& path, const std::string& text) {
+    FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) return makeError(ErrorCode::IoError, "cannot open " + path + " for writing");
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !ok) return makeError(ErrorCode::IoError, "cannot write " + path);
+    return {};
+}
+
+bool isEncoded(const std::string& path) { return imageFormatFromPath(path).ok(); }
+
+json bodiesJson(const Model& m, const std::vector<BodySection>& bodies) {
+    json out = json::array();
+    for (const BodySection& b : bodies) {
+        std::size_t holes = 0;
+        for (const auto& p : b.polygons) holes += p.holes.size();
+        out.push_back({{"name", m.bodies[b.part].name},
+                       {"record", b.record},
+                       {"area_m2", b.area},
+                       {"polygons", b.polygons.size()},
+                       {"holes", holes},
+                       {"open_chains", b.openChains}});
+    }
+    return out;
+}
+
 }  // namespace
 
 void addSection(CLI::App& app, int& exitCode) {
     struct Opts {
-        std::string model, plane, size = "1024x1024", frame;
+        std::string model, plane, line, size = "1024x1024", frame, geojson, geojsonFrame = "plane", svg;
         std::vector<std::string> outs;
         double elevation = NAN;
         bool areas = false;
@@ -74,18 +107,28 @@ void addSection(CLI::App& app, int& exitCode) {
     };
     auto o = std::make_shared<Opts>();
     CLI::App* cmd = app.add_subcommand(
-        "section", "Exact section of a model by a plane (CPU): colour image, record-id image and areas per body");
+        "section", "Exact section of a model by a plane or along a map polyline (CPU): images, vectors and areas");
     cmd->add_option("MODEL", o->model, "Model file")->required();
     auto* planeOpt = cmd->add_option("--plane", o->plane,
                                      "Plane a,b,c,d in world coordinates (x east, y north, z up, metres); "
                                      "points with a*x+b*y+c*z+d >= 0 are kept");
     auto* elevOpt =
         cmd->add_option("--elevation", o->elevation, "Horizontal slice at this elevation (m), seen from above");
+    auto* lineOpt = cmd->add_option("--line", o->line,
+                                    "Vertical section along the map polyline x1,y1,x2,y2[,...] (world metres): "
+                                    "u = distance along the line, v = elevation");
     planeOpt->excludes(elevOpt);
+    planeOpt->excludes(lineOpt);
+    elevOpt->excludes(lineOpt);
     cmd->add_option("--size", o->size, "Image size WxH in pixels (default 1024x1024)");
     cmd->add_option("--frame", o->frame,
                     "Frame u0,u1,v0,v1 in plane metres (default: the section's extent); same meaning as in render");
-    cmd->add_option("--out", o->outs, "Output file, repeatable: .ppm = colour, .pgm = record ids (16-bit)");
+    cmd->add_option("--out", o->outs,
+                    "Output file, repeatable: .png/.jpg/.webp/.ppm = colour, .pgm = record ids (16-bit)");
+    cmd->add_option("--geojson", o->geojson, "Write the polygons and traces as GeoJSON");
+    cmd->add_option("--geojson-frame", o->geojsonFrame,
+                    "GeoJSON coordinates: plane ([u, v] metres, default) or world ([x, y, z] in the model's CRS)");
+    cmd->add_option("--svg", o->svg, "Write the polygons and traces as SVG (same frame and size as the image)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
     cmd->add_option("--threads", o->threads, "Threads for the cut: 1 or 2 (default 1)");
     cmd->callback([o, &exitCode] {
@@ -94,6 +137,7 @@ void addSection(CLI::App& app, int& exitCode) {
             exitCode = code;
         };
         Plane plane;
+        std::vector<glm::dvec2> linePoints;
         if (!o->plane.empty()) {
             double v[4];
             char extra = 0;
@@ -104,9 +148,29 @@ void addSection(CLI::App& app, int& exitCode) {
             plane = p.value();
         } else if (std::isfinite(o->elevation)) {
             plane = horizontalPlane(o->elevation);
+        } else if (!o->line.empty()) {
+            std::vector<double> v;
+            std::string item;
+            for (std::size_t pos = 0; pos <= o->line.size();) {
+                const std::size_t comma = std::min(o->line.find(',', pos), o->line.size());
+                item = o->line.substr(pos, comma - pos);
+                char* end = nullptr;
+                const double x = std::strtod(item.c_str(), &end);
+                if (item.empty() || end != item.c_str() + item.size())
+                    return fail("--line \"" + o->line + "\": \"" + item + "\" is not a number", 2);
+                v.push_back(x);
+                pos = comma + 1;
+            }
+            if (v.size() < 4 || v.size() % 2 != 0)
+                return fail("--line needs x1,y1,x2,y2[,...]: an even count of at least 4 numbers (got " +
+                                std::to_string(v.size()) + ")",
+                            2);
+            for (std::size_t i = 0; i < v.size(); i += 2) linePoints.push_back({v[i], v[i + 1]});
+            if (auto l = makeSectionLine(linePoints); !l) return fail("--line: " + l.error().message, 2);
         } else {
-            return fail("give --plane a,b,c,d or --elevation z (a finite number)", 2);
+            return fail("give --plane a,b,c,d, --elevation z (a finite number) or --line x1,y1,x2,y2[,...]", 2);
         }
+        const bool polyline = !linePoints.empty();
         int width = 0, height = 0;
         char extra = 0;
         if (std::sscanf(o->size.c_str(), "%dx%d%c", &width, &height, &extra) != 2)
@@ -121,8 +185,13 @@ void addSection(CLI::App& app, int& exitCode) {
             givenFrame = r;
         }
         for (const auto& out : o->outs)
-            if (!endsWith(out, ".ppm") && !endsWith(out, ".pgm"))
-                return fail("--out \"" + out + "\": the extension must be .ppm (colour) or .pgm (record ids)", 2);
+            if (!endsWith(out, ".ppm") && !endsWith(out, ".pgm") && !isEncoded(out))
+                return fail("--out \"" + out +
+                                "\": the extension must be .png, .jpg, .jpeg, .webp or .ppm (colour) or .pgm "
+                                "(record ids)",
+                            2);
+        if (o->geojsonFrame != "plane" && o->geojsonFrame != "world")
+            return fail("--geojson-frame must be plane or world (got \"" + o->geojsonFrame + "\")", 2);
         if (o->threads < 1 || o->threads > 2) return fail("--threads must be 1 or 2", 2);
 
         auto model = loadModel(o->model);
@@ -132,48 +201,93 @@ void addSection(CLI::App& app, int& exitCode) {
                          o->model.c_str());
         auto index = buildSectionIndex(model.value());
         if (!index) return fail(index.error().message, 1);
+        const SectionIndex& idx = *index.value();
         SectionOptions so;
         so.threads = o->threads;
-        auto section = computeSection(*index.value(), plane, so);
-        if (!section) return fail(section.error().message, 1);
-        const FrameRect rect = givenFrame ? *givenFrame : fitFrame(section.value(), width, height);
         RasterOptions ro;
         ro.background = Rgba8{0, 0, 0, 0};
-        auto img = rasterizeSection(*index.value(), section.value(), rect, width, height, ro);
-        if (!img) return fail(img.error().message, 1);
+
+        // Both shapes end in the same outputs: colour + ids, a vector source and a frame.
+        std::optional<Section> section;
+        std::optional<PolylineSection> lineSection;
+        FrameRect rect;
+        std::vector<std::uint8_t> rgba;
+        std::vector<std::uint32_t> ids;
+        json frameJson, imageJson;
+        if (polyline) {
+            auto s = computePolylineSection(idx, linePoints, so);
+            if (!s) return fail(s.error().message, 1);
+            lineSection = std::move(s).value();
+            rect = givenFrame ? *givenFrame : fitPolylineFrame(*lineSection, width, height);
+            auto img = rasterizePolylineSection(idx, *lineSection, rect, width, height, ro);
+            if (!img) return fail(img.error().message, 1);
+            json pts = json::array(), chain = json::array();
+            for (std::size_t i = 0; i < img->line.points.size(); ++i) {
+                pts.push_back({img->line.points[i].x, img->line.points[i].y});
+                chain.push_back(img->line.chainage[i]);
+            }
+            frameJson = {{"line", pts}, {"chainage_m", chain}};
+            imageJson = {{"width", width},
+                         {"height", height},
+                         {"rect_uv", {rect.u0, rect.v0, rect.u1, rect.v1}},
+                         {"pixel",
+                          "centre of pixel (i, j): u = rect_uv[0] + (i + 0.5) * (u1 - u0) / width, v = rect_uv[3] - "
+                          "(j + 0.5) * (v1 - v0) / height; world = the line's point at distance u, elevation v"}};
+            rgba = std::move(img->rgba);
+            ids = std::move(img->ids);
+        } else {
+            auto s = computeSection(idx, plane, so);
+            if (!s) return fail(s.error().message, 1);
+            section = std::move(s).value();
+            rect = givenFrame ? *givenFrame : fitFrame(*section, width, height);
+            auto img = rasterizeSection(idx, *section, rect, width, height, ro);
+            if (!img) return fail(img.error().message, 1);
+            const PixelFrame& f = img->frame;
+            frameJson = {{"origin", vec3(section->frame.originWorld())},
+                         {"u", vec3(section->frame.u)},
+                         {"v", vec3(section->frame.v)}};
+            imageJson = {{"width", width},
+                         {"height", height},
+                         {"rect_uv", {rect.u0, rect.v0, rect.u1, rect.v1}},
+                         {"world_at_pixel_corner_0_0", vec3(f.worldAtCorner())},
+                         {"world_per_pixel_x", vec3(f.worldPerPixelX())},
+                         {"world_per_pixel_y", vec3(f.worldPerPixelY())}};
+            rgba = std::move(img->rgba);
+            ids = std::move(img->ids);
+        }
+        const VectorSource source = polyline ? vectorSource(*lineSection) : vectorSource(*section);
         for (const auto& out : o->outs) {
-            Status s = endsWith(out, ".ppm") ? writePpm(out, img.value()) : writePgm16(out, img.value());
+            Status s = endsWith(out, ".ppm")   ? writePpm(out, rgba, width, height)
+                       : endsWith(out, ".pgm") ? writePgm16(out, ids, width, height)
+                                               : writeImage(out, rgba.data(), width, height);
             if (!s) return fail(s.error().message, 1);
         }
+        if (!o->geojson.empty()) {
+            const json g = toGeoJson(idx, source, o->geojsonFrame == "world" ? VectorFrame::World : VectorFrame::Plane);
+            if (Status s = writeText(o->geojson, g.dump() + "\n"); !s) return fail(s.error().message, 1);
+        }
+        if (!o->svg.empty()) {
+            auto svg = toSvg(idx, source, rect, width, height, ro);
+            if (!svg) return fail(svg.error().message, 1);
+            if (Status s = writeText(o->svg, svg.value()); !s) return fail(s.error().message, 1);
+        }
         if (o->areas) {
-            const Section& s = section.value();
-            const PixelFrame& f = img->frame;
-            json bodies = json::array();
-            for (const BodySection& b : s.bodies) {
-                std::size_t holes = 0;
-                for (const auto& p : b.polygons) holes += p.holes.size();
-                bodies.push_back({{"name", model->bodies[b.part].name},
-                                  {"record", b.record},
-                                  {"area_m2", b.area},
-                                  {"polygons", b.polygons.size()},
-                                  {"holes", holes},
-                                  {"open_chains", b.openChains}});
+            const std::vector<BodySection>& bodies = polyline ? lineSection->bodies : section->bodies;
+            const std::size_t traces = polyline ? lineSection->traces.size() : section->traces.size();
+            json j = {{"model", o->model}};
+            if (polyline) {
+                j["axes"] =
+                    "world: x easting, y northing, z elevation, metres; u = distance along the line (m), "
+                    "v = elevation (m)";
+            } else {
+                j["plane"] = {section->plane.normal.x, section->plane.normal.y, section->plane.normal.z,
+                              section->plane.d};
+                j["axes"] = "world: x easting, y northing, z elevation, metres; plane u/v metres from frame.origin";
             }
-            json j = {
-                {"model", o->model},
-                {"plane", {s.plane.normal.x, s.plane.normal.y, s.plane.normal.z, s.plane.d}},
-                {"axes", "world: x easting, y northing, z elevation, metres; plane u/v metres from frame.origin"},
-                {"frame", {{"origin", vec3(s.frame.originWorld())}, {"u", vec3(s.frame.u)}, {"v", vec3(s.frame.v)}}},
-                {"image",
-                 {{"width", width},
-                  {"height", height},
-                  {"rect_uv", {rect.u0, rect.v0, rect.u1, rect.v1}},
-                  {"world_at_pixel_corner_0_0", vec3(f.worldAtCorner())},
-                  {"world_per_pixel_x", vec3(f.worldPerPixelX())},
-                  {"world_per_pixel_y", vec3(f.worldPerPixelY())}}},
-                {"bodies", bodies},
-                {"traces", s.traces.size()},
-            };
+            j["frame"] = frameJson;
+            j["image"] = imageJson;
+            j["bodies"] = bodiesJson(model.value(), bodies);
+            j["traces"] = traces;
             std::printf("%s\n", j.dump(2).c_str());
         }
     });

@@ -12,5 +12,9 @@ void addCoords(CLI::App& app, int& exitCode);
 void addClassify(CLI::App& app, int& exitCode);
 void addSection(CLI::App& app, int& exitCode);
 void addRender(CLI::App& app, int& exitCode);
+void addBorehole(CLI::App& app, int& exitCode);
+void addReserves(CLI::App& app, int& exitCode);
+void addBake(CLI::App& app, int& exitCode);
+void addServe(CLI::App& app, int& exitCode);
 
 }  // namespace geoslice::cli

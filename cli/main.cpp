@@ -17,6 +17,10 @@ int main(int argc, char** argv) {
     geoslice::cli::addClassify(app, exitCode);
     geoslice::cli::addSection(app, exitCode);
     geoslice::cli::addRender(app, exitCode);
+    geoslice::cli::addBorehole(app, exitCode);
+    geoslice::cli::addReserves(app, exitCode);
+    geoslice::cli::addBake(app, exitCode);
+    geoslice::cli::addServe(app, exitCode);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -66,6 +66,7 @@ namespace geoslice {
     X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                       \
     X(PFNGLPROGRAMUNIFORM1UIPROC, ProgramUniform1ui)                                     \
     X(PFNGLPROGRAMUNIFORM1FPROC, ProgramUniform1f)                                       \
+    X(PFNGLPROGRAMUNIFORM2FVPROC, ProgramUniform2fv)                                     \
     X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                     \
     X(PFNGLPROGRAMUNIFORM4FVPROC, ProgramUniform4fv)                                     \
     X(PFNGLPROGRAMUNIFORMMATRIX4FVPROC, ProgramUniformMatrix4fv)                         \
@@ -105,6 +106,14 @@ namespace geoslice {
     X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                 \
     X(PFNGLNAMEDRENDERBUFFERSTORAGEPROC, NamedRenderbufferStorage)                       \
     X(PFNGLNAMEDRENDERBUFFERSTORAGEMULTISAMPLEPROC, NamedRenderbufferStorageMultisample) \
+    X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, NamedFramebufferTexture)                         \
+    X(PFNGLGETINTERNALFORMATIVPROC, GetInternalformativ)                                 \
+    /* textures (DSA) */                                                                 \
+    X(PFNGLCREATETEXTURESPROC, CreateTextures)                                           \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                           \
+    X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                       \
+    X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)                                     \
+    X(PFNGLBINDTEXTUREUNITPROC, BindTextureUnit)                                         \
     /* timing and sync */                                                                \
     X(PFNGLCREATEQUERIESPROC, CreateQueries)                                             \
     X(PFNGLDELETEQUERIESPROC, DeleteQueries)                                             \

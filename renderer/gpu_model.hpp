@@ -2,6 +2,18 @@
 // Model::origin, computed in double on the CPU (Model::localPositions), so nothing reaches
 // the GPU at a Gauss-Kruger magnitude. One vertex buffer and one index buffer for all parts;
 // each part is a range drawn with glDrawElementsBaseVertex.
+//
+// Spatial clusters: the model's bounds are cut into a grid of cells (about
+// UploadOptions::trianglesPerCell triangles each); every part's triangles are ordered by the
+// cell of their centroid, so a part is one index range at full detail and each of its
+// clusters (part x cell) a sub-range. The slicing pass skips clusters that are entirely on
+// the removed side of the planes or outside the view (exact: they would give no fragment).
+// Level of detail (UploadOptions::lod): each cluster also gets up to kMaxLodLevels - 1
+// simplified copies (meshoptimizer, quadric edge collapse, Garland & Heckbert 1997) with the
+// cluster's border vertices locked, so clusters at different levels still meet without
+// cracks; each copy records its geometric error in metres (meshopt_simplify's error times
+// meshopt_simplifyScale). A simplified copy lies in the convex hull of its cluster's
+// vertices, hence inside the cell bounds (cellBounds()).
 // Threads: create, use and destroy on the owning GlContext's thread. GL state: upload()
 // creates buffers and a vertex array with DSA and leaves no binding changed.
 #pragma once
@@ -20,6 +32,7 @@ namespace geoslice {
 
 class GpuModel {
 public:
+    static constexpr int kMaxLodLevels = 8;
     struct DrawPart {
         GLint baseVertex = 0;
         GLsizei indexCount = 0;
@@ -29,11 +42,31 @@ public:
         glm::vec4 colour{0.6f};                // attribute record colour, 0..1
         RecordId containerRecord = kNoRecord;  // innermost containing body (validation's parent)
         glm::vec4 containerColour{0.6f};
+        // Level l of a cluster: indices [first[l], first[l] + count[l]) of the index buffer
+        // (part-local vertex numbers, baseVertex applies); level 0 is full detail and lies
+        // inside [firstIndex, firstIndex + indexCount). error[l] in metres, error[0] = 0.
+        struct Cluster {
+            std::uint32_t cell = 0;
+            int levels = 1;
+            std::size_t first[kMaxLodLevels] = {};
+            GLsizei count[kMaxLodLevels] = {};
+            float error[kMaxLodLevels] = {};
+        };
+        std::vector<Cluster> clusters;  // in index-buffer order
     };
+
+    struct UploadOptions {
+        enum class Lod { Off, On, Auto };  // Auto: on for software rasterisers (llvmpipe)
+        Lod lod = Lod::Auto;
+        std::size_t trianglesPerCell = 4096;  // grid resolution; at most kMaxCells cells
+        int lodLevels = 5;                    // levels including full detail, 1..kMaxLodLevels
+    };
+    static constexpr std::size_t kMaxCells = 4096;
 
     // Uploads every body and surface. Nesting comes from Part::report.parent, so the model
     // should have been validated (loaders do; generateSynthetic callers run validate()).
-    static Result<std::unique_ptr<GpuModel>> upload(GlContext& context, const Model& model);
+    static Result<std::unique_ptr<GpuModel>> upload(GlContext& context, const Model& model,
+                                                    const UploadOptions& options = {});
     ~GpuModel();
     GpuModel(const GpuModel&) = delete;
     GpuModel& operator=(const GpuModel&) = delete;
@@ -43,6 +76,13 @@ public:
     const glm::dvec3& origin() const { return origin_; }
     const Aabb& worldBounds() const { return bounds_; }
     std::size_t triangleCount() const { return triangles_; }
+    // Open surfaces (faults, terrain sheets) kept on the CPU for trace lines: local frame,
+    // float32, three vertices per triangle.
+    const std::vector<glm::vec3>& surfaceTriangles() const { return surfaceTriangles_; }
+    // Bounds of the triangles of each cell, local frame (empty cells are invalid boxes).
+    const std::vector<Aabb>& cellBounds() const { return cellBounds_; }
+    bool hasLod() const { return hasLod_; }
+    double lodBuildMs() const { return lodBuildMs_; }
 
 private:
     explicit GpuModel(GlContext& context) : context_(context) {}
@@ -52,6 +92,10 @@ private:
     glm::dvec3 origin_{0.0};
     Aabb bounds_;
     std::size_t triangles_ = 0;
+    std::vector<glm::vec3> surfaceTriangles_;
+    std::vector<Aabb> cellBounds_;
+    bool hasLod_ = false;
+    double lodBuildMs_ = 0.0;
 };
 
 }  // namespace geoslice

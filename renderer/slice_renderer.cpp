@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -33,7 +34,65 @@ void flipRows(const std::vector<T>& in, std::vector<T>& out, int width, int heig
         std::memcpy(out.data() + std::size_t(height - 1 - y) * row, in.data() + std::size_t(y) * row, row * sizeof(T));
 }
 
+// The pieces of `tris` (local frame, 3 vertices each) that lie on the cut face of each plane
+// (local frame, unit normals), as line-segment end points appended to `out`. A triangle
+// crosses plane i where its vertices' signed distances change sign (>= 0 counts as kept, so
+// a vertex on the plane never yields a zero-length duplicate). The cut face of plane i is
+// where every other plane keeps the point (intersection) or removes it (union), so each
+// segment is clipped by those half-spaces. Distances in double.
+void appendTraces(const std::vector<glm::vec3>& tris, const std::vector<glm::dvec4>& planes, bool unionMode,
+                  std::vector<glm::vec3>& out) {
+    const int planeCount = int(planes.size());
+    auto dist = [](const glm::dvec4& pl, const glm::dvec3& p) { return glm::dot(glm::dvec3(pl), p) + pl.w; };
+    for (int i = 0; i < planeCount; ++i) {
+        const glm::dvec4& pl = planes[std::size_t(i)];
+        for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+            const glm::dvec3 v[3] = {tris[t], tris[t + 1], tris[t + 2]};
+            const double d[3] = {dist(pl, v[0]), dist(pl, v[1]), dist(pl, v[2])};
+            glm::dvec3 ends[2];
+            int n = 0;
+            for (int e = 0; e < 3; ++e) {
+                const int a = e, b = (e + 1) % 3;
+                if ((d[a] >= 0.0) == (d[b] >= 0.0)) continue;
+                if (n < 2) ends[n] = v[a] + (v[b] - v[a]) * (d[a] / (d[a] - d[b]));
+                ++n;
+            }
+            if (n != 2) continue;
+            double t0 = 0.0, t1 = 1.0;
+            for (int j = 0; j < planeCount && t0 <= t1; ++j) {
+                if (j == i) continue;
+                const double sign = unionMode ? -1.0 : 1.0;
+                const double g0 = sign * dist(planes[std::size_t(j)], ends[0]);
+                const double g1 = sign * dist(planes[std::size_t(j)], ends[1]);
+                if (g0 < 0.0 && g1 < 0.0)
+                    t0 = 2.0, t1 = -1.0;
+                else if (g0 < 0.0)
+                    t0 = std::max(t0, g0 / (g0 - g1));
+                else if (g1 < 0.0)
+                    t1 = std::min(t1, g0 / (g0 - g1));
+            }
+            if (!(t0 < t1)) continue;
+            out.push_back(glm::vec3(ends[0] + (ends[1] - ends[0]) * t0));
+            out.push_back(glm::vec3(ends[0] + (ends[1] - ends[0]) * t1));
+        }
+    }
+}
+
 }  // namespace
+
+const char* antiAliasName(AntiAlias mode) {
+    switch (mode) {
+        case AntiAlias::None:
+            return "none";
+        case AntiAlias::Auto:
+            return "auto";
+        case AntiAlias::Fxaa:
+            return "fxaa";
+        case AntiAlias::Msaa:
+            return "msaa";
+    }
+    return "none";
+}
 
 const char* clipMethodName(ClipMethod method) {
     return method == ClipMethod::ClipDistance ? "clip-distance" : "discard";
@@ -56,21 +115,93 @@ Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context)
         v.u.capRecord = v.program.uniform("uCapRecord");
         v.u.capColour = v.program.uniform("uCapColour");
         v.u.lightDir = v.program.uniform("uLightDir");
+        v.u.shadeScale = v.program.uniform("uShadeScale");
         r->programs_.push_back(std::move(v));
     }
+    auto trace = GlProgram::build(context.gl(), "trace.vert", "trace.frag", {});
+    if (!trace) return trace.error();
+    r->traceProgram_ = std::make_unique<GlProgram>(std::move(trace).value());
+    r->traceViewProj_ = r->traceProgram_->uniform("uViewProj");
+    r->traceColour_ = r->traceProgram_->uniform("uColour");
+    auto fxaa = GlProgram::build(context.gl(), "fxaa.vert", "fxaa.frag", {});
+    if (!fxaa) return fxaa.error();
+    r->fxaaProgram_ = std::make_unique<GlProgram>(std::move(fxaa).value());
+    r->fxaaTexel_ = r->fxaaProgram_->uniform("uTexel");
+    r->fxaaColour_ = r->fxaaProgram_->uniform("uColour");
     return r;
 }
 
-SliceRenderer::~SliceRenderer() { releaseTarget(); }
+SliceRenderer::~SliceRenderer() {
+    releaseTarget();
+    const GlFunctions& gl = context_.gl();
+    if (traceVao_) gl.DeleteVertexArrays(1, &traceVao_);
+    if (traceBuffer_) gl.DeleteBuffers(1, &traceBuffer_);
+    if (emptyVao_) gl.DeleteVertexArrays(1, &emptyVao_);
+}
+
+Status SliceRenderer::drawTraces(const SliceRequest& request, const GpuModel& model,
+                                 const std::vector<glm::dvec4>& planesLocal, const glm::mat4& viewProj,
+                                 std::size_t& segments) {
+    std::vector<glm::vec3> verts;
+    appendTraces(model.surfaceTriangles(), planesLocal,
+                 request.combine == PlaneCombine::Union && planesLocal.size() > 1, verts);
+    segments = verts.size() / 2;
+    if (verts.empty()) return {};
+    const GlFunctions& gl = context_.gl();
+    if (verts.size() > traceCapacity_) {
+        if (traceBuffer_) gl.DeleteBuffers(1, &traceBuffer_);
+        traceCapacity_ = std::max(verts.size(), 2 * traceCapacity_);
+        gl.CreateBuffers(1, &traceBuffer_);
+        gl.NamedBufferStorage(traceBuffer_, GLsizeiptr(traceCapacity_ * sizeof(glm::vec3)), nullptr,
+                              GL_DYNAMIC_STORAGE_BIT);
+        if (!traceVao_) {
+            gl.CreateVertexArrays(1, &traceVao_);
+            gl.EnableVertexArrayAttrib(traceVao_, 0);
+            gl.VertexArrayAttribFormat(traceVao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+            gl.VertexArrayAttribBinding(traceVao_, 0, 0);
+        }
+        gl.VertexArrayVertexBuffer(traceVao_, 0, traceBuffer_, 0, sizeof(glm::vec3));
+    }
+    gl.NamedBufferSubData(traceBuffer_, 0, GLsizeiptr(verts.size() * sizeof(glm::vec3)), verts.data());
+    const GLuint prog = traceProgram_->id();
+    gl.UseProgram(prog);
+    gl.ProgramUniformMatrix4fv(prog, traceViewProj_, 1, GL_FALSE, glm::value_ptr(viewProj));
+    const Rgba8 c = request.traceColour;
+    const float colour[4] = {c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, c.a / 255.0f};
+    gl.ProgramUniform4fv(prog, traceColour_, 1, colour);
+    // Only on cut faces (stencil 1), at the plane's depth, which is in front of the surface
+    // behind the cut that gave the cap its depth; ids and depth untouched.
+    gl.ColorMaski(1, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.DepthMask(GL_FALSE);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.StencilFunc(GL_EQUAL, 1, 0xff);
+    gl.StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    gl.Disable(GL_CULL_FACE);
+    for (int i = 0; i < kMaxPlanes; ++i) gl.Disable(GLenum(GL_CLIP_DISTANCE0 + i));
+    float range[2] = {1.0f, 1.0f};
+    gl.GetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, range);
+    gl.LineWidth(std::clamp(request.traceWidth, std::max(range[0], 1.0f), std::max(range[1], 1.0f)));
+    gl.BindVertexArray(traceVao_);
+    gl.DrawArrays(GL_LINES, 0, GLsizei(verts.size()));
+    gl.LineWidth(1.0f);
+    gl.ColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.DepthMask(GL_TRUE);
+    gl.DepthFunc(GL_LESS);
+    return {};
+}
 
 void SliceRenderer::releaseTarget() {
     const GlFunctions& gl = context_.gl();
-    if (fbo_) gl.DeleteFramebuffers(1, &fbo_);
-    GLuint rbs[] = {colourRb_, idRb_, depthRb_};
+    GLuint fbos[] = {fbo_, msFbo_, aaFbo_};
+    for (GLuint f : fbos)
+        if (f) gl.DeleteFramebuffers(1, &f);
+    GLuint rbs[] = {idRb_, depthRb_, msColourRb_, msIdRb_, msDepthRb_, aaRb_};
     for (GLuint rb : rbs)
         if (rb) gl.DeleteRenderbuffers(1, &rb);
-    fbo_ = colourRb_ = idRb_ = depthRb_ = 0;
-    targetWidth_ = targetHeight_ = 0;
+    if (colourTex_) gl.DeleteTextures(1, &colourTex_);
+    fbo_ = msFbo_ = aaFbo_ = colourTex_ = idRb_ = depthRb_ = msColourRb_ = msIdRb_ = msDepthRb_ = aaRb_ = 0;
+    targetWidth_ = targetHeight_ = targetSamples_ = 0;
+    targetAa_ = false;
 }
 
 Status SliceRenderer::checkSize(int width, int height) const {
@@ -94,35 +225,72 @@ Status SliceRenderer::checkSize(int width, int height) const {
     return {};
 }
 
-Status SliceRenderer::ensureTarget(int width, int height) {
-    if (fbo_ && width == targetWidth_ && height == targetHeight_) return {};
+Status SliceRenderer::ensureTarget(int width, int height, int samples, bool fxaa) {
+    if (fbo_ && width == targetWidth_ && height == targetHeight_ && samples == targetSamples_ &&
+        (fxaa == targetAa_ || !fxaa))
+        return {};
     releaseTarget();
     const GlFunctions& gl = context_.gl();
     while (gl.GetError() != GL_NO_ERROR) {
     }
-    gl.CreateRenderbuffers(1, &colourRb_);
-    gl.NamedRenderbufferStorage(colourRb_, GL_RGBA8, width, height);
+    const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    // Single-sample target: what is read back. Colour is a texture so that the FXAA pass can
+    // sample it; ids and depth are renderbuffers.
+    gl.CreateTextures(GL_TEXTURE_2D, 1, &colourTex_);
+    gl.TextureStorage2D(colourTex_, 1, GL_RGBA8, width, height);
+    gl.TextureParameteri(colourTex_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    gl.TextureParameteri(colourTex_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl.TextureParameteri(colourTex_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl.TextureParameteri(colourTex_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     gl.CreateRenderbuffers(1, &idRb_);
     gl.NamedRenderbufferStorage(idRb_, GL_R32UI, width, height);
     gl.CreateRenderbuffers(1, &depthRb_);
     gl.NamedRenderbufferStorage(depthRb_, GL_DEPTH32F_STENCIL8, width, height);
     gl.CreateFramebuffers(1, &fbo_);
-    gl.NamedFramebufferRenderbuffer(fbo_, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colourRb_);
+    gl.NamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, colourTex_, 0);
     gl.NamedFramebufferRenderbuffer(fbo_, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, idRb_);
     gl.NamedFramebufferRenderbuffer(fbo_, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depthRb_);
-    const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     gl.NamedFramebufferDrawBuffers(fbo_, 2, drawBuffers);
+    std::vector<GLuint> check = {fbo_};
+    if (samples > 1) {
+        // Multisampled draw target, resolved into fbo_ after the pass (colour averaged; ids
+        // and depth take one sample's value, GL 4.5 section 18.3.1: never blended).
+        gl.CreateRenderbuffers(1, &msColourRb_);
+        gl.NamedRenderbufferStorageMultisample(msColourRb_, samples, GL_RGBA8, width, height);
+        gl.CreateRenderbuffers(1, &msIdRb_);
+        gl.NamedRenderbufferStorageMultisample(msIdRb_, samples, GL_R32UI, width, height);
+        gl.CreateRenderbuffers(1, &msDepthRb_);
+        gl.NamedRenderbufferStorageMultisample(msDepthRb_, samples, GL_DEPTH32F_STENCIL8, width, height);
+        gl.CreateFramebuffers(1, &msFbo_);
+        gl.NamedFramebufferRenderbuffer(msFbo_, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msColourRb_);
+        gl.NamedFramebufferRenderbuffer(msFbo_, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, msIdRb_);
+        gl.NamedFramebufferRenderbuffer(msFbo_, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, msDepthRb_);
+        gl.NamedFramebufferDrawBuffers(msFbo_, 2, drawBuffers);
+        check.push_back(msFbo_);
+    }
+    if (fxaa) {
+        gl.CreateRenderbuffers(1, &aaRb_);
+        gl.NamedRenderbufferStorage(aaRb_, GL_RGBA8, width, height);
+        gl.CreateFramebuffers(1, &aaFbo_);
+        gl.NamedFramebufferRenderbuffer(aaFbo_, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, aaRb_);
+        check.push_back(aaFbo_);
+    }
     GLenum error = gl.GetError();
-    GLenum status = gl.CheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER);
+    GLenum status = GL_FRAMEBUFFER_COMPLETE;
+    for (GLuint f : check)
+        if (status == GL_FRAMEBUFFER_COMPLETE) status = gl.CheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
     if (error != GL_NO_ERROR || status != GL_FRAMEBUFFER_COMPLETE) {
         releaseTarget();
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "framebuffer %dx%d (RGBA8 + R32UI + DEPTH32F_STENCIL8): %s, status 0x%04x",
-                      width, height, glErrorName(error).c_str(), status);
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "framebuffer %dx%d (RGBA8 + R32UI + DEPTH32F_STENCIL8, %d sample(s)%s): %s, status 0x%04x", width,
+                      height, std::max(samples, 1), fxaa ? ", FXAA target" : "", glErrorName(error).c_str(), status);
         return makeError(error == GL_OUT_OF_MEMORY ? ErrorCode::OutOfRange : ErrorCode::Internal, buf);
     }
     targetWidth_ = width;
     targetHeight_ = height;
+    targetSamples_ = samples;
+    targetAa_ = fxaa;
     return {};
 }
 
@@ -132,22 +300,59 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         return makeError(ErrorCode::InvalidArgument, std::to_string(request.planes.size()) + " planes given, at most " +
                                                          std::to_string(kMaxPlanes));
     float planesLocal[kMaxPlanes * 4] = {};
+    std::vector<glm::dvec4> planesLocalD;
     for (std::size_t i = 0; i < request.planes.size(); ++i) {
         auto unit = normalizePlane(request.planes[i]);
         if (!unit)
             return makeError(ErrorCode::InvalidArgument, "plane " + std::to_string(i) + ": " + unit.error().message);
         const glm::dvec4 local = planeToLocal(*unit, model.origin());
+        planesLocalD.push_back(local);
         for (int k = 0; k < 4; ++k) planesLocal[i * 4 + std::size_t(k)] = float(local[k]);
     }
+    if (auto s = checkExaggeration(request.exaggeration); !s) return s.error();
+    if (!(request.lodPixelError > 0.0f && request.lodPixelError <= 1000.0f))
+        return makeError(ErrorCode::InvalidArgument,
+                         "LOD pixel error " + std::to_string(request.lodPixelError) + " is outside (0, 1000]");
+    if (request.drawTraces && !(request.traceWidth > 0.0f && request.traceWidth <= 64.0f))
+        return makeError(ErrorCode::InvalidArgument,
+                         "trace width " + std::to_string(request.traceWidth) + " px is outside (0, 64]");
+    // The view is built in display space around the display image of the origin; local
+    // positions q map to display-local as (q.x, q.y, f * q.z), so the exaggeration is one
+    // diagonal matrix on the right. Planes stay in the true local frame.
+    const VerticalExaggeration& ve = request.exaggeration;
+    const glm::dvec3 displayOrigin = ve.toDisplay(model.origin());
+    const Aabb displayBounds = ve.boundsToDisplay(model.worldBounds());
     Result<ViewTransform> view =
         std::holds_alternative<ProfileView>(request.view)
-            ? profileTransform(std::get<ProfileView>(request.view), model.origin(), model.worldBounds())
-            : perspectiveTransform(std::get<PerspectiveView>(request.view), model.origin(), model.worldBounds(),
-                                   request.width, request.height);
+            ? profileTransform(std::get<ProfileView>(request.view), displayOrigin, displayBounds)
+            : perspectiveTransform(std::get<PerspectiveView>(request.view), displayOrigin, displayBounds, request.width,
+                                   request.height);
     if (!view) return view.error();
-    if (auto s = ensureTarget(request.width, request.height); !s) return s.error();
+    if (!ve.identity()) {
+        glm::dmat4 stretch(1.0);
+        stretch[2][2] = ve.factor;
+        view->viewProj = view->viewProj * stretch;
+    }
+    const GlFunctions& gl = context_.gl();
+    AntiAlias aa = request.antiAlias;
+    if (aa == AntiAlias::Auto) aa = context_.info().software ? AntiAlias::Fxaa : AntiAlias::Msaa;
+    int samples = 0;
+    if (aa == AntiAlias::Msaa) {
+        if (request.msaaSamples < 2 || request.msaaSamples > 64)
+            return makeError(ErrorCode::InvalidArgument,
+                             "MSAA samples " + std::to_string(request.msaaSamples) + " is outside 2..64");
+        GLint maxSamples = 0, maxIntegerSamples = 0;
+        gl.GetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+        gl.GetIntegerv(GL_MAX_INTEGER_SAMPLES, &maxIntegerSamples);
+        samples = std::min({request.msaaSamples, int(maxSamples), int(maxIntegerSamples)});
+        if (samples < 2) aa = AntiAlias::None, samples = 0;
+    }
+    if (auto s = ensureTarget(request.width, request.height, samples, aa == AntiAlias::Fxaa); !s) return s.error();
+    const GLuint drawFbo = samples > 1 ? msFbo_ : fbo_;
 
     SliceImage image;
+    image.aaUsed = aa;
+    image.samples = std::max(samples, 1);
     image.width = request.width;
     image.height = request.height;
     image.viewProj = view->viewProj;
@@ -156,17 +361,16 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     image.clipUsed = unionMode ? ClipMethod::Discard : request.clip;
     const Variant& v = programs_[image.clipUsed == ClipMethod::ClipDistance ? 0 : 1];
     const GLuint prog = v.program.id();
-    const GlFunctions& gl = context_.gl();
 
     const auto t0 = std::chrono::steady_clock::now();
-    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, drawFbo);
     gl.Viewport(0, 0, request.width, request.height);
     const float bg[4] = {request.background.r / 255.0f, request.background.g / 255.0f, request.background.b / 255.0f,
                          request.background.a / 255.0f};
     const GLuint noId[4] = {0, 0, 0, 0};
-    gl.ClearNamedFramebufferfv(fbo_, GL_COLOR, 0, bg);
-    gl.ClearNamedFramebufferuiv(fbo_, GL_COLOR, 1, noId);
-    gl.ClearNamedFramebufferfi(fbo_, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    gl.ClearNamedFramebufferfv(drawFbo, GL_COLOR, 0, bg);
+    gl.ClearNamedFramebufferuiv(drawFbo, GL_COLOR, 1, noId);
+    gl.ClearNamedFramebufferfi(drawFbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
 
     gl.Disablei(GL_BLEND, 0);
     gl.Disablei(GL_BLEND, 1);
@@ -192,11 +396,42 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     gl.ProgramUniform1i(prog, v.u.planeCount, planeCount);
     gl.ProgramUniform1i(prog, v.u.unionMode, unionMode ? 1 : 0);
     gl.ProgramUniform3fv(prog, v.u.lightDir, 1, glm::value_ptr(light));
+    const float shadeScale[3] = {1.0f, 1.0f, float(ve.factor)};
+    gl.ProgramUniform3fv(prog, v.u.shadeScale, 1, shadeScale);
     gl.BindVertexArray(model.vertexArray());
 
+    const std::vector<float> allowed = clusterBudget(model, request, *view, unionMode, planesLocalD, image);
+    auto drawRange = [&](const GpuModel::DrawPart& p, std::size_t first, GLsizei count) {
+        if (count == 0) return;
+        gl.DrawElementsBaseVertex(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                                  reinterpret_cast<const void*>(first * sizeof(std::uint32_t)), p.baseVertex);
+        image.trianglesDrawn += std::size_t(count) / 3;
+    };
+    // Each cluster at the coarsest level its budget allows (-1: skipped); consecutive
+    // full-detail clusters are contiguous in the index buffer and go out as one draw.
     auto draw = [&](const GpuModel::DrawPart& p) {
-        gl.DrawElementsBaseVertex(GL_TRIANGLES, p.indexCount, GL_UNSIGNED_INT,
-                                  reinterpret_cast<const void*>(p.firstIndex * sizeof(std::uint32_t)), p.baseVertex);
+        std::size_t runFirst = 0;
+        GLsizei runCount = 0;
+        for (const GpuModel::DrawPart::Cluster& c : p.clusters) {
+            const float budget = allowed[c.cell];
+            int level = budget < 0.0f ? -1 : 0;
+            while (level >= 0 && level + 1 < c.levels && c.error[level + 1] <= budget) ++level;
+            if (level == 0 && runCount > 0 && runFirst + std::size_t(runCount) == c.first[0]) {
+                runCount += c.count[0];
+                continue;
+            }
+            drawRange(p, runFirst, runCount);
+            runCount = 0;
+            if (level < 0) {
+                ++image.clustersSkipped;
+            } else if (level == 0) {
+                runFirst = c.first[0];
+                runCount = c.count[0];
+            } else {
+                drawRange(p, c.first[level], c.count[level]);
+            }
+        }
+        drawRange(p, runFirst, runCount);
     };
     auto setFace = [&](int role, const GpuModel::DrawPart& p, RecordId capRecord, const glm::vec4& capColour) {
         gl.ProgramUniform1i(prog, v.u.faceRole, role);
@@ -240,8 +475,18 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
                 draw(p);
             }
     }
+    if (request.drawTraces && planeCount > 0 && !model.surfaceTriangles().empty())
+        if (auto s = drawTraces(request, model, planesLocalD, viewProj, image.traceSegments); !s) return s.error();
     gl.Finish();
     image.drawMs = msSince(t0);
+
+    const auto tAa = std::chrono::steady_clock::now();
+    if (samples > 1) resolveMultisample(request.width, request.height);
+    if (aa == AntiAlias::Fxaa && request.readColour) runFxaa(request.width, request.height);
+    if (aa != AntiAlias::None) {
+        gl.Finish();
+        image.aaMs = msSince(tAa);
+    }
 
     const auto t1 = std::chrono::steady_clock::now();
     gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
@@ -249,9 +494,12 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     const std::size_t n = std::size_t(request.width) * std::size_t(request.height);
     if (request.readColour) {
         std::vector<std::uint8_t> raw(n * 4);
-        gl.NamedFramebufferReadBuffer(fbo_, GL_COLOR_ATTACHMENT0);
+        const GLuint colourFbo = aa == AntiAlias::Fxaa ? aaFbo_ : fbo_;
+        gl.BindFramebuffer(GL_READ_FRAMEBUFFER, colourFbo);
+        gl.NamedFramebufferReadBuffer(colourFbo, GL_COLOR_ATTACHMENT0);
         gl.ReadPixels(0, 0, request.width, request.height, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
         flipRows(raw, image.rgba, request.width, request.height, 4);
+        gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
     }
     if (request.readIds) {
         std::vector<RecordId> raw(n);
@@ -279,6 +527,114 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     return image;
 }
 
+std::vector<float> SliceRenderer::clusterBudget(const GpuModel& model, const SliceRequest& request,
+                                                const ViewTransform& view, bool unionMode,
+                                                const std::vector<glm::dvec4>& planesLocal, SliceImage& image) const {
+    const std::vector<Aabb>& cells = model.cellBounds();
+    std::vector<float> allowed(cells.size(), 0.0f);
+    const bool perspective = std::holds_alternative<PerspectiveView>(request.view);
+    const bool lod = model.hasLod() &&
+                     (request.lod == SliceRequest::Lod::On || (request.lod == SliceRequest::Lod::Auto && perspective));
+    image.lodUsed = lod;
+    const double f = request.exaggeration.factor;
+    // Pixels per metre of error: orthographic from the frame, perspective at distance 1.
+    double orthoScale = 0.0, perspScale = 0.0;
+    glm::dvec3 eye(0.0);
+    if (perspective) {
+        const PerspectiveView& pv = std::get<PerspectiveView>(request.view);
+        perspScale = 0.5 * request.height / std::tan(glm::radians(pv.fovYDegrees) * 0.5);
+        eye = pv.eye - request.exaggeration.toDisplay(model.origin());  // display-local
+    } else {
+        const ProfileView& pv = std::get<ProfileView>(request.view);
+        orthoScale = std::max(request.width / (pv.uMax - pv.uMin), request.height / (pv.vMax - pv.vMin));
+    }
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+        const Aabb& b = cells[c];
+        if (!b.valid()) continue;
+        glm::dvec3 corner[8];
+        for (int i = 0; i < 8; ++i)
+            corner[i] = {i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y, i & 4 ? b.max.z : b.min.z};
+        // Slack for float32 positions and plane coefficients on the GPU.
+        const double tol = 1e-3 + 1e-6 * glm::length(b.size()) + 1e-7 * glm::length(b.max);
+        bool removed = unionMode && !planesLocal.empty(), crossing = false;
+        for (const glm::dvec4& pl : planesLocal) {
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            for (const glm::dvec3& q : corner) {
+                const double d = glm::dot(glm::dvec3(pl), q) + pl.w;
+                lo = std::min(lo, d);
+                hi = std::max(hi, d);
+            }
+            const bool outside = hi < -tol;
+            removed = unionMode ? (removed && outside) : (removed || outside);
+            crossing = crossing || (lo <= tol && hi >= -tol);
+        }
+        // Outside the view: every corner beyond one clip-space plane.
+        bool culled = false;
+        for (int axis = 0; axis < 3 && !culled; ++axis)
+            for (double side : {-1.0, 1.0}) {
+                bool allOut = true;
+                for (const glm::dvec3& q : corner) {
+                    const glm::dvec4 clip = view.viewProj * glm::dvec4(q, 1.0);
+                    allOut = allOut && side * clip[axis] > clip.w;
+                }
+                culled = culled || allOut;
+            }
+        if (removed || culled) {
+            allowed[c] = -1.0f;
+            continue;
+        }
+        if (!lod || crossing) continue;  // full detail: the cut stays exact
+        double pixelsPerMetre = orthoScale;
+        if (perspective) {
+            const glm::dvec3 lo(b.min.x, b.min.y, f * b.min.z), hi(b.max.x, b.max.y, f * b.max.z);
+            const double dist = glm::length(glm::max(glm::max(lo - eye, eye - hi), glm::dvec3(0.0)));
+            if (dist <= 0.0) continue;
+            pixelsPerMetre = perspScale / dist;
+        }
+        // Exaggeration stretches an error along z by up to f.
+        allowed[c] = float(request.lodPixelError / (pixelsPerMetre * std::max(1.0, f)));
+    }
+    return allowed;
+}
+
+void SliceRenderer::resolveMultisample(int width, int height) {
+    const GlFunctions& gl = context_.gl();
+    // One attachment at a time: float and integer colour buffers cannot share a blit.
+    const GLenum colourOnly[] = {GL_COLOR_ATTACHMENT0, GL_NONE};
+    const GLenum idsOnly[] = {GL_NONE, GL_COLOR_ATTACHMENT1};
+    const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    gl.NamedFramebufferReadBuffer(msFbo_, GL_COLOR_ATTACHMENT0);
+    gl.NamedFramebufferDrawBuffers(fbo_, 2, colourOnly);
+    gl.BlitNamedFramebuffer(msFbo_, fbo_, 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    gl.NamedFramebufferReadBuffer(msFbo_, GL_COLOR_ATTACHMENT1);
+    gl.NamedFramebufferDrawBuffers(fbo_, 2, idsOnly);
+    gl.BlitNamedFramebuffer(msFbo_, fbo_, 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    gl.BlitNamedFramebuffer(msFbo_, fbo_, 0, 0, width, height, 0, 0, width, height,
+                            GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT, GL_NEAREST);
+    gl.NamedFramebufferDrawBuffers(fbo_, 2, both);
+    gl.NamedFramebufferReadBuffer(msFbo_, GL_COLOR_ATTACHMENT0);
+}
+
+void SliceRenderer::runFxaa(int width, int height) {
+    const GlFunctions& gl = context_.gl();
+    gl.BindFramebuffer(GL_FRAMEBUFFER, aaFbo_);
+    gl.Viewport(0, 0, width, height);
+    gl.Disable(GL_DEPTH_TEST);
+    gl.Disable(GL_STENCIL_TEST);
+    gl.Disable(GL_CULL_FACE);
+    for (int i = 0; i < kMaxPlanes; ++i) gl.Disable(GLenum(GL_CLIP_DISTANCE0 + i));
+    const GLuint prog = fxaaProgram_->id();
+    gl.UseProgram(prog);
+    const float texel[2] = {1.0f / float(width), 1.0f / float(height)};
+    gl.ProgramUniform2fv(prog, fxaaTexel_, 1, texel);
+    gl.ProgramUniform1i(prog, fxaaColour_, 0);
+    gl.BindTextureUnit(0, colourTex_);
+    if (!emptyVao_) gl.CreateVertexArrays(1, &emptyVao_);
+    gl.BindVertexArray(emptyVao_);
+    gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    gl.BindTextureUnit(0, 0);
+}
+
 Status SliceRenderer::warmUp(const GpuModel& model) {
     SliceRequest r;
     r.width = r.height = 64;
@@ -288,6 +644,7 @@ Status SliceRenderer::warmUp(const GpuModel& model) {
     r.planes = {plane};
     for (ClipMethod m : {ClipMethod::ClipDistance, ClipMethod::Discard}) {
         r.clip = m;
+        r.antiAlias = m == ClipMethod::ClipDistance ? AntiAlias::Auto : AntiAlias::None;
         auto img = render(model, r);
         if (!img) return img.error();
     }

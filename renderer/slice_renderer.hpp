@@ -42,6 +42,16 @@ enum class ClipMethod {
 };
 const char* clipMethodName(ClipMethod method);  // "clip-distance", "discard"
 
+// Anti-aliasing of the colour output. The ID buffer is never blended: with MSAA it takes one
+// sample's id per pixel; FXAA reads and writes colour only.
+enum class AntiAlias {
+    None,
+    Auto,  // Msaa on a hardware device, Fxaa on a software rasteriser (llvmpipe: MSAA costs 3.5-5x)
+    Fxaa,  // a post pass on colour (shaders/fxaa.frag)
+    Msaa,  // multisampled draw target, resolved before readback
+};
+const char* antiAliasName(AntiAlias mode);  // "none", "auto", "fxaa", "msaa"
+
 enum class PlaneCombine {
     Intersection,  // keep points on the positive side of every plane (slab, wedge kept)
     Union,         // keep points on the positive side of any plane (box or wedge cut out)
@@ -56,11 +66,31 @@ struct SliceRequest {
     // ClipDistance with Union and more than one plane falls back to Discard (reported in
     // SliceImage::clipUsed): gl_ClipDistance can only intersect half-spaces.
     ClipMethod clip = ClipMethod::ClipDistance;
+    // The view is in display space (see VerticalExaggeration): for a profile of a cut plane
+    // P use exaggeration.planeToDisplay(P) and boundsToDisplay(bounds); eye and target of a
+    // perspective view are display points (toDisplay of world points).
     std::variant<ProfileView, PerspectiveView> view = ProfileView{};
-    int width = 512, height = 512;  // pixels
+    VerticalExaggeration exaggeration;  // factor 1: none
+    int width = 512, height = 512;      // pixels
     Rgba8 background{0, 0, 0, 0};
     bool drawSurfaces = true;  // open surfaces (faults), never over a cut face
+    // Traces: where an open surface (fault, terrain sheet) crosses a plane on a visible cut
+    // face, a line of `traceColour`, `traceWidth` pixels wide (clamped to the driver's line
+    // width range). Colour only: the ID buffer keeps the body's record under a trace.
+    bool drawTraces = true;
+    Rgba8 traceColour{25, 25, 25, 255};
+    float traceWidth = 1.5f;
     bool readColour = true, readIds = true, readDepth = false;
+    AntiAlias antiAlias = AntiAlias::Auto;
+    // Level of detail (renderer/gpu_model.hpp): clusters that no plane crosses may be drawn
+    // simplified when their geometric error projects to at most lodPixelError pixels. Auto:
+    // for perspective views of a model uploaded with LOD (software backends). Profiles are
+    // exact sections and stay at full detail under Auto. Clusters on the removed side or
+    // outside the view are skipped in every mode (exact).
+    enum class Lod { Off, Auto, On };
+    Lod lod = Lod::Auto;
+    float lodPixelError = 1.0f;  // pixels, > 0
+    int msaaSamples = 4;         // for Msaa: 2..64, clamped to GL_MAX_SAMPLES / GL_MAX_INTEGER_SAMPLES
 };
 
 struct SliceImage {
@@ -69,9 +99,16 @@ struct SliceImage {
     std::vector<RecordId> ids;       // row 0 at the top (when read)
     std::vector<float> depth;        // window depth, row 0 at the top (when read)
     ClipMethod clipUsed = ClipMethod::ClipDistance;
-    glm::dmat4 viewProj{1.0};  // local -> clip of this image
-    double drawMs = 0.0;       // clear + draw + glFinish, wall clock
-    double readbackMs = 0.0;   // glReadPixels of what was read, wall clock
+    glm::dmat4 viewProj{1.0};            // true local frame -> clip of this image (exaggeration included)
+    double drawMs = 0.0;                 // clear + draw + glFinish, wall clock
+    double readbackMs = 0.0;             // glReadPixels of what was read, wall clock
+    std::size_t traceSegments = 0;       // fault-trace segments drawn
+    AntiAlias aaUsed = AntiAlias::None;  // what Auto resolved to (None when MSAA is unavailable)
+    int samples = 1;                     // samples per pixel of the draw target
+    double aaMs = 0.0;                   // MSAA resolve or FXAA pass + glFinish, wall clock
+    bool lodUsed = false;
+    std::size_t trianglesDrawn = 0;   // over all passes (bodies twice: back and front faces)
+    std::size_t clustersSkipped = 0;  // (part, cell) clusters culled, per pass
     RecordId idAt(int column, int row) const {
         return ids[std::size_t(row) * std::size_t(width) + std::size_t(column)];
     }
@@ -96,15 +133,29 @@ public:
     // Program variants: index 0 clip-distance, 1 discard.
     static constexpr int kProgramCount = 2;
     const GlProgram& program(int index) const { return programs_[std::size_t(index)].program; }
+    // Helper programs: index 0 fault traces, 1 FXAA.
+    static constexpr int kHelperProgramCount = 2;
+    const GlProgram& helperProgram(int index) const {
+        GS_ASSERT(index == 0 || index == 1, "helper program index out of range");
+        return index == 0 ? *traceProgram_ : *fxaaProgram_;
+    }
 
 private:
     explicit SliceRenderer(GlContext& context) : context_(context) {}
-    Status ensureTarget(int width, int height);
+    // samples > 1 adds a multisampled draw target; fxaa adds the FXAA output target.
+    Status ensureTarget(int width, int height, int samples, bool fxaa);
+    void resolveMultisample(int width, int height);
+    // Per cell of the model: the geometric error (metres) its clusters may have in this
+    // frame, 0 = full detail, -1 = skip (removed side or outside the view).
+    std::vector<float> clusterBudget(const GpuModel& model, const SliceRequest& request, const ViewTransform& view,
+                                     bool unionMode, const std::vector<glm::dvec4>& planesLocal,
+                                     SliceImage& image) const;
+    void runFxaa(int width, int height);
     void releaseTarget();
 
     struct Uniforms {
         GLint viewProj = -1, planes = -1, planeCount = -1, unionMode = -1, faceRole = -1, record = -1, colour = -1,
-              capRecord = -1, capColour = -1, lightDir = -1;
+              capRecord = -1, capColour = -1, lightDir = -1, shadeScale = -1;
     };
     struct Variant {
         GlProgram program;
@@ -112,8 +163,21 @@ private:
     };
     GlContext& context_;
     std::vector<Variant> programs_;
-    GLuint fbo_ = 0, colourRb_ = 0, idRb_ = 0, depthRb_ = 0;
-    int targetWidth_ = 0, targetHeight_ = 0;
+    Status drawTraces(const SliceRequest& request, const GpuModel& model, const std::vector<glm::dvec4>& planesLocal,
+                      const glm::mat4& viewProj, std::size_t& segments);
+
+    std::unique_ptr<GlProgram> traceProgram_;
+    GLint traceViewProj_ = -1, traceColour_ = -1;
+    GLuint traceVao_ = 0, traceBuffer_ = 0;
+    std::size_t traceCapacity_ = 0;  // vertices the trace buffer holds
+    std::unique_ptr<GlProgram> fxaaProgram_;
+    GLint fxaaTexel_ = -1, fxaaColour_ = -1;
+    GLuint emptyVao_ = 0;
+    GLuint fbo_ = 0, colourTex_ = 0, idRb_ = 0, depthRb_ = 0;
+    GLuint msFbo_ = 0, msColourRb_ = 0, msIdRb_ = 0, msDepthRb_ = 0;
+    GLuint aaFbo_ = 0, aaRb_ = 0;
+    int targetWidth_ = 0, targetHeight_ = 0, targetSamples_ = 0;
+    bool targetAa_ = false;
 };
 
 }  // namespace geoslice

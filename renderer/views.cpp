@@ -34,6 +34,38 @@ glm::dvec4 planeToLocal(const WorldPlane& p, const glm::dvec3& origin) {
     return {p.x, p.y, p.z, p.w + glm::dot(glm::dvec3(p), origin)};
 }
 
+glm::dvec3 VerticalExaggeration::toDisplay(const glm::dvec3& w) const {
+    return {w.x, w.y, pivotZ + factor * (w.z - pivotZ)};
+}
+
+glm::dvec3 VerticalExaggeration::toWorld(const glm::dvec3& d) const {
+    return {d.x, d.y, pivotZ + (d.z - pivotZ) / factor};
+}
+
+WorldPlane VerticalExaggeration::planeToDisplay(const WorldPlane& p) const {
+    // n . x + d with x.z = pivot + (z' - pivot) / f: the z coefficient shrinks by f and d
+    // takes up the pivot term; then back to a unit normal.
+    const WorldPlane q(p.x, p.y, p.z / factor, p.w + p.z * pivotZ * (1.0 - 1.0 / factor));
+    return q / glm::length(glm::dvec3(q));
+}
+
+Aabb VerticalExaggeration::boundsToDisplay(const Aabb& b) const {
+    Aabb out;
+    out.extend(toDisplay(b.min));
+    out.extend(toDisplay(b.max));
+    return out;
+}
+
+Status checkExaggeration(const VerticalExaggeration& e) {
+    if (!(e.factor >= kMinExaggeration && e.factor <= kMaxExaggeration))
+        return makeError(ErrorCode::InvalidArgument, "vertical exaggeration " + std::to_string(e.factor) +
+                                                         " is outside " + std::to_string(kMinExaggeration) + ".." +
+                                                         std::to_string(kMaxExaggeration));
+    if (!std::isfinite(e.pivotZ))
+        return makeError(ErrorCode::InvalidArgument, "vertical exaggeration pivot elevation is not finite");
+    return {};
+}
+
 glm::dvec2 PlaneBasis::toPlane(const glm::dvec3& w) const { return {glm::dot(w - origin, u), glm::dot(w - origin, v)}; }
 
 PlaneBasis planeBasis(const WorldPlane& p) {

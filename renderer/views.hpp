@@ -21,6 +21,25 @@ Result<WorldPlane> normalizePlane(const WorldPlane& plane);
 // The same plane in the local frame: (n, d + n . origin), computed in double.
 glm::dvec4 planeToLocal(const WorldPlane& unitPlane, const glm::dvec3& origin);
 
+// Vertical exaggeration. Views are set up in `display` space, where world elevation is
+// stretched by `factor` about the elevation `pivotZ` (metres): z' = pivotZ + factor * (z -
+// pivotZ); x and y are unchanged. Cut planes, record ids and depth-to-world recovery stay in
+// true world coordinates: only the picture is stretched. factor 1 = no exaggeration.
+struct VerticalExaggeration {
+    double factor = 1.0;
+    double pivotZ = 0.0;  // world elevation that stays put, metres
+    bool identity() const { return factor == 1.0; }
+    glm::dvec3 toDisplay(const glm::dvec3& world) const;
+    glm::dvec3 toWorld(const glm::dvec3& display) const;
+    // A world plane (unit normal) as the same set of points in display space (unit normal).
+    WorldPlane planeToDisplay(const WorldPlane& unitPlane) const;
+    Aabb boundsToDisplay(const Aabb& worldBounds) const;
+};
+constexpr double kMinExaggeration = 0.01, kMaxExaggeration = 100.0;
+// InvalidArgument unless factor is finite in [kMinExaggeration, kMaxExaggeration] and
+// pivotZ is finite.
+Status checkExaggeration(const VerticalExaggeration& exaggeration);
+
 // Orthonormal basis of a plane, right-handed as (u, v, -n): a viewer looking along +n (from
 // the removed side at the kept material, i.e. at the cut face, whose outward normal is -n)
 // sees u to the right and v up. u is horizontal: u = normalize(n x z_up); for a horizontal

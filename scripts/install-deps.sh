@@ -15,7 +15,7 @@ packages=(
   # model formats
   libtinygltf-dev libdraco-dev libpugixml-dev nlohmann-json3-dev libstb-dev
   # images
-  libopenimageio-dev libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev libwebp-dev zlib1g-dev
+  libopenimageio-dev libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev libwebp-dev zlib1g-dev libzstd-dev
   # geodesy (GeographicLib) and PROJ as the test oracle (cs2cs)
   libgeographiclib-dev proj-bin
   # service and CLI

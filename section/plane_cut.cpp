@@ -30,22 +30,56 @@ std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
     return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
 }
 
+// The arrays of one part, read straight by the cut (no pointer chase per triangle).
+struct PartArrays {
+    const glm::dvec3* positions = nullptr;
+    const std::uint32_t* indices = nullptr;
+    const std::uint32_t* canon = nullptr;  // null: identity weld
+};
+
+std::vector<PartArrays> partArrays(const SectionIndex& index) {
+    std::vector<PartArrays> a(index.parts.size());
+    for (std::size_t p = 0; p < a.size(); ++p) {
+        const Mesh& mesh = index.parts[p].part->mesh;
+        a[p].positions = mesh.positions.data();
+        a[p].indices = mesh.indices.data();
+        a[p].canon = index.parts[p].canon.empty() ? nullptr : index.parts[p].canon.data();
+    }
+    return a;
+}
+
+// Global triangle id -> part, remembering the last part's id range: leaves are spatially
+// coherent, so consecutive triangles almost always belong to the same part and the binary
+// search of Bvh::meshOf runs once per part change, not once per triangle.
+struct PartCursor {
+    const Bvh* bvh = nullptr;
+    std::uint32_t part = 0, lo = 0, hi = 0;  // empty range until the first lookup
+    std::uint32_t operator()(std::uint32_t id) {
+        if (id - lo < hi - lo) return part;  // unsigned: lo <= id < hi
+        part = bvh->meshOf(id);
+        lo = bvh->meshFirst[part];
+        hi = bvh->meshFirst[part + 1];
+        return part;
+    }
+};
+
 // Cuts triangle t of part p; appends at most one segment.
-inline void cutOne(const SectionIndex& index, std::size_t p, std::size_t t, PlaneCut& out) {
-    const SectionPart& part = index.parts[p];
-    const Mesh& mesh = part.part->mesh;
-    const std::uint32_t* tri = mesh.indices.data() + 3 * t;
+inline __attribute__((always_inline)) void cutOne(const PartArrays& part, const glm::dvec3& origin, std::size_t p,
+                                                  std::size_t t, PlaneCut& out) {
+    const std::uint32_t* tri = part.indices + 3 * t;
     glm::dvec3 q[3];
     double s[3];
     int positive = 0;
     for (int k = 0; k < 3; ++k) {
-        q[k] = mesh.positions[tri[k]] - index.origin;
+        q[k] = part.positions[tri[k]] - origin;
         s[k] = out.plane.distance(q[k]);
         positive += s[k] >= 0.0;
     }
     if (positive == 0 || positive == 3) return;
     if (!std::isfinite(s[0] + s[1] + s[2])) return;  // left out of the BVH too
-    const std::uint32_t w[3] = {part.weld(tri[0]), part.weld(tri[1]), part.weld(tri[2])};
+    std::uint32_t w[3] = {tri[0], tri[1], tri[2]};
+    if (part.canon)
+        for (auto& v : w) v = part.canon[v];
     if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) return;  // degenerate: no edges of its own
     CutSegment seg;
     for (int k = 0; k < 3; ++k) {
@@ -77,10 +111,12 @@ void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out) {
 
 void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std::size_t count, PlaneCut& out) {
     const Bvh& bvh = index.bvh;
+    const std::vector<PartArrays> arrays = partArrays(index);
+    PartCursor cursor{&bvh};
     for (std::size_t i = 0; i < count; ++i) {
         const std::uint32_t id = triangles[i];
-        const std::uint32_t p = bvh.meshOf(id);
-        cutOne(index, p, id - bvh.meshFirst[p], out);
+        const std::uint32_t p = cursor(id);
+        cutOne(arrays[p], index.origin, p, id - bvh.meshFirst[p], out);
     }
 }
 
@@ -91,31 +127,45 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
     queryPlaneLeaves(index.bvh, out.plane, rect, leaves, &qs);
     const auto t1 = std::chrono::steady_clock::now();
     const Bvh& bvh = index.bvh;
-    // The cut is bound by memory latency (a leaf's triangle ids, their indices, then their
-    // vertices): prefetch the indices four leaves ahead and the vertices two leaves ahead.
-    auto prefetch = [&](std::size_t l, bool vertices) {
+    const std::vector<PartArrays> arrays = partArrays(index);
+    // The cut is bound by memory latency along a chain of four dependent loads per leaf:
+    // node -> its triangle ids -> their vertex indices -> the vertices. Each link is
+    // prefetched in its own stage, two leaves apart (node 8 leaves ahead, ids 6, indices
+    // 4, vertices 2), so every load a stage needs was requested two leaves earlier.
+    auto prefetchIndices = [&](std::size_t l, PartCursor& cursor) {
         const BvhNode& nd = bvh.nodes[leaves[l]];
         for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
             const std::uint32_t id = bvh.triangles[i];
-            const std::uint32_t p = bvh.meshOf(id);
-            const Mesh& mesh = index.parts[p].part->mesh;
-            const std::uint32_t* tri = mesh.indices.data() + 3 * std::size_t(id - bvh.meshFirst[p]);
-            if (!vertices) {
-                __builtin_prefetch(tri);
-                continue;
-            }
-            for (int k = 0; k < 3; ++k) __builtin_prefetch(&mesh.positions[tri[k]]);
+            const std::uint32_t p = cursor(id);
+            __builtin_prefetch(arrays[p].indices + 3 * std::size_t(id - bvh.meshFirst[p]));
+        }
+    };
+    auto prefetchVertices = [&](std::size_t l, PartCursor& cursor) {
+        const BvhNode& nd = bvh.nodes[leaves[l]];
+        for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
+            const std::uint32_t id = bvh.triangles[i];
+            const std::uint32_t p = cursor(id);
+            const PartArrays& a = arrays[p];
+            const std::uint32_t* tri = a.indices + 3 * std::size_t(id - bvh.meshFirst[p]);
+            for (int k = 0; k < 3; ++k) __builtin_prefetch(&a.positions[tri[k]]);
         }
     };
     auto cutRange = [&](std::size_t lo, std::size_t hi, PlaneCut& dst) {
+        PartCursor cut{&bvh}, ahead4{&bvh}, ahead2{&bvh};
         for (std::size_t l = lo; l < hi; ++l) {
-            if (l + 4 < hi) prefetch(l + 4, false);
-            if (l + 2 < hi) prefetch(l + 2, true);
+            if (l + 8 < hi) __builtin_prefetch(&bvh.nodes[leaves[l + 8]]);
+            if (l + 6 < hi) {
+                const BvhNode& nd = bvh.nodes[leaves[l + 6]];
+                __builtin_prefetch(&bvh.triangles[nd.first]);
+                __builtin_prefetch(&bvh.triangles[nd.first + nd.count - 1]);
+            }
+            if (l + 4 < hi) prefetchIndices(l + 4, ahead4);
+            if (l + 2 < hi) prefetchVertices(l + 2, ahead2);
             const BvhNode& nd = bvh.nodes[leaves[l]];
             for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
                 const std::uint32_t id = bvh.triangles[i];
-                const std::uint32_t p = bvh.meshOf(id);
-                cutOne(index, p, id - bvh.meshFirst[p], dst);
+                const std::uint32_t p = cut(id);
+                cutOne(arrays[p], index.origin, p, id - bvh.meshFirst[p], dst);
             }
         }
     };
@@ -146,9 +196,10 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
 }
 
 void cutAllTriangles(const SectionIndex& index, PlaneCut& out) {
+    const std::vector<PartArrays> arrays = partArrays(index);
     for (std::size_t p = 0; p < index.parts.size(); ++p) {
         const std::size_t n = index.parts[p].part->mesh.triangleCount();
-        for (std::size_t t = 0; t < n; ++t) cutOne(index, p, t, out);
+        for (std::size_t t = 0; t < n; ++t) cutOne(arrays[p], index.origin, p, t, out);
     }
 }
 

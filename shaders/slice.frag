@@ -22,13 +22,15 @@ uniform vec4 uColour;
 uniform uint uCapRecord;
 uniform vec4 uCapColour;
 uniform vec3 uLightDir;  // local frame, unit, towards the light
+uniform vec3 uShadeScale;  // (1, 1, vertical exaggeration): shade the surface as displayed
 
 layout(location = 0) out vec4 oColour;
 layout(location = 1) out uint oRecord;
 
 void main() {
     // Derivatives before any discard: they need the whole 2x2 quad alive.
-    vec3 n = normalize(cross(dFdx(vLocal), dFdy(vLocal)));
+    vec3 shown = vLocal * uShadeScale;
+    vec3 n = normalize(cross(dFdx(shown), dFdy(shown)));
 #if !GS_CLIP_DISTANCE
     if (uPlaneCount > 0) {
         bool keep = uUnion == 0;

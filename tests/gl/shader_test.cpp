@@ -34,6 +34,9 @@ TEST(Shaders, EveryProgramVariantCompiles) {
         EXPECT_GE((*r)->program(i).uniform("uViewProj"), 0) << (*r)->program(i).label();
         EXPECT_GE((*r)->program(i).uniform("uCapRecord"), 0) << (*r)->program(i).label();
     }
+    for (int i = 0; i < SliceRenderer::kHelperProgramCount; ++i) EXPECT_NE((*r)->helperProgram(i).id(), 0u);
+    EXPECT_GE((*r)->helperProgram(0).uniform("uViewProj"), 0) << (*r)->helperProgram(0).label();
+    EXPECT_GE((*r)->helperProgram(1).uniform("uTexel"), 0) << (*r)->helperProgram(1).label();
 }
 
 TEST(Shaders, CompileErrorCarriesTheInfoLog) {

@@ -88,11 +88,11 @@ WorldPlane randomPlane(std::mt19937_64& rng, const Aabb& b) {
 
 class SliceOracle : public ::testing::Test {
 protected:
-    void load(OreVariant ore, std::uint64_t seed, const char* crs = nullptr) {
+    void load(OreVariant ore, std::uint64_t seed, const char* crs = nullptr, std::size_t triangles = kTriangles) {
         ctx = makeContext();
         ASSERT_TRUE(ctx);
         std::printf("[ gl       ] %s\n", ctx->info().describe().c_str());
-        model = syntheticModel(kTriangles, ore, seed, crs);
+        model = syntheticModel(triangles, ore, seed, crs);
         auto c = Classifier::build(model);
         ASSERT_TRUE(c.ok()) << c.error().message;
         classifier = std::move(c).value();
@@ -126,6 +126,33 @@ protected:
             writePgm("gl_fail_" + tag + "_oracle.pgm", oracle, kSize, kSize);
         }
         return a;
+    }
+
+    // The oracle of a perspective view from the removed side: where the ray through a pixel
+    // centre crosses the plane (world, double), the record there; invalid where the ray does
+    // not reach the plane from the removed side.
+    std::vector<RecordId> perspectiveOracle(const glm::dmat4& viewProj, const WorldPlane& plane, int side,
+                                            std::vector<char>& valid) const {
+        const glm::dvec3 n(plane);
+        const glm::dmat4 inv = glm::inverse(viewProj);
+        std::vector<glm::dvec3> pts(std::size_t(side) * std::size_t(side));
+        valid.assign(pts.size(), 0);
+        for (int r = 0; r < side; ++r)
+            for (int c = 0; c < side; ++c) {
+                const double x = 2.0 * (c + 0.5) / side - 1.0, y = 1.0 - 2.0 * (r + 0.5) / side;
+                glm::dvec4 a = inv * glm::dvec4(x, y, -1.0, 1.0), e = inv * glm::dvec4(x, y, 1.0, 1.0);
+                const glm::dvec3 p0 = glm::dvec3(a) / a.w + model.origin, p1 = glm::dvec3(e) / e.w + model.origin;
+                const double s0 = glm::dot(n, p0) + plane.w, s1 = glm::dot(n, p1) + plane.w;
+                const std::size_t i = std::size_t(r) * std::size_t(side) + std::size_t(c);
+                if (s0 >= 0.0 || s1 <= 0.0) continue;
+                pts[i] = p0 + (p1 - p0) * (s0 / (s0 - s1));
+                valid[i] = 1;
+            }
+        std::vector<RecordId> oracle(pts.size());
+        classifier->classifyBatch(pts.data(), pts.size(), oracle.data(), 2);
+        for (std::size_t i = 0; i < oracle.size(); ++i)
+            if (!valid[i]) oracle[i] = kNoRecord;
+        return oracle;
     }
 
     const Part* lens() const {
@@ -207,24 +234,8 @@ TEST_F(SliceOracle, PerspectiveCutMatchesTheOracle) {
     req.view = pv;
     auto img = renderer->render(*gpu, req);
     ASSERT_TRUE(img.ok()) << img.error().message;
-    const glm::dmat4 inv = glm::inverse(img->viewProj);
-    std::vector<glm::dvec3> pts(std::size_t(kSize) * kSize);
-    std::vector<char> valid(pts.size(), 0);
-    for (int r = 0; r < kSize; ++r)
-        for (int c = 0; c < kSize; ++c) {
-            const double x = 2.0 * (c + 0.5) / kSize - 1.0, y = 1.0 - 2.0 * (r + 0.5) / kSize;
-            glm::dvec4 a = inv * glm::dvec4(x, y, -1.0, 1.0), e = inv * glm::dvec4(x, y, 1.0, 1.0);
-            const glm::dvec3 p0 = glm::dvec3(a) / a.w + model.origin, p1 = glm::dvec3(e) / e.w + model.origin;
-            const double s0 = glm::dot(n, p0) + plane.w, s1 = glm::dot(n, p1) + plane.w;
-            const std::size_t i = std::size_t(r) * kSize + std::size_t(c);
-            if (s0 >= 0.0 || s1 <= 0.0) continue;  // the ray does not reach the plane from the removed side
-            pts[i] = p0 + (p1 - p0) * (s0 / (s0 - s1));
-            valid[i] = 1;
-        }
-    std::vector<RecordId> oracle(pts.size());
-    classifier->classifyBatch(pts.data(), pts.size(), oracle.data(), 2);
-    for (std::size_t i = 0; i < oracle.size(); ++i)
-        if (!valid[i]) oracle[i] = kNoRecord;
+    std::vector<char> valid;
+    const std::vector<RecordId> oracle = perspectiveOracle(img->viewProj, plane, kSize, valid);
     Agreement a = compare(img->ids, oracle, kSize, kSize, &valid);
     std::printf("[ persp    ] %zu/%zu agree (%.4f%%), %.1f ms draw\n", a.agree, a.compared, 100.0 * a.fraction(),
                 img->drawMs);
@@ -234,4 +245,61 @@ TEST_F(SliceOracle, PerspectiveCutMatchesTheOracle) {
         writePgm("gl_fail_persp_actual.pgm", img->ids, kSize, kSize);
         writePgm("gl_fail_persp_oracle.pgm", oracle, kSize, kSize);
     }
+}
+
+// Section 3 of issue 3 at full size: an L1 model (500k triangles), 20 random planes, each as
+// an orthographic profile and as a perspective view from the removed side, alternating
+// clip distance and discard. Same agreement rule as above, per image; planes that barely
+// touch the model (< 2000 comparable pixels) are skipped, and at least 15 must count.
+TEST_F(SliceOracle, L1TwentyRandomPlanesProfileAndPerspective) {
+    load(OreVariant::Nested, 21, nullptr, *namedModelSize("L1"));
+    ASSERT_TRUE(gpu);
+    std::mt19937_64 rng(77);
+    const Aabb b = model.bounds();
+    int counted = 0;
+    std::size_t compared = 0, agree = 0;
+    for (int i = 0; i < 20; ++i) {
+        const WorldPlane plane = randomPlane(rng, b);
+        const ClipMethod clip = i % 2 ? ClipMethod::Discard : ClipMethod::ClipDistance;
+        const Agreement ortho = profile(plane, b, clip, "L1_" + std::to_string(i));
+        // Perspective: the eye on the removed side, looking at the plane point nearest the
+        // model centre from 1.3 model diagonals away, a little off the normal.
+        const glm::dvec3 n(plane);
+        const glm::dvec3 foot = b.centre() - (glm::dot(n, b.centre()) + plane.w) * n;
+        const glm::dvec3 side =
+            glm::normalize(glm::cross(n, std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+        const double diag = glm::length(b.size());
+        PerspectiveView pv;
+        pv.target = foot;
+        pv.eye = foot - n * (1.3 * diag) + side * (0.25 * diag);
+        pv.up = std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+        pv.fovYDegrees = 40.0;
+        SliceRequest req;
+        req.width = req.height = kSize;
+        req.planes = {plane};
+        req.clip = clip;
+        req.view = pv;
+        req.readColour = false;
+        auto img = renderer->render(*gpu, req);
+        ASSERT_TRUE(img.ok()) << img.error().message;
+        std::vector<char> valid;
+        const std::vector<RecordId> oracle = perspectiveOracle(img->viewProj, plane, kSize, valid);
+        const Agreement persp = compare(img->ids, oracle, kSize, kSize, &valid);
+        std::printf("[ L1_%-5d ] perspective: %zu/%zu agree (%.4f%%), %.1f ms draw\n", i, persp.agree, persp.compared,
+                    100.0 * persp.fraction(), img->drawMs);
+        for (const Agreement* a : {&ortho, &persp}) {
+            if (a->compared < 2000) continue;
+            ++counted;
+            compared += a->compared;
+            agree += a->agree;
+            EXPECT_GE(a->fraction(), kMinAgreement) << "plane " << i << (a == &ortho ? " profile" : " perspective");
+        }
+        if (persp.fraction() < kMinAgreement && persp.compared >= 2000) {
+            writePgm("gl_fail_L1_persp" + std::to_string(i) + "_actual.pgm", img->ids, kSize, kSize);
+            writePgm("gl_fail_L1_persp" + std::to_string(i) + "_oracle.pgm", oracle, kSize, kSize);
+        }
+    }
+    std::printf("[ L1       ] %d images counted, %zu/%zu pixels agree (%.4f%%)\n", counted, agree, compared,
+                100.0 * double(agree) / double(std::max<std::size_t>(compared, 1)));
+    EXPECT_GE(counted, 30);
 }

@@ -48,7 +48,90 @@ TEST(SectionCli, ImagesAreasAndErrors) {
     EXPECT_EQ(runGeoslice("section " + glb + " --elevation 99999").exitCode, 1);  // misses the model
     EXPECT_EQ(runGeoslice("section " + glb + " --elevation 900 --size 0x10").exitCode, 2);
     EXPECT_EQ(runGeoslice("section " + glb + " --elevation 900 --size 100000x100000").exitCode, 2);
-    EXPECT_EQ(runGeoslice("section " + glb + " --elevation 900 --out x.jpg").exitCode, 2);
+    EXPECT_EQ(runGeoslice("section " + glb + " --elevation 900 --out x.tiff").exitCode, 2);
     EXPECT_NE(runGeoslice("section " + (dir / "missing.glb").string() + " --elevation 900").exitCode, 0);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(SectionCli, LineVectorsImagesBoreholeAndReserves) {
+    const auto dir = std::filesystem::temp_directory_path() / ("gs_section_cli2_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string glb = (dir / "m.glb").string();
+    ASSERT_EQ(runGeoslice("generate --triangles 20000 --crs EPSG:4523 --out " + glb).exitCode, 0);
+    auto info = nlohmann::json::parse(runGeoslice("info --json " + glb).out);
+    const auto& lo = info["bounds"]["min"];
+    const auto& hi = info["bounds"]["max"];
+    auto at = [&](double fx, double fy) {
+        const double x = lo[0].get<double>() + fx * (hi[0].get<double>() - lo[0].get<double>());
+        const double y = lo[1].get<double>() + fy * (hi[1].get<double>() - lo[1].get<double>());
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.3f,%.3f", x, y);
+        return std::string(buf);
+    };
+    // A bent line A-B-C: images (PNG, JPEG, PGM), GeoJSON in world coordinates, SVG, areas.
+    const std::string line = at(0.1, 0.2) + "," + at(0.5, 0.5) + "," + at(0.9, 0.4);
+    const std::string png = (dir / "c.png").string(), jpg = (dir / "c.jpg").string(), pgm = (dir / "i.pgm").string(),
+                      gj = (dir / "s.geojson").string(), svg = (dir / "s.svg").string();
+    CmdResult r =
+        runGeoslice("section " + glb + " --line " + line + " --size 96x48 --out " + png + " --out " + jpg + " --out " +
+                    pgm + " --geojson " + gj + " --geojson-frame world --svg " + svg + " --areas");
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["frame"]["line"].size(), 3u);
+    EXPECT_GE(j["bodies"].size(), 7u);
+    for (const auto& b : j["bodies"]) EXPECT_GT(b["area_m2"].get<double>(), 0.0);
+    std::ifstream png1(png, std::ios::binary);
+    char sig[8] = {};
+    png1.read(sig, 8);
+    EXPECT_EQ(std::string(sig + 1, 3), "PNG");
+    EXPECT_GT(std::filesystem::file_size(jpg), 100u);
+    std::ifstream gjIn(gj);
+    auto g = nlohmann::json::parse(gjIn);
+    EXPECT_EQ(g["type"], "FeatureCollection");
+    EXPECT_EQ(g["crs"]["properties"]["name"], "urn:ogc:def:crs:EPSG::4523");
+    EXPECT_GE(g["features"].size(), 7u);
+    std::ifstream svgIn(svg);
+    const std::string svgText((std::istreambuf_iterator<char>(svgIn)), std::istreambuf_iterator<char>());
+    EXPECT_NE(svgText.find("<svg"), std::string::npos);
+    EXPECT_NE(svgText.find("fill-rule=\"evenodd\""), std::string::npos);
+    EXPECT_EQ(runGeoslice("section " + glb + " --line 1,2,3").exitCode, 2);
+    EXPECT_EQ(runGeoslice("section " + glb + " --line 1,2,x,4").exitCode, 2);
+    EXPECT_EQ(runGeoslice("section " + glb + " --line 0,0,1,1").exitCode, 1);  // misses the model
+    EXPECT_EQ(runGeoslice("section " + glb + " --elevation 900 --geojson-frame lonlat").exitCode, 2);
+
+    // Borehole at the map centre: JSON intervals, collar, attributes.
+    const std::string c = at(0.5, 0.5);
+    const std::string cx = c.substr(0, c.find(',')), cy = c.substr(c.find(',') + 1);
+    r = runGeoslice("borehole " + glb + " --x " + cx + " --y " + cy + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    auto bh = nlohmann::json::parse(r.out);
+    ASSERT_GE(bh["intervals"].size(), 3u);
+    EXPECT_NEAR(bh["intervals"][0]["from_collar_m"].get<double>(), 0.0, 1e-3);
+    EXPECT_FALSE(bh["intervals"][0]["attributes"].is_null());
+    for (std::size_t i = 1; i < bh["intervals"].size(); ++i)
+        EXPECT_LE(bh["intervals"][i - 1]["to_m"].get<double>(), bh["intervals"][i]["from_m"].get<double>());
+    EXPECT_EQ(runGeoslice("borehole " + glb + " --x " + cx + " --y " + cy).exitCode, 0);
+    EXPECT_EQ(runGeoslice("borehole " + glb + " --x 0 --y 0").exitCode, 1);  // outside the map extent
+    EXPECT_EQ(runGeoslice("borehole " + glb + " --x nan --y 0").exitCode, 2);
+    EXPECT_EQ(runGeoslice("borehole " + glb + " --from 1,2 --dir 0,0,-1").exitCode, 2);
+
+    // Reserves: whole model, and the two sides of a vertical plane adding up.
+    r = runGeoslice("reserves " + glb + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    auto whole = nlohmann::json::parse(r.out);
+    const double xm = 0.5 * (lo[0].get<double>() + hi[0].get<double>());
+    auto east =
+        nlohmann::json::parse(runGeoslice("reserves " + glb + " --json --plane 1,0,0," + std::to_string(-xm)).out);
+    auto west =
+        nlohmann::json::parse(runGeoslice("reserves " + glb + " --json --plane -1,0,0," + std::to_string(xm)).out);
+    ASSERT_EQ(whole["bodies"].size(), east["bodies"].size());
+    for (std::size_t i = 0; i < whole["bodies"].size(); ++i) {
+        const double v = whole["bodies"][i]["net_volume_m3"].get<double>();
+        EXPECT_GT(v, 0.0);
+        EXPECT_NEAR(east["bodies"][i]["net_volume_m3"].get<double>() + west["bodies"][i]["net_volume_m3"].get<double>(),
+                    v, 1e-6 * v);
+    }
+    EXPECT_EQ(runGeoslice("reserves " + glb).exitCode, 0);
+    EXPECT_EQ(runGeoslice("reserves " + glb + " --plane 0,0,0,1").exitCode, 2);
     std::filesystem::remove_all(dir);
 }

@@ -1,0 +1,203 @@
+#include "api/catalog.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+
+#include "api/plan.hpp"
+#include "model/loaders.hpp"
+#include "model/synthetic.hpp"
+#include "model/validate.hpp"
+
+namespace geoslice::api {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Status indexModel(CatalogModel& m) {
+    if (m.model.validation.hasErrors()) {
+        std::string first;
+        for (const auto& issue : m.model.validation.issues)
+            if (issue.severity == ValidationIssue::Severity::Error) {
+                first = (issue.part.empty() ? "" : issue.part + ": ") + issue.message;
+                break;
+            }
+        return makeError(ErrorCode::InvalidArgument,
+                         "model '" + m.id + "' (" + m.source + ") failed validation: " + first);
+    }
+    if (m.model.triangleCount() == 0)
+        return makeError(ErrorCode::InvalidArgument, "model '" + m.id + "' (" + m.source + ") has no triangles");
+    auto index = buildSectionIndex(m.model);
+    if (!index) return index.error();
+    m.index = std::move(index.value());
+    auto classifier = Classifier::build(m.model);
+    if (!classifier) return classifier.error();
+    m.classifier = std::move(classifier.value());
+    auto tracer = BoreholeTracer::build(m.model);
+    if (!tracer) return tracer.error();
+    m.tracer = std::move(tracer.value());
+    return {};
+}
+
+nlohmann::ordered_json recordJson(const AttributeTable& table, RecordId id) {
+    if (const AttributeRecord* r = table.find(id)) return r->toJson();
+    return {{"id", id}};
+}
+
+}  // namespace
+
+bool isValidModelId(std::string_view id) {
+    if (id.empty() || id.size() > 64) return false;
+    auto ok = [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' ||
+               c == '-';
+    };
+    if (!std::isalnum(static_cast<unsigned char>(id[0]))) return false;
+    return std::all_of(id.begin(), id.end(), ok) && id.find("..") == std::string_view::npos;
+}
+
+nlohmann::ordered_json CatalogModel::legend() const {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    std::map<RecordId, std::size_t> entryOf;  // fault blocks of one stratum share a record
+    auto add = [&](const Part& p, const char* partKind) {
+        if (p.record != kNoRecord)
+            if (const auto it = entryOf.find(p.record); it != entryOf.end()) {
+                out[it->second]["parts"].push_back(p.name);
+                return;
+            }
+        nlohmann::ordered_json e = recordJson(model.attributes, p.record);
+        e["parts"] = {p.name};
+        e["partKind"] = partKind;
+        if (const AttributeRecord* r = model.attributes.find(p.record)) e["colour"] = formatColour(r->colour);
+        if (p.record != kNoRecord) entryOf[p.record] = out.size();
+        out.push_back(std::move(e));
+    };
+    for (const Part& p : model.bodies) add(p, "body");
+    for (const Part& p : model.surfaces) add(p, "surface");
+    return out;
+}
+
+nlohmann::ordered_json CatalogModel::summary() const {
+    nlohmann::ordered_json j;
+    j["id"] = id;
+    j["version"] = version;
+    j["name"] = model.name;
+    const Crs& crs = model.crs;
+    j["crs"] = {{"id", crs.id()}, {"name", crs.name()}, {"axes", {"easting", "northing", "elevation"}}, {"units", "m"}};
+    if (crs.isProjected()) j["crs"]["zone"] = crs.zone();
+    const Aabb b = model.bounds();
+    j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
+    if (crs.isProjected()) {
+        auto lo = crs.toLonLat(b.min.x, b.min.y);
+        auto hi = crs.toLonLat(b.max.x, b.max.y);
+        if (lo && hi)
+            j["lonlatBounds"] = {{"min", {lo.value().x, lo.value().y}},
+                                 {"max", {hi.value().x, hi.value().y}},
+                                 {"axes", {"lon", "lat"}},
+                                 {"crs", "EPSG:4490"}};
+    }
+    j["triangles"] = model.triangleCount();
+    j["bodies"] = model.bodies.size();
+    j["surfaces"] = model.surfaces.size();
+    j["legend"] = legend();
+    return j;
+}
+
+Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path) {
+    if (!isValidModelId(id)) return makeError(ErrorCode::InvalidArgument, "model id '" + id + "' is not valid");
+    const auto t0 = std::chrono::steady_clock::now();
+    auto bytes = readFile(path);
+    if (!bytes) return bytes.error();
+    std::uint64_t h = fnv1a64(bytes.value());
+    // Sidecar attribute tables change what a model answers, so they enter its version.
+    const std::filesystem::path p(path);
+    for (const char* ext : {".attributes.json", ".attributes.csv"}) {
+        const auto side = p.parent_path() / (p.stem().string() + ext);
+        std::error_code ec;
+        if (std::filesystem::exists(side, ec))
+            if (auto sb = readFile(side.string())) h = fnv1a64(sb.value(), h);
+    }
+    bytes.value().clear();
+    bytes.value().shrink_to_fit();
+    auto model = loadModel(path);
+    if (!model) return model.error();
+    auto m = std::make_shared<CatalogModel>();
+    m->id = id;
+    m->source = path;
+    m->version = hex64(h);
+    m->model = std::move(model.value());
+    if (auto s = indexModel(*m); !s) return s.error();
+    m->loadMs = msSince(t0);
+    return std::shared_ptr<const CatalogModel>(std::move(m));
+}
+
+Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles) {
+    const auto t0 = std::chrono::steady_clock::now();
+    SyntheticOptions o;
+    o.triangles = triangles;
+    o.seed = 1;
+    auto crs = Crs::fromEpsg(4523);
+    if (!crs) return crs.error();
+    o.crs = crs.value();
+    o.atLonLat = glm::dvec2(105.05, 30.62);
+    auto model = generateSynthetic(o);
+    if (!model) return model.error();
+    auto m = std::make_shared<CatalogModel>();
+    m->id = "demo";
+    m->source = "demo (generated: synthetic mine, EPSG:4523, 105.05E 30.62N)";
+    m->version = hex64(fnv1a64("geoslice-demo-v1:" + std::to_string(triangles)));
+    m->model = std::move(model.value());
+    m->model.name = "demo";
+    validate(m->model);  // closed flags and nesting, as every loader does
+    if (auto s = indexModel(*m); !s) return s.error();
+    m->loadMs = msSince(t0);
+    return std::shared_ptr<const CatalogModel>(std::move(m));
+}
+
+Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        return makeError(ErrorCode::NotFound, "models directory '" + dir + "' does not exist or is not a directory");
+    std::map<std::string, std::string> out;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+        if (!entry.is_regular_file(ec)) continue;
+        const fs::path p = entry.path();
+        std::string ext = p.extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        if (ext != ".glb" && ext != ".gltf" && ext != ".obj" && ext != ".ts" && ext != ".xml") continue;
+        const std::string stem = p.stem().string();
+        if (stem.size() > 11 && stem.ends_with(".attributes")) continue;
+        if (!isValidModelId(stem)) continue;
+        out.emplace(stem, p.string());
+    }
+    if (ec) return makeError(ErrorCode::IoError, "cannot list models directory '" + dir + "': " + ec.message());
+    return out;
+}
+
+void Catalog::add(std::shared_ptr<const CatalogModel> model) {
+    std::lock_guard lock(mutex_);
+    models_[model->id] = std::move(model);
+}
+
+std::shared_ptr<const CatalogModel> Catalog::find(const std::string& id) const {
+    std::lock_guard lock(mutex_);
+    const auto it = models_.find(id);
+    return it == models_.end() ? nullptr : it->second;
+}
+
+std::vector<std::shared_ptr<const CatalogModel>> Catalog::list() const {
+    std::lock_guard lock(mutex_);
+    std::vector<std::shared_ptr<const CatalogModel>> out;
+    for (const auto& [id, m] : models_) out.push_back(m);
+    return out;
+}
+
+std::size_t Catalog::size() const {
+    std::lock_guard lock(mutex_);
+    return models_.size();
+}
+
+}  // namespace geoslice::api

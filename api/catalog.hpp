@@ -1,0 +1,67 @@
+// The models a server answers for: each loaded once, validated, indexed for the exact
+// section engine (BVH) and the ray oracle (Embree), and summarised for /v1/models.
+//
+// Model ids are the file stem and must match [A-Za-z0-9][A-Za-z0-9._-]{0,63}: an id never
+// contains '/' or "..", so no request can name a path outside the models directory.
+// A model's `version` is a hash of its source bytes (or of the demo generator's options):
+// cache keys and ETags carry it, so a changed file never serves stale images.
+//
+// Thread-safety: a CatalogModel is immutable once built and is read from any thread.
+// Catalog::add/find/list are guarded by a mutex.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "model/model.hpp"
+#include "model/result.hpp"
+#include "section/borehole.hpp"
+#include "section/classify.hpp"
+#include "section/section_index.hpp"
+
+namespace geoslice::api {
+
+struct CatalogModel {
+    std::string id;
+    std::string source;   // file path, or "demo (generated)"
+    std::string version;  // 16 hex digits
+    Model model;
+    std::unique_ptr<SectionIndex> index;
+    std::unique_ptr<Classifier> classifier;
+    std::unique_ptr<BoreholeTracer> tracer;
+    double loadMs = 0.0;
+
+    // {id, version, crs, bounds, triangles, bodies: [...], surfaces: [...], legend: [...]}
+    nlohmann::ordered_json summary() const;
+    // Legend entries in body order: {record, name, colour, kind, lithology, age, ...}.
+    nlohmann::ordered_json legend() const;
+};
+
+bool isValidModelId(std::string_view id);
+
+// Loads, validates and indexes a model file (glTF/GLB, OBJ, TSurf, Geo3DML). Errors: the
+// loader's, and InvalidArgument when validation found errors (named).
+Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path);
+// The built-in demo mine (synthetic, EPSG:4523 at 105.05 E 30.62 N), `triangles` in total.
+Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles = 200000);
+// Model files directly in `dir` whose stem is a valid id: id -> path, sorted by id.
+Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir);
+
+class Catalog {
+public:
+    void add(std::shared_ptr<const CatalogModel> model);
+    std::shared_ptr<const CatalogModel> find(const std::string& id) const;
+    std::vector<std::shared_ptr<const CatalogModel>> list() const;
+    std::size_t size() const;
+
+private:
+    mutable std::mutex mutex_;
+    std::map<std::string, std::shared_ptr<const CatalogModel>> models_;
+};
+
+}  // namespace geoslice::api

@@ -1,0 +1,112 @@
+#include "api/legend.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "stb_easy_font.h"
+
+namespace geoslice::api {
+namespace {
+
+struct Canvas {
+    int width, height;
+    std::vector<std::uint8_t>& rgba;
+    void fill(int x0, int y0, int x1, int y1, Rgba8 c) {
+        x0 = std::max(x0, 0);
+        y0 = std::max(y0, 0);
+        x1 = std::min(x1, width);
+        y1 = std::min(y1, height);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                std::uint8_t* p = &rgba[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * 4];
+                p[0] = c.r;
+                p[1] = c.g;
+                p[2] = c.b;
+                p[3] = c.a;
+            }
+    }
+};
+
+// stb_easy_font only knows printable ASCII; anything else becomes '?'.
+std::string ascii(const std::string& s) {
+    std::string out;
+    for (unsigned char c : s) {
+        if (c >= 0x80 && (c & 0xc0) == 0x80) continue;  // UTF-8 continuation bytes
+        out += (c >= 32 && c < 127) ? char(c) : '?';
+    }
+    return out;
+}
+
+struct Quad {
+    float x, y, z;
+    unsigned char colour[4];
+};
+
+void drawText(Canvas& canvas, int x, int y, const std::string& text, int scale, Rgba8 colour) {
+    std::string t = ascii(text);
+    std::vector<Quad> buffer(t.size() * 64 + 64);  // ~ at most 36 quads per glyph x 4 vertices
+    const int quads =
+        stb_easy_font_print(0.0f, 0.0f, t.data(), nullptr, buffer.data(), int(buffer.size() * sizeof(Quad)));
+    for (int q = 0; q < quads; ++q) {
+        const Quad* v = &buffer[std::size_t(q) * 4];
+        const float qx0 = std::min(v[0].x, v[2].x), qx1 = std::max(v[0].x, v[2].x);
+        const float qy0 = std::min(v[0].y, v[2].y), qy1 = std::max(v[0].y, v[2].y);
+        canvas.fill(x + int(std::lround(qx0 * float(scale))), y + int(std::lround(qy0 * float(scale))),
+                    x + int(std::lround(qx1 * float(scale))), y + int(std::lround(qy1 * float(scale))), colour);
+    }
+}
+
+}  // namespace
+
+LegendImage renderLegend(const CatalogModel& model, int scale) {
+    struct Row {
+        Rgba8 colour;
+        std::string label;
+        bool line;
+    };
+    std::vector<Row> rows;
+    std::vector<RecordId> seen;  // fault blocks of one stratum share a record: one row each
+    auto add = [&](const Part& p, bool line) {
+        if (p.record != kNoRecord) {
+            if (std::find(seen.begin(), seen.end(), p.record) != seen.end()) return;
+            seen.push_back(p.record);
+        }
+        Row r{Rgba8{}, p.name, line};
+        if (const AttributeRecord* rec = model.model.attributes.find(p.record)) {
+            r.colour = rec->colour;
+            if (!rec->name.empty()) r.label = rec->name;
+            if (!rec->lithology.empty()) r.label += " - " + rec->lithology;
+        }
+        rows.push_back(std::move(r));
+    };
+    for (const Part& p : model.model.bodies) add(p, false);
+    for (const Part& p : model.model.surfaces) add(p, true);
+
+    const int pad = 4 * scale, rowH = 12 * scale, swatch = 10 * scale;
+    int textW = 0;
+    for (const Row& r : rows) {
+        std::string t = ascii(r.label);
+        textW = std::max(textW, stb_easy_font_width(t.data()) * scale);
+    }
+    LegendImage img;
+    img.width = std::min(4096, pad * 3 + swatch + textW);
+    img.height = std::min(4096, pad * 2 + rowH * std::max<int>(1, int(rows.size())));
+    img.rgba.assign(std::size_t(img.width) * std::size_t(img.height) * 4, 255);
+    Canvas canvas{img.width, img.height, img.rgba};
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const int y = pad + int(i) * rowH;
+        Rgba8 c = rows[i].colour;
+        c.a = 255;
+        if (rows[i].line)
+            canvas.fill(pad, y + swatch / 2 - scale, pad + swatch, y + swatch / 2 + scale, c);
+        else {
+            canvas.fill(pad, y, pad + swatch, y + swatch, Rgba8{60, 60, 60, 255});
+            canvas.fill(pad + 1, y + 1, pad + swatch - 1, y + swatch - 1, c);
+        }
+        drawText(canvas, pad * 2 + swatch, y + scale, rows[i].label, scale, Rgba8{20, 20, 20, 255});
+    }
+    return img;
+}
+
+}  // namespace geoslice::api

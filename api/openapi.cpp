@@ -1,0 +1,177 @@
+#include "api/openapi.hpp"
+
+namespace geoslice::api {
+namespace {
+
+using J = nlohmann::ordered_json;
+
+J queryParam(const char* name, const char* type, const char* description, bool required = false) {
+    return J{{"name", name},
+             {"in", "query"},
+             {"required", required},
+             {"description", description},
+             {"schema", {{"type", type}}}};
+}
+J pathParam(const char* name, const char* description, J schema = J{{"type", "string"}}) {
+    return J{{"name", name}, {"in", "path"}, {"required", true}, {"description", description}, {"schema", schema}};
+}
+
+J viewParams() {
+    return J::array({
+        queryParam("plane", "string",
+                   "a,b,c,d: world plane, keeps a*x+b*y+c*z+d >= 0 (x easting, y northing, z up, m)"),
+        queryParam("line", "string", "x1,y1,x2,y2[,...]: vertical section along a map polyline (2..256 vertices)"),
+        queryParam("elevation", "number", "horizontal slice (plan map) at this elevation, m"),
+        queryParam("coords", "string", "world (default) or lonlat: units of 'line' (CGCS2000 degrees lon,lat)"),
+        queryParam("view", "string", "profile (default, exact CPU engine) or perspective (GL renderer)"),
+        queryParam("frame", "string", "u0,u1,v0,v1: plane u/v metres shown in a profile (default: model bounds)"),
+        queryParam("eye", "string", "x,y,z: perspective camera position, world m"),
+        queryParam("target", "string", "x,y,z: perspective look-at point, world m"),
+        queryParam("up", "string", "x,y,z: perspective up vector (default 0,0,1)"),
+        queryParam("fov", "number", "perspective vertical field of view, degrees 1..170 (default 45)"),
+        queryParam("size", "string", "WxH pixels, each 1..8192, at most 2^26 pixels (default 1024x1024)"),
+        queryParam("vx", "number", "vertical exaggeration 0.1..100 (default 1)"),
+        queryParam("bg", "string", "transparent (default) or #rrggbb[aa]"),
+    });
+}
+
+J problem(const char* description) {
+    return J{{"description", description},
+             {"content", {{"application/problem+json", {{"schema", {{"$ref", "#/components/schemas/Problem"}}}}}}}};
+}
+
+J imageResponse() {
+    return J{{"description", "the image; ETag and Cache-Control set, If-None-Match gives 304"},
+             {"content", {{"image/jpeg", J::object()}, {"image/png", J::object()}, {"image/webp", J::object()}}}};
+}
+
+J jsonResponse(const char* description) {
+    return J{{"description", description}, {"content", {{"application/json", J::object()}}}};
+}
+
+J errors() {
+    return J{{"400", problem("a bad parameter: the detail names it")},
+             {"404", problem("unknown model, section or tile")},
+             {"503", problem("the render queue is full (Retry-After) or the model is still loading")}};
+}
+
+J op(const char* summary, J parameters, J okResponse) {
+    J responses = errors();
+    responses["200"] = std::move(okResponse);
+    return J{{"summary", summary}, {"parameters", std::move(parameters)}, {"responses", std::move(responses)}};
+}
+
+J concat(J a, const J& b) {
+    for (const auto& x : b) a.push_back(x);
+    return a;
+}
+
+}  // namespace
+
+const std::vector<RouteSpec>& apiRoutes() {
+    static const std::vector<RouteSpec> routes = {
+        {"GET", "/healthz"},
+        {"GET", "/readyz"},
+        {"GET", "/metrics"},
+        {"GET", "/openapi.json"},
+        {"GET", "/v1/models"},
+        {"GET", "/v1/models/{id}"},
+        {"GET", "/v1/models/{id}/legend.png"},
+        {"GET", "/v1/models/{id}/section.{format}"},
+        {"GET", "/v1/models/{id}/query"},
+        {"POST", "/v1/models/{id}/query"},
+        {"GET", "/v1/models/{id}/borehole"},
+        {"POST", "/v1/models/{id}/sections"},
+        {"GET", "/v1/sections/{sid}"},
+        {"GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}"},
+    };
+    return routes;
+}
+
+J openApiDocument(const std::string& serverVersion) {
+    const J id = pathParam("id", "model id: [A-Za-z0-9][A-Za-z0-9._-]{0,63}");
+    const J format = pathParam("format", "image format", J{{"type", "string"}, {"enum", {"jpg", "png", "webp"}}});
+    const J sid = pathParam("sid", "stateless section id from POST /v1/models/{id}/sections");
+    J paths = J::object();
+    auto get = [&](const std::string& path, J operation) { paths[path]["get"] = std::move(operation); };
+    auto post = [&](const std::string& path, J operation) { paths[path]["post"] = std::move(operation); };
+
+    get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok")));
+    get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found)", J::array(),
+                      jsonResponse("ready; 503 while loading")));
+    get("/metrics", op("Prometheus text format: requests and latency per route, queue depth, cache hits, render times",
+                       J::array(), J{{"description", "metrics"}, {"content", {{"text/plain", J::object()}}}}));
+    get("/openapi.json", op("this document", J::array(), jsonResponse("OpenAPI 3 document")));
+    get("/v1/models", op("the loaded models with bounds, CRS, bodies and legend", J::array(), jsonResponse("models")));
+    get("/v1/models/{id}", op("one model", J::array({id}), jsonResponse("the model")));
+    get("/v1/models/{id}/legend.png", op("the legend as an image: one swatch per body with its name", J::array({id}),
+                                         J{{"description", "PNG"}, {"content", {{"image/png", J::object()}}}}));
+    get("/v1/models/{id}/section.{format}",
+        op("a section image: profile views from the exact CPU engine; perspective views from the GL renderer",
+           concat(J::array({id, format, queryParam("quality", "integer", "JPEG/WebP quality 1..100")}), viewParams()),
+           imageResponse()));
+    get("/v1/models/{id}/query", op("what lies under one pixel of the view given by the same parameters: record and "
+                                    "attributes, the world point, "
+                                    "the distance along the section, CGCS2000 projected (easting, northing, zone) and "
+                                    "geodetic (lon, lat, height) "
+                                    "coordinates. A pixel with no geology is a 200 answer with hit=false.",
+                                    concat(J::array({id, queryParam("px", "integer", "pixel column, 0 = left", true),
+                                                     queryParam("py", "integer", "pixel row, 0 = top", true)}),
+                                           viewParams()),
+                                    jsonResponse("the answer")));
+    post("/v1/models/{id}/query",
+         J{{"summary",
+            "batch pixel query: {\"view\": {<view parameters as strings>}, \"pixels\": [[px, py], ...]} "
+            "(at most 10000 pixels)"},
+           {"parameters", J::array({id})},
+           {"requestBody", {{"content", {{"application/json", J::object()}}}}},
+           {"responses", errors()}});
+    paths["/v1/models/{id}/query"]["post"]["responses"]["200"] = jsonResponse("{\"results\": [answer, ...]}");
+    get("/v1/models/{id}/borehole",
+        op("a virtual borehole at a map point: intervals (from/to metres below the collar, elevations, record, "
+           "attributes) and the faults and surfaces crossed",
+           J::array({id, queryParam("x", "number", "easting, world m"), queryParam("y", "number", "northing, world m"),
+                     queryParam("lon", "number", "or longitude, degrees (CGCS2000)"),
+                     queryParam("lat", "number", "and latitude, degrees (CGCS2000)")}),
+           jsonResponse("the borehole")));
+    post("/v1/models/{id}/sections",
+         J{{"summary",
+            "define a section for tiles: {\"plane\": \"a,b,c,d\" | \"elevation\": z, \"vx\": k, \"bg\": c}. "
+            "Returns a stateless section id (the canonical definition, base64url) that any replica can "
+            "serve, the tile URL template and the tile grid."},
+           {"parameters", J::array({id})},
+           {"requestBody", {{"content", {{"application/json", J::object()}}}}},
+           {"responses", errors()}});
+    paths["/v1/models/{id}/sections"]["post"]["responses"]["201"] = jsonResponse("{sid, tiles, grid}");
+    get("/v1/sections/{sid}", op("a section's definition and tile grid", J::array({sid}), jsonResponse("grid")));
+    get("/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
+        op("one 256x256 tile. Grid: zoom 0 is one tile covering size0 metres along u (size0/vx along v) from the "
+           "section extent's top-left corner (u0, v1); zoom z has 2^z x 2^z tiles; tile (z,x,y) covers "
+           "u in [u0+x*s, u0+(x+1)*s], v in [v1-(y+1)*s/vx, v1-y*s/vx], s = size0/2^z. In Leaflet use L.CRS.Simple "
+           "with lng = (u-u0)*256/size0 and lat = (v-v1)*vx*256/size0.",
+           J::array({sid, pathParam("z", "zoom", J{{"type", "integer"}}),
+                     pathParam("x", "column", J{{"type", "integer"}}),
+                     pathParam("y", "row (0 = top)", J{{"type", "integer"}}), format}),
+           imageResponse()));
+
+    J doc;
+    doc["openapi"] = "3.0.3";
+    doc["info"] = {{"title", "geoslice"},
+                   {"version", serverVersion},
+                   {"description",
+                    "Sections of 3D geological models: images, tiles and pixel queries in CGCS2000. "
+                    "World coordinates: x easting, y northing, z elevation, metres, in the model's CRS."}};
+    doc["paths"] = std::move(paths);
+    doc["components"]["schemas"]["Problem"] = {{"type", "object"},
+                                               {"description", "RFC 9457 problem details"},
+                                               {"properties",
+                                                {{"type", {{"type", "string"}}},
+                                                 {"title", {{"type", "string"}}},
+                                                 {"status", {{"type", "integer"}}},
+                                                 {"detail", {{"type", "string"}}},
+                                                 {"instance", {{"type", "string"}}},
+                                                 {"code", {{"type", "string"}}}}}};
+    return doc;
+}
+
+}  // namespace geoslice::api

@@ -1,0 +1,362 @@
+#include "api/plan.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace geoslice::api {
+namespace {
+
+std::string join(const double* v, std::size_t n) {
+    std::string out;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i) out += ',';
+        out += formatNumber(v[i]);
+    }
+    return out;
+}
+
+std::string colourHex(Rgba8 c) {
+    static const char* digits = "0123456789abcdef";
+    std::string s;
+    for (std::uint8_t b : {c.r, c.g, c.b, c.a}) {
+        s += digits[b >> 4];
+        s += digits[b & 15];
+    }
+    return s;
+}
+
+Result<glm::dvec3> parseVec3(const Params& params, std::string_view name, glm::dvec3 fallback) {
+    const auto text = param(params, name);
+    if (!text) return fallback;
+    auto v = parseNumberList(name, *text, 3);
+    if (!v) return v.error();
+    return glm::dvec3(v.value()[0], v.value()[1], v.value()[2]);
+}
+
+}  // namespace
+
+std::string SectionDef::canonical() const {
+    std::string s = "model=" + model;
+    switch (geometry) {
+        case Geometry::Plane: {
+            const double v[4] = {plane.normal.x, plane.normal.y, plane.normal.z, plane.d};
+            s += "&plane=" + join(v, 4);
+            break;
+        }
+        case Geometry::Line: {
+            std::vector<double> v;
+            for (const auto& p : line) {
+                v.push_back(p.x);
+                v.push_back(p.y);
+            }
+            s += "&line=" + join(v.data(), v.size());
+            break;
+        }
+        case Geometry::Elevation:
+            s += "&elevation=" + formatNumber(elevation);
+            break;
+    }
+    s += "&vx=" + formatNumber(exaggeration);
+    s += "&bg=" + colourHex(background);
+    return s;
+}
+
+std::string ViewPlan::canonical() const {
+    std::string s = section.canonical();
+    if (view == ViewKind::Profile) {
+        s += "&view=profile";
+        if (frame) {
+            const double v[4] = {frame->u0, frame->u1, frame->v0, frame->v1};
+            s += "&frame=" + join(v, 4);
+        }
+    } else {
+        s += "&view=perspective";
+        if (camera) {
+            const double v[10] = {camera->eye.x,    camera->eye.y, camera->eye.z, camera->target.x, camera->target.y,
+                                  camera->target.z, camera->up.x,  camera->up.y,  camera->up.z,     camera->fovDeg};
+            s += "&camera=" + join(v, 10);
+        }
+    }
+    s += "&size=" + std::to_string(width) + "x" + std::to_string(height);
+    return s;
+}
+
+Result<SectionDef> parseSectionDef(const Params& params, const std::string& model, const Crs& crs) {
+    SectionDef def;
+    def.model = model;
+    const auto plane = param(params, "plane");
+    const auto line = param(params, "line");
+    const auto elevation = param(params, "elevation");
+    const int given = int(bool(plane)) + int(bool(line)) + int(bool(elevation));
+    if (given != 1)
+        return makeError(ErrorCode::InvalidArgument,
+                         given == 0 ? "no section geometry: give one of 'plane=a,b,c,d', 'line=x1,y1,x2,y2[,...]' or "
+                                      "'elevation=z'"
+                                    : "more than one section geometry: give only one of 'plane', 'line', 'elevation'");
+    if (plane) {
+        auto v = parseNumberList("plane", *plane, 4);
+        if (!v) return v.error();
+        auto p = makePlane(v.value()[0], v.value()[1], v.value()[2], v.value()[3]);
+        if (!p) return makeError(p.error().code, "parameter 'plane': " + p.error().message);
+        def.geometry = Geometry::Plane;
+        def.plane = p.value();
+    } else if (elevation) {
+        auto z = parseNumber("elevation", *elevation);
+        if (!z) return z.error();
+        def.geometry = Geometry::Elevation;
+        def.elevation = z.value();
+        def.plane = horizontalPlane(z.value());
+    } else {
+        auto v = parseNumberList("line", *line, 0, 2 * kMaxLineVertices);
+        if (!v) return v.error();
+        if (v.value().size() % 2 != 0 || v.value().size() < 4)
+            return makeError(ErrorCode::InvalidArgument,
+                             "parameter 'line': needs at least two x,y vertices (an even count of numbers), got " +
+                                 std::to_string(v.value().size()) + " numbers");
+        bool lonlat = false;
+        if (const auto coords = param(params, "coords")) {
+            if (*coords == "lonlat")
+                lonlat = true;
+            else if (*coords != "world")
+                return makeError(ErrorCode::InvalidArgument,
+                                 "parameter 'coords': '" + std::string(*coords) + "' is not 'world' or 'lonlat'");
+        }
+        def.geometry = Geometry::Line;
+        for (std::size_t i = 0; i + 1 < v.value().size(); i += 2) {
+            glm::dvec2 p{v.value()[i], v.value()[i + 1]};
+            if (lonlat) {
+                if (!crs.isProjected())
+                    return makeError(ErrorCode::InvalidArgument,
+                                     "parameter 'coords': lonlat needs a model in a projected CGCS2000 CRS; this model "
+                                     "is " +
+                                         crs.id());
+                auto xy = crs.fromLonLat(p.x, p.y);
+                if (!xy) return makeError(xy.error().code, "parameter 'line': " + xy.error().message);
+                p = xy.value();
+            }
+            if (!def.line.empty() && glm::length(p - def.line.back()) < 1e-6)
+                return makeError(ErrorCode::InvalidArgument, "parameter 'line': vertices " +
+                                                                 std::to_string(def.line.size() - 1) + " and " +
+                                                                 std::to_string(def.line.size()) + " coincide");
+            def.line.push_back(p);
+        }
+    }
+    if (const auto vx = param(params, "vx")) {
+        auto k = parseNumber("vx", *vx);
+        if (!k) return k.error();
+        if (!(k.value() >= 0.1 && k.value() <= 100.0))
+            return makeError(ErrorCode::OutOfRange, "parameter 'vx': " + std::string(*vx) + " is outside 0.1..100");
+        def.exaggeration = k.value();
+    }
+    if (const auto bg = param(params, "bg")) {
+        auto c = parseBackground("bg", *bg);
+        if (!c) return c.error();
+        def.background = c.value();
+    }
+    return def;
+}
+
+Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, const Crs& crs) {
+    ViewPlan plan;
+    auto def = parseSectionDef(params, model, crs);
+    if (!def) return def.error();
+    plan.section = std::move(def.value());
+    if (const auto size = param(params, "size")) {
+        auto s = parseSize("size", *size, kMaxSide, kMaxPixels);
+        if (!s) return s.error();
+        plan.width = s.value().width;
+        plan.height = s.value().height;
+    }
+    const auto view = param(params, "view");
+    if (!view || *view == "profile") {
+        plan.view = ViewKind::Profile;
+        if (const auto frame = param(params, "frame")) {
+            auto f = parseNumberList("frame", *frame, 4);
+            if (!f) return f.error();
+            FrameRect r{f.value()[0], f.value()[2], f.value()[1], f.value()[3]};
+            if (!(r.u1 > r.u0) || !(r.v1 > r.v0))
+                return makeError(ErrorCode::InvalidArgument,
+                                 "parameter 'frame': '" + std::string(*frame) + "' needs u0 < u1 and v0 < v1");
+            plan.frame = r;
+        }
+    } else if (*view == "perspective") {
+        if (plan.section.geometry == Geometry::Line)
+            return makeError(
+                ErrorCode::Unsupported,
+                "parameter 'view': perspective views of a polyline section are not supported; use a plane");
+        plan.view = ViewKind::Perspective;
+        if (param(params, "eye") || param(params, "target")) {
+            if (!param(params, "eye") || !param(params, "target"))
+                return makeError(ErrorCode::InvalidArgument, "perspective view: give both 'eye' and 'target'");
+            Camera cam;
+            auto eye = parseVec3(params, "eye", {});
+            if (!eye) return eye.error();
+            auto target = parseVec3(params, "target", {});
+            if (!target) return target.error();
+            auto up = parseVec3(params, "up", {0.0, 0.0, 1.0});
+            if (!up) return up.error();
+            cam.eye = eye.value();
+            cam.target = target.value();
+            cam.up = up.value();
+            if (glm::length(cam.target - cam.eye) < 1e-6)
+                return makeError(ErrorCode::InvalidArgument, "perspective view: 'eye' and 'target' coincide");
+            if (glm::length(glm::cross(cam.up, cam.target - cam.eye)) < 1e-9 * glm::length(cam.target - cam.eye))
+                return makeError(ErrorCode::InvalidArgument,
+                                 "perspective view: 'up' is zero or parallel to the view direction");
+            if (const auto fov = param(params, "fov")) {
+                auto f = parseNumber("fov", *fov);
+                if (!f) return f.error();
+                if (!(f.value() >= 1.0 && f.value() <= 170.0))
+                    return makeError(ErrorCode::OutOfRange,
+                                     "parameter 'fov': " + std::string(*fov) + " is outside 1..170 degrees");
+                cam.fovDeg = f.value();
+            }
+            plan.camera = cam;
+        }
+    } else {
+        return makeError(ErrorCode::InvalidArgument,
+                         "parameter 'view': '" + std::string(*view) + "' is not 'profile' or 'perspective'");
+    }
+    return plan;
+}
+
+Plane sectionPlane(const SectionDef& def) {
+    return def.geometry == Geometry::Elevation ? horizontalPlane(def.elevation) : def.plane;
+}
+
+FrameRect projectedBounds(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin) {
+    const SectionFrame f = makeSectionFrame(plane, modelOrigin);
+    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner{(c & 1) ? bounds.max.x : bounds.min.x, (c & 2) ? bounds.max.y : bounds.min.y,
+                                (c & 4) ? bounds.max.z : bounds.min.z};
+        const glm::dvec2 uv = f.toPlane(corner - modelOrigin);
+        lo = glm::min(lo, uv);
+        hi = glm::max(hi, uv);
+    }
+    return FrameRect{lo.x, lo.y, hi.x, hi.y};
+}
+
+FrameRect defaultFrame(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin, int width, int height,
+                       double exaggeration, double margin) {
+    const FrameRect tight = projectedBounds(plane, bounds, modelOrigin);
+    const glm::dvec2 lo{tight.u0, tight.v0}, hi{tight.u1, tight.v1};
+    glm::dvec2 size = hi - lo;
+    const glm::dvec2 centre = (lo + hi) * 0.5;
+    size *= 1.0 + 2.0 * margin;
+    size = glm::max(size, glm::dvec2(1e-3));
+    // Metres per pixel along u = exaggeration x metres per pixel along v.
+    const double mppU = std::max(size.x / width, size.y * exaggeration / height);
+    const glm::dvec2 half{0.5 * mppU * width, 0.5 * mppU / exaggeration * height};
+    return FrameRect{centre.x - half.x, centre.y - half.y, centre.x + half.x, centre.y + half.y};
+}
+
+Camera defaultCamera(const Aabb& bounds) {
+    Camera c;
+    const glm::dvec3 size = bounds.size();
+    const double radius = 0.5 * glm::length(size);
+    c.target = bounds.centre();
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(1.0, -1.0, 0.8));
+    c.eye = c.target + dir * (radius / std::tan(glm::radians(c.fovDeg) * 0.5) * 1.05);
+    return c;
+}
+
+std::string encodeSectionId(const SectionDef& def) { return base64UrlEncode(def.canonical()); }
+
+Result<SectionDef> decodeSectionId(std::string_view sid, const std::function<const Crs*(const std::string&)>& crsOf) {
+    if (sid.size() > 16384) return makeError(ErrorCode::InvalidArgument, "section id is longer than 16384 characters");
+    auto text = base64UrlDecode(sid);
+    if (!text) return makeError(ErrorCode::InvalidArgument, "section id is not base64url: " + text.error().message);
+    Params params;
+    std::string_view rest = text.value();
+    while (!rest.empty()) {
+        const std::size_t amp = rest.find('&');
+        const std::string_view item = rest.substr(0, amp);
+        const std::size_t eq = item.find('=');
+        if (eq == std::string_view::npos || eq == 0)
+            return makeError(ErrorCode::InvalidArgument, "section id does not decode to a section definition");
+        params.emplace(std::string(item.substr(0, eq)), std::string(item.substr(eq + 1)));
+        if (amp == std::string_view::npos) break;
+        rest.remove_prefix(amp + 1);
+    }
+    const auto model = param(params, "model");
+    if (!model) return makeError(ErrorCode::InvalidArgument, "section id names no model");
+    const Crs* crs = crsOf(std::string(*model));
+    if (!crs)
+        return makeError(ErrorCode::NotFound,
+                         "section id names model '" + std::string(*model) + "', which is not loaded");
+    auto def = parseSectionDef(params, std::string(*model), *crs);
+    if (!def) return makeError(def.error().code, "section id: " + def.error().message);
+    return def;
+}
+
+std::string base64UrlEncode(std::string_view bytes) {
+    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_";
+    std::string out;
+    out.reserve((bytes.size() + 2) / 3 * 4);
+    std::size_t i = 0;
+    for (; i + 2 < bytes.size(); i += 3) {
+        const std::uint32_t v =
+            (std::uint8_t(bytes[i]) << 16) | (std::uint8_t(bytes[i + 1]) << 8) | std::uint8_t(bytes[i + 2]);
+        for (int k = 3; k >= 0; --k) out += alphabet[(v >> (6 * k)) & 63];
+    }
+    if (i + 1 == bytes.size()) {
+        const std::uint32_t v = std::uint8_t(bytes[i]) << 16;
+        out += alphabet[(v >> 18) & 63];
+        out += alphabet[(v >> 12) & 63];
+    } else if (i + 2 == bytes.size()) {
+        const std::uint32_t v = (std::uint8_t(bytes[i]) << 16) | (std::uint8_t(bytes[i + 1]) << 8);
+        out += alphabet[(v >> 18) & 63];
+        out += alphabet[(v >> 12) & 63];
+        out += alphabet[(v >> 6) & 63];
+    }
+    return out;
+}
+
+Result<std::string> base64UrlDecode(std::string_view text) {
+    auto value = [](char c) -> int {
+        if (c >= 'A' && c <= 'Z') return c - 'A';
+        if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+        if (c >= '0' && c <= '9') return c - '0' + 52;
+        if (c == '-') return 62;
+        if (c == '_') return 63;
+        return -1;
+    };
+    if (text.size() % 4 == 1) return makeError(ErrorCode::InvalidArgument, "bad length " + std::to_string(text.size()));
+    std::string out;
+    std::uint32_t acc = 0;
+    int bits = 0;
+    for (char c : text) {
+        const int v = value(c);
+        if (v < 0)
+            return makeError(ErrorCode::InvalidArgument, "character '" + std::string(1, c) + "' is not base64url");
+        acc = (acc << 6) | std::uint32_t(v);
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out += char((acc >> bits) & 0xff);
+        }
+    }
+    return out;
+}
+
+std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t seed) {
+    std::uint64_t h = seed;
+    for (unsigned char c : bytes) {
+        h ^= c;
+        h *= 0x100000001b3ULL;
+    }
+    return h;
+}
+
+std::string hex64(std::uint64_t v) {
+    static const char* digits = "0123456789abcdef";
+    std::string s(16, '0');
+    for (int i = 15; i >= 0; --i, v >>= 4) s[std::size_t(i)] = digits[v & 15];
+    return s;
+}
+
+}  // namespace geoslice::api

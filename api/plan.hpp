@@ -1,0 +1,104 @@
+// Plans: the validated, canonical form of a request for a section view. A render or a
+// query is a pure function of (model version, plan), so the canonical text of a plan is
+// what cache keys, ETags and stateless section ids are made from (shared/DESIGN.md).
+//
+// Request parameters (HTTP query string or JSON fields; api/params.hpp):
+//   geometry, exactly one of
+//     plane=a,b,c,d             world plane; keeps a*x + b*y + c*z + d >= 0 (normalised here)
+//     line=x1,y1,x2,y2[,...]    vertical section along a map polyline (2..256 vertices)
+//     elevation=z               horizontal slice (plan map) at elevation z, metres
+//   coords=world|lonlat         units of `line` (lonlat: degrees lon,lat in CGCS2000; default world)
+//   view=profile|perspective    default profile
+//   frame=u0,u1,v0,v1           profile: plane u/v metres shown (default: the model's
+//                               bounds projected on the plane, 2 % margin, fitted to the size)
+//   eye=x,y,z target=x,y,z up=x,y,z fov=deg   perspective camera (world; defaults around the model)
+//   size=WxH                    pixels, each side 1..8192, at most 2^26 pixels (default 1024x1024)
+//   vx=k                        vertical exaggeration 0.1..100 (default 1): v metres per pixel / k
+//   bg=transparent|#rrggbb[aa]  background (default transparent)
+// Units: metres in the model's CRS (x easting, y northing, z elevation), degrees for lon/lat.
+// Pure functions, any thread.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "api/params.hpp"
+#include "model/attributes.hpp"
+#include "model/crs.hpp"
+#include "model/model.hpp"
+#include "model/result.hpp"
+#include "section/plane.hpp"
+#include "section/raster.hpp"
+
+namespace geoslice::api {
+
+constexpr int kMaxSide = 8192;
+constexpr long long kMaxPixels = 1LL << 26;
+constexpr std::size_t kMaxLineVertices = 256;
+
+enum class Geometry { Plane, Line, Elevation };
+enum class ViewKind { Profile, Perspective };
+
+// What a section is, independent of the view of it (a tile pyramid shares one).
+struct SectionDef {
+    std::string model;
+    Geometry geometry = Geometry::Plane;
+    Plane plane;                   // Plane and Elevation: world, unit normal
+    std::vector<glm::dvec2> line;  // Line: world easting, northing (metres)
+    double elevation = 0.0;        // Elevation
+    double exaggeration = 1.0;     // vertical exaggeration of profile frames
+    Rgba8 background{0, 0, 0, 0};
+
+    // "model=..&plane=..&vx=..&bg=.." with every number in shortest round-trip form.
+    std::string canonical() const;
+};
+
+struct Camera {
+    glm::dvec3 eye{0.0}, target{0.0}, up{0.0, 0.0, 1.0};
+    double fovDeg = 45.0;
+};
+
+struct ViewPlan {
+    SectionDef section;
+    ViewKind view = ViewKind::Profile;
+    std::optional<FrameRect> frame;  // profile; nullopt = default frame
+    std::optional<Camera> camera;    // perspective; nullopt = default camera
+    int width = 1024, height = 1024;
+
+    std::string canonical() const;  // the section's canonical text plus the view's fields
+};
+
+// Parses the section fields of `params`. `crs` converts lon/lat lines (error when local).
+Result<SectionDef> parseSectionDef(const Params& params, const std::string& model, const Crs& crs);
+// Parses a whole view. Errors name the parameter (InvalidArgument / OutOfRange).
+Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, const Crs& crs);
+
+// The plane of a Plane or Elevation section (Elevation keeps what lies below z, seen from above).
+Plane sectionPlane(const SectionDef& def);
+
+// `bounds` projected on the plane's u/v axes: the tight u/v rectangle around its corners.
+FrameRect projectedBounds(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin);
+// The default profile frame: `bounds` projected on the plane's u/v axes, `margin` on each
+// side, grown along one axis so that (u metres per pixel) = exaggeration x (v metres per pixel).
+FrameRect defaultFrame(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin, int width, int height,
+                       double exaggeration, double margin = 0.02);
+// The default perspective camera: from the south-east, above, looking at the bounds' centre.
+Camera defaultCamera(const Aabb& bounds);
+
+// Stateless section ids: base64url (no padding) of SectionDef::canonical(), and back.
+std::string encodeSectionId(const SectionDef& def);
+Result<SectionDef> decodeSectionId(std::string_view sid, const std::function<const Crs*(const std::string&)>& crsOf);
+
+// base64url without padding (RFC 4648 section 5).
+std::string base64UrlEncode(std::string_view bytes);
+Result<std::string> base64UrlDecode(std::string_view text);
+
+// 64-bit FNV-1a, for cache keys and ETags (not for security).
+std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t seed = 0xcbf29ce484222325ULL);
+std::string hex64(std::uint64_t v);
+
+}  // namespace geoslice::api

@@ -1,0 +1,354 @@
+#include "api/view.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "section/contours.hpp"
+
+namespace geoslice::api {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Status requirePlanar(const SectionDef& def) {
+    if (def.geometry == Geometry::Line)
+        return makeError(ErrorCode::Unsupported,
+                         "tiles of polyline sections are not served yet; use 'plane' or 'elevation'");
+    return {};
+}
+
+ViewImage fromSectionImage(SectionImage&& s) {
+    ViewImage v;
+    v.width = s.frame.width;
+    v.height = s.frame.height;
+    v.rgba = std::move(s.rgba);
+    v.ids = std::move(s.ids);
+    PixelMapping m;
+    m.planar = s.frame;
+    m.rect = s.frame.rect;
+    m.width = v.width;
+    m.height = v.height;
+    v.mapping = m;
+    return v;
+}
+
+// The default frame of a polyline section: chainage 0..length by the model's elevation
+// range, 2 % margin, grown along one axis so that s metres per pixel = k x z metres per pixel.
+FrameRect defaultLineFrame(const SectionLine& line, const Aabb& bounds, int width, int height, double exaggeration) {
+    const double margin = 0.02;
+    glm::dvec2 size{line.length(), bounds.max.z - bounds.min.z};
+    const glm::dvec2 centre{0.5 * line.length(), 0.5 * (bounds.max.z + bounds.min.z)};
+    size *= 1.0 + 2.0 * margin;
+    size = glm::max(size, glm::dvec2(1e-3));
+    const double mppU = std::max(size.x / width, size.y * exaggeration / height);
+    const glm::dvec2 half{0.5 * mppU * width, 0.5 * mppU / exaggeration * height};
+    return FrameRect{centre.x - half.x, centre.y - half.y, centre.x + half.x, centre.y + half.y};
+}
+
+}  // namespace
+
+glm::dvec2 PixelMapping::sectionAt(int i, int j) const {
+    const double pu = (rect.u1 - rect.u0) / width, pv = (rect.v1 - rect.v0) / height;
+    return {rect.u0 + (i + 0.5) * pu, rect.v1 - (j + 0.5) * pv};
+}
+
+glm::dvec3 PixelMapping::worldAt(int i, int j) const {
+    if (geometry == Geometry::Line) {
+        const glm::dvec2 sz = sectionAt(i, j);
+        return line.worldAt(sz.x, sz.y);
+    }
+    return planar.pixelCentreWorld(i, j);
+}
+
+Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& plan) {
+    PixelMapping m;
+    m.geometry = plan.section.geometry;
+    m.width = plan.width;
+    m.height = plan.height;
+    if (plan.section.geometry == Geometry::Line) {
+        auto line = makeSectionLine(plan.section.line);
+        if (!line) return makeError(line.error().code, "parameter 'line': " + line.error().message);
+        m.line = std::move(line.value());
+        m.rect = plan.frame ? *plan.frame
+                            : defaultLineFrame(m.line, model.index->bounds, plan.width, plan.height,
+                                               plan.section.exaggeration);
+    } else {
+        auto plane = checkSectionPlane(*model.index, sectionPlane(plan.section));
+        if (!plane) return plane.error();
+        m.rect = plan.frame ? *plan.frame
+                            : defaultFrame(plane.value(), model.index->bounds, model.model.origin, plan.width,
+                                           plan.height, plan.section.exaggeration);
+        m.planar.section = makeSectionFrame(plane.value(), model.model.origin);
+        m.planar.rect = m.rect;
+        m.planar.width = plan.width;
+        m.planar.height = plan.height;
+    }
+    if (auto s = checkFrame(m.rect, plan.width, plan.height); !s) return s.error();
+    return m;
+}
+
+Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan) {
+    if (plan.view != ViewKind::Profile)
+        return makeError(ErrorCode::InvalidArgument, "renderProfile: the plan is not a profile view");
+    const auto t0 = std::chrono::steady_clock::now();
+    auto mapping = profileMapping(model, plan);
+    if (!mapping) return mapping.error();
+    RasterOptions ro;
+    ro.background = plan.section.background;
+    ViewImage v;
+    if (plan.section.geometry == Geometry::Line) {
+        auto section = computePolylineSection(*model.index, plan.section.line);
+        if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
+        auto image =
+            rasterizePolylineSection(*model.index, section.value(), mapping.value().rect, plan.width, plan.height, ro);
+        if (!image) return image.error();
+        v.width = plan.width;
+        v.height = plan.height;
+        v.rgba = std::move(image.value().rgba);
+        v.ids = std::move(image.value().ids);
+    } else {
+        auto section = computeSection(*model.index, sectionPlane(plan.section));
+        if (!section) return section.error();
+        auto image = rasterizeSection(*model.index, section.value(), mapping.value().rect, plan.width, plan.height, ro);
+        if (!image) return image.error();
+        v.width = plan.width;
+        v.height = plan.height;
+        v.rgba = std::move(image.value().rgba);
+        v.ids = std::move(image.value().ids);
+    }
+    v.mapping = std::move(mapping.value());
+    v.renderMs = msSince(t0);
+    return v;
+}
+
+Result<FrameRect> TileGrid::tileRect(int z, long long x, long long y) const {
+    if (z < 0 || z > maxZoom)
+        return makeError(ErrorCode::NotFound,
+                         "tile zoom " + std::to_string(z) + " is outside 0.." + std::to_string(maxZoom));
+    const long long n = 1LL << z;
+    if (x < 0 || y < 0 || x >= n || y >= n)
+        return makeError(ErrorCode::NotFound, "tile " + std::to_string(z) + "/" + std::to_string(x) + "/" +
+                                                  std::to_string(y) + " is outside the grid (0.." +
+                                                  std::to_string(n - 1) + " at zoom " + std::to_string(z) + ")");
+    const double s = size0 / double(n);
+    const double sv = s / exaggeration;
+    FrameRect r;
+    r.u0 = extent.u0 + double(x) * s;
+    r.u1 = r.u0 + s;
+    r.v1 = extent.v1 - double(y) * sv;
+    r.v0 = r.v1 - sv;
+    return r;
+}
+
+nlohmann::ordered_json TileGrid::describe() const {
+    nlohmann::ordered_json j;
+    j["tileSize"] = tileSize;
+    j["minZoom"] = 0;
+    j["maxZoom"] = maxZoom;
+    j["origin"] = {{"u", extent.u0}, {"v", extent.v1}};
+    j["size0"] = size0;
+    j["exaggeration"] = exaggeration;
+    j["extent"] = {{"u0", extent.u0}, {"u1", extent.u1}, {"v0", extent.v0}, {"v1", extent.v1}};
+    j["tileRect"] =
+        "u in [u0 + x*s, u0 + (x+1)*s], v in [v1 - (y+1)*s/k, v1 - y*s/k], s = size0 / 2^z, k = exaggeration";
+    const double scale = 256.0 / size0;
+    j["leaflet"] = {
+        {"crs", "L.CRS.Simple"},
+        {"lngOfU", "lng = (u - origin.u) * 256 / size0"},
+        {"latOfV", "lat = (v - origin.v) * exaggeration * 256 / size0"},
+        {"bounds", {{(extent.v0 - extent.v1) * exaggeration * scale, 0.0}, {0.0, (extent.u1 - extent.u0) * scale}}}};
+    return j;
+}
+
+Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def) {
+    if (auto s = requirePlanar(def); !s) return s.error();
+    auto plane = checkSectionPlane(*model.index, sectionPlane(def));
+    if (!plane) return plane.error();
+    TileGrid g;
+    g.exaggeration = def.exaggeration;
+    // The model's bounds on the plane, no margin; the grid is anchored at its top-left corner.
+    g.extent = projectedBounds(plane.value(), model.index->bounds, model.model.origin);
+    const double extentU = g.extent.u1 - g.extent.u0;
+    const double extentV = (g.extent.v1 - g.extent.v0) * def.exaggeration;
+    g.size0 = std::exp2(std::ceil(std::log2(std::max({extentU, extentV, 1e-3}))));
+    const double finest = 0.01 * g.tileSize;  // about 1 cm per pixel
+    g.maxZoom = std::clamp(int(std::ceil(std::log2(g.size0 / finest))), 0, 24);
+    return g;
+}
+
+Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef& def, const TileGrid& grid, int z,
+                                    long long x, long long y) {
+    auto rect = grid.tileRect(z, x, y);
+    if (!rect) return rect.error();
+    const auto t0 = std::chrono::steady_clock::now();
+    RasterOptions ro;
+    ro.background = def.background;
+    auto image = renderTile(*model.index, sectionPlane(def), rect.value(), grid.tileSize, grid.tileSize, ro);
+    if (!image) return image.error();
+    ViewImage v = fromSectionImage(std::move(image.value()));
+    v.renderMs = msSince(t0);
+    return v;
+}
+
+nlohmann::ordered_json worldPointJson(const Crs& crs, const glm::dvec3& world) {
+    nlohmann::ordered_json j;
+    j["x"] = world.x;
+    j["y"] = world.y;
+    j["z"] = world.z;
+    j["crs"] = crs.id();
+    j["axes"] = {"x: easting (m)", "y: northing (m)", "z: elevation (m)"};
+    if (crs.isProjected()) {
+        j["projected"] = {{"crs", crs.id()},
+                          {"name", crs.name()},
+                          {"easting", world.x},
+                          {"northing", world.y},
+                          {"zone", crs.zone()},
+                          {"zoneWidthDeg", crs.zoneWidthDeg()},
+                          {"centralMeridianDeg", crs.centralMeridianDeg()},
+                          {"axisOrder", "easting, northing (metres); EPSG lists northing first"}};
+        if (auto ll = crs.toLonLat(world.x, world.y))
+            j["geodetic"] = {
+                {"crs", "EPSG:4490"},
+                {"lon", ll.value().x},
+                {"lat", ll.value().y},
+                {"height", world.z},
+                {"axisOrder", "lon, lat (degrees), height (m); EPSG lists lat first"},
+                {"heightNote", "the model's elevation, reported as ellipsoidal height: no geoid model is configured"}};
+    } else if (crs.isGeographic()) {
+        j["geodetic"] = {{"crs", crs.id()}, {"lon", world.x}, {"lat", world.y}, {"height", world.z}};
+    } else {
+        j["projectedNote"] = "the model has a local CRS: no CGCS2000 coordinates";
+    }
+    return j;
+}
+
+Result<nlohmann::ordered_json> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
+                                          const ViewImage* cached) {
+    if (px < 0 || py < 0 || px >= plan.width || py >= plan.height)
+        return makeError(ErrorCode::OutOfRange, "pixel (" + std::to_string(px) + ", " + std::to_string(py) +
+                                                    ") is outside the " + std::to_string(plan.width) + "x" +
+                                                    std::to_string(plan.height) + " image");
+    if (plan.view != ViewKind::Profile)
+        return makeError(ErrorCode::Unsupported, "pixel queries of perspective views are not served yet");
+    std::optional<PixelMapping> fresh;
+    const PixelMapping* mapping = cached && cached->mapping ? &*cached->mapping : nullptr;
+    if (!mapping) {
+        auto m = profileMapping(model, plan);
+        if (!m) return m.error();
+        fresh = std::move(m.value());
+        mapping = &*fresh;
+    }
+    const int i = int(px), j = int(py);
+    const glm::dvec3 world = mapping->worldAt(i, j);
+    RecordId id = kNoRecord;
+    const char* source = "ray";
+    if (cached && !cached->ids.empty()) {
+        id = cached->ids[std::size_t(j) * std::size_t(cached->width) + std::size_t(i)];
+        source = "id-buffer";
+    } else if (mapping->geometry == Geometry::Line) {
+        // Like the polyline fill: nothing before the first vertex or past the last one.
+        const double chain = mapping->sectionAt(i, j).x;
+        id = chain >= 0.0 && chain < mapping->line.length() ? model.classifier->classify(world) : kNoRecord;
+    } else {
+        id = model.classifier->classify(world);
+    }
+    nlohmann::ordered_json out;
+    out["model"] = model.id;
+    out["version"] = model.version;
+    out["pixel"] = {{"x", px}, {"y", py}, {"centre", {double(px) + 0.5, double(py) + 0.5}}};
+    out["hit"] = id != kNoRecord;
+    if (id != kNoRecord) {
+        const AttributeRecord* r = model.model.attributes.find(id);
+        out["record"] = r ? r->toJson() : nlohmann::ordered_json{{"id", id}};
+        for (const Part& p : model.model.bodies)
+            if (p.record == id) {
+                out["body"] = p.name;
+                break;
+            }
+    } else {
+        out["record"] = nullptr;
+        out["message"] = "no geology at this pixel";
+    }
+    const glm::dvec2 uv = mapping->sectionAt(i, j);
+    if (mapping->geometry == Geometry::Line)
+        out["section"] = {{"distanceAlong", uv.x},
+                          {"elevation", uv.y},
+                          {"note", "distanceAlong: metres of chainage from the line's first vertex"}};
+    else
+        out["section"] = {{"u", uv.x},
+                          {"v", uv.y},
+                          {"distanceAlong", uv.x - mapping->rect.u0},
+                          {"note", "u, v: plane metres; distanceAlong: metres along u from the image's left edge"}};
+    out["world"] = worldPointJson(model.model.crs, world);
+    out["source"] = source;
+    return out;
+}
+
+Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params) {
+    double x = 0.0, y = 0.0;
+    if (param(params, "lon") || param(params, "lat")) {
+        const auto lon = param(params, "lon"), lat = param(params, "lat");
+        if (!lon || !lat) return makeError(ErrorCode::InvalidArgument, "borehole: give both 'lon' and 'lat'");
+        auto lo = parseNumber("lon", *lon);
+        if (!lo) return lo.error();
+        auto la = parseNumber("lat", *lat);
+        if (!la) return la.error();
+        if (!model.model.crs.isProjected())
+            return makeError(ErrorCode::InvalidArgument,
+                             "borehole: lon/lat needs a model in a projected CGCS2000 CRS; "
+                             "this model is " +
+                                 model.model.crs.id());
+        auto xy = model.model.crs.fromLonLat(lo.value(), la.value());
+        if (!xy) return xy.error();
+        x = xy.value().x;
+        y = xy.value().y;
+    } else {
+        const auto xs = param(params, "x"), ys = param(params, "y");
+        if (!xs || !ys) return makeError(ErrorCode::InvalidArgument, "borehole: give 'x' and 'y' (or 'lon' and 'lat')");
+        auto xv = parseNumber("x", *xs);
+        if (!xv) return xv.error();
+        auto yv = parseNumber("y", *ys);
+        if (!yv) return yv.error();
+        x = xv.value();
+        y = yv.value();
+    }
+    auto hole = model.tracer->traceVertical(x, y);
+    if (!hole) return hole.error();
+    const Borehole& b = hole.value();
+    nlohmann::ordered_json out;
+    out["model"] = model.id;
+    out["version"] = model.version;
+    out["collar"] =
+        std::isnan(b.collarDepth) ? nlohmann::ordered_json(nullptr) : worldPointJson(model.model.crs, b.collar);
+    out["depthNote"] = "from/to: metres below the collar (the first surface the vertical hole meets), along the hole";
+    nlohmann::ordered_json intervals = nlohmann::ordered_json::array();
+    for (const BoreholeInterval& iv : b.intervals) {
+        nlohmann::ordered_json e;
+        e["from"] = iv.fromCollar;
+        e["to"] = iv.toCollar;
+        e["thickness"] = iv.to - iv.from;
+        e["fromElevation"] = iv.fromElevation;
+        e["toElevation"] = iv.toElevation;
+        e["body"] = iv.body < model.model.bodies.size() ? model.model.bodies[iv.body].name : "";
+        const AttributeRecord* r = model.model.attributes.find(iv.record);
+        e["record"] = r ? r->toJson() : nlohmann::ordered_json{{"id", iv.record}};
+        intervals.push_back(std::move(e));
+    }
+    out["intervals"] = std::move(intervals);
+    nlohmann::ordered_json crossings = nlohmann::ordered_json::array();
+    for (const BoreholeCrossing& c : b.crossings) {
+        nlohmann::ordered_json e;
+        e["depth"] = c.depthCollar;
+        e["elevation"] = c.elevation;
+        e["surface"] = c.surface < model.model.surfaces.size() ? model.model.surfaces[c.surface].name : "";
+        const AttributeRecord* r = model.model.attributes.find(c.record);
+        e["record"] = r ? r->toJson() : nlohmann::ordered_json{{"id", c.record}};
+        crossings.push_back(std::move(e));
+    }
+    out["crossings"] = std::move(crossings);
+    return out;
+}
+
+}  // namespace geoslice::api

@@ -1,0 +1,87 @@
+// Executing plans on the CPU: profile views and tiles from the exact section engine, the
+// documented tile grid over a section's u/v plane, and pixel queries.
+//
+// Pixel frames: column x to the right, row y downwards, row 0 at the top; pixel (x, y)
+// stands for its centre (x + 0.5, y + 0.5), which is where ID buffers are sampled.
+// Pure functions of (model, plan), any thread (the model is immutable).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/catalog.hpp"
+#include "api/plan.hpp"
+#include "model/result.hpp"
+#include "section/polyline.hpp"
+#include "section/raster.hpp"
+
+namespace geoslice::api {
+
+// Pixel -> section coordinates -> world of a profile view or tile, computed from the plan
+// alone (no cut), so that a cached image and a fresh query agree exactly.
+struct PixelMapping {
+    Geometry geometry = Geometry::Plane;
+    PixelFrame planar;  // Plane and Elevation: plane u/v metres
+    SectionLine line;   // Line: chainage s and elevation z play u and v
+    FrameRect rect;     // the frame in section coordinates (u/v or s/z), metres
+    int width = 0, height = 0;
+
+    // Section coordinates (u, v) or (s, z) of the centre of pixel (i, j).
+    glm::dvec2 sectionAt(int i, int j) const;
+    glm::dvec3 worldAt(int i, int j) const;
+};
+Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& plan);
+
+// A rendered view: colour, record ids and the pixel -> world map.
+struct ViewImage {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgba;       // straight alpha, row 0 at the top
+    std::vector<std::uint32_t> ids;       // record ids, 0 = no geology
+    std::optional<PixelMapping> mapping;  // profile views and tiles: exact pixel -> world
+    double renderMs = 0.0;
+    std::size_t bytes() const { return rgba.size() + ids.size() * 4 + sizeof(ViewImage); }
+};
+
+// A profile view (plane, elevation or polyline section) with the exact engine. A plane that
+// misses the model gives an empty (background) image, not an error.
+Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan);
+
+// The tile grid of a section (documented in the OpenAPI text): zoom 0 is one tile of
+// `tileSize` pixels covering a square of `size0` metres along u (size0 / exaggeration
+// along v) whose top-left corner is (u0, v1) of the section's extent (the model's bounds
+// projected on the plane). Zoom z has 2^z x 2^z tiles; tile (z, x, y) covers
+//   u in [u0 + x s, u0 + (x + 1) s],  v in [v1 - (y + 1) s / k, v1 - y s / k],  s = size0 / 2^z.
+// Leaflet (L.CRS.Simple, tileSize 256): lng = (u - u0) * 256 / size0, lat = (v - v1) * k * 256 / size0.
+struct TileGrid {
+    FrameRect extent;    // section contents' u/v rectangle
+    double size0 = 1.0;  // metres along u of the zoom-0 tile (a power of two)
+    double exaggeration = 1.0;
+    int tileSize = 256;
+    int maxZoom = 0;  // tiles are no finer than about 1 cm per pixel
+
+    Result<FrameRect> tileRect(int z, long long x, long long y) const;
+    nlohmann::ordered_json describe() const;
+};
+Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def);
+Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef& def, const TileGrid& grid, int z,
+                                    long long x, long long y);
+
+// The answer to a pixel query: record, attributes, world point, distance along the
+// section, CGCS2000 projected and geodetic coordinates. `cached` is the ID buffer of the
+// identical view when there is one; otherwise the answer comes from the exact oracle at
+// the pixel centre (profile) and must agree with any rendering of that view.
+Result<nlohmann::ordered_json> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
+                                          const ViewImage* cached);
+
+// A virtual borehole: `x`, `y` (world metres; or `lon`, `lat` degrees) -> the intervals
+// with from/to depth below the collar and elevation, record and attributes, and the open
+// surfaces crossed. Errors name the parameter; a point outside the model is OutOfRange.
+Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params);
+
+// The JSON of a world point: {x, y, z, crs, axes, projected: {...}, geodetic: {...}}.
+nlohmann::ordered_json worldPointJson(const Crs& crs, const glm::dvec3& world);
+
+}  // namespace geoslice::api

@@ -1,0 +1,207 @@
+// bake/: the attribute-indexed texture of paper section 2.2. A model's meshes are cut into
+// charts (85-degree dihedral region growing, each chart a topological disk), each chart is
+// flattened by LSCM (Levy, Petitjean, Ray, Maillot 2002, "Least squares conformal maps for
+// automatic texture atlas generation"), the charts are shelf-packed into [0,1]^2 with a
+// 2-texel margin at one uniform texel density, and every texel a triangle touches
+// (conservative rasterization) gets the triangle's attribute record id in an R32UI texture,
+// padded by one texel across chart borders (seams).
+//
+// Style: free functions over plain arrays, deterministic output for any thread count.
+// Threads: every function may be called from any thread; bakeModel() uses its own workers.
+//
+// Frames: mesh positions are world (double, metres) or local (float, world - Model::origin);
+// chart UVs are metres in the chart's own plane; packed UVs are texture coordinates in
+// [0,1]^2 of one page, with the page index added to u (u in [page, page + 1)), so a
+// one-page bake has plain [0,1]^2 UVs. Texel (x, y) of a page covers
+// u in [x/W, (x+1)/W), v in [y/H, (y+1)/H); row y = 0 is the first row in memory (v = 0:
+// glTF's first image row, GL's t = 0), so nearest sampling is texelFetch(floor(uv * size)).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "model/model.hpp"
+#include "model/result.hpp"
+
+namespace geoslice::bake {
+
+// ---- 1. Charts (charts.cpp) ------------------------------------------------------------
+
+struct ChartOptions {
+    // Two triangles sharing a manifold, consistently oriented edge may join one chart when
+    // their normals differ by at most this angle (the paper's 85 degrees).
+    double maxDihedralDegrees = 85.0;
+    // Shape bound: no triangle of a chart deviates from the chart's seed normal by more than
+    // this, so the chart is a height field over the seed plane (keeps LSCM well conditioned
+    // and far from folds).
+    double maxConeDegrees = 80.0;
+    // Size bound: triangles per chart. Growth is breadth-first from the seed, so charts are
+    // compact (about round in hops).
+    std::uint32_t maxTriangles = 2048;
+};
+// bakeModel() also cuts any chart too large for a page at PackOptions::minDensity, and any
+// chart whose LSCM flips or collapses a triangle (splitTriangles, then LSCM again).
+
+// Charts as lists of triangle indices: chart c holds triangles[offsets[c] .. offsets[c+1]).
+struct Charts {
+    std::vector<std::uint32_t> offsets{0};
+    std::vector<std::uint32_t> triangles;
+    std::size_t count() const { return offsets.size() - 1; }
+};
+
+// Welds vertices with exactly equal positions: weld[v] is the smallest vertex index with
+// v's position. Deterministic. positions may hold NaN (never welded).
+std::vector<std::uint32_t> weldVertices(const glm::dvec3* positions, std::size_t vertexCount);
+
+// Splits a mesh (indices: 3 per triangle, already welded) into charts by region growing.
+// Every chart is a topological disk (isTopologicalDisk): charts that are not are cut in two
+// until they are. Chart order: by smallest triangle index; triangles in ascending order.
+Charts buildCharts(const glm::dvec3* positions, std::size_t vertexCount, const std::uint32_t* indices,
+                   std::size_t triangleCount, const ChartOptions& options = {});
+
+// True when the triangles (indices into `indices`, 3 per triangle) form a topological disk:
+// edge-connected, every vertex with at most one outgoing border half-edge (no pinches),
+// one border loop, and Euler characteristic V - E + F = 1. Edges join two triangles only
+// when they run opposite ways (consistent orientation).
+bool isTopologicalDisk(const std::uint32_t* indices, const std::uint32_t* triangles, std::size_t count);
+
+// Cuts a set of triangles in two at the median of their centroids along the longest axis
+// of the centroids' bounds, then splits each half into edge-connected components. Every
+// output part is non-empty; one triangle is returned unchanged. Appends to `out`.
+void splitTriangles(const glm::dvec3* positions, const std::uint32_t* indices, const std::uint32_t* triangles,
+                    std::size_t count, std::vector<std::vector<std::uint32_t>>& out);
+
+// ---- 2. LSCM (lscm.cpp) ----------------------------------------------------------------
+
+// One chart flattened: chart-local vertices (indices into the mesh's vertex array), their
+// UVs in metres (scaled so the chart's UV area equals its 3D area), and 3 chart-local
+// vertex indices per triangle, in the order of the chart's triangle list.
+struct ChartUv {
+    std::vector<std::uint32_t> vertices;
+    std::vector<glm::dvec2> uv;
+    std::vector<std::uint32_t> corners;
+    std::size_t badTriangles = 0;  // flipped or degenerate in UV (relative area < 1e-9)
+    double area3d = 0.0;           // m^2
+};
+
+// Least squares conformal map of one chart (a topological disk) with two pinned vertices
+// (the extremes along the chart's principal axis), solved by sparse Cholesky of the normal
+// equations (Eigen SimplicialLDLT). Triangles whose 3D area is zero still get corners but
+// no energy term. A chart of one triangle is its exact planar layout.
+ChartUv lscmChart(const glm::dvec3* positions, const std::uint32_t* indices, const std::uint32_t* triangles,
+                  std::size_t count);
+
+// Distortion of a parameterization, per triangle from the singular values s1 >= s2 of the
+// 3D -> UV Jacobian (UV scaled to the model-wide area ratio): angle distortion s1/s2 (1 is
+// conformal), area distortion max(s1 s2, 1/(s1 s2)) (1 keeps area). Means are weighted by
+// 3D area.
+struct Distortion {
+    double meanAngle = 1.0, maxAngle = 1.0;
+    double meanArea = 1.0, maxArea = 1.0;
+};
+
+// Sums over triangles for Distortion; add() merges charts, result() gives the means.
+struct DistortionSums {
+    double weight = 0.0, angle = 0.0, area = 0.0, maxAngle = 1.0, maxArea = 1.0;
+    void add(const DistortionSums& o);
+    Distortion result() const;
+};
+
+// Distortion of one flattened chart (uv in metres, area-normalised as lscmChart returns it).
+// Triangles of zero 3D area are skipped; a collapsed UV triangle counts as distortion 1e9.
+DistortionSums measureDistortion(const glm::dvec3* positions, const std::uint32_t* indices,
+                                 const std::uint32_t* triangles, std::size_t count, const ChartUv& chart);
+
+// ---- 3. Packing (pack.cpp) -------------------------------------------------------------
+
+struct PackOptions {
+    std::uint32_t width = 4096, height = 4096;  // texels per page
+    std::uint32_t margin = 2;                   // empty texels between charts (and at page borders: margin / 2)
+    double minDensity = 0.02;                   // texels per metre below which more pages are used
+    std::uint32_t maxPages = 16;                // texture budget: more pages than this is an error
+};
+
+// A chart's cell rectangle on a page, in texels. The chart's UV bounds map to
+// [x + 0.5, x + 0.5 + extent * density] (same in y), so each rectangle has half a texel of
+// slack on every side for float rounding.
+struct Placement {
+    std::uint32_t page = 0, x = 0, y = 0, w = 0, h = 0;
+};
+
+struct Packing {
+    double density = 0.0;  // texels per metre, the same for every chart
+    std::uint32_t pages = 0;
+    std::vector<Placement> placements;  // one per chart, input order
+};
+
+// Cells a chart of `extent` metres occupies at `density`: ceil(extent * density + 1).
+std::uint32_t chartCells(double extent, double density);
+
+// Shelf packing (charts sorted by height, tallest first, ties by index; left to right,
+// shelves bottom to top, pages in order) at the largest uniform density that fits one page;
+// when that density is below minDensity, at minDensity on as many pages as needed. Errors:
+// OutOfRange when a chart cannot fit a page at minDensity or more than maxPages are needed.
+Result<Packing> packCharts(const glm::dvec2* extents, std::size_t count, const PackOptions& options);
+
+// ---- 4. Index texture (raster.cpp) -----------------------------------------------------
+
+// Conservative rasterization: sets mask[y * w + x] = 1 for every texel cell [x,x+1]x[y,y+1]
+// of a w x h grid that the closed triangle (texel coordinates) touches, including zero-area
+// triangles (a segment or a point). Separating-axis test per cell of the bounding box.
+void rasterizeConservative(const glm::dvec2 tri[3], std::uint8_t* mask, std::uint32_t w, std::uint32_t h);
+
+// Seam padding: every unset cell with a set 8-neighbour is set (one texel of dilation).
+void dilateMask(std::uint8_t* mask, std::uint32_t w, std::uint32_t h);
+
+// ---- Whole-model bake (bake.cpp) -------------------------------------------------------
+
+struct BakeOptions {
+    ChartOptions charts;
+    PackOptions pack;
+    unsigned threads = 0;  // 0: hardware concurrency
+};
+
+// One part of the baked mesh: vertices split along chart borders.
+struct BakedPart {
+    std::string name;
+    PartKind kind = PartKind::Body;
+    RecordId record = kNoRecord;
+    std::vector<glm::vec3> positions;  // local frame (world - origin), metres
+    std::vector<glm::vec2> uvs;        // page + u, v (see the header comment)
+    std::vector<std::uint32_t> indices;
+};
+
+struct BakeStats {
+    std::size_t triangles = 0, charts = 0, splitCharts = 0, vertices = 0;
+    double texelUtilisation = 0.0;  // texels holding an id / all texels of all pages
+    Distortion distortion;
+    double secondsCharts = 0, secondsLscm = 0, secondsPack = 0, secondsRaster = 0;
+};
+
+struct BakedModel {
+    std::vector<BakedPart> parts;  // bodies then surfaces, as in the model; empty parts skipped
+    std::uint32_t width = 0, height = 0, pages = 0;
+    std::vector<std::uint32_t> texels;  // pages * height * width, row-major, 0 = no geology
+    double density = 0.0;               // texels per metre
+    BakeStats stats;
+};
+
+// Stage name ("charts", "lscm", "pack", "raster") and fraction done in [0, 1]; called from
+// the calling thread only.
+using ProgressFn = std::function<void(std::string_view stage, double fraction)>;
+
+// Errors: InvalidArgument (bad options, non-finite positions, indices out of range),
+// OutOfRange (the model does not fit the texture budget; the message says what to change).
+Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options = {}, const ProgressFn& progress = {});
+
+// The record id stored at a texture coordinate (page + u, v), nearest texel; 0 outside.
+RecordId fetchId(const std::uint32_t* texels, std::uint32_t width, std::uint32_t height, std::uint32_t pages,
+                 glm::dvec2 uv);
+
+}  // namespace geoslice::bake

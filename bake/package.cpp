@@ -1,0 +1,475 @@
+// The baked package: writing (GLB with TEXCOORD_0, zstd raw R32UI texture, attribute JSON,
+// manifest with XXH64 checksums) and reading (mmap, every size, offset and index checked).
+#include "bake/package.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zstd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace geoslice::bake {
+namespace {
+
+using json = nlohmann::ordered_json;
+namespace fs = std::filesystem;
+
+constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr std::uint32_t kChunkJson = 0x4E4F534A;
+constexpr std::uint32_t kChunkBin = 0x004E4942;
+constexpr int kFloat = 5126, kUint = 5125;
+// zstd stores a 128 KiB block of one repeated byte in 4 bytes: no frame expands more than
+// this, so a header that claims more is a lie and nothing is allocated for it.
+constexpr std::uint64_t kMaxZstdRatio = 32768;
+
+std::string hex64(std::uint64_t v) {
+    char b[17];
+    std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));
+    return b;
+}
+
+std::uint32_t readU32(const std::uint8_t* p) {
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
+    return v;
+}
+
+Error parseError(const std::string& source, const std::string& file, const std::string& what) {
+    return makeError(ErrorCode::ParseError, source + "/" + file + ": " + what);
+}
+
+Status writeFile(const fs::path& path, const void* data, std::size_t size) {
+    const fs::path tmp = path.string() + ".partial";
+    {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        if (!f) return makeError(ErrorCode::IoError, "cannot create " + tmp.string());
+        f.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+        if (!f) return makeError(ErrorCode::IoError, "cannot write " + tmp.string() + " (disk full?)");
+    }
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) return makeError(ErrorCode::IoError, "cannot rename " + tmp.string() + ": " + ec.message());
+    return {};
+}
+
+Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedModel& baked) {
+    std::vector<std::uint8_t> bin;
+    json accessors = json::array(), views = json::array(), meshes = json::array(), nodes = json::array();
+    json children = json::array();
+    nodes.push_back(json::object());
+    auto addView = [&](const void* bytes, std::size_t n, int target) {
+        while (bin.size() % 4) bin.push_back(0);
+        views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", n}, {"target", target}});
+        const auto* p = static_cast<const std::uint8_t*>(bytes);
+        bin.insert(bin.end(), p, p + n);
+        return views.size() - 1;
+    };
+    for (const BakedPart& part : baked.parts) {
+        std::vector<float> pos(part.positions.size() * 3);
+        glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+        for (std::size_t i = 0; i < part.positions.size(); ++i) {
+            const glm::vec3 g(part.positions[i].x, part.positions[i].z, -part.positions[i].y);
+            std::memcpy(&pos[3 * i], &g, sizeof g);
+            lo = glm::min(lo, g);
+            hi = glm::max(hi, g);
+        }
+        const std::size_t pv = addView(pos.data(), pos.size() * 4, 34962);
+        const std::size_t uv = addView(part.uvs.data(), part.uvs.size() * 8, 34962);
+        const std::size_t iv = addView(part.indices.data(), part.indices.size() * 4, 34963);
+        accessors.push_back({{"bufferView", pv}, {"componentType", kFloat}, {"count", part.positions.size()},
+                             {"type", "VEC3"}, {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}});
+        accessors.push_back({{"bufferView", uv}, {"componentType", kFloat}, {"count", part.uvs.size()}, {"type", "VEC2"}});
+        accessors.push_back({{"bufferView", iv}, {"componentType", kUint}, {"count", part.indices.size()}, {"type", "SCALAR"}});
+        const std::size_t a = accessors.size() - 3;
+        meshes.push_back({{"name", part.name},
+                          {"primitives", json::array({{{"attributes", {{"POSITION", a}, {"TEXCOORD_0", a + 1}}},
+                                                       {"indices", a + 2},
+                                                       {"mode", 4}}})}});
+        nodes.push_back({{"name", part.name},
+                         {"mesh", meshes.size() - 1},
+                         {"extras", {{"geoslice", {{"kind", part.kind == PartKind::Body ? "body" : "surface"},
+                                                   {"record", part.record}}}}}});
+        children.push_back(nodes.size() - 1);
+    }
+    while (bin.size() % 4) bin.push_back(0);
+    const glm::dvec3 o(model.origin.x, model.origin.z, -model.origin.y);
+    nodes[0] = {{"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}, {"children", children}};
+    json doc;
+    doc["asset"] = {{"version", "2.0"}, {"generator", "geoslice bake"}};
+    doc["scene"] = 0;
+    doc["scenes"] = {{{"name", model.name},
+                      {"nodes", {0}},
+                      {"extras", {{"geoslice", {{"version", 1}, {"crs", model.crs.id()},
+                                                {"origin", {model.origin.x, model.origin.y, model.origin.z}},
+                                                {"attributes", model.attributes.toJson()["records"]}}}}}}};
+    doc["nodes"] = nodes;
+    doc["meshes"] = meshes;
+    doc["accessors"] = accessors;
+    doc["bufferViews"] = views;
+    doc["buffers"] = {{{"byteLength", bin.size()}}};
+    std::string text = doc.dump();
+    while (text.size() % 4) text.push_back(' ');
+    const std::uint64_t total = 12 + 8 + text.size() + 8 + bin.size();
+    if (total >= 0xFFFFFFFFull)
+        return makeError(ErrorCode::OutOfRange, "baked mesh too large for one GLB (" + std::to_string(total) + " bytes)");
+    std::vector<std::uint8_t> out;
+    out.reserve(total);
+    auto u32 = [&](std::uint32_t v) {
+        std::uint8_t b[4];
+        std::memcpy(b, &v, 4);
+        out.insert(out.end(), b, b + 4);
+    };
+    u32(kGlbMagic);
+    u32(2);
+    u32(static_cast<std::uint32_t>(total));
+    u32(static_cast<std::uint32_t>(text.size()));
+    u32(kChunkJson);
+    out.insert(out.end(), text.begin(), text.end());
+    u32(static_cast<std::uint32_t>(bin.size()));
+    u32(kChunkBin);
+    out.insert(out.end(), bin.begin(), bin.end());
+    return out;
+}
+
+// A read-only file mapping (or nothing, for an empty file).
+struct Mapping {
+    const std::uint8_t* data = nullptr;
+    std::size_t size = 0;
+    Mapping() = default;
+    Mapping(const Mapping&) = delete;
+    Mapping& operator=(const Mapping&) = delete;
+    ~Mapping() {
+        if (data) munmap(const_cast<std::uint8_t*>(data), size);
+    }
+};
+
+Result<std::shared_ptr<Mapping>> mapFile(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return makeError(errno == ENOENT ? ErrorCode::NotFound : ErrorCode::IoError,
+                         path + ": cannot open (" + std::strerror(errno) + ")");
+    struct stat st {};
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        ::close(fd);
+        return makeError(ErrorCode::IoError, path + ": not a regular file");
+    }
+    auto m = std::make_shared<Mapping>();
+    m->size = static_cast<std::size_t>(st.st_size);
+    if (m->size) {
+        void* p = mmap(nullptr, m->size, PROT_READ, MAP_PRIVATE, fd, 0);
+        if (p == MAP_FAILED) {
+            ::close(fd);
+            return makeError(ErrorCode::IoError, path + ": cannot map (" + std::strerror(errno) + ")");
+        }
+        m->data = static_cast<const std::uint8_t*>(p);
+    }
+    ::close(fd);
+    return m;
+}
+
+// One accessor of our own GLB layout: tightly packed, 4-byte aligned, inside the BIN chunk.
+template <class T>
+Result<const T*> accessorData(const nlohmann::json& doc, std::size_t index, int componentType, const char* type,
+                              std::size_t components, std::span<const std::uint8_t> bin, std::size_t& count,
+                              const std::string& where) {
+    const auto& acc = doc.at("accessors").at(index);
+    if (acc.at("componentType").get<int>() != componentType || acc.at("type").get<std::string>() != type)
+        return makeError(ErrorCode::ParseError, where + ": accessor " + std::to_string(index) + " is not " + type);
+    count = acc.at("count").get<std::size_t>();
+    const std::size_t accOffset = acc.value("byteOffset", std::size_t(0));
+    const auto& view = doc.at("bufferViews").at(acc.at("bufferView").get<std::size_t>());
+    if (view.at("buffer").get<int>() != 0 || (view.contains("byteStride") && view.at("byteStride").get<std::size_t>() != components * sizeof(T)))
+        return makeError(ErrorCode::ParseError, where + ": accessor " + std::to_string(index) + " is not tightly packed in buffer 0");
+    const std::size_t offset = view.at("byteOffset").get<std::size_t>(), length = view.at("byteLength").get<std::size_t>();
+    if (offset > bin.size() || length > bin.size() - offset || accOffset > length ||
+        count > (length - accOffset) / (components * sizeof(T)) || (offset + accOffset) % 4 != 0)
+        return makeError(ErrorCode::ParseError, where + ": accessor " + std::to_string(index) +
+                                                    " lies outside the binary chunk or is misaligned (truncated file?)");
+    return reinterpret_cast<const T*>(bin.data() + offset + accOffset);
+}
+
+Status checkFile(const json& manifest, const char* file, std::span<const std::uint8_t> bytes,
+                 const PackageReadOptions& options, const std::string& source) {
+    const auto& entry = manifest.at("files").at(file);
+    const std::uint64_t expect = entry.at("bytes").get<std::uint64_t>();
+    if (expect != bytes.size())
+        return parseError(source, file, "size " + std::to_string(bytes.size()) + " bytes, the manifest says " +
+                                            std::to_string(expect) + (bytes.size() < expect ? " (truncated)" : ""));
+    if (options.verifyChecksums) {
+        const std::string sum = hex64(xxh64(bytes.data(), bytes.size()));
+        if (sum != entry.at("xxh64").get<std::string>())
+            return parseError(source, file, "XXH64 checksum " + sum + " differs from the manifest's (corrupt file)");
+    }
+    return {};
+}
+
+}  // namespace
+
+std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed) {
+    constexpr std::uint64_t p1 = 0x9E3779B185EBCA87ull, p2 = 0xC2B2AE3D27D4EB4Full, p3 = 0x165667B19E3779F9ull,
+                            p4 = 0x85EBCA77C2B2AE63ull, p5 = 0x27D4EB2F165667C5ull;
+    auto rotl = [](std::uint64_t x, int r) { return (x << r) | (x >> (64 - r)); };
+    auto round = [&](std::uint64_t acc, std::uint64_t in) { return rotl(acc + in * p2, 31) * p1; };
+    auto merge = [&](std::uint64_t acc, std::uint64_t v) { return (acc ^ round(0, v)) * p1 + p4; };
+    auto r64 = [](const std::uint8_t* p) {
+        std::uint64_t v;
+        std::memcpy(&v, p, 8);
+        return v;
+    };
+    const auto* p = static_cast<const std::uint8_t*>(data);
+    const std::uint8_t* end = p + size;
+    std::uint64_t h;
+    if (size >= 32) {
+        std::uint64_t v1 = seed + p1 + p2, v2 = seed + p2, v3 = seed, v4 = seed - p1;
+        for (; p + 32 <= end; p += 32) {
+            v1 = round(v1, r64(p));
+            v2 = round(v2, r64(p + 8));
+            v3 = round(v3, r64(p + 16));
+            v4 = round(v4, r64(p + 24));
+        }
+        h = rotl(v1, 1) + rotl(v2, 7) + rotl(v3, 12) + rotl(v4, 18);
+        h = merge(merge(merge(merge(h, v1), v2), v3), v4);
+    } else {
+        h = seed + p5;
+    }
+    h += size;
+    for (; p + 8 <= end; p += 8) h = rotl(h ^ round(0, r64(p)), 27) * p1 + p4;
+    if (p + 4 <= end) {
+        h = rotl(h ^ (std::uint64_t(readU32(p)) * p1), 23) * p2 + p3;
+        p += 4;
+    }
+    for (; p < end; ++p) h = rotl(h ^ (std::uint64_t(*p) * p5), 11) * p1;
+    h ^= h >> 33;
+    h *= p2;
+    h ^= h >> 29;
+    h *= p3;
+    h ^= h >> 32;
+    return h;
+}
+
+std::size_t Package::residentBytes() const {
+    std::size_t n = texels.size() * 4;
+    for (const auto& p : parts) n += p.vertexCount * 20 + p.indexCount * 4;
+    return n;
+}
+
+Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel) {
+    if (baked.texels.size() != std::size_t(baked.pages) * baked.width * baked.height)
+        return makeError(ErrorCode::InvalidArgument, "baked texture size does not match its pages x height x width");
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) return makeError(ErrorCode::IoError, "cannot create directory " + dir + ": " + ec.message());
+    auto mesh = encodeMesh(model, baked);
+    if (!mesh) return mesh.error();
+
+    const std::size_t rawBytes = baked.texels.size() * 4;
+    std::vector<std::uint8_t> texture(ZSTD_compressBound(rawBytes));
+    ZSTD_CCtx* cctx = ZSTD_createCCtx();
+    if (!cctx) return makeError(ErrorCode::Internal, "zstd: cannot create a compression context");
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, std::clamp(zstdLevel, 1, 19));
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_contentSizeFlag, 1);
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_checksumFlag, 1);
+    ZSTD_CCtx_setParameter(cctx, ZSTD_c_nbWorkers, 2);  // ignored when libzstd lacks threads
+    const std::size_t packed = ZSTD_compress2(cctx, texture.data(), texture.size(), baked.texels.data(), rawBytes);
+    ZSTD_freeCCtx(cctx);
+    if (ZSTD_isError(packed)) return makeError(ErrorCode::Internal, std::string("zstd: ") + ZSTD_getErrorName(packed));
+    texture.resize(packed);
+    const std::string attributes = model.attributes.toJson().dump(1);
+
+    const fs::path root(dir);
+    if (auto s = writeFile(root / kMeshFile, mesh->data(), mesh->size()); !s) return s;
+    if (auto s = writeFile(root / kTextureFile, texture.data(), texture.size()); !s) return s;
+    if (auto s = writeFile(root / kAttributesFile, attributes.data(), attributes.size()); !s) return s;
+
+    std::size_t vertices = 0, triangles = 0;
+    for (const auto& p : baked.parts) {
+        vertices += p.positions.size();
+        triangles += p.indices.size() / 3;
+    }
+    const BakeStats& st = baked.stats;
+    json manifest;
+    manifest["format"] = kPackageFormat;
+    manifest["version"] = kPackageVersion;
+    manifest["generator"] = "geoslice 0.1.0";
+    manifest["model"] = {{"name", model.name}, {"source", model.source}, {"crs", model.crs.id()},
+                         {"origin", {model.origin.x, model.origin.y, model.origin.z}}};
+    manifest["texture"] = {{"file", kTextureFile}, {"format", "R32UI"}, {"encoding", "zstd"},
+                           {"layout", "pages x rows x columns, little-endian uint32, row 0 is v = 0; u holds page + u"},
+                           {"width", baked.width}, {"height", baked.height}, {"pages", baked.pages},
+                           {"texelsPerMetre", baked.density}, {"sampling", "nearest"}};
+    manifest["mesh"] = {{"file", kMeshFile}, {"parts", baked.parts.size()}, {"vertices", vertices}, {"triangles", triangles}};
+    manifest["attributes"] = {{"file", kAttributesFile}, {"records", model.attributes.size()}};
+    manifest["bake"] = {{"charts", st.charts},
+                        {"splitCharts", st.splitCharts},
+                        {"texelUtilisation", st.texelUtilisation},
+                        {"angleDistortion", {{"mean", st.distortion.meanAngle}, {"max", st.distortion.maxAngle}}},
+                        {"areaDistortion", {{"mean", st.distortion.meanArea}, {"max", st.distortion.maxArea}}}};
+    manifest["files"] = {
+        {kMeshFile, {{"bytes", mesh->size()}, {"xxh64", hex64(xxh64(mesh->data(), mesh->size()))}}},
+        {kTextureFile, {{"bytes", texture.size()}, {"xxh64", hex64(xxh64(texture.data(), texture.size()))}}},
+        {kAttributesFile, {{"bytes", attributes.size()}, {"xxh64", hex64(xxh64(attributes.data(), attributes.size()))}}}};
+    // The manifest's own checksum: XXH64 of its compact dump without this field.
+    manifest["checksum"] = hex64(xxh64(manifest.dump().data(), manifest.dump().size()));
+    const std::string text = manifest.dump(2) + "\n";
+    return writeFile(root / kManifestFile, text.data(), text.size());
+}
+
+Result<Package> parsePackage(std::string_view manifestText, std::span<const std::uint8_t> mesh,
+                             std::span<const std::uint8_t> texture, std::string_view attributesText,
+                             const PackageReadOptions& options, const std::string& source) {
+    Package pkg;
+    // The arrays are handed out as float/uint32 pointers: a mesh buffer that is not 4-byte
+    // aligned (possible in memory, never for a mapping) is copied into one that is.
+    if (reinterpret_cast<std::uintptr_t>(mesh.data()) % 4 != 0) {
+        auto copy = std::make_shared<std::vector<std::uint32_t>>((mesh.size() + 3) / 4);
+        std::memcpy(copy->data(), mesh.data(), mesh.size());
+        mesh = std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(copy->data()), mesh.size());
+        pkg.storage = copy;
+    }
+    try {
+        // 1. Manifest: format, version, texture layout, file sizes and checksums.
+        json manifest = json::parse(manifestText.begin(), manifestText.end(), nullptr, false);
+        if (manifest.is_discarded() || !manifest.is_object())
+            return parseError(source, kManifestFile, "not a JSON object (corrupt or truncated)");
+        if (options.verifyChecksums) {
+            if (!manifest.contains("checksum") || !manifest["checksum"].is_string())
+                return parseError(source, kManifestFile, "no checksum (corrupt or not a geoslice package)");
+            const std::string expect = manifest["checksum"].get<std::string>();
+            manifest.erase("checksum");
+            const std::string compact = manifest.dump();
+            if (hex64(xxh64(compact.data(), compact.size())) != expect)
+                return parseError(source, kManifestFile, "checksum differs from the content (corrupt file)");
+        }
+        if (manifest.value("format", std::string()) != kPackageFormat)
+            return parseError(source, kManifestFile, std::string("format is not \"") + kPackageFormat + "\"");
+        if (manifest.at("version").get<int>() != kPackageVersion)
+            return makeError(ErrorCode::Unsupported, source + "/" + kManifestFile + ": package version " +
+                                                         manifest.at("version").dump() + ", this build reads " +
+                                                         std::to_string(kPackageVersion) + " (bake the model again)");
+        for (const char* f : {kMeshFile, kTextureFile, kAttributesFile})
+            if (!manifest.at("files").contains(f)) return parseError(source, kManifestFile, std::string("no entry for ") + f);
+        if (auto s = checkFile(manifest, kMeshFile, mesh, options, source); !s) return s.error();
+        if (auto s = checkFile(manifest, kTextureFile, texture, options, source); !s) return s.error();
+        const std::span<const std::uint8_t> attrBytes(reinterpret_cast<const std::uint8_t*>(attributesText.data()),
+                                                      attributesText.size());
+        if (auto s = checkFile(manifest, kAttributesFile, attrBytes, options, source); !s) return s.error();
+        const auto& tex = manifest.at("texture");
+        pkg.width = tex.at("width").get<std::uint32_t>();
+        pkg.height = tex.at("height").get<std::uint32_t>();
+        pkg.pages = tex.at("pages").get<std::uint32_t>();
+        if (tex.at("format").get<std::string>() != "R32UI" || tex.at("encoding").get<std::string>() != "zstd")
+            return parseError(source, kManifestFile, "texture is not zstd-encoded R32UI");
+        if (pkg.width == 0 || pkg.height == 0 || pkg.pages == 0 || pkg.width > 16384 || pkg.height > 16384 || pkg.pages > 4096)
+            return parseError(source, kManifestFile, "texture size " + std::to_string(pkg.width) + "x" +
+                                                         std::to_string(pkg.height) + "x" + std::to_string(pkg.pages) +
+                                                         " pages is outside 1..16384 x 1..16384 x 1..4096");
+        const auto& model = manifest.at("model");
+        pkg.name = model.at("name").get<std::string>();
+        pkg.crs = model.at("crs").get<std::string>();
+        const auto& o = model.at("origin");
+        pkg.origin = {o.at(0).get<double>(), o.at(1).get<double>(), o.at(2).get<double>()};
+        pkg.manifest = manifest;
+
+        // 2. Texture: the frame's declared size must be the manifest's, and plausible.
+        const std::uint64_t rawBytes = std::uint64_t(pkg.width) * pkg.height * pkg.pages * 4;
+        const unsigned long long declared = ZSTD_getFrameContentSize(texture.data(), texture.size());
+        if (declared == ZSTD_CONTENTSIZE_ERROR || declared == ZSTD_CONTENTSIZE_UNKNOWN)
+            return parseError(source, kTextureFile, "not a zstd frame with a content size (corrupt or truncated)");
+        if (declared != rawBytes)
+            return parseError(source, kTextureFile, "holds " + std::to_string(declared) + " bytes, the manifest's " +
+                                                        "texture layout needs " + std::to_string(rawBytes));
+        if (rawBytes > (std::uint64_t(texture.size()) + 1024) * kMaxZstdRatio)
+            return parseError(source, kTextureFile, "declares more data than a zstd frame of this size can hold");
+        pkg.texels.resize(rawBytes / 4);
+        const std::size_t got = ZSTD_decompress(pkg.texels.data(), rawBytes, texture.data(), texture.size());
+        if (ZSTD_isError(got) || got != rawBytes)
+            return parseError(source, kTextureFile, std::string("zstd: ") + (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short frame"));
+
+        // 3. Attributes.
+        auto attrJson = nlohmann::ordered_json::parse(attributesText.begin(), attributesText.end(), nullptr, false);
+        if (attrJson.is_discarded()) return parseError(source, kAttributesFile, "not JSON (corrupt or truncated)");
+        auto table = AttributeTable::fromJson(attrJson, source + "/" + kAttributesFile);
+        if (!table) return table.error();
+        pkg.attributes = std::move(table).value();
+
+        // 4. Mesh: GLB header, JSON and BIN chunks, then each part's accessors.
+        if (mesh.size() < 28 || readU32(mesh.data()) != kGlbMagic || readU32(mesh.data() + 4) != 2)
+            return parseError(source, kMeshFile, "not a glTF 2.0 binary (GLB)");
+        if (readU32(mesh.data() + 8) != mesh.size())
+            return parseError(source, kMeshFile, "GLB header length " + std::to_string(readU32(mesh.data() + 8)) +
+                                                     " differs from the file's " + std::to_string(mesh.size()) + " bytes");
+        const std::size_t jsonLen = readU32(mesh.data() + 12);
+        if (readU32(mesh.data() + 16) != kChunkJson || jsonLen > mesh.size() - 28 || jsonLen % 4)
+            return parseError(source, kMeshFile, "bad JSON chunk");
+        const std::size_t binAt = 20 + jsonLen;
+        const std::size_t binLen = readU32(mesh.data() + binAt);
+        if (readU32(mesh.data() + binAt + 4) != kChunkBin || binLen > mesh.size() - binAt - 8)
+            return parseError(source, kMeshFile, "bad BIN chunk (truncated?)");
+        const std::span<const std::uint8_t> bin = mesh.subspan(binAt + 8, binLen);
+        auto doc = nlohmann::json::parse(mesh.data() + 20, mesh.data() + 20 + jsonLen, nullptr, false);
+        if (doc.is_discarded() || !doc.is_object()) return parseError(source, kMeshFile, "JSON chunk is not a JSON object");
+        const auto& nodes = doc.at("nodes");
+        for (std::size_t n = 1; n < nodes.size(); ++n) {
+            const auto& node = nodes.at(n);
+            const std::string where = source + "/" + kMeshFile + ": node " + std::to_string(n);
+            PackagePart part;
+            part.name = node.value("name", std::string());
+            const auto& gs = node.at("extras").at("geoslice");
+            part.kind = gs.at("kind").get<std::string>() == "surface" ? PartKind::Surface : PartKind::Body;
+            part.record = gs.at("record").get<RecordId>();
+            const auto& prim = doc.at("meshes").at(node.at("mesh").get<std::size_t>()).at("primitives").at(0);
+            std::size_t nPos = 0, nUv = 0;
+            auto pos = accessorData<float>(doc, prim.at("attributes").at("POSITION").get<std::size_t>(), kFloat, "VEC3", 3,
+                                           bin, nPos, where);
+            if (!pos) return pos.error();
+            auto uv = accessorData<float>(doc, prim.at("attributes").at("TEXCOORD_0").get<std::size_t>(), kFloat, "VEC2", 2,
+                                          bin, nUv, where);
+            if (!uv) return uv.error();
+            auto idx = accessorData<std::uint32_t>(doc, prim.at("indices").get<std::size_t>(), kUint, "SCALAR", 1, bin,
+                                                   part.indexCount, where);
+            if (!idx) return idx.error();
+            if (nPos != nUv) return makeError(ErrorCode::ParseError, where + ": POSITION and TEXCOORD_0 counts differ");
+            if (part.indexCount % 3) return makeError(ErrorCode::ParseError, where + ": index count is not a multiple of 3");
+            part.vertexCount = nPos;
+            part.positions = pos.value();
+            part.uvs = uv.value();
+            part.indices = idx.value();
+            for (std::size_t i = 0; i < part.indexCount; ++i)
+                if (part.indices[i] >= part.vertexCount)
+                    return makeError(ErrorCode::ParseError, where + ": index " + std::to_string(i) + " refers to vertex " +
+                                                                std::to_string(part.indices[i]) + " of " +
+                                                                std::to_string(part.vertexCount));
+            pkg.parts.push_back(std::move(part));
+        }
+    } catch (const nlohmann::json::exception& e) {
+        return makeError(ErrorCode::ParseError, source + ": missing or mistyped field (" + e.what() + ")");
+    }
+    return pkg;
+}
+
+Result<Package> loadPackage(const std::string& dir, const PackageReadOptions& options) {
+    const fs::path root(dir);
+    std::shared_ptr<Mapping> files[4];
+    const char* names[4] = {kManifestFile, kMeshFile, kTextureFile, kAttributesFile};
+    for (int i = 0; i < 4; ++i) {
+        auto m = mapFile((root / names[i]).string());
+        if (!m) {
+            if (m.error().code == ErrorCode::NotFound)
+                return makeError(ErrorCode::NotFound, dir + ": not a complete baked package (" + m.error().message + ")");
+            return m.error();
+        }
+        files[i] = std::move(m).value();
+    }
+    auto text = [](const Mapping& m) { return std::string_view(reinterpret_cast<const char*>(m.data), m.size); };
+    auto bytes = [](const Mapping& m) { return std::span<const std::uint8_t>(m.data, m.size); };
+    auto pkg = parsePackage(text(*files[0]), bytes(*files[1]), bytes(*files[2]), text(*files[3]), options, dir);
+    if (!pkg) return pkg.error();
+    pkg->storage = files[1];
+    return pkg;
+}
+
+}  // namespace geoslice::bake

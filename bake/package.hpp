@@ -1,0 +1,98 @@
+// The baked package: one directory per model, self-describing, loadable by mmap.
+//
+//   manifest.json    format name and version, model (name, CRS, origin), texture layout, bake
+//                    figures, and for every other file its size in bytes and XXH64 checksum
+//   mesh.glb         glTF 2.0 binary: one node + mesh per part, POSITION (float32, local frame
+//                    in glTF axes: X east, Y up, Z = -north; the root node's translation is the
+//                    origin), TEXCOORD_0 (float32, page + u, v; see bake/bake.hpp), uint32
+//                    indices; node extras.geoslice = {kind, record}, scene extras.geoslice as
+//                    model/gltf_io.hpp writes them, so geoslice's own loader reads it as a model
+//   ids.r32ui.zst    the index texture T_ID: one zstd frame holding pages x height x width
+//                    little-endian uint32 record ids, row 0 (v = 0) first
+//   attributes.json  the attribute table, {"records": [...]} (model/attributes.hpp)
+//
+// Why zstd-compressed raw for T_ID: lossless by construction, decodes straight into the
+// bytes glTexImage3D(GL_R32UI) takes (no conversion, no 8-bit channel packing), the content
+// size sits in the frame header (checked before any allocation), and a texture of large
+// constant chart regions compresses many times over and decodes fast; KTX2 would need
+// libktx, which Debian 12 does not package, and a 32-bit TIFF goes through libtiff's
+// strip machinery for no gain.
+//
+// Threads: the functions are reentrant; a Package is immutable once loaded and may be read
+// from any thread.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bake/bake.hpp"
+#include "model/model.hpp"
+#include "model/result.hpp"
+
+namespace geoslice::bake {
+
+constexpr int kPackageVersion = 1;
+constexpr const char* kPackageFormat = "geoslice-baked-model";
+constexpr const char* kManifestFile = "manifest.json";
+constexpr const char* kMeshFile = "mesh.glb";
+constexpr const char* kTextureFile = "ids.r32ui.zst";
+constexpr const char* kAttributesFile = "attributes.json";
+
+// XXH64 (Yann Collet's xxHash, 64-bit variant, as specified in xxhash's doc/xxhash_spec.md).
+std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed = 0);
+
+// Writes the package into `dir` (created if missing; files written under temporary names and
+// renamed, the manifest last, so a reader never sees a half-written package as complete).
+// zstdLevel: 1 (fast) .. 19.
+Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel = 3);
+
+// One part of a loaded package. The arrays point into the package's storage (the mapped
+// mesh.glb): valid while the Package (or a copy of its `storage`) lives.
+struct PackagePart {
+    std::string name;
+    PartKind kind = PartKind::Body;
+    RecordId record = kNoRecord;
+    const float* positions = nullptr;  // 3 per vertex, local frame in glTF axes (X east, Y up, Z -north)
+    const float* uvs = nullptr;        // 2 per vertex
+    const std::uint32_t* indices = nullptr;
+    std::size_t vertexCount = 0, indexCount = 0;
+};
+
+struct Package {
+    nlohmann::json manifest;
+    AttributeTable attributes;
+    std::string name, crs;
+    glm::dvec3 origin{0.0};  // world, metres
+    std::uint32_t width = 0, height = 0, pages = 0;
+    std::vector<std::uint32_t> texels;  // pages * height * width, row 0 first
+    std::vector<PackagePart> parts;
+    std::shared_ptr<const void> storage;  // keeps the mesh bytes (mapping or copy) alive
+
+    RecordId fetch(glm::dvec2 uv) const { return fetchId(texels.data(), width, height, pages, uv); }
+    // Bytes this package keeps in memory: the texture plus the mesh arrays.
+    std::size_t residentBytes() const;
+};
+
+struct PackageReadOptions {
+    bool verifyChecksums = true;  // XXH64 of every file against the manifest
+};
+
+// Loads a package directory (mesh.glb is memory-mapped, not copied). Errors name the file and
+// what is wrong: NotFound/IoError for missing or unreadable files, ParseError for a corrupt,
+// truncated or inconsistent package, Unsupported for another format version.
+Result<Package> loadPackage(const std::string& dir, const PackageReadOptions& options = {});
+
+// The same checks on the four files' contents in memory (what the fuzz target drives). The
+// parts point into `mesh`, which must outlive the result (when `mesh` is not 4-byte aligned it
+// is copied into `storage` instead); `source` names the package in errors.
+Result<Package> parsePackage(std::string_view manifest, std::span<const std::uint8_t> mesh,
+                             std::span<const std::uint8_t> texture, std::string_view attributes,
+                             const PackageReadOptions& options, const std::string& source);
+
+}  // namespace geoslice::bake

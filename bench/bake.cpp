@@ -1,0 +1,169 @@
+// bench_bake [--sizes L1,L2,L3,L4] [--size 4096] [--points 1000000] [--threads 2] [--out DIR]:
+// the attribute-indexed texture bake (issue 4). Per model size: generate (EPSG:4523), bake
+// (wall and CPU time per stage, peak RSS of the bake phase), chart count, split charts, texel
+// utilisation, angle and area distortion; write the package (time, bytes per file); load it
+// back (time, warm page cache: the package was just written) and its resident size (texture
+// + mesh arrays: what a renderer uploads, the GPU figure); and the paper's attribute mapping
+// accuracy: for `points` random surface points (area-uniform per triangle pick, barycentric
+// interpolation of the loaded float UVs in float, as a GPU does) the id at the nearest texel
+// against the part's record. Prints one JSON document.
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "bake/bake.hpp"
+#include "bake/package.hpp"
+#include "bench/bench_util.hpp"
+#include "model/synthetic.hpp"
+
+using namespace geoslice;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+// Accuracy over the loaded package; parts are sampled in proportion to their triangles.
+json accuracy(const bake::Package& pkg, std::size_t points, std::uint64_t seed) {
+    std::size_t triangles = 0;
+    for (const auto& p : pkg.parts) triangles += p.indexCount / 3;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::size_t good = 0, total = 0;
+    for (const auto& part : pkg.parts) {
+        const std::size_t tris = part.indexCount / 3;
+        if (!tris) continue;
+        const std::size_t n = std::max<std::size_t>(1, (points * tris + triangles - 1) / triangles);
+        std::uniform_int_distribution<std::size_t> pick(0, tris - 1);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t t = pick(rng);
+            double r1 = unit(rng), r2 = unit(rng);
+            if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
+            const float w1 = float(r1), w2 = float(r2), w0 = 1.0f - w1 - w2;
+            glm::vec2 uv(0.0f);
+            const float w[3] = {w0, w1, w2};
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t v = part.indices[3 * t + k];
+                uv += w[k] * glm::vec2(part.uvs[2 * v], part.uvs[2 * v + 1]);
+            }
+            good += pkg.fetch(glm::dvec2(uv)) == part.record;
+            ++total;
+        }
+    }
+    return {{"points", total}, {"correct", good}, {"percent", 100.0 * double(good) / double(std::max<std::size_t>(1, total))}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string sizes = "L1,L2,L3,L4";
+    std::uint32_t side = 4096;
+    std::size_t points = 1000000;
+    unsigned threads = 2;
+    std::string outDir = (std::filesystem::temp_directory_path() / "geoslice_bench_bake").string();
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--sizes"))
+            sizes = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--size"))
+            side = static_cast<std::uint32_t>(std::stoul(argv[i + 1]));
+        else if (!std::strcmp(argv[i], "--points"))
+            points = std::stoul(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--threads"))
+            threads = static_cast<unsigned>(std::stoul(argv[i + 1]));
+        else if (!std::strcmp(argv[i], "--out"))
+            outDir = argv[i + 1];
+    }
+    json results = json::array();
+    std::stringstream list(sizes);
+    std::string size;
+    while (std::getline(list, size, ',')) {
+        json r;
+        r["size"] = size;
+        SyntheticOptions so;
+        so.triangles = bench::triangleCountFor(size);
+        so.crs = Crs::fromEpsg(4523).value();
+        double t = bench::nowSeconds();
+        auto model = generateSynthetic(so);
+        if (!model) {
+            std::fprintf(stderr, "%s\n", model.error().message.c_str());
+            return 1;
+        }
+        r["triangles"] = model->triangleCount();
+        r["generateSeconds"] = bench::nowSeconds() - t;
+        const double rssModel = bench::currentRssMiB();
+
+        bake::BakeOptions bo;
+        bo.pack.width = bo.pack.height = side;
+        bo.threads = threads;
+        bench::resetPeakRss();
+        t = bench::nowSeconds();
+        const double cpu0 = bench::processCpuSeconds();
+        auto baked = bake::bakeModel(model.value(), bo);
+        const double bakeS = bench::nowSeconds() - t, bakeCpu = bench::processCpuSeconds() - cpu0;
+        if (!baked) {
+            std::fprintf(stderr, "%s\n", baked.error().message.c_str());
+            return 1;
+        }
+        const auto& st = baked->stats;
+        r["bake"] = {{"seconds", bakeS},
+                     {"cpuSeconds", bakeCpu},
+                     {"threads", threads},
+                     {"stages", {{"charts", st.secondsCharts}, {"lscm", st.secondsLscm}, {"pack", st.secondsPack}, {"raster", st.secondsRaster}}},
+                     {"peakRssMiB", bench::peakRssSinceResetMiB()},
+                     {"modelRssMiB", rssModel},
+                     {"charts", st.charts},
+                     {"splitCharts", st.splitCharts},
+                     {"vertices", st.vertices},
+                     {"pages", baked->pages},
+                     {"texture", std::to_string(baked->width) + "x" + std::to_string(baked->height)},
+                     {"texelsPerMetre", baked->density},
+                     {"texelUtilisation", st.texelUtilisation},
+                     {"angleDistortion", {{"mean", st.distortion.meanAngle}, {"max", st.distortion.maxAngle}}},
+                     {"areaDistortion", {{"mean", st.distortion.meanArea}, {"max", st.distortion.maxArea}}}};
+
+        const std::string dir = outDir + "/" + size;
+        t = bench::nowSeconds();
+        if (auto s = bake::writePackage(model.value(), baked.value(), dir); !s) {
+            std::fprintf(stderr, "%s\n", s.error().message.c_str());
+            return 1;
+        }
+        json files = json::object();
+        for (const char* f : {bake::kMeshFile, bake::kTextureFile, bake::kAttributesFile, bake::kManifestFile})
+            files[f] = std::filesystem::file_size(std::filesystem::path(dir) / f);
+        r["write"] = {{"seconds", bench::nowSeconds() - t}, {"bytes", files}};
+        baked = bake::BakedModel{};
+        model = Model{};
+
+        const double rssBefore = bench::currentRssMiB();
+        t = bench::nowSeconds();
+        auto pkg = bake::loadPackage(dir);
+        const double loadS = bench::nowSeconds() - t;
+        if (!pkg) {
+            std::fprintf(stderr, "%s\n", pkg.error().message.c_str());
+            return 1;
+        }
+        const double rssLoaded = bench::currentRssMiB();
+        bake::PackageReadOptions noSums;
+        noSums.verifyChecksums = false;
+        t = bench::nowSeconds();
+        auto pkg2 = bake::loadPackage(dir, noSums);
+        const double loadNoSumsS = bench::nowSeconds() - t;
+        pkg2 = Error{};
+        r["load"] = {{"seconds", loadS},
+                     {"secondsWithoutChecksums", loadNoSumsS},
+                     {"cache", "warm (package just written)"},
+                     {"rssDeltaMiB", rssLoaded - rssBefore},
+                     {"residentMiB", double(pkg->residentBytes()) / (1024.0 * 1024.0)},
+                     {"textureMiB", double(pkg->texels.size()) * 4.0 / (1024.0 * 1024.0)}};
+        t = bench::nowSeconds();
+        r["accuracy"] = accuracy(pkg.value(), points, 12345);
+        r["accuracy"]["seconds"] = bench::nowSeconds() - t;
+        results.push_back(r);
+        std::fprintf(stderr, "%s done\n", size.c_str());
+    }
+    std::printf("%s\n", json{{"benchmark", "bake"}, {"results", results}}.dump(2).c_str());
+    return 0;
+}

@@ -1,0 +1,119 @@
+// geoslice bake MODEL [--attributes table.csv|json] [--size 4096] [--min-density D]
+// [--max-pages N] [--threads N] --out DIR: bakes the attribute-indexed texture and writes the
+// package (bake/package.hpp). Progress: a bar on a terminal (stderr), plain lines otherwise.
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
+
+#include "bake/bake.hpp"
+#include "bake/package.hpp"
+#include "cli/commands.hpp"
+#include "model/loaders.hpp"
+
+namespace geoslice::cli {
+namespace {
+
+struct BakeArgs {
+    std::string model, attributes, out;
+    std::uint32_t size = 4096;
+    double minDensity = bake::PackOptions{}.minDensity;
+    std::uint32_t maxPages = bake::PackOptions{}.maxPages;
+    std::uint32_t maxChart = bake::ChartOptions{}.maxTriangles;
+    double angle = bake::ChartOptions{}.maxDihedralDegrees;
+    unsigned threads = 0;
+};
+
+// Progress on stderr: a redrawn bar on a terminal; otherwise one line per stage and per 25 %.
+class Progress {
+public:
+    Progress() : tty_(isatty(STDERR_FILENO) != 0) {}
+    void operator()(std::string_view stage, double f) {
+        if (tty_) {
+            const int width = 30, filled = static_cast<int>(f * width + 0.5);
+            std::fprintf(stderr, "\r%-7.*s [%.*s%*s] %3d%%", int(stage.size()), stage.data(), filled,
+                         "##############################", width - filled, "", int(f * 100.0 + 0.5));
+            if (f >= 1.0) std::fputc('\n', stderr);
+            std::fflush(stderr);
+            return;
+        }
+        const int quarter = static_cast<int>(f * 4.0);
+        if (stage != stage_ || quarter > quarter_) {
+            stage_ = std::string(stage);
+            quarter_ = quarter;
+            std::fprintf(stderr, "bake: %s %d%%\n", stage_.c_str(), quarter * 25);
+        }
+    }
+
+private:
+    bool tty_;
+    std::string stage_;
+    int quarter_ = -1;
+};
+
+int runBake(const BakeArgs& a) {
+    auto model = loadModel(a.model);
+    if (!model) {
+        std::fprintf(stderr, "geoslice bake: %s\n", model.error().message.c_str());
+        return 1;
+    }
+    if (!a.attributes.empty()) {
+        auto table = AttributeTable::load(a.attributes);
+        if (!table) {
+            std::fprintf(stderr, "geoslice bake: %s\n", table.error().message.c_str());
+            return 1;
+        }
+        for (const auto& [id, rec] : table->records()) model->attributes.put(rec);
+    }
+    bake::BakeOptions o;
+    o.pack.width = o.pack.height = a.size;
+    o.pack.minDensity = a.minDensity;
+    o.pack.maxPages = a.maxPages;
+    o.charts.maxTriangles = a.maxChart;
+    o.charts.maxDihedralDegrees = a.angle;
+    o.threads = a.threads;
+    Progress progress;
+    auto baked = bake::bakeModel(model.value(), o, [&](std::string_view s, double f) { progress(s, f); });
+    if (!baked) {
+        std::fprintf(stderr, "geoslice bake: %s: %s\n", a.model.c_str(), baked.error().message.c_str());
+        return 1;
+    }
+    progress("write", 0.0);
+    if (auto s = bake::writePackage(model.value(), baked.value(), a.out); !s) {
+        std::fprintf(stderr, "geoslice bake: %s\n", s.error().message.c_str());
+        return 1;
+    }
+    progress("write", 1.0);
+    const auto& st = baked->stats;
+    std::printf(
+        "baked %zu triangles into %zu charts (%zu split after LSCM), %u page(s) of %ux%u at %.4g texels/m, "
+        "texel utilisation %.1f %%, angle distortion mean %.4f max %.3g, area distortion mean %.4f max %.3g -> %s\n",
+        st.triangles, st.charts, st.splitCharts, baked->pages, baked->width, baked->height, baked->density,
+        100.0 * st.texelUtilisation, st.distortion.meanAngle, st.distortion.maxAngle, st.distortion.meanArea,
+        st.distortion.maxArea, a.out.c_str());
+    return 0;
+}
+
+}  // namespace
+
+void addBake(CLI::App& app, int& exitCode) {
+    auto a = std::make_shared<BakeArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "bake", "Bake the attribute-indexed texture (charts, LSCM, packing, R32UI record ids) and write the package");
+    cmd->add_option("MODEL", a->model, "Model file (glTF/GLB, OBJ, TSurf, Geo3DML)")->required();
+    cmd->add_option("--attributes", a->attributes, "Attribute table (.csv or .json) merged over the model's records");
+    cmd->add_option("--size", a->size, "Texture width and height, texels (default 4096)")->check(CLI::Range(8, 16384));
+    cmd->add_option("--min-density", a->minDensity,
+                    "Texels per metre below which more texture pages are used instead of one")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-pages", a->maxPages, "Texture budget in pages; a model needing more is an error")
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option("--max-chart", a->maxChart, "Triangles per chart at most")->check(CLI::Range(1, 1 << 20));
+    cmd->add_option("--angle", a->angle, "Dihedral angle threshold for charts, degrees (default 85)")
+        ->check(CLI::Range(1.0, 180.0));
+    cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)");
+    cmd->add_option("--out", a->out, "Package directory (created)")->required();
+    cmd->callback([a, &exitCode] { exitCode = runBake(*a); });
+}
+
+}  // namespace geoslice::cli

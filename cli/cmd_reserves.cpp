@@ -1,0 +1,100 @@
+// geoslice reserves MODEL [--plane a,b,c,d] [--json]: volume (m³, gross and net of nested
+// bodies), tonnage (t) and metal of every closed body, whole or on the kept side of a plane
+// (section/reserves.hpp says how and in which units).
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "model/loaders.hpp"
+#include "section/reserves.hpp"
+
+namespace geoslice::cli {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+json optional(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+
+}  // namespace
+
+void addReserves(CLI::App& app, int& exitCode) {
+    struct Opts {
+        std::string model, plane;
+        bool json = false;
+    };
+    auto o = std::make_shared<Opts>();
+    CLI::App* cmd = app.add_subcommand(
+        "reserves", "Volume, tonnage and metal of every closed body, whole or on the kept side of a plane");
+    cmd->add_option("MODEL", o->model, "Model file")->required();
+    cmd->add_option("--plane", o->plane, "Plane a,b,c,d (world metres): count only what lies where a*x+b*y+c*z+d >= 0");
+    cmd->add_flag("--json", o->json, "Print JSON instead of a table");
+    cmd->callback([o, &exitCode] {
+        auto fail = [&](const std::string& msg, int code) {
+            std::fprintf(stderr, "geoslice reserves: %s\n", msg.c_str());
+            exitCode = code;
+        };
+        std::optional<Plane> plane;
+        if (!o->plane.empty()) {
+            double v[4];
+            char extra = 0;
+            if (std::sscanf(o->plane.c_str(), "%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &extra) != 4)
+                return fail("--plane \"" + o->plane + "\" is not a,b,c,d (four numbers)", 2);
+            auto p = makePlane(v[0], v[1], v[2], v[3]);
+            if (!p) return fail("--plane: " + p.error().message, 2);
+            plane = p.value();
+        }
+        auto model = loadModel(o->model);
+        if (!model) return fail(model.error().message, 1);
+        const Model& m = model.value();
+        auto r = computeReserves(m, plane);
+        if (!r) return fail(r.error().message, 1);
+        if (r->skippedOpenBodies)
+            std::fprintf(stderr, "geoslice reserves: warning: %zu bodies are not closed shells and have no volume\n",
+                         r->skippedOpenBodies);
+        auto name = [&](RecordId id) {
+            const AttributeRecord* rec = m.attributes.find(id);
+            return rec ? rec->name : std::string();
+        };
+        if (o->json) {
+            json bodies = json::array();
+            for (const BodyReserves& b : r->bodies)
+                bodies.push_back({{"body", m.bodies[b.body].name},
+                                  {"record", b.record},
+                                  {"record_name", name(b.record)},
+                                  {"gross_volume_m3", b.grossVolume},
+                                  {"net_volume_m3", b.netVolume},
+                                  {"density_t_per_m3", optional(b.density)},
+                                  {"tonnage_t", optional(b.tonnage)},
+                                  {"grade", optional(b.grade)},
+                                  {"grade_unit", b.gradeUnit},
+                                  {"metal", optional(b.metal)},
+                                  {"metal_unit", b.metalUnit}});
+            json j = {{"model", o->model},
+                      {"plane",
+                       r->plane ? json::array({r->plane->normal.x, r->plane->normal.y, r->plane->normal.z, r->plane->d})
+                                : json(nullptr)},
+                      {"method",
+                       "divergence theorem over each closed shell; net = gross minus directly nested "
+                       "bodies; with a plane, the shell clipped to the kept side (reference point on "
+                       "the plane, so the cap adds zero)"},
+                      {"bodies", bodies}};
+            std::printf("%s\n", j.dump(2).c_str());
+            return;
+        }
+        if (r->plane)
+            std::printf("kept side of plane (%.9g, %.9g, %.9g, %.9g)\n", r->plane->normal.x, r->plane->normal.y,
+                        r->plane->normal.z, r->plane->d);
+        std::printf("%-44s %8s %16s %16s %14s %14s\n", "body", "record", "gross_m3", "net_m3", "tonnage_t", "metal");
+        for (const BodyReserves& b : r->bodies) {
+            char tonnage[32] = "-", metal[64] = "-";
+            if (b.tonnage) std::snprintf(tonnage, sizeof tonnage, "%.6g", *b.tonnage);
+            if (b.metal) std::snprintf(metal, sizeof metal, "%.6g %s", *b.metal, b.metalUnit.c_str());
+            std::printf("%-44s %8u %16.6g %16.6g %14s %14s\n", m.bodies[b.body].name.c_str(), b.record, b.grossVolume,
+                        b.netVolume, tonnage, metal);
+        }
+    });
+}
+
+}  // namespace geoslice::cli

@@ -1,0 +1,96 @@
+// geoslice serve [--port N] [--models DIR] [--config FILE] [--gl ...]: the HTTP section
+// server. Settings: defaults < config file < GEOSLICE_* environment < flags
+// (server/config.hpp). SIGINT/SIGTERM shut it down gracefully.
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "cli/commands.hpp"
+#include "server/http_server.hpp"
+
+namespace geoslice::cli {
+namespace {
+
+std::atomic<int> gSignal{0};
+void onSignal(int sig) { gSignal = sig; }
+
+struct ServeArgs {
+    std::string configFile, host, models, gl, cors, logLevel;
+    int port = -1, deadlineMs = -1;
+    long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
+};
+
+int runServe(const ServeArgs& a) {
+    server::ServerConfig config;
+    if (!a.configFile.empty())
+        if (auto s = server::applyConfigFile(config, a.configFile); !s) {
+            std::fprintf(stderr, "geoslice serve: %s\n", s.error().message.c_str());
+            return 2;
+        }
+    if (auto s = server::applyConfigEnv(config, server::processEnvironment()); !s) {
+        std::fprintf(stderr, "geoslice serve: %s\n", s.error().message.c_str());
+        return 2;
+    }
+    if (!a.host.empty()) config.host = a.host;
+    if (a.port >= 0) config.port = a.port;
+    if (!a.models.empty()) config.modelsDir = a.models;
+    if (!a.gl.empty()) config.gl = a.gl;
+    if (!a.cors.empty()) config.cors = a.cors == "none" ? "" : a.cors;
+    if (!a.logLevel.empty()) config.logLevel = a.logLevel;
+    if (a.deadlineMs > 0) config.deadlineMs = a.deadlineMs;
+    if (a.workers >= 0) config.workers = unsigned(a.workers);
+    if (a.queue > 0) config.queue = std::size_t(a.queue);
+    if (a.httpThreads > 0) config.httpThreads = unsigned(a.httpThreads);
+    if (a.cacheMiB >= 0) config.cacheMiB = std::size_t(a.cacheMiB);
+    if (a.demoTriangles > 0) config.demoTriangles = std::size_t(a.demoTriangles);
+    if (a.maxBody > 0) config.maxBodyBytes = std::size_t(a.maxBody);
+    if (auto s = server::checkConfig(config); !s) {
+        std::fprintf(stderr, "geoslice serve: %s\n", s.error().message.c_str());
+        return 2;
+    }
+    spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%eZ level=%l %v", spdlog::pattern_time_type::utc);
+    spdlog::set_level(spdlog::level::from_str(config.logLevel));
+
+    server::SectionServer srv(config);
+    auto port = srv.start();
+    if (!port) {
+        std::fprintf(stderr, "geoslice serve: %s\n", port.error().message.c_str());
+        return 1;
+    }
+    std::printf("geoslice serving on http://%s:%d  (try /v1/models, /openapi.json; Ctrl-C stops)\n",
+                config.host == "0.0.0.0" ? "localhost" : config.host.c_str(), port.value());
+    std::fflush(stdout);
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    while (gSignal == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    spdlog::info("event=signal signal={}", gSignal.load());
+    srv.stop();
+    return 0;
+}
+
+}  // namespace
+
+void addServe(CLI::App& app, int& exitCode) {
+    auto a = std::make_shared<ServeArgs>();
+    CLI::App* cmd = app.add_subcommand("serve", "Run the HTTP section server (REST API, tiles, pixel queries)");
+    cmd->add_option("--config", a->configFile, "JSON config file (keys as in server/config.hpp)");
+    cmd->add_option("--host", a->host, "Address to listen on (default 0.0.0.0)");
+    cmd->add_option("--port", a->port, "Port (default 8080; 0 = any free port)");
+    cmd->add_option("--models", a->models, "Directory of model files (default: the built-in demo model)");
+    cmd->add_option("--gl", a->gl, "GL backend for perspective views: auto|egl-device|egl-surfaceless|osmesa|none");
+    cmd->add_option("--workers", a->workers, "Render workers (default: number of cores)");
+    cmd->add_option("--queue", a->queue, "Render queue capacity (default 64; full -> 503)");
+    cmd->add_option("--http-threads", a->httpThreads, "Connections served at once (default 128)");
+    cmd->add_option("--cache-mib", a->cacheMiB, "Cache budget for images and ID buffers, MiB (default 512)");
+    cmd->add_option("--deadline-ms", a->deadlineMs, "Per-request render deadline, ms (default 10000)");
+    cmd->add_option("--max-body", a->maxBody, "Largest request body, bytes (default 1 MiB)");
+    cmd->add_option("--cors", a->cors, "Access-Control-Allow-Origin value (default *; 'none' = off)");
+    cmd->add_option("--demo-triangles", a->demoTriangles, "Size of the generated demo model (default 200000)");
+    cmd->add_option("--log-level", a->logLevel, "trace|debug|info|warn|error|off (default info)");
+    cmd->callback([a, &exitCode] { exitCode = runServe(*a); });
+}
+
+}  // namespace geoslice::cli

@@ -1,0 +1,123 @@
+#include "server/config.hpp"
+
+#include <charconv>
+
+#include <nlohmann/json.hpp>
+
+#include "model/loaders.hpp"
+
+extern char** environ;
+
+namespace geoslice::server {
+namespace {
+
+Status setField(ServerConfig& c, const std::string& key, const std::string& value, const std::string& source) {
+    auto number = [&](auto& field, long long lo, long long hi) -> Status {
+        long long v = 0;
+        const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+        if (ec != std::errc() || end != value.data() + value.size() || v < lo || v > hi)
+            return makeError(ErrorCode::InvalidArgument, source + ": '" + key + "' = '" + value +
+                                                             "' is not a whole number in " + std::to_string(lo) + ".." +
+                                                             std::to_string(hi));
+        field = static_cast<std::remove_reference_t<decltype(field)>>(v);
+        return {};
+    };
+    if (key == "host")
+        c.host = value;
+    else if (key == "port")
+        return number(c.port, 0, 65535);
+    else if (key == "models")
+        c.modelsDir = value;
+    else if (key == "gl")
+        c.gl = value;
+    else if (key == "workers")
+        return number(c.workers, 0, 256);
+    else if (key == "queue")
+        return number(c.queue, 1, 100000);
+    else if (key == "httpThreads")
+        return number(c.httpThreads, 2, 4096);
+    else if (key == "cacheMiB")
+        return number(c.cacheMiB, 0, 1 << 20);
+    else if (key == "deadlineMs")
+        return number(c.deadlineMs, 1, 3600000);
+    else if (key == "maxBodyBytes")
+        return number(c.maxBodyBytes, 1024, 1LL << 30);
+    else if (key == "cors")
+        c.cors = value;
+    else if (key == "demoTriangles")
+        return number(c.demoTriangles, 2000, 20000000);
+    else if (key == "logLevel")
+        c.logLevel = value;
+    else
+        return makeError(ErrorCode::InvalidArgument, source + ": unknown setting '" + key + "'");
+    return {};
+}
+
+}  // namespace
+
+Status applyConfigJson(ServerConfig& config, const std::string& jsonText, const std::string& source) {
+    nlohmann::json j = nlohmann::json::parse(jsonText, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) return makeError(ErrorCode::ParseError, source + ": not a JSON object");
+    for (const auto& [key, value] : j.items()) {
+        std::string text;
+        if (value.is_string())
+            text = value.get<std::string>();
+        else if (value.is_number_integer() || value.is_number_unsigned())
+            text = value.dump();
+        else
+            return makeError(ErrorCode::InvalidArgument, source + ": '" + key + "' must be a string or a whole number");
+        if (auto s = setField(config, key, text, source); !s) return s;
+    }
+    return {};
+}
+
+Status applyConfigFile(ServerConfig& config, const std::string& path) {
+    auto text = readFile(path, 1 << 20);
+    if (!text) return text.error();
+    return applyConfigJson(config, text.value(), path);
+}
+
+Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::string>& env) {
+    static const std::pair<const char*, const char*> names[] = {
+        {"GEOSLICE_HOST", "host"},
+        {"GEOSLICE_PORT", "port"},
+        {"GEOSLICE_MODELS", "models"},
+        {"GEOSLICE_GL", "gl"},
+        {"GEOSLICE_WORKERS", "workers"},
+        {"GEOSLICE_QUEUE", "queue"},
+        {"GEOSLICE_HTTP_THREADS", "httpThreads"},
+        {"GEOSLICE_CACHE_MIB", "cacheMiB"},
+        {"GEOSLICE_DEADLINE_MS", "deadlineMs"},
+        {"GEOSLICE_MAX_BODY", "maxBodyBytes"},
+        {"GEOSLICE_CORS", "cors"},
+        {"GEOSLICE_DEMO_TRIANGLES", "demoTriangles"},
+        {"GEOSLICE_LOG_LEVEL", "logLevel"},
+    };
+    for (const auto& [var, key] : names)
+        if (const auto it = env.find(var); it != env.end())
+            if (auto s = setField(config, key, it->second, "environment " + std::string(var)); !s) return s;
+    return {};
+}
+
+std::map<std::string, std::string> processEnvironment() {
+    std::map<std::string, std::string> env;
+    for (char** e = environ; e && *e; ++e) {
+        const std::string kv(*e);
+        const std::size_t eq = kv.find('=');
+        if (eq != std::string::npos && kv.rfind("GEOSLICE_", 0) == 0) env[kv.substr(0, eq)] = kv.substr(eq + 1);
+    }
+    return env;
+}
+
+Status checkConfig(const ServerConfig& c) {
+    if (c.gl != "auto" && c.gl != "egl-device" && c.gl != "egl-surfaceless" && c.gl != "osmesa" && c.gl != "none")
+        return makeError(ErrorCode::InvalidArgument,
+                         "gl '" + c.gl + "' is not auto, egl-device, egl-surfaceless, osmesa or none");
+    if (c.logLevel != "trace" && c.logLevel != "debug" && c.logLevel != "info" && c.logLevel != "warn" &&
+        c.logLevel != "error" && c.logLevel != "off")
+        return makeError(ErrorCode::InvalidArgument,
+                         "logLevel '" + c.logLevel + "' is not trace|debug|info|warn|error|off");
+    return {};
+}
+
+}  // namespace geoslice::server

@@ -1,0 +1,68 @@
+#include "server/gl_worker.hpp"
+
+#include <chrono>
+
+namespace geoslice::server {
+
+GlWorker::~GlWorker() {
+    // GPU objects die with the context: release them while it is current.
+    if (context) (void)context->makeCurrent();
+    models.clear();
+    renderer.reset();
+    context.reset();
+}
+
+Result<std::unique_ptr<GlWorker>> GlWorker::create(GlBackend backend) {
+    GlContextOptions options;
+    options.backend = backend;
+    auto context = GlContext::create(options);
+    if (!context) return context.error();
+    auto w = std::make_unique<GlWorker>();
+    w->context = std::move(context.value());
+    auto renderer = SliceRenderer::create(*w->context);
+    if (!renderer) return renderer.error();
+    w->renderer = std::move(renderer.value());
+    return w;
+}
+
+Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (auto s = context->makeCurrent(); !s) return s.error();
+    const std::string key = model.id + "@" + model.version;
+    auto it = models.find(key);
+    if (it == models.end()) {
+        // One resident copy per model: drop other versions of the same id.
+        for (auto m = models.begin(); m != models.end();)
+            m = m->first.rfind(model.id + "@", 0) == 0 ? models.erase(m) : std::next(m);
+        auto gpu = GpuModel::upload(*context, model.model);
+        if (!gpu) return gpu.error();
+        if (auto s = renderer->warmUp(*gpu.value()); !s) return s.error();
+        it = models.emplace(key, std::move(gpu.value())).first;
+    }
+    const Plane plane = api::sectionPlane(plan.section);
+    SliceRequest req;
+    req.planes = {WorldPlane(plane.normal, plane.d)};
+    const api::Camera cam = plan.camera ? *plan.camera : api::defaultCamera(model.index->bounds);
+    PerspectiveView view;
+    view.eye = cam.eye;
+    view.target = cam.target;
+    view.up = cam.up;
+    view.fovYDegrees = cam.fovDeg;
+    req.view = view;
+    req.width = plan.width;
+    req.height = plan.height;
+    req.background = plan.section.background;
+    req.readColour = true;
+    req.readIds = true;
+    auto image = renderer->render(*it->second, req);
+    if (!image) return image.error();
+    api::ViewImage v;
+    v.width = plan.width;
+    v.height = plan.height;
+    v.rgba = std::move(image.value().rgba);
+    v.ids = std::move(image.value().ids);
+    v.renderMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return v;
+}
+
+}  // namespace geoslice::server

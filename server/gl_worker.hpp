@@ -1,0 +1,34 @@
+// One render worker's GL state: its context (created on, and only used by, that worker's
+// thread), the slicing renderer and the models uploaded to it (keyed by id@version).
+// Perspective views are drawn here; profile views and tiles never need GL.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "api/catalog.hpp"
+#include "api/plan.hpp"
+#include "api/view.hpp"
+#include "model/result.hpp"
+#include "renderer/gl_context.hpp"
+#include "renderer/gpu_model.hpp"
+#include "renderer/slice_renderer.hpp"
+
+namespace geoslice::server {
+
+struct GlWorker {
+    std::unique_ptr<GlContext> context;
+    std::unique_ptr<SliceRenderer> renderer;
+    std::map<std::string, std::unique_ptr<GpuModel>> models;
+
+    // Creates the context on the calling thread. Errors: the backend's, naming it.
+    static Result<std::unique_ptr<GlWorker>> create(GlBackend backend);
+    ~GlWorker();
+
+    // A perspective view of the plan's section (the half-space a.x + b.y + c.z + d >= 0 kept,
+    // cut faces filled) with per-body record ids. Uploads the model on first use.
+    Result<api::ViewImage> renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan);
+};
+
+}  // namespace geoslice::server

@@ -1,0 +1,819 @@
+#include "server/http_server.hpp"
+
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <mutex>
+
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
+
+#include "api/legend.hpp"
+#include "api/openapi.hpp"
+#include "api/plan.hpp"
+#include "api/view.hpp"
+#include "renderer/image_encode.hpp"
+#include "server/gl_worker.hpp"
+#include "server/lru_cache.hpp"
+#include "server/metrics.hpp"
+#include "server/render_pool.hpp"
+
+namespace geoslice::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Json = nlohmann::ordered_json;
+constexpr const char* kVersion = "0.2.0";
+
+// An encoded image or JSON body, as cached and served.
+struct Encoded {
+    std::string body;
+    std::string contentType;
+    std::string etag;
+    std::size_t bytes() const { return body.size() + etag.size() + contentType.size(); }
+};
+
+// What a query needs of a rendered view: the ID buffer and the pixel mapping.
+struct IdBuffer {
+    api::ViewImage view;  // rgba cleared
+    std::size_t bytes() const { return view.bytes(); }
+};
+
+int httpStatus(ErrorCode code) {
+    switch (code) {
+        case ErrorCode::InvalidArgument:
+        case ErrorCode::ParseError:
+        case ErrorCode::OutOfRange:
+            return 400;
+        case ErrorCode::NotFound:
+            return 404;
+        case ErrorCode::Unsupported:
+            return 422;
+        case ErrorCode::IoError:
+        case ErrorCode::Internal:
+            return 500;
+    }
+    return 500;
+}
+
+const char* statusTitle(int status) {
+    switch (status) {
+        case 400:
+            return "Bad Request";
+        case 404:
+            return "Not Found";
+        case 405:
+            return "Method Not Allowed";
+        case 413:
+            return "Content Too Large";
+        case 415:
+            return "Unsupported Media Type";
+        case 422:
+            return "Unprocessable Content";
+        case 500:
+            return "Internal Server Error";
+        case 503:
+            return "Service Unavailable";
+        case 504:
+            return "Gateway Timeout";
+        default:
+            return "Error";
+    }
+}
+
+void problem(httplib::Response& res, int status, const std::string& detail, const std::string& instance,
+             const char* code = nullptr) {
+    Json j;
+    j["type"] = "about:blank";
+    j["title"] = statusTitle(status);
+    j["status"] = status;
+    j["detail"] = detail;
+    j["instance"] = instance;
+    if (code) j["code"] = code;
+    res.status = status;
+    res.set_content(j.dump(), "application/problem+json");
+}
+
+void problem(httplib::Response& res, const Error& e, const std::string& instance) {
+    problem(res, httpStatus(e.code), e.message, instance, errorCodeName(e.code));
+}
+
+void sendJson(httplib::Response& res, const Json& j, int status = 200) {
+    res.status = status;
+    res.set_content(j.dump(), "application/json");
+}
+
+// Query parameters -> api::Params; a parameter given twice is an error (which one wins
+// would otherwise depend on the parser).
+Result<api::Params> toParams(const httplib::Request& req) {
+    api::Params p;
+    for (const auto& [k, v] : req.params) {
+        if (!p.emplace(k, v).second)
+            return makeError(ErrorCode::InvalidArgument, "parameter '" + k + "' is given more than once");
+    }
+    return p;
+}
+
+Result<api::Params> jsonToParams(const nlohmann::json& j, const std::string& what) {
+    if (!j.is_object()) return makeError(ErrorCode::InvalidArgument, what + " must be a JSON object");
+    api::Params p;
+    for (const auto& [k, v] : j.items()) {
+        if (v.is_string())
+            p[k] = v.get<std::string>();
+        else if (v.is_number()) {
+            const double d = v.get<double>();
+            if (!std::isfinite(d)) return makeError(ErrorCode::InvalidArgument, what + ": '" + k + "' is not finite");
+            p[k] = v.is_number_float() ? api::formatNumber(d) : v.dump();
+        } else if (v.is_array()) {
+            std::string s;
+            for (const auto& x : v) {
+                if (!x.is_number())
+                    return makeError(ErrorCode::InvalidArgument, what + ": '" + k + "' must be an array of numbers");
+                if (!s.empty()) s += ',';
+                s += api::formatNumber(x.get<double>());
+            }
+            p[k] = s;
+        } else if (v.is_boolean()) {
+            p[k] = v.get<bool>() ? "true" : "false";
+        } else {
+            return makeError(ErrorCode::InvalidArgument, what + ": '" + k + "' must be a string, number or array");
+        }
+    }
+    return p;
+}
+
+std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+
+bool etagMatches(const std::string& ifNoneMatch, const std::string& etag) {
+    if (ifNoneMatch.empty()) return false;
+    if (ifNoneMatch == "*") return true;
+    std::size_t pos = 0;
+    while (pos < ifNoneMatch.size()) {
+        std::size_t comma = ifNoneMatch.find(',', pos);
+        if (comma == std::string::npos) comma = ifNoneMatch.size();
+        std::string tag = ifNoneMatch.substr(pos, comma - pos);
+        while (!tag.empty() && tag.front() == ' ') tag.erase(tag.begin());
+        while (!tag.empty() && tag.back() == ' ') tag.pop_back();
+        if (tag == etag) return true;  // strong comparison (a W/ tag never matches)
+        pos = comma + 1;
+    }
+    return false;
+}
+
+}  // namespace
+
+struct SectionServer::Impl {
+    ServerConfig config;
+    httplib::Server http;
+    api::Catalog catalog;
+    Metrics metrics;
+    LruCache<Encoded> images;
+    LruCache<IdBuffer> idBuffers;
+    Coalescer<std::shared_ptr<const Result<std::shared_ptr<const Encoded>>>> coalescer;
+    std::unique_ptr<RenderPool> pool;    // declared after what its jobs use: destroyed first
+    std::optional<GlBackend> glBackend;  // nullopt: GL disabled
+    std::string glInfo = "not probed";
+    std::atomic<bool> glReady{false};
+    std::atomic<bool> draining{false};
+    std::atomic<bool> loaded{false};
+    std::atomic<bool> loadOk{false};
+    std::atomic<int> inFlight{0};
+    std::thread listener, loader;
+    std::mutex stopMutex;
+    bool stopped = false;
+    std::mutex loadMutex;
+    std::condition_variable loadDone;
+
+    explicit Impl(ServerConfig c)
+        : config(std::move(c)),
+          images(config.cacheMiB * (std::size_t(1) << 20) * 3 / 4),
+          idBuffers(config.cacheMiB * (std::size_t(1) << 20) / 4) {}
+
+    // ---- helpers -------------------------------------------------------------------
+    std::shared_ptr<const api::CatalogModel> model(const std::string& id, httplib::Response& res,
+                                                   const std::string& instance) {
+        if (!api::isValidModelId(id)) {
+            problem(res, 404, "model id '" + id.substr(0, 80) + "' is not a valid id ([A-Za-z0-9][A-Za-z0-9._-]{0,63})",
+                    instance, "not_found");
+            return nullptr;
+        }
+        auto m = catalog.find(id);
+        if (!m) {
+            if (!loaded) {
+                res.set_header("Retry-After", "2");
+                problem(res, 503, "models are still loading; model '" + id + "' is not available yet", instance);
+            } else {
+                problem(res, 404, "no model '" + id + "'", instance, "not_found");
+            }
+        }
+        return m;
+    }
+
+    void sendEncoded(const httplib::Request& req, httplib::Response& res, const Encoded& e) {
+        res.set_header("ETag", e.etag);
+        res.set_header("Cache-Control", "public, max-age=86400");
+        if (etagMatches(req.get_header_value("If-None-Match"), e.etag)) {
+            res.status = 304;
+            return;
+        }
+        res.status = 200;
+        res.set_content(e.body, e.contentType);
+    }
+
+    // Runs `render` on a worker (coalesced by `key`), waits up to the deadline.
+    using RenderFn = std::function<Result<std::shared_ptr<const Encoded>>(WorkerState&)>;
+    Result<std::shared_ptr<const Encoded>> renderCoalesced(const std::string& key, RenderFn render,
+                                                           httplib::Response& res, bool& answered,
+                                                           const std::string& instance) {
+        answered = false;
+        bool leader = false;
+        auto future = coalescer.join(key, leader);
+        if (leader) {
+            const bool queued = pool->submit([this, key, render = std::move(render)](WorkerState& w) {
+                const auto t0 = Clock::now();
+                Result<std::shared_ptr<const Encoded>> r = makeError(ErrorCode::Internal, "render threw");
+                try {
+                    r = render(w);
+                } catch (const std::exception& e) {
+                    r = makeError(ErrorCode::Internal, std::string("render failed: ") + e.what());
+                }
+                const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                if (ms > config.deadlineMs) {
+                    spdlog::warn("event=render_overrun key_hash={} ms={:.1f} deadline_ms={} gl_rebuilt={}",
+                                 api::hex64(api::fnv1a64(key)), ms, config.deadlineMs, bool(w.gl));
+                    metrics.count("geoslice_render_overruns_total", "");
+                    w.gl.reset();  // a context that overran is rebuilt by the next GL job
+                }
+                if (r) images.put(key, r.value());
+                coalescer.finish(key, std::make_shared<const Result<std::shared_ptr<const Encoded>>>(std::move(r)));
+            });
+            if (!queued) {
+                coalescer.finish(key, std::make_shared<const Result<std::shared_ptr<const Encoded>>>(
+                                          makeError(ErrorCode::Internal, "queue full")));
+                metrics.count("geoslice_queue_rejections_total", "");
+                res.set_header("Retry-After", "1");
+                problem(res, 503,
+                        "the render queue is full (" + std::to_string(pool->capacity()) + " jobs); retry shortly",
+                        instance);
+                answered = true;
+                return makeError(ErrorCode::Internal, "queue full");
+            }
+        }
+        if (future.wait_for(std::chrono::milliseconds(config.deadlineMs)) != std::future_status::ready) {
+            metrics.count("geoslice_deadline_exceeded_total", "");
+            problem(res, 504,
+                    "the render did not finish within the deadline of " + std::to_string(config.deadlineMs) +
+                        " ms; it goes on and its result will be cached",
+                    instance);
+            answered = true;
+            return makeError(ErrorCode::Internal, "deadline");
+        }
+        const auto shared = future.get();
+        if (!*shared && shared->error().message == "queue full") {
+            res.set_header("Retry-After", "1");
+            problem(res, 503, "the render queue is full; retry shortly", instance);
+            answered = true;
+        }
+        return *shared;
+    }
+
+    Result<std::shared_ptr<const Encoded>> encode(const api::ViewImage& v, ImageFormat format, int quality,
+                                                  const std::string& etag) {
+        EncodeOptions eo;
+        if (quality > 0) {
+            eo.jpegQuality = quality;
+            eo.webpQuality = quality;
+        }
+        auto bytes = encodeImage(v.rgba.data(), v.width, v.height, format, eo);
+        if (!bytes) return bytes.error();
+        auto e = std::make_shared<Encoded>();
+        e->body.assign(reinterpret_cast<const char*>(bytes.value().data()), bytes.value().size());
+        e->contentType = mimeType(format);
+        e->etag = etag;
+        return std::shared_ptr<const Encoded>(std::move(e));
+    }
+
+    void keepIds(const std::string& key, api::ViewImage&& v) {
+        auto ids = std::make_shared<IdBuffer>();
+        v.rgba.clear();
+        v.rgba.shrink_to_fit();
+        ids->view = std::move(v);
+        idBuffers.put(key, std::move(ids));
+    }
+
+    // ---- routes ------------------------------------------------------------------
+    void route(const char* method, const std::string& name, const std::string& pattern,
+               std::function<void(const httplib::Request&, httplib::Response&)> fn) {
+        auto wrapped = [this, name, method, fn = std::move(fn)](const httplib::Request& req, httplib::Response& res) {
+            const auto t0 = Clock::now();
+            ++inFlight;
+            if (draining) {
+                res.set_header("Connection", "close");
+                res.set_header("Retry-After", "1");
+                problem(res, 503, "the server is shutting down", req.path);
+            } else {
+                try {
+                    fn(req, res);
+                } catch (const std::exception& e) {
+                    spdlog::error("event=handler_exception route={} what={}", name, e.what());
+                    problem(res, 500, std::string("internal error: ") + e.what(), req.path, "internal");
+                }
+            }
+            const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+            metrics.request(name, method, res.status, s);
+            spdlog::debug("event=request method={} route={} path={} status={} ms={:.3f}", method, name, req.path,
+                          res.status, s * 1e3);
+            --inFlight;
+        };
+        if (std::string(method) == "GET")
+            http.Get(pattern, wrapped);
+        else
+            http.Post(pattern, wrapped);
+    }
+
+    void addRoutes() {
+        route("GET", "/healthz", "/healthz", [this](const httplib::Request&, httplib::Response& res) {
+            sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
+        });
+        route("GET", "/readyz", "/readyz", [this](const httplib::Request&, httplib::Response& res) {
+            const bool modelsReady = loaded && loadOk && catalog.size() > 0;
+            const bool glOk = !glBackend || glReady;
+            Json j{{"ready", modelsReady && glOk},
+                   {"models", {{"loaded", catalog.size()}, {"done", bool(loaded)}, {"ok", bool(loadOk)}}},
+                   {"gl", {{"enabled", bool(glBackend)}, {"ready", bool(glReady)}, {"device", glInfo}}},
+                   {"workers", pool->workers()}};
+            sendJson(res, j, modelsReady && glOk ? 200 : 503);
+        });
+        route("GET", "/metrics", "/metrics", [this](const httplib::Request&, httplib::Response& res) {
+            res.set_content(metrics.text(), "text/plain; version=0.0.4");
+        });
+        route("GET", "/openapi.json", "/openapi\\.json",
+              [](const httplib::Request&, httplib::Response& res) { sendJson(res, api::openApiDocument(kVersion)); });
+        route("GET", "/v1/models", "/v1/models", [this](const httplib::Request&, httplib::Response& res) {
+            Json list = Json::array();
+            for (const auto& m : catalog.list()) {
+                Json s = m->summary();
+                s.erase("legend");
+                list.push_back(std::move(s));
+            }
+            sendJson(res, Json{{"models", std::move(list)}, {"loading", !loaded}});
+        });
+        route("GET", "/v1/models/{id}", "/v1/models/([^/]+)",
+              [this](const httplib::Request& req, httplib::Response& res) {
+                  auto m = model(req.matches[1], res, req.path);
+                  if (m) sendJson(res, m->summary());
+              });
+        route("GET", "/v1/models/{id}/legend.png", "/v1/models/([^/]+)/legend\\.png",
+              [this](const httplib::Request& req, httplib::Response& res) {
+                  auto m = model(req.matches[1], res, req.path);
+                  if (!m) return;
+                  const std::string key = "legend|" + m->id + "|" + m->version;
+                  if (auto hit = images.get(key)) return sendEncoded(req, res, *hit);
+                  const api::LegendImage legend = api::renderLegend(*m);
+                  api::ViewImage v;
+                  v.width = legend.width;
+                  v.height = legend.height;
+                  v.rgba = legend.rgba;
+                  auto e = encode(v, ImageFormat::Png, 0, quoted(api::hex64(api::fnv1a64(key))));
+                  if (!e) return problem(res, e.error(), req.path);
+                  images.put(key, e.value());
+                  sendEncoded(req, res, *e.value());
+              });
+        route("GET", "/v1/models/{id}/section.{format}", "/v1/models/([^/]+)/section\\.([A-Za-z0-9]+)",
+              [this](const httplib::Request& req, httplib::Response& res) { sectionImage(req, res); });
+        route("GET", "/v1/models/{id}/query", "/v1/models/([^/]+)/query",
+              [this](const httplib::Request& req, httplib::Response& res) { queryGet(req, res); });
+        route("POST", "/v1/models/{id}/query", "/v1/models/([^/]+)/query",
+              [this](const httplib::Request& req, httplib::Response& res) { queryPost(req, res); });
+        route("GET", "/v1/models/{id}/borehole", "/v1/models/([^/]+)/borehole",
+              [this](const httplib::Request& req, httplib::Response& res) {
+                  auto m = model(req.matches[1], res, req.path);
+                  if (!m) return;
+                  auto params = toParams(req);
+                  if (!params) return problem(res, params.error(), req.path);
+                  auto j = api::boreholeAt(*m, params.value());
+                  if (!j) return problem(res, j.error(), req.path);
+                  sendJson(res, j.value());
+              });
+        route("POST", "/v1/models/{id}/sections", "/v1/models/([^/]+)/sections",
+              [this](const httplib::Request& req, httplib::Response& res) { defineSection(req, res); });
+        route("GET", "/v1/sections/{sid}", "/v1/sections/([A-Za-z0-9_-]+)",
+              [this](const httplib::Request& req, httplib::Response& res) { describeSection(req, res); });
+        route("GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
+              "/v1/sections/([A-Za-z0-9_-]+)/tiles/(-?[0-9]+)/(-?[0-9]+)/(-?[0-9]+)\\.([A-Za-z0-9]+)",
+              [this](const httplib::Request& req, httplib::Response& res) { tile(req, res); });
+    }
+
+    Result<int> qualityParam(const api::Params& params) {
+        if (const auto q = api::param(params, "quality")) {
+            auto v = api::parseInteger("quality", *q, 1, 100);
+            if (!v) return v.error();
+            return int(v.value());
+        }
+        return 0;
+    }
+
+    void sectionImage(const httplib::Request& req, httplib::Response& res) {
+        auto m = model(req.matches[1], res, req.path);
+        if (!m) return;
+        auto format = imageFormatFromName(std::string(req.matches[2]));
+        if (!format)
+            return problem(res, 404,
+                           "unknown image format '" + std::string(req.matches[2]) +
+                               "': use section.jpg, section.png or section.webp",
+                           req.path, "not_found");
+        auto params = toParams(req);
+        if (!params) return problem(res, params.error(), req.path);
+        auto plan = api::parseViewPlan(params.value(), m->id, m->model.crs);
+        if (!plan) return problem(res, plan.error(), req.path);
+        auto quality = qualityParam(params.value());
+        if (!quality) return problem(res, quality.error(), req.path);
+        const std::string viewKey = m->version + "|" + plan.value().canonical();
+        const std::string key = viewKey + "|" + extension(format.value()) + "|q=" + std::to_string(quality.value());
+        const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
+        if (etagMatches(req.get_header_value("If-None-Match"), etag)) {
+            res.set_header("ETag", etag);
+            res.set_header("Cache-Control", "public, max-age=86400");
+            res.status = 304;
+            metrics.count("geoslice_cache_total", "cache=\"etag\",result=\"hit\"");
+            return;
+        }
+        if (auto hit = images.get(key)) {
+            metrics.count("geoslice_cache_total", "cache=\"image\",result=\"hit\"");
+            return sendEncoded(req, res, *hit);
+        }
+        metrics.count("geoslice_cache_total", "cache=\"image\",result=\"miss\"");
+        if (plan.value().view == api::ViewKind::Perspective && !glBackend)
+            return problem(res, 422, "perspective views need GL, which is disabled on this server (--gl none)",
+                           req.path, "unsupported");
+        bool answered = false;
+        auto result = renderCoalesced(
+            key,
+            [this, m, plan = plan.value(), format = format.value(), q = quality.value(), etag,
+             viewKey](WorkerState& w) -> Result<std::shared_ptr<const Encoded>> {
+                Result<api::ViewImage> view = makeError(ErrorCode::Internal, "no view");
+                if (plan.view == api::ViewKind::Perspective) {
+                    if (!w.gl) {
+                        auto gl = GlWorker::create(*glBackend);
+                        if (!gl) return gl.error();
+                        w.gl = std::move(gl.value());
+                    }
+                    view = w.gl->renderPerspective(*m, plan);
+                } else {
+                    view = api::renderProfile(*m, plan);
+                }
+                if (!view) return view.error();
+                metrics.render(plan.view == api::ViewKind::Perspective ? "gl" : "section", view.value().renderMs / 1e3);
+                auto e = encode(view.value(), format, q, etag);
+                if (e) keepIds(viewKey, std::move(view.value()));
+                return e;
+            },
+            res, answered, req.path);
+        if (answered) return;
+        if (!result) return problem(res, result.error(), req.path);
+        sendEncoded(req, res, *result.value());
+    }
+
+    Result<Json> answerQuery(const api::CatalogModel& m, const api::Params& params, const api::ViewPlan& plan) {
+        const auto px = api::param(params, "px");
+        const auto py = api::param(params, "py");
+        if (!px || !py) return makeError(ErrorCode::InvalidArgument, "query: give the pixel as 'px' and 'py'");
+        auto x = api::parseInteger("px", *px, -(1LL << 40), 1LL << 40);
+        if (!x) return x.error();
+        auto y = api::parseInteger("py", *py, -(1LL << 40), 1LL << 40);
+        if (!y) return y.error();
+        auto cached = idBuffers.get(m.version + "|" + plan.canonical());
+        metrics.count("geoslice_cache_total",
+                      cached ? "cache=\"ids\",result=\"hit\"" : "cache=\"ids\",result=\"miss\"");
+        return api::queryPixel(m, plan, x.value(), y.value(), cached ? &cached->view : nullptr);
+    }
+
+    void queryGet(const httplib::Request& req, httplib::Response& res) {
+        auto m = model(req.matches[1], res, req.path);
+        if (!m) return;
+        auto params = toParams(req);
+        if (!params) return problem(res, params.error(), req.path);
+        auto plan = api::parseViewPlan(params.value(), m->id, m->model.crs);
+        if (!plan) return problem(res, plan.error(), req.path);
+        auto j = answerQuery(*m, params.value(), plan.value());
+        if (!j) return problem(res, j.error(), req.path);
+        sendJson(res, j.value());
+    }
+
+    void queryPost(const httplib::Request& req, httplib::Response& res) {
+        auto m = model(req.matches[1], res, req.path);
+        if (!m) return;
+        const nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
+        if (body.is_discarded() || !body.is_object())
+            return problem(res, 400, "the body is not a JSON object", req.path, "parse_error");
+        if (!body.contains("view") || !body.contains("pixels") || !body["pixels"].is_array())
+            return problem(res, 400,
+                           "the body needs 'view' (an object of view parameters) and 'pixels' ([[px, py], ...])",
+                           req.path, "invalid_argument");
+        if (body["pixels"].size() > 10000)
+            return problem(res, 400, "at most 10000 pixels per batch, got " + std::to_string(body["pixels"].size()),
+                           req.path, "out_of_range");
+        auto params = jsonToParams(body["view"], "'view'");
+        if (!params) return problem(res, params.error(), req.path);
+        auto plan = api::parseViewPlan(params.value(), m->id, m->model.crs);
+        if (!plan) return problem(res, plan.error(), req.path);
+        auto cached = idBuffers.get(m->version + "|" + plan.value().canonical());
+        Json results = Json::array();
+        std::size_t i = 0;
+        for (const auto& p : body["pixels"]) {
+            if (!p.is_array() || p.size() != 2 || !p[0].is_number_integer() || !p[1].is_number_integer())
+                return problem(res, 400, "pixels[" + std::to_string(i) + "] is not [px, py] with whole numbers",
+                               req.path, "invalid_argument");
+            auto j = api::queryPixel(*m, plan.value(), p[0].get<long long>(), p[1].get<long long>(),
+                                     cached ? &cached->view : nullptr);
+            if (!j)
+                return problem(res, 400, "pixels[" + std::to_string(i) + "]: " + j.error().message, req.path,
+                               errorCodeName(j.error().code));
+            results.push_back(std::move(j.value()));
+            ++i;
+        }
+        sendJson(res, Json{{"results", std::move(results)}});
+    }
+
+    void defineSection(const httplib::Request& req, httplib::Response& res) {
+        auto m = model(req.matches[1], res, req.path);
+        if (!m) return;
+        const nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
+        if (body.is_discarded()) return problem(res, 400, "the body is not valid JSON", req.path, "parse_error");
+        auto params = jsonToParams(body, "the section definition");
+        if (!params) return problem(res, params.error(), req.path);
+        auto def = api::parseSectionDef(params.value(), m->id, m->model.crs);
+        if (!def) return problem(res, def.error(), req.path);
+        auto grid = api::tileGrid(*m, def.value());
+        if (!grid) return problem(res, grid.error(), req.path);
+        const std::string sid = api::encodeSectionId(def.value());
+        Json j;
+        j["sid"] = sid;
+        j["model"] = m->id;
+        j["definition"] = def.value().canonical();
+        j["tiles"] = "/v1/sections/" + sid + "/tiles/{z}/{x}/{y}.png";
+        j["grid"] = grid.value().describe();
+        res.set_header("Location", "/v1/sections/" + sid);
+        sendJson(res, j, 201);
+    }
+
+    Result<std::pair<std::shared_ptr<const api::CatalogModel>, api::SectionDef>> section(const std::string& sid) {
+        auto def = api::decodeSectionId(sid, [this](const std::string& id) -> const Crs* {
+            auto m = catalog.find(id);
+            return m ? &m->model.crs : nullptr;
+        });
+        if (!def) return def.error();
+        auto m = catalog.find(def.value().model);
+        if (!m) return makeError(ErrorCode::NotFound, "section names model '" + def.value().model + "', not loaded");
+        return std::make_pair(m, def.value());
+    }
+
+    void describeSection(const httplib::Request& req, httplib::Response& res) {
+        auto s = section(req.matches[1]);
+        if (!s) return problem(res, s.error(), req.path);
+        auto grid = api::tileGrid(*s.value().first, s.value().second);
+        if (!grid) return problem(res, grid.error(), req.path);
+        sendJson(res, Json{{"sid", std::string(req.matches[1])},
+                           {"model", s.value().first->id},
+                           {"definition", s.value().second.canonical()},
+                           {"grid", grid.value().describe()}});
+    }
+
+    void tile(const httplib::Request& req, httplib::Response& res) {
+        auto format = imageFormatFromName(std::string(req.matches[5]));
+        if (!format)
+            return problem(res, 404, "unknown tile format '" + std::string(req.matches[5]) + "'", req.path,
+                           "not_found");
+        auto z = api::parseInteger("z", std::string(req.matches[2]), 0, 30);
+        auto x = api::parseInteger("x", std::string(req.matches[3]), -(1LL << 40), 1LL << 40);
+        auto y = api::parseInteger("y", std::string(req.matches[4]), -(1LL << 40), 1LL << 40);
+        if (!z || !x || !y) return problem(res, 404, "tile coordinates are out of range", req.path, "not_found");
+        const std::string sid = req.matches[1];
+        auto s = section(sid);
+        if (!s) return problem(res, s.error(), req.path);
+        const auto& [m, def] = s.value();
+        const std::string key = m->version + "|tile|" + def.canonical() + "|" + std::to_string(z.value()) + "/" +
+                                std::to_string(x.value()) + "/" + std::to_string(y.value()) + "|" +
+                                extension(format.value());
+        const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
+        if (etagMatches(req.get_header_value("If-None-Match"), etag)) {
+            res.set_header("ETag", etag);
+            res.set_header("Cache-Control", "public, max-age=86400");
+            res.status = 304;
+            return;
+        }
+        if (auto hit = images.get(key)) {
+            metrics.count("geoslice_cache_total", "cache=\"tile\",result=\"hit\"");
+            return sendEncoded(req, res, *hit);
+        }
+        metrics.count("geoslice_cache_total", "cache=\"tile\",result=\"miss\"");
+        auto grid = api::tileGrid(*m, def);
+        if (!grid) return problem(res, grid.error(), req.path);
+        if (auto rect = grid.value().tileRect(int(z.value()), x.value(), y.value()); !rect)
+            return problem(res, rect.error(), req.path);
+        bool answered = false;
+        auto result = renderCoalesced(
+            key,
+            [this, m = m, def = def, g = grid.value(), z = int(z.value()), x = x.value(), y = y.value(),
+             format = format.value(), etag](WorkerState&) -> Result<std::shared_ptr<const Encoded>> {
+                auto view = api::renderSectionTile(*m, def, g, z, x, y);
+                if (!view) return view.error();
+                metrics.render("tile", view.value().renderMs / 1e3);
+                return encode(view.value(), format, 0, etag);
+            },
+            res, answered, req.path);
+        if (answered) return;
+        if (!result) return problem(res, result.error(), req.path);
+        sendEncoded(req, res, *result.value());
+    }
+
+    // ---- life cycle ----------------------------------------------------------------
+    void loadModels() {
+        bool ok = true;
+        if (config.modelsDir.empty()) {
+            spdlog::info("event=demo_generate triangles={}", config.demoTriangles);
+            auto demo = api::makeDemoModel(config.demoTriangles);
+            if (demo) {
+                spdlog::info("event=model_loaded id=demo triangles={} ms={:.0f}", demo.value()->model.triangleCount(),
+                             demo.value()->loadMs);
+                catalog.add(demo.value());
+            } else {
+                ok = false;
+                spdlog::error("event=model_failed id=demo error=\"{}\"", demo.error().message);
+            }
+        } else {
+            auto files = api::listModelFiles(config.modelsDir);
+            if (!files) {
+                ok = false;
+                spdlog::error("event=models_dir_failed error=\"{}\"", files.error().message);
+            } else {
+                if (files.value().empty()) spdlog::warn("event=models_dir_empty dir=\"{}\"", config.modelsDir);
+                for (const auto& [id, path] : files.value()) {
+                    if (draining) break;
+                    auto m = api::loadCatalogModel(id, path);
+                    if (m) {
+                        spdlog::info("event=model_loaded id={} triangles={} ms={:.0f} version={}", id,
+                                     m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version);
+                        catalog.add(m.value());
+                    } else {
+                        ok = false;
+                        spdlog::error("event=model_failed id={} path=\"{}\" error=\"{}\"", id, path, m.error().message);
+                    }
+                }
+            }
+        }
+        loadOk = ok;
+        {
+            std::lock_guard lock(loadMutex);
+            loaded = true;
+        }
+        loadDone.notify_all();
+    }
+
+    void probeGl() {
+        if (!glBackend) return;
+        // Create one worker's context now, so /readyz can report the device and the first
+        // perspective request does not pay for it.
+        pool->submit([this](WorkerState& w) {
+            auto gl = GlWorker::create(*glBackend);
+            if (!gl) {
+                glInfo = "failed: " + gl.error().message;
+                spdlog::warn("event=gl_unavailable error=\"{}\"", gl.error().message);
+                return;
+            }
+            glInfo = gl.value()->context->info().describe();
+            spdlog::info("event=gl_ready device=\"{}\"", glInfo);
+            w.gl = std::move(gl.value());
+            glReady = true;
+        });
+    }
+};
+
+SectionServer::SectionServer(ServerConfig config) : config_(std::move(config)) {}
+
+SectionServer::~SectionServer() { stop(); }
+
+api::Catalog& SectionServer::catalog() { return impl_->catalog; }
+
+Result<int> SectionServer::start() {
+    if (auto s = checkConfig(config_); !s) return s.error();
+    impl_ = std::make_unique<Impl>(config_);
+    Impl& im = *impl_;
+    if (config_.gl != "none") im.glBackend = parseGlBackend(config_.gl);
+    const unsigned workers = config_.workers ? config_.workers : std::max(1u, std::thread::hardware_concurrency());
+    im.pool = std::make_unique<RenderPool>(workers, config_.queue);
+
+    auto& http = im.http;
+    const unsigned httpThreads = config_.httpThreads;
+    http.new_task_queue = [httpThreads] { return new httplib::ThreadPool(httpThreads); };
+    http.set_keep_alive_max_count(100000);
+    http.set_keep_alive_timeout(5);
+    http.set_read_timeout(10, 0);
+    http.set_write_timeout(10, 0);
+    http.set_payload_max_length(config_.maxBodyBytes);
+    http.set_tcp_nodelay(true);
+    const std::string cors = config_.cors;
+    http.set_post_routing_handler([cors](const httplib::Request&, httplib::Response& res) {
+        if (!cors.empty()) {
+            res.set_header("Access-Control-Allow-Origin", cors);
+            res.set_header("Access-Control-Expose-Headers", "ETag, Retry-After");
+        }
+    });
+    http.Options(".*", [cors](const httplib::Request&, httplib::Response& res) {
+        if (!cors.empty()) {
+            res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
+            res.set_header("Access-Control-Allow-Headers", "Content-Type, If-None-Match");
+            res.set_header("Access-Control-Max-Age", "86400");
+        }
+        res.status = 204;
+    });
+    http.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+        if (!res.body.empty()) return;
+        if (res.status == 404)
+            problem(res, 404, "no route for " + req.method + " " + req.path, req.path, "not_found");
+        else if (res.status == 413)
+            problem(res, 413, "the request body is larger than the limit", req.path, "out_of_range");
+        else if (res.status == 400)
+            problem(res, 400, "malformed request", req.path, "invalid_argument");
+        else
+            problem(res, res.status, "request failed", req.path);
+    });
+    http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+        std::string what = "unknown exception";
+        try {
+            if (ep) std::rethrow_exception(ep);
+        } catch (const std::exception& e) {
+            what = e.what();
+        } catch (...) {
+        }
+        problem(res, 500, "internal error: " + what, req.path, "internal");
+    });
+    im.addRoutes();
+
+    im.metrics.gauge("geoslice_queue_depth", "Render jobs waiting.", [&im] { return double(im.pool->queueDepth()); });
+    im.metrics.gauge("geoslice_workers_busy", "Render workers busy.", [&im] { return double(im.pool->busyWorkers()); });
+    im.metrics.gauge("geoslice_requests_in_flight", "HTTP requests being handled.",
+                     [&im] { return double(im.inFlight.load()); });
+    im.metrics.gauge("geoslice_cache_bytes", "Bytes held by the image and ID-buffer caches.",
+                     [&im] { return double(im.images.usedBytes() + im.idBuffers.usedBytes()); });
+    im.metrics.gauge("geoslice_cache_entries", "Entries in the image and ID-buffer caches.",
+                     [&im] { return double(im.images.entries() + im.idBuffers.entries()); });
+    im.metrics.gauge("geoslice_renders_coalesced", "Requests that shared another request's render (total).",
+                     [&im] { return double(im.coalescer.coalesced()); });
+    im.metrics.gauge("geoslice_models_loaded", "Models loaded.", [&im] { return double(im.catalog.size()); });
+
+    int port = config_.port;
+    if (port == 0) {
+        port = http.bind_to_any_port(config_.host);
+        if (port <= 0) return makeError(ErrorCode::IoError, "cannot bind to any port on " + config_.host);
+    } else if (!http.bind_to_port(config_.host, port)) {
+        return makeError(ErrorCode::IoError, "cannot bind to " + config_.host + ":" + std::to_string(port) +
+                                                 " (address in use, or no permission)");
+    }
+    port_ = port;
+    im.listener = std::thread([&im] { im.http.listen_after_bind(); });
+    im.loader = std::thread([&im] { im.loadModels(); });
+    im.probeGl();
+    spdlog::info("event=listening host={} port={} workers={} http_threads={} gl={} models=\"{}\"", config_.host, port,
+                 workers, httpThreads, config_.gl, config_.modelsDir.empty() ? "demo" : config_.modelsDir);
+    return port;
+}
+
+bool SectionServer::waitUntilLoaded() {
+    if (!impl_) return false;
+    std::unique_lock lock(impl_->loadMutex);
+    impl_->loadDone.wait(lock, [this] { return impl_->loaded.load(); });
+    return impl_->loadOk;
+}
+
+void SectionServer::wait() {
+    if (!impl_) return;
+    while (true) {
+        {
+            std::lock_guard lock(impl_->stopMutex);
+            if (impl_->stopped) return;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+}
+
+void SectionServer::stop() {
+    if (!impl_) return;
+    Impl& im = *impl_;
+    std::lock_guard lock(im.stopMutex);
+    if (im.stopped) return;
+    im.draining = true;
+    spdlog::info("event=shutdown_begin in_flight={}", im.inFlight.load());
+    // Let in-flight requests finish (bounded by the deadline plus a margin).
+    const auto until = Clock::now() + std::chrono::milliseconds(config_.deadlineMs + 1000);
+    while (im.inFlight > 0 && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    im.http.stop();
+    if (im.listener.joinable()) im.listener.join();
+    if (im.loader.joinable()) im.loader.join();
+    im.pool.reset();  // runs what is queued, joins the workers (and destroys their GL contexts)
+    im.stopped = true;
+    spdlog::info("event=shutdown_done");
+}
+
+}  // namespace geoslice::server

@@ -1,0 +1,173 @@
+// The baked package: XXH64 against the specification's reference values, a write/load round
+// trip that keeps every id, UV and texel, and clear errors (never a crash) for missing,
+// truncated, corrupt and inconsistent packages.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <cctype>
+#include <cstring>
+#include <iterator>
+#include <unistd.h>
+
+#include "bake/package.hpp"
+#include "model/loaders.hpp"
+#include "tests/common/synthetic_model.hpp"
+
+using namespace geoslice;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path tempDir(const std::string& name) {
+    fs::path d = fs::temp_directory_path() / ("geoslice_bake_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(d);
+    return d;
+}
+
+std::string readAll(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+void writeAll(const fs::path& p, const std::string& s) {
+    std::ofstream f(p, std::ios::binary | std::ios::trunc);
+    f << s;
+}
+
+struct Baked {
+    Model model;
+    bake::BakedModel baked;
+};
+
+Baked smallBake() {
+    Baked b{test::syntheticModel(4000), {}};
+    bake::BakeOptions o;
+    o.pack.width = o.pack.height = 256;
+    auto r = bake::bakeModel(b.model, o);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    if (r.ok()) b.baked = std::move(r).value();
+    return b;
+}
+
+}  // namespace
+
+TEST(BakePackage, Xxh64ReferenceValues) {
+    // Reference values of XXH64 (xxhsum -H64) for seed 0.
+    EXPECT_EQ(bake::xxh64("", 0), 0xEF46DB3751D8E999ull);
+    EXPECT_EQ(bake::xxh64("abc", 3), 0x44BC2CF5AD770999ull);
+    const std::string s = "Nobody inspects the spammish repetition";
+    EXPECT_EQ(bake::xxh64(s.data(), s.size()), 0xFBCEA83C8A378BF1ull);
+}
+
+TEST(BakePackage, RoundTripKeepsMeshUvsTexelsAndAttributes) {
+    Baked b = smallBake();
+    const fs::path dir = tempDir("roundtrip");
+    ASSERT_TRUE(bake::writePackage(b.model, b.baked, dir.string()).ok());
+    auto p = bake::loadPackage(dir.string());
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ(p->texels, b.baked.texels);
+    EXPECT_EQ(p->width, 256u);
+    EXPECT_EQ(p->pages, b.baked.pages);
+    EXPECT_EQ(p->attributes.size(), b.model.attributes.size());
+    EXPECT_EQ(p->crs, b.model.crs.id());
+    EXPECT_EQ(p->origin, b.model.origin);
+    ASSERT_EQ(p->parts.size(), b.baked.parts.size());
+    for (std::size_t i = 0; i < p->parts.size(); ++i) {
+        const auto& a = b.baked.parts[i];
+        const auto& q = p->parts[i];
+        EXPECT_EQ(q.record, a.record);
+        EXPECT_EQ(q.kind, a.kind);
+        ASSERT_EQ(q.vertexCount, a.positions.size());
+        ASSERT_EQ(q.indexCount, a.indices.size());
+        EXPECT_TRUE(std::equal(a.indices.begin(), a.indices.end(), q.indices));
+        for (std::size_t v = 0; v < q.vertexCount; ++v) {
+            // glTF axes: (east, up, -north), bit-exact float copies.
+            ASSERT_EQ(q.positions[3 * v], a.positions[v].x);
+            ASSERT_EQ(q.positions[3 * v + 1], a.positions[v].z);
+            ASSERT_EQ(q.positions[3 * v + 2], -a.positions[v].y);
+            ASSERT_EQ(q.uvs[2 * v], a.uvs[v].x);
+            ASSERT_EQ(q.uvs[2 * v + 1], a.uvs[v].y);
+        }
+    }
+    // The GLB is an ordinary geoslice model too.
+    auto m = loadModel((dir / bake::kMeshFile).string());
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    EXPECT_EQ(m->triangleCount(), b.model.triangleCount());
+    fs::remove_all(dir);
+}
+
+TEST(BakePackage, MissingTruncatedAndCorruptPackagesAreClearErrors) {
+    Baked b = smallBake();
+    const fs::path dir = tempDir("corrupt");
+    ASSERT_TRUE(bake::writePackage(b.model, b.baked, dir.string()).ok());
+    for (const char* f : {bake::kManifestFile, bake::kMeshFile, bake::kTextureFile, bake::kAttributesFile}) {
+        const std::string good = readAll(dir / f);
+        SCOPED_TRACE(f);
+        // Truncated at several points.
+        for (std::size_t cut : {std::size_t(0), good.size() / 3, good.size() - 2}) {
+            writeAll(dir / f, good.substr(0, cut));
+            auto p = bake::loadPackage(dir.string());
+            ASSERT_FALSE(p.ok());
+            EXPECT_NE(p.error().message.find(dir.string()), std::string::npos) << p.error().message;
+        }
+        // One flipped byte in the middle.
+        std::string bad = good;
+        std::size_t at = bad.size() / 2;
+        while (std::isspace(static_cast<unsigned char>(bad[at]))) ++at;  // JSON whitespace carries nothing
+        bad[at] ^= 0x5A;
+        writeAll(dir / f, bad);
+        auto p = bake::loadPackage(dir.string());
+        ASSERT_FALSE(p.ok());
+        EXPECT_EQ(p.error().code, ErrorCode::ParseError) << p.error().message;
+        EXPECT_NE(p.error().message.find("corrupt"), std::string::npos) << p.error().message;
+        writeAll(dir / f, good);
+        ASSERT_TRUE(bake::loadPackage(dir.string()).ok());
+    }
+    fs::remove(dir / bake::kTextureFile);
+    auto p = bake::loadPackage(dir.string());
+    ASSERT_FALSE(p.ok());
+    EXPECT_EQ(p.error().code, ErrorCode::NotFound);
+    EXPECT_NE(p.error().message.find("not a complete baked package"), std::string::npos);
+    fs::remove_all(dir);
+}
+
+TEST(BakePackage, InconsistentContentIsRejectedWithoutChecksums) {
+    // With checksums off (as the fuzzer runs), the structural checks still catch lies.
+    Baked b = smallBake();
+    const fs::path dir = tempDir("lies");
+    ASSERT_TRUE(bake::writePackage(b.model, b.baked, dir.string()).ok());
+    const std::string manifest = readAll(dir / bake::kManifestFile), mesh = readAll(dir / bake::kMeshFile),
+                      texture = readAll(dir / bake::kTextureFile), attributes = readAll(dir / bake::kAttributesFile);
+    auto span = [](const std::string& s) {
+        return std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+    };
+    bake::PackageReadOptions noSums;
+    noSums.verifyChecksums = false;
+    ASSERT_TRUE(bake::parsePackage(manifest, span(mesh), span(texture), attributes, noSums, "pkg").ok());
+    // A texture layout that disagrees with the zstd frame.
+    nlohmann::json m = nlohmann::json::parse(manifest);
+    m["texture"]["width"] = 512;
+    auto r = bake::parsePackage(m.dump(), span(mesh), span(texture), attributes, noSums, "pkg");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("texture layout"), std::string::npos) << r.error().message;
+    // Another version.
+    m = nlohmann::json::parse(manifest);
+    m["version"] = 99;
+    r = bake::parsePackage(m.dump(), span(mesh), span(texture), attributes, noSums, "pkg");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::Unsupported);
+    // An index past the vertices: patch the first index of the first part in the BIN chunk.
+    std::string badMesh = mesh;
+    std::uint32_t jsonLen = 0;
+    std::memcpy(&jsonLen, &mesh[12], 4);
+    auto doc = nlohmann::json::parse(badMesh.substr(20, jsonLen));
+    const std::size_t idxView = doc["accessors"][2]["bufferView"];
+    const std::size_t off = 20 + jsonLen + 8 + std::size_t(doc["bufferViews"][idxView]["byteOffset"]);
+    const std::uint32_t huge = 0x7FFFFFFF;
+    std::memcpy(&badMesh[off], &huge, 4);
+    r = bake::parsePackage(manifest, span(badMesh), span(texture), attributes, noSums, "pkg");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("refers to vertex"), std::string::npos) << r.error().message;
+    fs::remove_all(dir);
+}

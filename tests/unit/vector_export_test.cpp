@@ -1,0 +1,143 @@
+// Vector export: GeoJSON (plane and world frames) and SVG of a box with a nested lens and
+// a fault trace, and of a polyline section; the exported rings give back the areas.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "section/vector_export.hpp"
+#include "section_test_util.hpp"
+#include "test_meshes.hpp"
+
+using namespace geoslice;
+using namespace geoslice::test;
+
+namespace {
+
+Model boxLensFault() {
+    Mesh sheet;  // vertical fault sheet x = 5, y 0..100, z 0..50
+    sheet.positions = {{5, 0, 0}, {5, 100, 0}, {5, 100, 50}, {5, 0, 50}};
+    sheet.indices = {0, 1, 2, 0, 2, 3};
+    Model m;
+    m.bodies = {makePart("host", PartKind::Body, 1, boxMesh({0, 0, 0}, {100, 100, 50})),
+                makePart("lens", PartKind::Body, 2, boxMesh({40, 40, 20}, {60, 60, 30}))};
+    m.surfaces = {makePart("F1", PartKind::Surface, 3, sheet)};
+    AttributeRecord r;
+    r.id = 2;
+    r.name = "Lens <ore>";
+    r.kind = "orebody";
+    r.density = 2.6;
+    r.grade = 12.5;
+    r.gradeUnit = "% SiO2";
+    m.attributes.put(r);
+    m.recentre();
+    validate(m);
+    return m;
+}
+
+// Shoelace area of a GeoJSON ring of 2D positions (first position repeated last).
+double ringAreaJson(const nlohmann::json& ring) {
+    double a = 0.0;
+    for (std::size_t i = 0; i + 1 < ring.size(); ++i)
+        a += ring[i][0].get<double>() * ring[i + 1][1].get<double>() -
+             ring[i + 1][0].get<double>() * ring[i][1].get<double>();
+    return 0.5 * a;
+}
+
+}  // namespace
+
+TEST(VectorExport, GeoJsonPlaneAndWorld) {
+    Model m = boxLensFault();
+    auto idx = indexFor(m);
+    auto s = computeSection(*idx, horizontalPlane(25.0));
+    ASSERT_TRUE(s.ok());
+    const auto plane = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::Plane).dump());
+    EXPECT_EQ(plane["type"], "FeatureCollection");
+    ASSERT_EQ(plane["features"].size(), 3u);  // host, lens, fault trace
+    double hostArea = 0.0;
+    for (const auto& f : plane["features"]) {
+        if (f["properties"]["kind"] == "trace") {
+            EXPECT_EQ(f["geometry"]["type"], "LineString");
+            EXPECT_EQ(f["properties"]["name"], "F1");
+            EXPECT_EQ(f["properties"]["part"], 0);
+            continue;
+        }
+        EXPECT_EQ(f["geometry"]["type"], "MultiPolygon");
+        double a = 0.0;
+        for (const auto& poly : f["geometry"]["coordinates"]) {
+            for (std::size_t r = 0; r < poly.size(); ++r) {
+                EXPECT_EQ(poly[r].front(), poly[r].back());  // closed rings
+                const double ra = ringAreaJson(poly[r]);
+                EXPECT_EQ(ra > 0, r == 0);  // exterior counter-clockwise, holes clockwise
+                a += ra;
+            }
+        }
+        EXPECT_NEAR(a, f["properties"]["area_m2"].get<double>(), 1e-9);
+        if (f["properties"]["record"] == 1) {
+            hostArea = a;
+            EXPECT_TRUE(f["properties"]["attributes"].is_null());
+        } else {
+            EXPECT_NEAR(a, 400.0, 1e-9);
+            EXPECT_EQ(f["properties"]["attributes"]["name"], "Lens <ore>");
+            EXPECT_EQ(f["properties"]["attributes"]["grade"], 12.5);
+        }
+    }
+    EXPECT_NEAR(hostArea, 10000.0 - 400.0, 1e-8);
+    // World frame: 3D positions at z = 25 inside the box.
+    const auto world = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::World).dump());
+    EXPECT_EQ(world["geoslice"]["frame"], "world");
+    for (const auto& f : world["features"]) {
+        if (f["properties"]["kind"] != "body") continue;
+        for (const auto& poly : f["geometry"]["coordinates"])
+            for (const auto& ring : poly)
+                for (const auto& p : ring) {
+                    ASSERT_EQ(p.size(), 3u);
+                    EXPECT_NEAR(p[2].get<double>(), 25.0, 1e-9);
+                    EXPECT_GE(p[0].get<double>(), -1e-9);
+                    EXPECT_LE(p[0].get<double>(), 100.0 + 1e-9);
+                }
+    }
+}
+
+TEST(VectorExport, SvgOverlaysTheRaster) {
+    Model m = boxLensFault();
+    auto idx = indexFor(m);
+    auto s = computeSection(*idx, horizontalPlane(25.0));
+    ASSERT_TRUE(s.ok());
+    auto svg = toSvg(*idx, vectorSource(s.value()), FrameRect{-10, -10, 110, 110}, 240, 240);
+    ASSERT_TRUE(svg.ok());
+    const std::string& t = svg.value();
+    EXPECT_EQ(t.rfind("</svg>\n"), t.size() - 7);
+    EXPECT_NE(t.find("fill-rule=\"evenodd\" data-record=\"1\""), std::string::npos);
+    EXPECT_NE(t.find("data-record=\"2\""), std::string::npos);
+    EXPECT_NE(t.find("<polyline"), std::string::npos);
+    // The host's outer corner (u, v) = (0, 0) in plane units is pixel (20, 220): plan view,
+    // u east, v north, origin at the world origin for a horizontal plane.
+    EXPECT_NE(t.find("20.000,220.000"), std::string::npos);
+    EXPECT_FALSE(toSvg(*idx, vectorSource(s.value()), FrameRect{0, 0, 0, 1}, 10, 10).ok());
+}
+
+TEST(VectorExport, PolylineSectionInWorldCoordinates) {
+    Model m = boxLensFault();
+    auto idx = indexFor(m);
+    auto s = computePolylineSection(*idx, {{-10, 50}, {50, 50}, {50, 150}});
+    ASSERT_TRUE(s.ok());
+    const auto j = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::World).dump());
+    std::size_t bodies = 0;
+    for (const auto& f : j["features"]) {
+        if (f["properties"]["kind"] != "body") continue;
+        ++bodies;
+        for (const auto& poly : f["geometry"]["coordinates"])
+            for (const auto& ring : poly)
+                for (const auto& p : ring) {
+                    // On the line: y = 50 (first leg) or x = 50 (second leg).
+                    const double x = p[0].get<double>(), y = p[1].get<double>();
+                    EXPECT_TRUE(std::abs(y - 50.0) < 1e-9 || std::abs(x - 50.0) < 1e-9) << x << " " << y;
+                }
+    }
+    EXPECT_EQ(bodies, 2u);
+    const auto plane = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::Plane).dump());
+    for (const auto& f : plane["features"])
+        if (f["properties"]["record"] == 2) {
+            EXPECT_NEAR(f["properties"]["area_m2"].get<double>(), 200.0, 1e-9);
+        }
+}
