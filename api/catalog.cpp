@@ -38,10 +38,12 @@ Status indexModel(CatalogModel& m) {
     auto tracer = BoreholeTracer::build(m.model);
     if (!tracer) return tracer.error();
     m.tracer = std::move(tracer.value());
+    for (const auto& [id, record] : m.model.attributes.records()) m.recordJson[id] = record.toJson().dump();
+    for (const Part& p : m.model.bodies) m.bodyName.emplace(p.record, p.name);
     return {};
 }
 
-nlohmann::ordered_json recordJson(const AttributeTable& table, RecordId id) {
+nlohmann::ordered_json recordOf(const AttributeTable& table, RecordId id) {
     if (const AttributeRecord* r = table.find(id)) return r->toJson();
     return {{"id", id}};
 }
@@ -67,7 +69,7 @@ nlohmann::ordered_json CatalogModel::legend() const {
                 out[it->second]["parts"].push_back(p.name);
                 return;
             }
-        nlohmann::ordered_json e = recordJson(model.attributes, p.record);
+        nlohmann::ordered_json e = recordOf(model.attributes, p.record);
         e["parts"] = {p.name};
         e["partKind"] = partKind;
         if (const AttributeRecord* r = model.attributes.find(p.record)) e["colour"] = formatColour(r->colour);

@@ -14,6 +14,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -35,6 +36,10 @@ struct CatalogModel {
     std::unique_ptr<Classifier> classifier;
     std::unique_ptr<BoreholeTracer> tracer;
     double loadMs = 0.0;
+    // Serialised attribute record per record id, and the first body's name per record,
+    // made once at load so that a query answer is a few appends.
+    std::unordered_map<RecordId, std::string> recordJson;
+    std::unordered_map<RecordId, std::string> bodyName;
 
     // {id, version, crs, bounds, triangles, bodies: [...], surfaces: [...], legend: [...]}
     nlohmann::ordered_json summary() const;

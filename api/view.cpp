@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "api/json_writer.hpp"
 #include "section/contours.hpp"
 
 namespace geoslice::api {
@@ -192,40 +193,8 @@ Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef&
     return v;
 }
 
-nlohmann::ordered_json worldPointJson(const Crs& crs, const glm::dvec3& world) {
-    nlohmann::ordered_json j;
-    j["x"] = world.x;
-    j["y"] = world.y;
-    j["z"] = world.z;
-    j["crs"] = crs.id();
-    j["axes"] = {"x: easting (m)", "y: northing (m)", "z: elevation (m)"};
-    if (crs.isProjected()) {
-        j["projected"] = {{"crs", crs.id()},
-                          {"name", crs.name()},
-                          {"easting", world.x},
-                          {"northing", world.y},
-                          {"zone", crs.zone()},
-                          {"zoneWidthDeg", crs.zoneWidthDeg()},
-                          {"centralMeridianDeg", crs.centralMeridianDeg()},
-                          {"axisOrder", "easting, northing (metres); EPSG lists northing first"}};
-        if (auto ll = crs.toLonLat(world.x, world.y))
-            j["geodetic"] = {
-                {"crs", "EPSG:4490"},
-                {"lon", ll.value().x},
-                {"lat", ll.value().y},
-                {"height", world.z},
-                {"axisOrder", "lon, lat (degrees), height (m); EPSG lists lat first"},
-                {"heightNote", "the model's elevation, reported as ellipsoidal height: no geoid model is configured"}};
-    } else if (crs.isGeographic()) {
-        j["geodetic"] = {{"crs", crs.id()}, {"lon", world.x}, {"lat", world.y}, {"height", world.z}};
-    } else {
-        j["projectedNote"] = "the model has a local CRS: no CGCS2000 coordinates";
-    }
-    return j;
-}
-
-Result<nlohmann::ordered_json> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                                          const ViewImage* cached) {
+Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
+                                const ViewImage* cached) {
     if (px < 0 || py < 0 || px >= plan.width || py >= plan.height)
         return makeError(ErrorCode::OutOfRange, "pixel (" + std::to_string(px) + ", " + std::to_string(py) +
                                                     ") is outside the " + std::to_string(plan.width) + "x" +
@@ -240,50 +209,106 @@ Result<nlohmann::ordered_json> queryPixel(const CatalogModel& model, const ViewP
         fresh = std::move(m.value());
         mapping = &*fresh;
     }
+    QueryAnswer a;
+    a.px = px;
+    a.py = py;
     const int i = int(px), j = int(py);
-    const glm::dvec3 world = mapping->worldAt(i, j);
-    RecordId id = kNoRecord;
-    const char* source = "ray";
+    a.world = mapping->worldAt(i, j);
+    a.section = mapping->sectionAt(i, j);
+    a.line = mapping->geometry == Geometry::Line;
+    a.distanceAlong = a.line ? a.section.x : a.section.x - mapping->rect.u0;
     if (cached && !cached->ids.empty()) {
-        id = cached->ids[std::size_t(j) * std::size_t(cached->width) + std::size_t(i)];
-        source = "id-buffer";
-    } else if (mapping->geometry == Geometry::Line) {
+        a.record = cached->ids[std::size_t(j) * std::size_t(cached->width) + std::size_t(i)];
+        a.fromIdBuffer = true;
+    } else if (a.line) {
         // Like the polyline fill: nothing before the first vertex or past the last one.
-        const double chain = mapping->sectionAt(i, j).x;
-        id = chain >= 0.0 && chain < mapping->line.length() ? model.classifier->classify(world) : kNoRecord;
+        a.record = a.section.x >= 0.0 && a.section.x < mapping->line.length() ? model.classifier->classify(a.world)
+                                                                              : kNoRecord;
     } else {
-        id = model.classifier->classify(world);
+        a.record = model.classifier->classify(a.world);
     }
-    nlohmann::ordered_json out;
-    out["model"] = model.id;
-    out["version"] = model.version;
-    out["pixel"] = {{"x", px}, {"y", py}, {"centre", {double(px) + 0.5, double(py) + 0.5}}};
-    out["hit"] = id != kNoRecord;
-    if (id != kNoRecord) {
-        const AttributeRecord* r = model.model.attributes.find(id);
-        out["record"] = r ? r->toJson() : nlohmann::ordered_json{{"id", id}};
-        for (const Part& p : model.model.bodies)
-            if (p.record == id) {
-                out["body"] = p.name;
-                break;
-            }
+    return a;
+}
+
+void writeWorldPoint(JsonWriter& w, const Crs& crs, const glm::dvec3& world) {
+    w.beginObject();
+    w.key("x").value(world.x).key("y").value(world.y).key("z").value(world.z);
+    w.key("crs").value(crs.id());
+    w.key("axes").beginArray().value("x: easting (m)").value("y: northing (m)").value("z: elevation (m)").endArray();
+    if (crs.isProjected()) {
+        w.key("projected").beginObject();
+        w.key("crs").value(crs.id()).key("name").value(crs.name());
+        w.key("easting").value(world.x).key("northing").value(world.y);
+        w.key("zone").value(crs.zone()).key("zoneWidthDeg").value(crs.zoneWidthDeg());
+        w.key("centralMeridianDeg").value(crs.centralMeridianDeg());
+        w.key("axisOrder").value("easting, northing (metres); EPSG lists northing first");
+        w.endObject();
+        if (auto ll = crs.toLonLat(world.x, world.y)) {
+            w.key("geodetic").beginObject();
+            w.key("crs").value("EPSG:4490").key("lon").value(ll.value().x).key("lat").value(ll.value().y);
+            w.key("height").value(world.z);
+            w.key("axisOrder").value("lon, lat (degrees), height (m); EPSG lists lat first");
+            w.key("heightNote")
+                .value("the model's elevation, reported as ellipsoidal height: no geoid model is configured");
+            w.endObject();
+        }
+    } else if (crs.isGeographic()) {
+        w.key("geodetic").beginObject();
+        w.key("crs").value(crs.id()).key("lon").value(world.x).key("lat").value(world.y).key("height").value(world.z);
+        w.endObject();
     } else {
-        out["record"] = nullptr;
-        out["message"] = "no geology at this pixel";
+        w.key("projectedNote").value("the model has a local CRS: no CGCS2000 coordinates");
     }
-    const glm::dvec2 uv = mapping->sectionAt(i, j);
-    if (mapping->geometry == Geometry::Line)
-        out["section"] = {{"distanceAlong", uv.x},
-                          {"elevation", uv.y},
-                          {"note", "distanceAlong: metres of chainage from the line's first vertex"}};
-    else
-        out["section"] = {{"u", uv.x},
-                          {"v", uv.y},
-                          {"distanceAlong", uv.x - mapping->rect.u0},
-                          {"note", "u, v: plane metres; distanceAlong: metres along u from the image's left edge"}};
-    out["world"] = worldPointJson(model.model.crs, world);
-    out["source"] = source;
+    w.endObject();
+}
+
+void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::string& out) {
+    JsonWriter w(out);
+    w.beginObject();
+    w.key("model").value(model.id).key("version").value(model.version);
+    w.key("pixel").beginObject().key("x").value(a.px).key("y").value(a.py);
+    w.key("centre").beginArray().value(double(a.px) + 0.5).value(double(a.py) + 0.5).endArray().endObject();
+    w.key("hit").value(a.record != kNoRecord);
+    if (a.record != kNoRecord) {
+        const auto it = model.recordJson.find(a.record);
+        if (it != model.recordJson.end())
+            w.key("record").raw(it->second);
+        else
+            w.key("record").beginObject().key("id").value(static_cast<long long>(a.record)).endObject();
+        if (const auto b = model.bodyName.find(a.record); b != model.bodyName.end()) w.key("body").value(b->second);
+    } else {
+        w.key("record").null().key("message").value("no geology at this pixel");
+    }
+    w.key("section").beginObject();
+    if (a.line) {
+        w.key("distanceAlong").value(a.section.x).key("elevation").value(a.section.y);
+        w.key("note").value("distanceAlong: metres of chainage from the line's first vertex");
+    } else {
+        w.key("u").value(a.section.x).key("v").value(a.section.y).key("distanceAlong").value(a.distanceAlong);
+        w.key("note").value("u, v: plane metres; distanceAlong: metres along u from the image's left edge");
+    }
+    w.endObject();
+    w.key("world");
+    writeWorldPoint(w, model.model.crs, a.world);
+    w.key("source").value(a.fromIdBuffer ? "id-buffer" : "ray");
+    w.endObject();
+}
+
+Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
+                               const ViewImage* cached) {
+    auto a = answerPixel(model, plan, px, py, cached);
+    if (!a) return a.error();
+    std::string out;
+    out.reserve(1536);
+    writeQueryAnswer(model, a.value(), out);
     return out;
+}
+
+nlohmann::ordered_json worldPointJson(const Crs& crs, const glm::dvec3& world) {
+    std::string s;
+    JsonWriter w(s);
+    writeWorldPoint(w, crs, world);
+    return nlohmann::ordered_json::parse(s);
 }
 
 Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params) {

@@ -69,12 +69,28 @@ Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def);
 Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef& def, const TileGrid& grid, int z,
                                     long long x, long long y);
 
-// The answer to a pixel query: record, attributes, world point, distance along the
-// section, CGCS2000 projected and geodetic coordinates. `cached` is the ID buffer of the
-// identical view when there is one; otherwise the answer comes from the exact oracle at
-// the pixel centre (profile) and must agree with any rendering of that view.
-Result<nlohmann::ordered_json> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                                          const ViewImage* cached);
+// A pixel query: the record at the centre of pixel (px, py) of the plan's view, the world
+// point, and its place in the section. From the cached ID buffer of the identical view
+// when `cached` is given, otherwise from the exact oracle at the pixel centre; the two
+// agree (tests/server). Errors: OutOfRange for a pixel outside the image.
+struct QueryAnswer {
+    long long px = 0, py = 0;
+    RecordId record = kNoRecord;
+    glm::dvec3 world{0.0};
+    glm::dvec2 section{0.0};     // (u, v) plane metres, or (chainage, elevation) for a line
+    double distanceAlong = 0.0;  // metres: from the image's left edge (plane), or chainage (line)
+    bool line = false;
+    bool fromIdBuffer = false;
+};
+Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
+                                const ViewImage* cached);
+// The answer as JSON (appended to `out`): record and attributes, body, world point,
+// distance along the section, CGCS2000 projected (easting, northing, zone) and geodetic
+// (lon, lat, height) coordinates with their axis order named.
+void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& answer, std::string& out);
+// answerPixel + writeQueryAnswer.
+Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
+                               const ViewImage* cached);
 
 // A virtual borehole: `x`, `y` (world metres; or `lon`, `lat` degrees) -> the intervals
 // with from/to depth below the collar and elevation, record and attributes, and the open

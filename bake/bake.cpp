@@ -60,7 +60,8 @@ Status checkOptions(const BakeOptions& o) {
         return makeError(ErrorCode::InvalidArgument, "chart normal cone must be in (0, 180] degrees");
     if (c.maxTriangles == 0) return makeError(ErrorCode::InvalidArgument, "charts need at least 1 triangle");
     if (!(o.pack.minDensity > 0.0) || !std::isfinite(o.pack.minDensity))
-        return makeError(ErrorCode::InvalidArgument, "minimum texel density must be a positive number of texels per metre");
+        return makeError(ErrorCode::InvalidArgument,
+                         "minimum texel density must be a positive number of texels per metre");
     if (o.pack.width < 8 || o.pack.height < 8 || o.pack.width > 16384 || o.pack.height > 16384)
         return makeError(ErrorCode::InvalidArgument, "texture size " + std::to_string(o.pack.width) + "x" +
                                                          std::to_string(o.pack.height) + " is outside 8..16384");
@@ -80,26 +81,29 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
         for (const Part& p : *list) {
             const Mesh& m = p.mesh;
             if (m.indices.size() % 3)
-                return makeError(ErrorCode::InvalidArgument, "part \"" + p.name + "\": index count is not a multiple of 3");
+                return makeError(ErrorCode::InvalidArgument,
+                                 "part \"" + p.name + "\": index count is not a multiple of 3");
             if (m.triangleCount() == 0) continue;
             if (m.positions.size() >= 0xFFFFFFFFu || m.triangleCount() >= 0x3FFFFFFFu)
                 return makeError(ErrorCode::OutOfRange, "part \"" + p.name + "\" has too many vertices or triangles");
             for (std::size_t i = 0; i < m.indices.size(); ++i)
                 if (m.indices[i] >= m.positions.size())
-                    return makeError(ErrorCode::InvalidArgument, "part \"" + p.name + "\": index " + std::to_string(i) +
-                                                                     " refers to vertex " + std::to_string(m.indices[i]) +
-                                                                     " of " + std::to_string(m.positions.size()));
+                    return makeError(ErrorCode::InvalidArgument,
+                                     "part \"" + p.name + "\": index " + std::to_string(i) + " refers to vertex " +
+                                         std::to_string(m.indices[i]) + " of " + std::to_string(m.positions.size()));
             for (std::size_t v = 0; v < m.positions.size(); ++v) {
                 const glm::dvec3& q = m.positions[v];
                 if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-                    return makeError(ErrorCode::InvalidArgument, "part \"" + p.name + "\": vertex " + std::to_string(v) +
-                                                                     " has a non-finite coordinate");
+                    return makeError(
+                        ErrorCode::InvalidArgument,
+                        "part \"" + p.name + "\": vertex " + std::to_string(v) + " has a non-finite coordinate");
             }
             parts.push_back({&p, {}, {}});
             triangles += m.triangleCount();
         }
     }
-    if (parts.empty()) return makeError(ErrorCode::InvalidArgument, "model \"" + model.name + "\" has no triangles to bake");
+    if (parts.empty())
+        return makeError(ErrorCode::InvalidArgument, "model \"" + model.name + "\" has no triangles to bake");
 
     BakedModel out;
     out.stats.triangles = triangles;
@@ -117,7 +121,8 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
         const std::vector<std::uint32_t> weld = weldVertices(m.positions.data(), m.positions.size());
         w.indices.resize(m.indices.size());
         for (std::size_t i = 0; i < m.indices.size(); ++i) w.indices[i] = weld[m.indices[i]];
-        w.charts = buildCharts(m.positions.data(), m.positions.size(), w.indices.data(), m.triangleCount(), options.charts);
+        w.charts =
+            buildCharts(m.positions.data(), m.positions.size(), w.indices.data(), m.triangleCount(), options.charts);
     });
     out.stats.secondsCharts = now() - t0;
 
@@ -132,8 +137,9 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
             refs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(c)});
     std::vector<std::vector<Flattened>> flatSlots(refs.size());
     // A chart that could not fit a page at the minimum density is cut as well.
-    const double maxExtent = (double(std::min(options.pack.width, options.pack.height)) - 2.0 * options.pack.margin - 2.0) /
-                             options.pack.minDensity;
+    const double maxExtent =
+        (double(std::min(options.pack.width, options.pack.height)) - 2.0 * options.pack.margin - 2.0) /
+        options.pack.minDensity;
     auto tooLarge = [maxExtent](const ChartUv& uv) {
         glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
         for (const auto& q : uv.uv) {
@@ -148,7 +154,8 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
         const std::uint32_t* idx = w.indices.data();
         std::vector<std::pair<std::vector<std::uint32_t>, bool>> stack;
         const std::uint32_t b = w.charts.offsets[refs[i].chart], e = w.charts.offsets[refs[i].chart + 1];
-        stack.push_back({std::vector<std::uint32_t>(w.charts.triangles.begin() + b, w.charts.triangles.begin() + e), false});
+        stack.push_back(
+            {std::vector<std::uint32_t>(w.charts.triangles.begin() + b, w.charts.triangles.begin() + e), false});
         std::vector<std::vector<std::uint32_t>> pieces;
         while (!stack.empty()) {
             auto [tris, split] = std::move(stack.back());
@@ -202,6 +209,14 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     }
     auto packing = packCharts(extents.data(), extents.size(), options.pack);
     if (!packing) return makeError(packing.error().code, "model \"" + model.name + "\": " + packing.error().message);
+    // The texture is allocated whole: refuse sizes no machine here holds (4 GiB).
+    const std::uint64_t textureBytes = std::uint64_t(packing->pages) * options.pack.width * options.pack.height * 4;
+    if (textureBytes > (std::uint64_t(4) << 30))
+        return makeError(ErrorCode::OutOfRange, "model \"" + model.name + "\" does not fit the texture budget: " +
+                                                    std::to_string(packing->pages) + " pages of " +
+                                                    std::to_string(options.pack.width) + "x" +
+                                                    std::to_string(options.pack.height) + " need " +
+                                                    std::to_string(textureBytes >> 20) + " MiB, over 4096 MiB");
     out.width = options.pack.width;
     out.height = options.pack.height;
     out.pages = packing->pages;
@@ -255,7 +270,8 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
             glm::dvec2 tri[3];
             for (int e = 0; e < 3; ++e) {
                 const glm::vec2 uv = bp.uvs[bp.indices[3 * std::size_t(f.triangles[k]) + e]];
-                tri[e] = {(double(uv.x) - double(pl.page)) * W - (double(pl.x) - 1.0), double(uv.y) * H - (double(pl.y) - 1.0)};
+                tri[e] = {(double(uv.x) - double(pl.page)) * W - (double(pl.x) - 1.0),
+                          double(uv.y) * H - (double(pl.y) - 1.0)};
             }
             rasterizeConservative(tri, mask.data(), mw, mh);
         }

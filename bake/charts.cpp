@@ -45,7 +45,8 @@ std::vector<std::uint32_t> weldVertices(const glm::dvec3* positions, std::size_t
     for (std::size_t v = 0; v < vertexCount; ++v) {
         weld[v] = static_cast<std::uint32_t>(v);
         const glm::dvec3& p = positions[v];
-        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) order.push_back(static_cast<std::uint32_t>(v));
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+            order.push_back(static_cast<std::uint32_t>(v));
     }
     std::sort(order.begin(), order.end(), [&](std::uint32_t i, std::uint32_t j) {
         const glm::dvec3 &p = positions[i], &q = positions[j];

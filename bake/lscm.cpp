@@ -59,7 +59,8 @@ ChartUv lscmChart(const glm::dvec3* positions, const std::uint32_t* indices, con
                                           out.vertices.begin());
     };
     out.corners.resize(count * 3);
-    for (std::size_t k = 0; k < count * 3; ++k) out.corners[k] = local(indices[3 * std::size_t(triangles[k / 3]) + k % 3]);
+    for (std::size_t k = 0; k < count * 3; ++k)
+        out.corners[k] = local(indices[3 * std::size_t(triangles[k / 3]) + k % 3]);
     out.uv.assign(nv, glm::dvec2(0.0));
 
     std::vector<Flat> flat(count);
@@ -168,12 +169,14 @@ ChartUv lscmChart(const glm::dvec3* positions, const std::uint32_t* indices, con
         out.badTriangles = count;
         return out;
     }
-    for (std::size_t i = 0; i < nv; ++i) out.uv[i] = column[i] < 0 ? proj[i] : glm::dvec2(x[2 * column[i]], x[2 * column[i] + 1]);
+    for (std::size_t i = 0; i < nv; ++i)
+        out.uv[i] = column[i] < 0 ? proj[i] : glm::dvec2(x[2 * column[i]], x[2 * column[i] + 1]);
 
     // Scale to the chart's 3D area; count flipped and collapsed triangles.
     double uvArea = 0.0;
     for (std::size_t k = 0; k < count; ++k)
-        uvArea += signedArea(out.uv[out.corners[3 * k]], out.uv[out.corners[3 * k + 1]], out.uv[out.corners[3 * k + 2]]);
+        uvArea +=
+            signedArea(out.uv[out.corners[3 * k]], out.uv[out.corners[3 * k + 1]], out.uv[out.corners[3 * k + 2]]);
     if (!(uvArea > 0.0) || !std::isfinite(uvArea)) {
         out.badTriangles = count;
         return out;
@@ -181,7 +184,8 @@ ChartUv lscmChart(const glm::dvec3* positions, const std::uint32_t* indices, con
     const double scale = std::sqrt(out.area3d / uvArea);
     for (auto& q : out.uv) q *= scale;
     for (std::size_t k = 0; k < count; ++k) {
-        const double s = signedArea(out.uv[out.corners[3 * k]], out.uv[out.corners[3 * k + 1]], out.uv[out.corners[3 * k + 2]]);
+        const double s =
+            signedArea(out.uv[out.corners[3 * k]], out.uv[out.corners[3 * k + 1]], out.uv[out.corners[3 * k + 2]]);
         if (flat[k].area > 0.0 && !(s > 1e-6 * flat[k].area)) ++out.badTriangles;
     }
     return out;

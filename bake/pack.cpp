@@ -56,7 +56,8 @@ Result<Packing> packCharts(const glm::dvec2* extents, std::size_t count, const P
                                                          std::to_string(options.height) + " is outside 8..16384");
     if (options.margin > 64) return makeError(ErrorCode::InvalidArgument, "margin above 64 texels");
     if (!(options.minDensity > 0.0) || !std::isfinite(options.minDensity))
-        return makeError(ErrorCode::InvalidArgument, "minimum texel density must be a positive number of texels per metre");
+        return makeError(ErrorCode::InvalidArgument,
+                         "minimum texel density must be a positive number of texels per metre");
     if (options.maxPages == 0) return makeError(ErrorCode::InvalidArgument, "maximum page count must be at least 1");
     Packing out;
     out.placements.resize(count);
@@ -68,7 +69,8 @@ Result<Packing> packCharts(const glm::dvec2* extents, std::size_t count, const P
     double area = 0.0;
     for (std::size_t i = 0; i < count; ++i) {
         if (!std::isfinite(extents[i].x) || !std::isfinite(extents[i].y) || extents[i].x < 0 || extents[i].y < 0)
-            return makeError(ErrorCode::InvalidArgument, "chart " + std::to_string(i) + " has a non-finite or negative extent");
+            return makeError(ErrorCode::InvalidArgument,
+                             "chart " + std::to_string(i) + " has a non-finite or negative extent");
         area += extents[i].x * extents[i].y;
     }
     std::vector<std::uint32_t> order(count);
@@ -109,9 +111,9 @@ Result<Packing> packCharts(const glm::dvec2* extents, std::size_t count, const P
         std::snprintf(density, sizeof density, "%g", options.minDensity);
         return makeError(ErrorCode::OutOfRange,
                          "the model does not fit the texture budget: at the minimum density of " +
-                             std::string(density) + " texels/m it " + what + " of " +
-                             std::to_string(options.width) + "x" + std::to_string(options.height) +
-                             " texels, the budget is " + std::to_string(options.maxPages) +
+                             std::string(density) + " texels/m it " + what + " of " + std::to_string(options.width) +
+                             "x" + std::to_string(options.height) + " texels, the budget is " +
+                             std::to_string(options.maxPages) +
                              " pages (raise the texture size or the page budget, or lower the minimum density)");
     }
     return out;

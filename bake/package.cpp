@@ -6,9 +6,12 @@
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <png.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <cstring>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 
@@ -56,18 +59,60 @@ Status writeFile(const fs::path& path, const void* data, std::size_t size) {
     return {};
 }
 
-Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedModel& baked) {
+// The feature-ID texture of EXT_mesh_features: RGBA8 PNG whose 4 channels are the bytes of a
+// little-endian uint32 property-table row (kNullFeature where no geology is).
+constexpr std::uint32_t kNullFeature = 0xFFFFFFFFu;
+
+Result<std::vector<std::uint8_t>> encodeFeaturePng(const BakedModel& baked, const std::vector<RecordId>& rows) {
+    std::vector<std::uint32_t> texels(baked.texels.size());
+    for (std::size_t i = 0; i < texels.size(); ++i) {
+        const RecordId id = baked.texels[i];
+        auto it = std::lower_bound(rows.begin(), rows.end(), id);
+        const std::uint32_t row =
+            id != kNoRecord && it != rows.end() && *it == id ? static_cast<std::uint32_t>(it - rows.begin()) : kNullFeature;
+        const std::uint8_t b[4] = {std::uint8_t(row), std::uint8_t(row >> 8), std::uint8_t(row >> 16), std::uint8_t(row >> 24)};
+        std::memcpy(&texels[i], b, 4);
+    }
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = baked.width;
+    image.height = baked.height;
+    image.format = PNG_FORMAT_RGBA;
+    png_alloc_size_t size = 0;
+    if (!png_image_write_to_memory(&image, nullptr, &size, 0, texels.data(), 0, nullptr))
+        return makeError(ErrorCode::Internal, std::string("libpng: ") + image.message);
+    std::vector<std::uint8_t> png(size);
+    if (!png_image_write_to_memory(&image, png.data(), &size, 0, texels.data(), 0, nullptr))
+        return makeError(ErrorCode::Internal, std::string("libpng: ") + image.message);
+    png.resize(size);
+    return png;
+}
+
+Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedModel& baked, bool features) {
+    if (features && baked.pages != 1)
+        return makeError(ErrorCode::Unsupported, "EXT_mesh_features export needs a one-page bake (this one has " +
+                                                     std::to_string(baked.pages) + " pages: raise the texture size)");
     std::vector<std::uint8_t> bin;
     json accessors = json::array(), views = json::array(), meshes = json::array(), nodes = json::array();
     json children = json::array();
     nodes.push_back(json::object());
-    auto addView = [&](const void* bytes, std::size_t n, int target) {
-        while (bin.size() % 4) bin.push_back(0);
-        views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", n}, {"target", target}});
+    auto addView = [&](const void* bytes, std::size_t n, int target, std::size_t align = 4) {
+        while (bin.size() % align) bin.push_back(0);
+        views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", n}});
+        if (target) views.back()["target"] = target;
         const auto* p = static_cast<const std::uint8_t*>(bytes);
         bin.insert(bin.end(), p, p + n);
         return views.size() - 1;
     };
+    // Property-table rows: every record of the table and every part's record, by id.
+    std::vector<RecordId> rows;
+    if (features) {
+        for (const auto& [id, rec] : model.attributes.records()) rows.push_back(id);
+        for (const BakedPart& part : baked.parts)
+            if (part.record != kNoRecord) rows.push_back(part.record);
+        std::sort(rows.begin(), rows.end());
+        rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    }
     for (const BakedPart& part : baked.parts) {
         std::vector<float> pos(part.positions.size() * 3);
         glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -80,42 +125,112 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
         const std::size_t pv = addView(pos.data(), pos.size() * 4, 34962);
         const std::size_t uv = addView(part.uvs.data(), part.uvs.size() * 8, 34962);
         const std::size_t iv = addView(part.indices.data(), part.indices.size() * 4, 34963);
-        accessors.push_back({{"bufferView", pv}, {"componentType", kFloat}, {"count", part.positions.size()},
-                             {"type", "VEC3"}, {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}});
-        accessors.push_back({{"bufferView", uv}, {"componentType", kFloat}, {"count", part.uvs.size()}, {"type", "VEC2"}});
-        accessors.push_back({{"bufferView", iv}, {"componentType", kUint}, {"count", part.indices.size()}, {"type", "SCALAR"}});
+        accessors.push_back({{"bufferView", pv},
+                             {"componentType", kFloat},
+                             {"count", part.positions.size()},
+                             {"type", "VEC3"},
+                             {"min", {lo.x, lo.y, lo.z}},
+                             {"max", {hi.x, hi.y, hi.z}}});
+        accessors.push_back(
+            {{"bufferView", uv}, {"componentType", kFloat}, {"count", part.uvs.size()}, {"type", "VEC2"}});
+        accessors.push_back(
+            {{"bufferView", iv}, {"componentType", kUint}, {"count", part.indices.size()}, {"type", "SCALAR"}});
         const std::size_t a = accessors.size() - 3;
-        meshes.push_back({{"name", part.name},
-                          {"primitives", json::array({{{"attributes", {{"POSITION", a}, {"TEXCOORD_0", a + 1}}},
-                                                       {"indices", a + 2},
-                                                       {"mode", 4}}})}});
-        nodes.push_back({{"name", part.name},
-                         {"mesh", meshes.size() - 1},
-                         {"extras", {{"geoslice", {{"kind", part.kind == PartKind::Body ? "body" : "surface"},
-                                                   {"record", part.record}}}}}});
+        json prim = {{"attributes", {{"POSITION", a}, {"TEXCOORD_0", a + 1}}}, {"indices", a + 2}, {"mode", 4}};
+        if (features)
+            prim["extensions"]["EXT_mesh_features"] = {
+                {"featureIds", json::array({{{"featureCount", rows.size()},
+                                             {"nullFeatureId", kNullFeature},
+                                             {"label", "record"},
+                                             {"texture", {{"index", 0}, {"texCoord", 0}, {"channels", {0, 1, 2, 3}}}},
+                                             {"propertyTable", 0}}})}};
+        meshes.push_back({{"name", part.name}, {"primitives", json::array({prim})}});
+        nodes.push_back(
+            {{"name", part.name},
+             {"mesh", meshes.size() - 1},
+             {"extras",
+              {{"geoslice", {{"kind", part.kind == PartKind::Body ? "body" : "surface"}, {"record", part.record}}}}}});
         children.push_back(nodes.size() - 1);
+    }
+    json metadata;
+    std::size_t imageView = 0;
+    if (features) {
+        auto png = encodeFeaturePng(baked, rows);
+        if (!png) return png.error();
+        imageView = addView(png->data(), png->size(), 0);
+        // EXT_structural_metadata property table: one row per record; strings as UTF-8 values
+        // plus UINT32 offsets, numbers as FLOAT64 with -1 for "not given". 8-byte aligned views.
+        json schemaProps = {{"id", {{"type", "SCALAR"}, {"componentType", "UINT32"}, {"required", true}}}};
+        json tableProps = json::object();
+        std::vector<std::uint32_t> ids(rows.begin(), rows.end());
+        tableProps["id"] = {{"values", addView(ids.data(), ids.size() * 4, 0, 8)}};
+        using Getter = std::string (*)(const AttributeRecord&);
+        const std::pair<const char*, Getter> strings[] = {
+            {"name", [](const AttributeRecord& r) { return r.name; }},
+            {"kind", [](const AttributeRecord& r) { return r.kind; }},
+            {"lithology", [](const AttributeRecord& r) { return r.lithology; }},
+            {"age", [](const AttributeRecord& r) { return r.age; }},
+            {"era", [](const AttributeRecord& r) { return r.era; }},
+            {"gradeUnit", [](const AttributeRecord& r) { return r.gradeUnit; }}};
+        for (const auto& [key, get] : strings) {
+            std::string values;
+            std::vector<std::uint32_t> offsets{0};
+            for (RecordId id : rows) {
+                if (const AttributeRecord* r = model.attributes.find(id)) values += get(*r);
+                offsets.push_back(static_cast<std::uint32_t>(values.size()));
+            }
+            schemaProps[key] = {{"type", "STRING"}};
+            const std::size_t vv = addView(values.data(), values.size(), 0, 8);
+            const std::size_t ov = addView(offsets.data(), offsets.size() * 4, 0, 8);
+            tableProps[key] = {{"values", vv}, {"stringOffsets", ov}, {"stringOffsetType", "UINT32"}};
+        }
+        for (const char* key : {"density", "grade"}) {
+            std::vector<double> v;
+            for (RecordId id : rows) {
+                const AttributeRecord* r = model.attributes.find(id);
+                const std::optional<double> x = r ? (std::strcmp(key, "density") ? r->grade : r->density) : std::nullopt;
+                v.push_back(x ? *x : -1.0);
+            }
+            schemaProps[key] = {{"type", "SCALAR"}, {"componentType", "FLOAT64"}, {"noData", -1.0}};
+            tableProps[key] = {{"values", addView(v.data(), v.size() * 8, 0, 8)}};
+        }
+        metadata = {{"schema", {{"id", "geoslice"}, {"classes", {{"geology", {{"properties", schemaProps}}}}}}},
+                    {"propertyTables", json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
     }
     while (bin.size() % 4) bin.push_back(0);
     const glm::dvec3 o(model.origin.x, model.origin.z, -model.origin.y);
-    nodes[0] = {{"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}, {"children", children}};
+    nodes[0] = {
+        {"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}, {"children", children}};
     json doc;
     doc["asset"] = {{"version", "2.0"}, {"generator", "geoslice bake"}};
     doc["scene"] = 0;
     doc["scenes"] = {{{"name", model.name},
                       {"nodes", {0}},
-                      {"extras", {{"geoslice", {{"version", 1}, {"crs", model.crs.id()},
-                                                {"origin", {model.origin.x, model.origin.y, model.origin.z}},
-                                                {"attributes", model.attributes.toJson()["records"]}}}}}}};
+                      {"extras",
+                       {{"geoslice",
+                         {{"version", 1},
+                          {"crs", model.crs.id()},
+                          {"origin", {model.origin.x, model.origin.y, model.origin.z}},
+                          {"attributes", model.attributes.toJson()["records"]}}}}}}};
     doc["nodes"] = nodes;
     doc["meshes"] = meshes;
     doc["accessors"] = accessors;
     doc["bufferViews"] = views;
     doc["buffers"] = {{{"byteLength", bin.size()}}};
+    if (features) {
+        doc["images"] = {{{"bufferView", imageView}, {"mimeType", "image/png"}}};
+        // Nearest sampling, clamped: ids must never be filtered.
+        doc["samplers"] = {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};
+        doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+        doc["extensionsUsed"] = {"EXT_mesh_features", "EXT_structural_metadata"};
+        doc["extensions"]["EXT_structural_metadata"] = metadata;
+    }
     std::string text = doc.dump();
     while (text.size() % 4) text.push_back(' ');
     const std::uint64_t total = 12 + 8 + text.size() + 8 + bin.size();
     if (total >= 0xFFFFFFFFull)
-        return makeError(ErrorCode::OutOfRange, "baked mesh too large for one GLB (" + std::to_string(total) + " bytes)");
+        return makeError(ErrorCode::OutOfRange,
+                         "baked mesh too large for one GLB (" + std::to_string(total) + " bytes)");
     std::vector<std::uint8_t> out;
     out.reserve(total);
     auto u32 = [&](std::uint32_t v) {
@@ -182,13 +297,17 @@ Result<const T*> accessorData(const nlohmann::json& doc, std::size_t index, int 
     count = acc.at("count").get<std::size_t>();
     const std::size_t accOffset = acc.value("byteOffset", std::size_t(0));
     const auto& view = doc.at("bufferViews").at(acc.at("bufferView").get<std::size_t>());
-    if (view.at("buffer").get<int>() != 0 || (view.contains("byteStride") && view.at("byteStride").get<std::size_t>() != components * sizeof(T)))
-        return makeError(ErrorCode::ParseError, where + ": accessor " + std::to_string(index) + " is not tightly packed in buffer 0");
-    const std::size_t offset = view.at("byteOffset").get<std::size_t>(), length = view.at("byteLength").get<std::size_t>();
+    if (view.at("buffer").get<int>() != 0 ||
+        (view.contains("byteStride") && view.at("byteStride").get<std::size_t>() != components * sizeof(T)))
+        return makeError(ErrorCode::ParseError,
+                         where + ": accessor " + std::to_string(index) + " is not tightly packed in buffer 0");
+    const std::size_t offset = view.at("byteOffset").get<std::size_t>(),
+                      length = view.at("byteLength").get<std::size_t>();
     if (offset > bin.size() || length > bin.size() - offset || accOffset > length ||
         count > (length - accOffset) / (components * sizeof(T)) || (offset + accOffset) % 4 != 0)
-        return makeError(ErrorCode::ParseError, where + ": accessor " + std::to_string(index) +
-                                                    " lies outside the binary chunk or is misaligned (truncated file?)");
+        return makeError(ErrorCode::ParseError,
+                         where + ": accessor " + std::to_string(index) +
+                             " lies outside the binary chunk or is misaligned (truncated file?)");
     return reinterpret_cast<const T*>(bin.data() + offset + accOffset);
 }
 
@@ -197,8 +316,9 @@ Status checkFile(const json& manifest, const char* file, std::span<const std::ui
     const auto& entry = manifest.at("files").at(file);
     const std::uint64_t expect = entry.at("bytes").get<std::uint64_t>();
     if (expect != bytes.size())
-        return parseError(source, file, "size " + std::to_string(bytes.size()) + " bytes, the manifest says " +
-                                            std::to_string(expect) + (bytes.size() < expect ? " (truncated)" : ""));
+        return parseError(source, file,
+                          "size " + std::to_string(bytes.size()) + " bytes, the manifest says " +
+                              std::to_string(expect) + (bytes.size() < expect ? " (truncated)" : ""));
     if (options.verifyChecksums) {
         const std::string sum = hex64(xxh64(bytes.data(), bytes.size()));
         if (sum != entry.at("xxh64").get<std::string>())
@@ -263,7 +383,7 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) return makeError(ErrorCode::IoError, "cannot create directory " + dir + ": " + ec.message());
-    auto mesh = encodeMesh(model, baked);
+    auto mesh = encodeMesh(model, baked, false);
     if (!mesh) return mesh.error();
 
     const std::size_t rawBytes = baked.texels.size() * 4;
@@ -295,13 +415,21 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
     manifest["format"] = kPackageFormat;
     manifest["version"] = kPackageVersion;
     manifest["generator"] = "geoslice 0.1.0";
-    manifest["model"] = {{"name", model.name}, {"source", model.source}, {"crs", model.crs.id()},
+    manifest["model"] = {{"name", model.name},
+                         {"source", model.source},
+                         {"crs", model.crs.id()},
                          {"origin", {model.origin.x, model.origin.y, model.origin.z}}};
-    manifest["texture"] = {{"file", kTextureFile}, {"format", "R32UI"}, {"encoding", "zstd"},
+    manifest["texture"] = {{"file", kTextureFile},
+                           {"format", "R32UI"},
+                           {"encoding", "zstd"},
                            {"layout", "pages x rows x columns, little-endian uint32, row 0 is v = 0; u holds page + u"},
-                           {"width", baked.width}, {"height", baked.height}, {"pages", baked.pages},
-                           {"texelsPerMetre", baked.density}, {"sampling", "nearest"}};
-    manifest["mesh"] = {{"file", kMeshFile}, {"parts", baked.parts.size()}, {"vertices", vertices}, {"triangles", triangles}};
+                           {"width", baked.width},
+                           {"height", baked.height},
+                           {"pages", baked.pages},
+                           {"texelsPerMetre", baked.density},
+                           {"sampling", "nearest"}};
+    manifest["mesh"] = {
+        {"file", kMeshFile}, {"parts", baked.parts.size()}, {"vertices", vertices}, {"triangles", triangles}};
     manifest["attributes"] = {{"file", kAttributesFile}, {"records", model.attributes.size()}};
     manifest["bake"] = {{"charts", st.charts},
                         {"splitCharts", st.splitCharts},
@@ -311,11 +439,18 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
     manifest["files"] = {
         {kMeshFile, {{"bytes", mesh->size()}, {"xxh64", hex64(xxh64(mesh->data(), mesh->size()))}}},
         {kTextureFile, {{"bytes", texture.size()}, {"xxh64", hex64(xxh64(texture.data(), texture.size()))}}},
-        {kAttributesFile, {{"bytes", attributes.size()}, {"xxh64", hex64(xxh64(attributes.data(), attributes.size()))}}}};
+        {kAttributesFile,
+         {{"bytes", attributes.size()}, {"xxh64", hex64(xxh64(attributes.data(), attributes.size()))}}}};
     // The manifest's own checksum: XXH64 of its compact dump without this field.
     manifest["checksum"] = hex64(xxh64(manifest.dump().data(), manifest.dump().size()));
     const std::string text = manifest.dump(2) + "\n";
     return writeFile(root / kManifestFile, text.data(), text.size());
+}
+
+Status writeFeatureGlb(const Model& model, const BakedModel& baked, const std::string& path) {
+    auto glb = encodeMesh(model, baked, true);
+    if (!glb) return glb.error();
+    return writeFile(fs::path(path), glb->data(), glb->size());
 }
 
 Result<Package> parsePackage(std::string_view manifestText, std::span<const std::uint8_t> mesh,
@@ -326,7 +461,7 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
     // aligned (possible in memory, never for a mapping) is copied into one that is.
     if (reinterpret_cast<std::uintptr_t>(mesh.data()) % 4 != 0) {
         auto copy = std::make_shared<std::vector<std::uint32_t>>((mesh.size() + 3) / 4);
-        std::memcpy(copy->data(), mesh.data(), mesh.size());
+        if (!mesh.empty()) std::memcpy(copy->data(), mesh.data(), mesh.size());
         mesh = std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(copy->data()), mesh.size());
         pkg.storage = copy;
     }
@@ -351,7 +486,8 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
                                                          manifest.at("version").dump() + ", this build reads " +
                                                          std::to_string(kPackageVersion) + " (bake the model again)");
         for (const char* f : {kMeshFile, kTextureFile, kAttributesFile})
-            if (!manifest.at("files").contains(f)) return parseError(source, kManifestFile, std::string("no entry for ") + f);
+            if (!manifest.at("files").contains(f))
+                return parseError(source, kManifestFile, std::string("no entry for ") + f);
         if (auto s = checkFile(manifest, kMeshFile, mesh, options, source); !s) return s.error();
         if (auto s = checkFile(manifest, kTextureFile, texture, options, source); !s) return s.error();
         const std::span<const std::uint8_t> attrBytes(reinterpret_cast<const std::uint8_t*>(attributesText.data()),
@@ -363,10 +499,11 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
         pkg.pages = tex.at("pages").get<std::uint32_t>();
         if (tex.at("format").get<std::string>() != "R32UI" || tex.at("encoding").get<std::string>() != "zstd")
             return parseError(source, kManifestFile, "texture is not zstd-encoded R32UI");
-        if (pkg.width == 0 || pkg.height == 0 || pkg.pages == 0 || pkg.width > 16384 || pkg.height > 16384 || pkg.pages > 4096)
-            return parseError(source, kManifestFile, "texture size " + std::to_string(pkg.width) + "x" +
-                                                         std::to_string(pkg.height) + "x" + std::to_string(pkg.pages) +
-                                                         " pages is outside 1..16384 x 1..16384 x 1..4096");
+        if (pkg.width == 0 || pkg.height == 0 || pkg.pages == 0 || pkg.width > 16384 || pkg.height > 16384 ||
+            pkg.pages > 4096)
+            return parseError(source, kManifestFile,
+                              "texture size " + std::to_string(pkg.width) + "x" + std::to_string(pkg.height) + "x" +
+                                  std::to_string(pkg.pages) + " pages is outside 1..16384 x 1..16384 x 1..4096");
         const auto& model = manifest.at("model");
         pkg.name = model.at("name").get<std::string>();
         pkg.crs = model.at("crs").get<std::string>();
@@ -380,14 +517,16 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
         if (declared == ZSTD_CONTENTSIZE_ERROR || declared == ZSTD_CONTENTSIZE_UNKNOWN)
             return parseError(source, kTextureFile, "not a zstd frame with a content size (corrupt or truncated)");
         if (declared != rawBytes)
-            return parseError(source, kTextureFile, "holds " + std::to_string(declared) + " bytes, the manifest's " +
-                                                        "texture layout needs " + std::to_string(rawBytes));
+            return parseError(source, kTextureFile,
+                              "holds " + std::to_string(declared) + " bytes, the manifest's " +
+                                  "texture layout needs " + std::to_string(rawBytes));
         if (rawBytes > (std::uint64_t(texture.size()) + 1024) * kMaxZstdRatio)
             return parseError(source, kTextureFile, "declares more data than a zstd frame of this size can hold");
         pkg.texels.resize(rawBytes / 4);
         const std::size_t got = ZSTD_decompress(pkg.texels.data(), rawBytes, texture.data(), texture.size());
         if (ZSTD_isError(got) || got != rawBytes)
-            return parseError(source, kTextureFile, std::string("zstd: ") + (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short frame"));
+            return parseError(source, kTextureFile,
+                              std::string("zstd: ") + (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short frame"));
 
         // 3. Attributes.
         auto attrJson = nlohmann::ordered_json::parse(attributesText.begin(), attributesText.end(), nullptr, false);
@@ -400,8 +539,9 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
         if (mesh.size() < 28 || readU32(mesh.data()) != kGlbMagic || readU32(mesh.data() + 4) != 2)
             return parseError(source, kMeshFile, "not a glTF 2.0 binary (GLB)");
         if (readU32(mesh.data() + 8) != mesh.size())
-            return parseError(source, kMeshFile, "GLB header length " + std::to_string(readU32(mesh.data() + 8)) +
-                                                     " differs from the file's " + std::to_string(mesh.size()) + " bytes");
+            return parseError(source, kMeshFile,
+                              "GLB header length " + std::to_string(readU32(mesh.data() + 8)) +
+                                  " differs from the file's " + std::to_string(mesh.size()) + " bytes");
         const std::size_t jsonLen = readU32(mesh.data() + 12);
         if (readU32(mesh.data() + 16) != kChunkJson || jsonLen > mesh.size() - 28 || jsonLen % 4)
             return parseError(source, kMeshFile, "bad JSON chunk");
@@ -411,7 +551,8 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
             return parseError(source, kMeshFile, "bad BIN chunk (truncated?)");
         const std::span<const std::uint8_t> bin = mesh.subspan(binAt + 8, binLen);
         auto doc = nlohmann::json::parse(mesh.data() + 20, mesh.data() + 20 + jsonLen, nullptr, false);
-        if (doc.is_discarded() || !doc.is_object()) return parseError(source, kMeshFile, "JSON chunk is not a JSON object");
+        if (doc.is_discarded() || !doc.is_object())
+            return parseError(source, kMeshFile, "JSON chunk is not a JSON object");
         const auto& nodes = doc.at("nodes");
         for (std::size_t n = 1; n < nodes.size(); ++n) {
             const auto& node = nodes.at(n);
@@ -423,26 +564,27 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
             part.record = gs.at("record").get<RecordId>();
             const auto& prim = doc.at("meshes").at(node.at("mesh").get<std::size_t>()).at("primitives").at(0);
             std::size_t nPos = 0, nUv = 0;
-            auto pos = accessorData<float>(doc, prim.at("attributes").at("POSITION").get<std::size_t>(), kFloat, "VEC3", 3,
-                                           bin, nPos, where);
+            auto pos = accessorData<float>(doc, prim.at("attributes").at("POSITION").get<std::size_t>(), kFloat, "VEC3",
+                                           3, bin, nPos, where);
             if (!pos) return pos.error();
-            auto uv = accessorData<float>(doc, prim.at("attributes").at("TEXCOORD_0").get<std::size_t>(), kFloat, "VEC2", 2,
-                                          bin, nUv, where);
+            auto uv = accessorData<float>(doc, prim.at("attributes").at("TEXCOORD_0").get<std::size_t>(), kFloat,
+                                          "VEC2", 2, bin, nUv, where);
             if (!uv) return uv.error();
             auto idx = accessorData<std::uint32_t>(doc, prim.at("indices").get<std::size_t>(), kUint, "SCALAR", 1, bin,
                                                    part.indexCount, where);
             if (!idx) return idx.error();
             if (nPos != nUv) return makeError(ErrorCode::ParseError, where + ": POSITION and TEXCOORD_0 counts differ");
-            if (part.indexCount % 3) return makeError(ErrorCode::ParseError, where + ": index count is not a multiple of 3");
+            if (part.indexCount % 3)
+                return makeError(ErrorCode::ParseError, where + ": index count is not a multiple of 3");
             part.vertexCount = nPos;
             part.positions = pos.value();
             part.uvs = uv.value();
             part.indices = idx.value();
             for (std::size_t i = 0; i < part.indexCount; ++i)
                 if (part.indices[i] >= part.vertexCount)
-                    return makeError(ErrorCode::ParseError, where + ": index " + std::to_string(i) + " refers to vertex " +
-                                                                std::to_string(part.indices[i]) + " of " +
-                                                                std::to_string(part.vertexCount));
+                    return makeError(ErrorCode::ParseError, where + ": index " + std::to_string(i) +
+                                                                " refers to vertex " + std::to_string(part.indices[i]) +
+                                                                " of " + std::to_string(part.vertexCount));
             pkg.parts.push_back(std::move(part));
         }
     } catch (const nlohmann::json::exception& e) {
@@ -459,7 +601,8 @@ Result<Package> loadPackage(const std::string& dir, const PackageReadOptions& op
         auto m = mapFile((root / names[i]).string());
         if (!m) {
             if (m.error().code == ErrorCode::NotFound)
-                return makeError(ErrorCode::NotFound, dir + ": not a complete baked package (" + m.error().message + ")");
+                return makeError(ErrorCode::NotFound,
+                                 dir + ": not a complete baked package (" + m.error().message + ")");
             return m.error();
         }
         files[i] = std::move(m).value();

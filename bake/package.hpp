@@ -52,6 +52,14 @@ std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed = 0);
 // zstdLevel: 1 (fast) .. 19.
 Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel = 3);
 
+// The baked model as one glTF 2.0 binary for CesiumJS and other glTF tools: the package's
+// mesh plus EXT_mesh_features (a feature-ID texture: RGBA8 PNG, nearest sampling, channels
+// 0-3 = the little-endian bytes of a property-table row, 0xFFFFFFFF = no geology) and
+// EXT_structural_metadata (class "geology": id, name, kind, lithology, age, era, gradeUnit,
+// density, grade; -1 = not given). Rows are the records in ascending id. One-page bakes only
+// (Unsupported otherwise: glTF has no texture arrays).
+Status writeFeatureGlb(const Model& model, const BakedModel& baked, const std::string& path);
+
 // One part of a loaded package. The arrays point into the package's storage (the mapped
 // mesh.glb): valid while the Package (or a copy of its `storage`) lives.
 struct PackagePart {

@@ -53,7 +53,9 @@ json accuracy(const bake::Package& pkg, std::size_t points, std::uint64_t seed) 
             ++total;
         }
     }
-    return {{"points", total}, {"correct", good}, {"percent", 100.0 * double(good) / double(std::max<std::size_t>(1, total))}};
+    return {{"points", total},
+            {"correct", good},
+            {"percent", 100.0 * double(good) / double(std::max<std::size_t>(1, total))}};
 }
 
 }  // namespace
@@ -111,7 +113,11 @@ int main(int argc, char** argv) {
         r["bake"] = {{"seconds", bakeS},
                      {"cpuSeconds", bakeCpu},
                      {"threads", threads},
-                     {"stages", {{"charts", st.secondsCharts}, {"lscm", st.secondsLscm}, {"pack", st.secondsPack}, {"raster", st.secondsRaster}}},
+                     {"stages",
+                      {{"charts", st.secondsCharts},
+                       {"lscm", st.secondsLscm},
+                       {"pack", st.secondsPack},
+                       {"raster", st.secondsRaster}}},
                      {"peakRssMiB", bench::peakRssSinceResetMiB()},
                      {"modelRssMiB", rssModel},
                      {"charts", st.charts},

@@ -30,9 +30,19 @@
 
 namespace geoslice {
 
+// How GpuModel::upload builds clusters and levels of detail.
+struct GpuUploadOptions {
+    enum class Lod { Off, On, Auto };  // Auto: on for software rasterisers (llvmpipe)
+    Lod lod = Lod::Auto;
+    std::size_t trianglesPerCell = 4096;  // grid resolution; at most 4096 cells
+    int lodLevels = 5;                    // levels including full detail, 1..GpuModel::kMaxLodLevels
+};
+
 class GpuModel {
 public:
     static constexpr int kMaxLodLevels = 8;
+    static constexpr std::size_t kMaxCells = 4096;
+    using UploadOptions = GpuUploadOptions;
     struct DrawPart {
         GLint baseVertex = 0;
         GLsizei indexCount = 0;
@@ -54,14 +64,6 @@ public:
         };
         std::vector<Cluster> clusters;  // in index-buffer order
     };
-
-    struct UploadOptions {
-        enum class Lod { Off, On, Auto };  // Auto: on for software rasterisers (llvmpipe)
-        Lod lod = Lod::Auto;
-        std::size_t trianglesPerCell = 4096;  // grid resolution; at most kMaxCells cells
-        int lodLevels = 5;                    // levels including full detail, 1..kMaxLodLevels
-    };
-    static constexpr std::size_t kMaxCells = 4096;
 
     // Uploads every body and surface. Nesting comes from Part::report.parent, so the model
     // should have been validated (loaders do; generateSynthetic callers run validate()).

@@ -116,6 +116,8 @@ Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context)
         v.u.capColour = v.program.uniform("uCapColour");
         v.u.lightDir = v.program.uniform("uLightDir");
         v.u.shadeScale = v.program.uniform("uShadeScale");
+        v.u.eye = v.program.uniform("uEye");
+        v.u.lodShift = v.program.uniform("uLodShift");
         r->programs_.push_back(std::move(v));
     }
     auto trace = GlProgram::build(context.gl(), "trace.vert", "trace.frag", {});
@@ -398,6 +400,17 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     gl.ProgramUniform3fv(prog, v.u.lightDir, 1, glm::value_ptr(light));
     const float shadeScale[3] = {1.0f, 1.0f, float(ve.factor)};
     gl.ProgramUniform3fv(prog, v.u.shadeScale, 1, shadeScale);
+    // The eye in the true local frame (the exaggeration is linear, so view rays stay lines).
+    glm::vec4 eyeUniform(0.0f);
+    if (const auto* pv = std::get_if<PerspectiveView>(&request.view)) {
+        eyeUniform = glm::vec4(glm::vec3(ve.toWorld(pv->eye) - model.origin()), 1.0f);
+    } else {
+        const glm::dvec3 n(normalizePlane(std::get<ProfileView>(request.view).plane).value());
+        glm::dvec3 dir(n.x, n.y, n.z / ve.factor);  // display direction +n back to the true frame
+        eyeUniform = glm::vec4(glm::vec3(glm::normalize(dir)), 0.0f);
+    }
+    gl.ProgramUniform4fv(prog, v.u.eye, 1, glm::value_ptr(eyeUniform));
+    gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
     gl.BindVertexArray(model.vertexArray());
 
     const std::vector<float> allowed = clusterBudget(model, request, *view, unionMode, planesLocalD, image);
@@ -409,7 +422,10 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     };
     // Each cluster at the coarsest level its budget allows (-1: skipped); consecutive
     // full-detail clusters are contiguous in the index buffer and go out as one draw.
-    auto draw = [&](const GpuModel::DrawPart& p) {
+    // shiftSign: -1 back faces (towards the viewer), +1 front faces and surfaces (away).
+    const double shiftScale = std::max(1.0, request.exaggeration.factor);
+    // offsetBase: the pass draws with the front-face polygon offset on.
+    auto draw = [&](const GpuModel::DrawPart& p, float shiftSign, bool offsetBase) {
         std::size_t runFirst = 0;
         GLsizei runCount = 0;
         for (const GpuModel::DrawPart::Cluster& c : p.clusters) {
@@ -428,7 +444,20 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
                 runFirst = c.first[0];
                 runCount = c.count[0];
             } else {
+                // Along the ray (shader) for surfaces facing the viewer, plus a slope-scaled
+                // polygon offset for grazing ones: the level's error projects to `px` pixels,
+                // which moves depth by at most px times the depth slope per pixel.
+                const float px = request.lodPixelError * c.error[level] / budget;
+                gl.ProgramUniform1f(prog, v.u.lodShift, float(shiftSign * c.error[level] * shiftScale));
+                gl.Enable(GL_POLYGON_OFFSET_FILL);
+                gl.PolygonOffset(shiftSign * 1.5f * px + (offsetBase ? kFrontOffsetFactor : 0.0f),
+                                 offsetBase ? kFrontOffsetUnits : 0.0f);
                 drawRange(p, c.first[level], c.count[level]);
+                gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
+                if (offsetBase)
+                    gl.PolygonOffset(kFrontOffsetFactor, kFrontOffsetUnits);
+                else
+                    gl.Disable(GL_POLYGON_OFFSET_FILL);
             }
         }
         drawRange(p, runFirst, runCount);
@@ -448,7 +477,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     for (const auto& p : model.parts())
         if (p.body) {
             setFace(1, p, p.record, p.colour);
-            draw(p);
+            draw(p, -1.0f, false);
         }
     // Front faces of bodies, pushed back so that coincident back faces win: the exterior of
     // a top-level body, or the cap of the container of a nested one.
@@ -461,7 +490,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
                 setFace(1, p, p.containerRecord, p.containerColour);
             else
                 setFace(0, p, p.record, p.colour);
-            draw(p);
+            draw(p, 1.0f, true);
         }
     gl.Disable(GL_POLYGON_OFFSET_FILL);
     // Open surfaces, both sides, never over a cut face (stencil 1).
@@ -472,7 +501,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
             if (!p.body) {
                 setFace(0, p, p.record, p.colour);
                 gl.StencilFunc(GL_EQUAL, 0, 0xff);
-                draw(p);
+                draw(p, 1.0f, false);
             }
     }
     if (request.drawTraces && planeCount > 0 && !model.surfaceTriangles().empty())

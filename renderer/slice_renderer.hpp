@@ -155,7 +155,7 @@ private:
 
     struct Uniforms {
         GLint viewProj = -1, planes = -1, planeCount = -1, unionMode = -1, faceRole = -1, record = -1, colour = -1,
-              capRecord = -1, capColour = -1, lightDir = -1, shadeScale = -1;
+              capRecord = -1, capColour = -1, lightDir = -1, shadeScale = -1, eye = -1, lodShift = -1;
     };
     struct Variant {
         GlProgram program;

@@ -19,7 +19,7 @@ packages=(
   # geodesy (GeographicLib) and PROJ as the test oracle (cs2cs)
   libgeographiclib-dev proj-bin
   # service and CLI
-  libcpp-httplib-dev libspdlog-dev libfmt-dev libcli11-dev
+  libcpp-httplib-dev libspdlog-dev libfmt-dev libcli11-dev curl
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

@@ -175,20 +175,30 @@ void traverse(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* rect, Bv
         onLeaf(root);
         return;
     }
-    // Stack of sibling pairs (even indices): both children are tested from one cache line.
-    std::uint32_t stack[128];
-    int top = 0;
-    stack[top++] = root.first;
-    while (top > 0) {
-        const std::uint32_t pair = stack[--top];
-        for (std::uint32_t c = pair; c < pair + 2; ++c) {
-            const BvhNode& nd = bvh.nodes[c];
-            if (!hit(nd)) continue;
-            if (nd.count)
-                onLeaf(nd);
-            else
-                stack[top++] = nd.first;
+    // Breadth first over sibling pairs (even indices: both children are tested from one
+    // cache line). A whole level is known before it is visited, so the pairs a few places
+    // ahead are prefetched and their cache misses overlap; a depth-first stack would wait
+    // for each pair in turn. The order is still a pure function of the tree and the plane.
+    std::vector<std::uint32_t> level, next;
+    level.reserve(256);
+    next.reserve(256);
+    level.push_back(root.first);
+    constexpr std::size_t kAhead = 6;
+    while (!level.empty()) {
+        next.clear();
+        for (std::size_t i = 0; i < level.size(); ++i) {
+            if (i + kAhead < level.size()) __builtin_prefetch(&bvh.nodes[level[i + kAhead]]);
+            const std::uint32_t pair = level[i];
+            for (std::uint32_t c = pair; c < pair + 2; ++c) {
+                const BvhNode& nd = bvh.nodes[c];
+                if (!hit(nd)) continue;
+                if (nd.count)
+                    onLeaf(nd);
+                else
+                    next.push_back(nd.first);
+            }
         }
+        level.swap(next);
     }
 }
 

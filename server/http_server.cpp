@@ -475,7 +475,7 @@ struct SectionServer::Impl {
         sendEncoded(req, res, *result.value());
     }
 
-    Result<Json> answerQuery(const api::CatalogModel& m, const api::Params& params, const api::ViewPlan& plan) {
+    Result<std::string> answerQuery(const api::CatalogModel& m, const api::Params& params, const api::ViewPlan& plan) {
         const auto px = api::param(params, "px");
         const auto py = api::param(params, "py");
         if (!px || !py) return makeError(ErrorCode::InvalidArgument, "query: give the pixel as 'px' and 'py'");
@@ -498,7 +498,8 @@ struct SectionServer::Impl {
         if (!plan) return problem(res, plan.error(), req.path);
         auto j = answerQuery(*m, params.value(), plan.value());
         if (!j) return problem(res, j.error(), req.path);
-        sendJson(res, j.value());
+        res.status = 200;
+        res.set_content(j.value(), "application/json");
     }
 
     void queryPost(const httplib::Request& req, httplib::Response& res) {
@@ -519,21 +520,24 @@ struct SectionServer::Impl {
         auto plan = api::parseViewPlan(params.value(), m->id, m->model.crs);
         if (!plan) return problem(res, plan.error(), req.path);
         auto cached = idBuffers.get(m->version + "|" + plan.value().canonical());
-        Json results = Json::array();
+        std::string results = "{\"results\":[";
         std::size_t i = 0;
         for (const auto& p : body["pixels"]) {
             if (!p.is_array() || p.size() != 2 || !p[0].is_number_integer() || !p[1].is_number_integer())
                 return problem(res, 400, "pixels[" + std::to_string(i) + "] is not [px, py] with whole numbers",
                                req.path, "invalid_argument");
-            auto j = api::queryPixel(*m, plan.value(), p[0].get<long long>(), p[1].get<long long>(),
-                                     cached ? &cached->view : nullptr);
-            if (!j)
-                return problem(res, 400, "pixels[" + std::to_string(i) + "]: " + j.error().message, req.path,
-                               errorCodeName(j.error().code));
-            results.push_back(std::move(j.value()));
+            auto a = api::answerPixel(*m, plan.value(), p[0].get<long long>(), p[1].get<long long>(),
+                                      cached ? &cached->view : nullptr);
+            if (!a)
+                return problem(res, 400, "pixels[" + std::to_string(i) + "]: " + a.error().message, req.path,
+                               errorCodeName(a.error().code));
+            if (i) results += ',';
+            api::writeQueryAnswer(*m, a.value(), results);
             ++i;
         }
-        sendJson(res, Json{{"results", std::move(results)}});
+        results += "]}";
+        res.status = 200;
+        res.set_content(results, "application/json");
     }
 
     void defineSection(const httplib::Request& req, httplib::Response& res) {

@@ -10,6 +10,14 @@ layout(location = 0) in vec3 aPosition;
 uniform mat4 uViewProj;
 uniform vec4 uPlanes[6];
 uniform int uPlaneCount;
+// Level of detail (renderer/gpu_model.hpp): a simplified cluster deviates from the true
+// surface by at most its error e. It is drawn moved along the view ray by uLodShift metres
+// (local frame): back faces towards the viewer (-), front faces away (+), so that where a
+// body's back face and its neighbour's front face coincide (shared horizons) the back face
+// still wins, as it does at full detail. uEye: the eye (w = 1, perspective) or the view
+// direction (w = 0, orthographic), local frame. Clip distances use the true position.
+uniform vec4 uEye;
+uniform float uLodShift;
 
 out gl_PerVertex {
     vec4 gl_Position;
@@ -19,7 +27,9 @@ out vec3 vLocal;
 
 void main() {
     vLocal = aPosition;
-    gl_Position = uViewProj * vec4(aPosition, 1.0);
+    vec3 ray = uEye.w != 0.0 ? aPosition - uEye.xyz : uEye.xyz;
+    vec3 shown = aPosition + (uLodShift != 0.0 ? normalize(ray) * uLodShift : vec3(0.0));
+    gl_Position = uViewProj * vec4(shown, 1.0);
 #if GS_CLIP_DISTANCE
     for (int i = 0; i < 6; ++i)
         gl_ClipDistance[i] = i < uPlaneCount ? dot(uPlanes[i].xyz, aPosition) + uPlanes[i].w : 1.0;

@@ -7,10 +7,6 @@
 // prefixed by a little-endian uint32 length (manifest.json, mesh.glb, ids.r32ui.zst; a length
 // past the end is clamped), and the rest is attributes.json. Seeds: corpus/package/, written
 // from real packages by the layout above.
-//
-// Linking: this target needs geoslice_bake, which tests/fuzz/CMakeLists.txt links (with the
-// definition GEOSLICE_FUZZ_PACKAGE_LINKED) for fuzz_package only; without it the target
-// builds as an empty replay so that the rest of the build is not broken.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -18,11 +14,7 @@
 #include <span>
 #include <string_view>
 
-#if defined(GEOSLICE_FUZZ_PACKAGE_LINKED)
 #include "bake/package.hpp"
-#else
-#pragma message("fuzz_package: geoslice_bake is not linked (see tests/fuzz/CMakeLists.txt); the package reader is not fuzzed")
-#endif
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size < 1) return 0;
@@ -42,7 +34,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         at += len;
     }
     const std::string_view attributes(reinterpret_cast<const char*>(data + at), size - at);
-#if defined(GEOSLICE_FUZZ_PACKAGE_LINKED)
     geoslice::bake::PackageReadOptions options;
     options.verifyChecksums = verify;
     const std::string_view manifest(reinterpret_cast<const char*>(sections[0].data()), sections[0].size());
@@ -59,9 +50,5 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 (void)pkg->fetch({part.uvs[2 * v], part.uvs[2 * v + 1]});
             }
     }
-#else
-    (void)verify;
-    (void)attributes;
-#endif
     return 0;
 }

@@ -3,9 +3,9 @@
 // model path exit 1 with the reason on stderr.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "bake/package.hpp"
 #include "tests/common/run_command.hpp"
@@ -23,7 +23,8 @@ TEST(BakeCli, BakesAModelIntoALoadablePackage) {
         std::ofstream csv(dir / "extra.csv");
         csv << "id,name,lithology\n900,Test record,granite\n";
     }
-    auto r = test::runGeoslice("bake " + model + " --attributes " + (dir / "extra.csv").string() + " --size 512 --out " + out);
+    auto r = test::runGeoslice("bake " + model + " --attributes " + (dir / "extra.csv").string() +
+                               " --size 512 --out " + out);
     ASSERT_EQ(r.exitCode, 0) << r.out;
     EXPECT_NE(r.out.find("charts"), std::string::npos) << r.out;
     auto pkg = bake::loadPackage(out);
@@ -40,8 +41,9 @@ TEST(BakeCli, BakesAModelIntoALoadablePackage) {
     }
     // Over budget: a clear error and exit code 1.
     const std::string errFile = (dir / "err.txt").string();
-    auto bad = test::runCommand(std::string(GEOSLICE_BINARY) + " bake " + model +
-                                " --size 64 --min-density 1 --max-pages 1 --out " + (dir / "pkg2").string() + " 2>" + errFile);
+    auto bad =
+        test::runCommand(std::string(GEOSLICE_BINARY) + " bake " + model +
+                         " --size 64 --min-density 1 --max-pages 1 --out " + (dir / "pkg2").string() + " 2>" + errFile);
     EXPECT_EQ(bad.exitCode, 1);
     std::ifstream err(errFile);
     const std::string msg((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());

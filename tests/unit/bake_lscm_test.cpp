@@ -58,7 +58,8 @@ TEST(BakeLscm, TiltedPlaneIsAnIsometry) {
     // A 100 m x 60 m sheet in a plane tilted 30 degrees about x, 35 km from the origin (a
     // Gauss-Kruger-like easting); distortion 1 to 1e-9 (double round-off over 100 m).
     const Chart c = gridChart(12, [](double s, double t) {
-        return glm::dvec3(35.5e6 + 100.0 * s, 3.4e6 + 60.0 * t * std::cos(kPi / 6), 500.0 + 60.0 * t * std::sin(kPi / 6));
+        return glm::dvec3(35.5e6 + 100.0 * s, 3.4e6 + 60.0 * t * std::cos(kPi / 6),
+                          500.0 + 60.0 * t * std::sin(kPi / 6));
     });
     const auto tris = c.tris();
     auto uv = bake::lscmChart(c.positions.data(), c.indices.data(), tris.data(), tris.size());

@@ -95,6 +95,6 @@ TEST(BakePack, OverBudgetAndBadOptionsAreErrors) {
 
 TEST(BakePack, CellsHaveHalfATexelOfSlack) {
     EXPECT_EQ(bake::chartCells(0.0, 10.0), 1u);
-    EXPECT_EQ(bake::chartCells(1.0, 2.0), 3u);   // spans [0.5, 2.5]: cells 0..2
-    EXPECT_EQ(bake::chartCells(1.2, 2.0), 4u);   // spans [0.5, 2.9]
+    EXPECT_EQ(bake::chartCells(1.0, 2.0), 3u);  // spans [0.5, 2.5]: cells 0..2
+    EXPECT_EQ(bake::chartCells(1.2, 2.0), 4u);  // spans [0.5, 2.9]
 }

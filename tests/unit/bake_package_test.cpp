@@ -3,12 +3,13 @@
 // truncated, corrupt and inconsistent packages.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
+#include <png.h>
+#include <unistd.h>
 #include <cctype>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <iterator>
-#include <unistd.h>
 
 #include "bake/package.hpp"
 #include "model/loaders.hpp"
@@ -43,7 +44,7 @@ struct Baked {
 Baked smallBake() {
     Baked b{test::syntheticModel(4000), {}};
     bake::BakeOptions o;
-    o.pack.width = o.pack.height = 256;
+    o.pack.width = o.pack.height = 1024;  // one page at the default minimum density
     auto r = bake::bakeModel(b.model, o);
     EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
     if (r.ok()) b.baked = std::move(r).value();
@@ -67,7 +68,8 @@ TEST(BakePackage, RoundTripKeepsMeshUvsTexelsAndAttributes) {
     auto p = bake::loadPackage(dir.string());
     ASSERT_TRUE(p.ok()) << p.error().message;
     EXPECT_EQ(p->texels, b.baked.texels);
-    EXPECT_EQ(p->width, 256u);
+    EXPECT_EQ(p->width, 1024u);
+    EXPECT_EQ(p->pages, 1u);
     EXPECT_EQ(p->pages, b.baked.pages);
     EXPECT_EQ(p->attributes.size(), b.model.attributes.size());
     EXPECT_EQ(p->crs, b.model.crs.id());
@@ -169,5 +171,65 @@ TEST(BakePackage, InconsistentContentIsRejectedWithoutChecksums) {
     r = bake::parsePackage(manifest, span(badMesh), span(texture), attributes, noSums, "pkg");
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("refers to vertex"), std::string::npos) << r.error().message;
+    fs::remove_all(dir);
+}
+
+TEST(BakePackage, FeatureGlbCarriesIdsAsMeshFeaturesAndMetadata) {
+    Baked b = smallBake();
+    const fs::path dir = tempDir("features");
+    fs::create_directories(dir);
+    const fs::path path = dir / "features.glb";
+    auto written = bake::writeFeatureGlb(b.model, b.baked, path.string());
+    ASSERT_TRUE(written.ok()) << written.error().message;
+    const std::string glb = readAll(path);
+    std::uint32_t jsonLen = 0;
+    std::memcpy(&jsonLen, &glb[12], 4);
+    auto doc = nlohmann::json::parse(glb.substr(20, jsonLen));
+    const std::string bin = glb.substr(20 + jsonLen + 8);
+    ASSERT_EQ(doc["extensionsUsed"].size(), 2u);
+    const auto& table = doc["extensions"]["EXT_structural_metadata"]["propertyTables"][0];
+    const std::size_t rows = table["count"];
+    EXPECT_EQ(rows, b.model.attributes.size());
+    auto viewBytes = [&](std::size_t v) {
+        const auto& view = doc["bufferViews"][v];
+        return bin.substr(std::size_t(view["byteOffset"]), std::size_t(view["byteLength"]));
+    };
+    const std::string idBytes = viewBytes(table["properties"]["id"]["values"]);
+    std::vector<std::uint32_t> ids(rows);
+    std::memcpy(ids.data(), idBytes.data(), rows * 4);
+    // Decode the feature-ID PNG: row -> id must reproduce the baked R32UI texture exactly.
+    const std::string png = viewBytes(doc["images"][0]["bufferView"]);
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    ASSERT_TRUE(png_image_begin_read_from_memory(&image, png.data(), png.size()));
+    image.format = PNG_FORMAT_RGBA;
+    std::vector<std::uint8_t> rgba(PNG_IMAGE_SIZE(image));
+    ASSERT_TRUE(png_image_finish_read(&image, nullptr, rgba.data(), 0, nullptr));
+    ASSERT_EQ(rgba.size(), b.baked.texels.size() * 4);
+    std::size_t mismatches = 0;
+    for (std::size_t i = 0; i < b.baked.texels.size(); ++i) {
+        const std::uint32_t row = rgba[4 * i] | rgba[4 * i + 1] << 8 | rgba[4 * i + 2] << 16 | std::uint32_t(rgba[4 * i + 3]) << 24;
+        const std::uint32_t id = row == 0xFFFFFFFFu ? 0u : ids.at(row);
+        mismatches += id != b.baked.texels[i];
+    }
+    EXPECT_EQ(mismatches, 0u);
+    // Every primitive points at texture 0 through TEXCOORD_0 and at the property table.
+    for (const auto& mesh : doc["meshes"]) {
+        const auto& f = mesh["primitives"][0]["extensions"]["EXT_mesh_features"]["featureIds"][0];
+        EXPECT_EQ(f["texture"]["texCoord"], 0);
+        EXPECT_EQ(f["propertyTable"], 0);
+    }
+    // Names round-trip through the string columns.
+    const std::string names = viewBytes(table["properties"]["name"]["values"]);
+    const std::string offsets = viewBytes(table["properties"]["name"]["stringOffsets"]);
+    std::uint32_t o0 = 0, o1 = 0;
+    std::memcpy(&o0, offsets.data(), 4);
+    std::memcpy(&o1, offsets.data() + 4, 4);
+    EXPECT_EQ(names.substr(o0, o1 - o0), b.model.attributes.find(ids[0])->name);
+    // Several pages cannot be one glTF texture.
+    bake::BakedModel paged = b.baked;
+    paged.pages = 2;
+    paged.texels.resize(paged.texels.size() * 2);
+    EXPECT_EQ(bake::writeFeatureGlb(b.model, paged, (dir / "x.glb").string()).error().code, ErrorCode::Unsupported);
     fs::remove_all(dir);
 }

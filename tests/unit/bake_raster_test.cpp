@@ -17,7 +17,8 @@ TEST(BakeRaster, RightTriangleTouchesExactlyTheseCells) {
     std::vector<std::uint8_t> mask(6 * 6, 0);
     bake::rasterizeConservative(tri, mask.data(), 6, 6);
     for (int j = 0; j < 6; ++j)
-        for (int i = 0; i < 6; ++i) EXPECT_EQ(mask[j * 6 + i], (i <= 3 && j <= 3 && i + j <= 4) ? 1 : 0) << i << "," << j;
+        for (int i = 0; i < 6; ++i)
+            EXPECT_EQ(mask[j * 6 + i], (i <= 3 && j <= 3 && i + j <= 4) ? 1 : 0) << i << "," << j;
 }
 
 TEST(BakeRaster, EveryCellHoldingAPointOfTheTriangleIsSet) {
@@ -37,7 +38,8 @@ TEST(BakeRaster, EveryCellHoldingAPointOfTheTriangleIsSet) {
             ASSERT_EQ(mask[y * kSide + x], 1) << "trial " << trial << " point " << p.x << "," << p.y;
         }
         // Nothing outside the closed bounds' cells.
-        const glm::dvec2 lo = glm::min(tri[0], glm::min(tri[1], tri[2])), hi = glm::max(tri[0], glm::max(tri[1], tri[2]));
+        const glm::dvec2 lo = glm::min(tri[0], glm::min(tri[1], tri[2])),
+                         hi = glm::max(tri[0], glm::max(tri[1], tri[2]));
         for (std::uint32_t y = 0; y < kSide; ++y)
             for (std::uint32_t x = 0; x < kSide; ++x)
                 if (mask[y * kSide + x]) {
@@ -82,7 +84,7 @@ TEST(BakeRaster, FetchIsNearestWithPagesInU) {
     EXPECT_EQ(bake::fetchId(t.data(), 4, 2, 2, {0.0, 0.0}), 0u);
     EXPECT_EQ(bake::fetchId(t.data(), 4, 2, 2, {0.26, 0.51}), 11u);
     EXPECT_EQ(bake::fetchId(t.data(), 4, 2, 2, {1.99, 0.99}), 113u);
-    EXPECT_EQ(bake::fetchId(t.data(), 4, 2, 2, {2.0, 0.5}), 0u);   // past the last page
+    EXPECT_EQ(bake::fetchId(t.data(), 4, 2, 2, {2.0, 0.5}), 0u);  // past the last page
     EXPECT_EQ(bake::fetchId(t.data(), 4, 2, 2, {-0.1, 0.5}), 0u);
     EXPECT_EQ(bake::fetchId(t.data(), 4, 2, 2, {0.5, std::nan("")}), 0u);
 }
