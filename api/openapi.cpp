@@ -91,6 +91,9 @@ const std::vector<RouteSpec>& apiRoutes() {
 J openApiDocument(const std::string& serverVersion) {
     const J id = pathParam("id", "model id: [A-Za-z0-9][A-Za-z0-9._-]{0,63}");
     const J format = pathParam("format", "image format", J{{"type", "string"}, {"enum", {"jpg", "png", "webp"}}});
+    const J sectionFormat =
+        pathParam("format", "image format, or vector: geojson (polygons and traces with attributes and areas) or svg",
+                  J{{"type", "string"}, {"enum", {"jpg", "png", "webp", "geojson", "svg"}}});
     const J sid = pathParam("sid", "stateless section id from POST /v1/models/{id}/sections");
     J paths = J::object();
     auto get = [&](const std::string& path, J operation) { paths[path]["get"] = std::move(operation); };
@@ -108,7 +111,11 @@ J openApiDocument(const std::string& serverVersion) {
                                          J{{"description", "PNG"}, {"content", {{"image/png", J::object()}}}}));
     get("/v1/models/{id}/section.{format}",
         op("a section image: profile views from the exact CPU engine; perspective views from the GL renderer",
-           concat(J::array({id, format, queryParam("quality", "integer", "JPEG/WebP quality 1..100")}), viewParams()),
+           concat(J::array({id, sectionFormat, queryParam("quality", "integer", "JPEG/WebP quality 1..100"),
+                            queryParam("space", "string",
+                                       "geojson: plane (default; section u/v or chainage/elevation metres) or world "
+                                       "(x, y, z in the model's CRS)")}),
+                  viewParams()),
            imageResponse()));
     get("/v1/models/{id}/query", op("what lies under one pixel of the view given by the same parameters: record and "
                                     "attributes, the world point, "

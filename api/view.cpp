@@ -2,9 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "api/json_writer.hpp"
 #include "section/contours.hpp"
+#include "section/vector_export.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -124,6 +126,27 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan)
     return v;
 }
 
+Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world) {
+    if (plan.view != ViewKind::Profile)
+        return makeError(ErrorCode::Unsupported, "vector output (GeoJSON, SVG) exists for profile views only");
+    auto mapping = profileMapping(model, plan);
+    if (!mapping) return mapping.error();
+    RasterOptions ro;
+    ro.background = plan.section.background;
+    auto emit = [&](const VectorSource& source) -> Result<std::string> {
+        if (svg) return toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro);
+        return toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane).dump();
+    };
+    if (plan.section.geometry == Geometry::Line) {
+        auto section = computePolylineSection(*model.index, plan.section.line);
+        if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
+        return emit(vectorSource(section.value()));
+    }
+    auto section = computeSection(*model.index, sectionPlane(plan.section));
+    if (!section) return section.error();
+    return emit(vectorSource(section.value()));
+}
+
 Result<FrameRect> TileGrid::tileRect(int z, long long x, long long y) const {
     if (z < 0 || z > maxZoom)
         return makeError(ErrorCode::NotFound,
@@ -193,14 +216,77 @@ Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef&
     return v;
 }
 
+PixelRay perspectiveRay(const Camera& camera, int width, int height, double x, double y) {
+    const glm::dvec3 f = glm::normalize(camera.target - camera.eye);
+    const glm::dvec3 r = glm::normalize(glm::cross(f, camera.up));
+    const glm::dvec3 u = glm::cross(r, f);
+    const double t = std::tan(glm::radians(camera.fovDeg) * 0.5);
+    const double ndcX = 2.0 * x / width - 1.0, ndcY = 1.0 - 2.0 * y / height;
+    PixelRay ray;
+    ray.origin = camera.eye;
+    ray.direction = glm::normalize(f + ndcX * t * (double(width) / double(height)) * r + ndcY * t * u);
+    return ray;
+}
+
+namespace {
+
+// The first thing a perspective view shows along the ray through a pixel centre: the
+// first body interval or open-surface crossing on the kept side of the plane (a body the
+// plane cuts shows its cut face, where the kept part of its interval begins).
+Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
+                                      const ViewImage* cached) {
+    const Camera cam = plan.camera ? *plan.camera : defaultCamera(model.index->bounds);
+    const PixelRay ray = perspectiveRay(cam, plan.width, plan.height, double(px) + 0.5, double(py) + 0.5);
+    const Plane plane = sectionPlane(plan.section);
+    // Kept where s(t) = s0 + t * ds >= 0.
+    const double s0 = glm::dot(plane.normal, ray.origin) + plane.d, ds = glm::dot(plane.normal, ray.direction);
+    double keepFrom = 0.0, keepTo = std::numeric_limits<double>::infinity();
+    if (ds > 0.0) keepFrom = std::max(0.0, -s0 / ds);
+    else if (ds < 0.0) keepTo = -s0 / ds;
+    else if (s0 < 0.0) keepTo = -1.0;
+    QueryAnswer a;
+    a.px = px;
+    a.py = py;
+    a.perspective = true;
+    a.world = glm::dvec3(std::numeric_limits<double>::quiet_NaN());
+    double hitT = std::numeric_limits<double>::infinity();
+    if (keepTo >= keepFrom) {
+        auto hole = model.tracer->traceRay(ray.origin, ray.direction);
+        if (hole) {
+            for (const BoreholeInterval& iv : hole.value().intervals) {
+                const double from = std::max(iv.from, keepFrom), to = std::min(iv.to, keepTo);
+                if (from < to) {
+                    hitT = from;
+                    a.record = iv.record;
+                    break;
+                }
+            }
+            for (const BoreholeCrossing& c : hole.value().crossings)
+                if (c.depth >= keepFrom && c.depth <= keepTo && c.depth < hitT) {
+                    hitT = c.depth;
+                    a.record = c.record;
+                    break;
+                }
+        }
+    }
+    if (std::isfinite(hitT)) a.world = ray.origin + hitT * ray.direction;
+    a.distanceAlong = std::isfinite(hitT) ? hitT : std::numeric_limits<double>::quiet_NaN();
+    if (cached && !cached->ids.empty()) {
+        a.record = cached->ids[std::size_t(py) * std::size_t(cached->width) + std::size_t(px)];
+        a.fromIdBuffer = true;
+    }
+    return a;
+}
+
+}  // namespace
+
 Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
                                 const ViewImage* cached) {
     if (px < 0 || py < 0 || px >= plan.width || py >= plan.height)
         return makeError(ErrorCode::OutOfRange, "pixel (" + std::to_string(px) + ", " + std::to_string(py) +
                                                     ") is outside the " + std::to_string(plan.width) + "x" +
                                                     std::to_string(plan.height) + " image");
-    if (plan.view != ViewKind::Profile)
-        return makeError(ErrorCode::Unsupported, "pixel queries of perspective views are not served yet");
+    if (plan.view == ViewKind::Perspective) return answerPerspective(model, plan, px, py, cached);
     std::optional<PixelMapping> fresh;
     const PixelMapping* mapping = cached && cached->mapping ? &*cached->mapping : nullptr;
     if (!mapping) {
@@ -278,6 +364,18 @@ void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::stri
         if (const auto b = model.bodyName.find(a.record); b != model.bodyName.end()) w.key("body").value(b->second);
     } else {
         w.key("record").null().key("message").value("no geology at this pixel");
+    }
+    if (a.perspective) {
+        w.key("distanceFromEye").value(a.distanceAlong);
+        if (std::isfinite(a.world.x)) {
+            w.key("world");
+            writeWorldPoint(w, model.model.crs, a.world);
+        } else {
+            w.key("world").null();
+        }
+        w.key("source").value(a.fromIdBuffer ? "id-buffer" : "ray");
+        w.endObject();
+        return;
     }
     w.key("section").beginObject();
     if (a.line) {

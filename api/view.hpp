@@ -49,6 +49,11 @@ struct ViewImage {
 // misses the model gives an empty (background) image, not an error.
 Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan);
 
+// A profile view's vector form: GeoJSON (coordinates in the section's 2D frame, or world
+// x, y, z when `world`) or SVG (the pixel frame of the same view, so it overlays the
+// image). Returns the document text.
+Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world);
+
 // The tile grid of a section (documented in the OpenAPI text): zoom 0 is one tile of
 // `tileSize` pixels covering a square of `size0` metres along u (size0 / exaggeration
 // along v) whose top-left corner is (u0, v1) of the section's extent (the model's bounds
@@ -80,8 +85,16 @@ struct QueryAnswer {
     glm::dvec2 section{0.0};     // (u, v) plane metres, or (chainage, elevation) for a line
     double distanceAlong = 0.0;  // metres: from the image's left edge (plane), or chainage (line)
     bool line = false;
+    bool perspective = false;  // world = the first visible point on the ray (NaN: none); distanceAlong = from the eye
     bool fromIdBuffer = false;
 };
+// The ray through pixel coordinates (x, y) (x right, y down; the centre of pixel (i, j) is
+// (i + 0.5, j + 0.5)) of a perspective view, as the renderer projects (fov vertical,
+// aspect width / height). World coordinates; unit direction.
+struct PixelRay {
+    glm::dvec3 origin{0.0}, direction{0.0, 0.0, -1.0};
+};
+PixelRay perspectiveRay(const Camera& camera, int width, int height, double x, double y);
 Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
                                 const ViewImage* cached);
 // The answer as JSON (appended to `out`): record and attributes, body, world point,

@@ -1,8 +1,9 @@
 // The whole-model bake: charts per part -> LSCM per chart (charts with flipped or degenerate
-// UV triangles are split and flattened again) -> one shelf packing for all charts -> the
-// conservative raster of record ids with one texel of seam padding. Parts and charts are
-// processed by worker threads; every result lands in a slot fixed by its input position, so
-// the output does not depend on the thread count.
+// UV triangles, or too large for a page, are split and flattened again) -> one shelf packing
+// for all charts -> the conservative raster of record ids with one texel of seam padding.
+// Parts and charts are processed by worker threads; every result lands in a slot fixed by its
+// input position, so the output does not depend on the thread count. Also the incremental
+// re-bake of one part into the free space of an existing bake.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -31,7 +32,7 @@ void parallelFor(std::size_t n, unsigned threads, std::string_view stage, const 
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < threads && t < n; ++t) pool.emplace_back(work);
     while (done.load() < n) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
         if (progress) progress(stage, double(done.load()) / double(n));
     }
     for (auto& th : pool) th.join();
@@ -40,6 +41,7 @@ void parallelFor(std::size_t n, unsigned threads, std::string_view stage, const 
 
 struct PartWork {
     const Part* part = nullptr;
+    std::size_t source = 0;
     std::vector<std::uint32_t> indices;  // welded
     Charts charts;
 };
@@ -49,7 +51,8 @@ struct Flattened {
     std::vector<std::uint32_t> triangles;
     ChartUv uv;
     DistortionSums distortion;
-    bool split = false;  // came from cutting a chart whose LSCM flipped triangles
+    glm::dvec2 extent{0.0};  // metres; uv starts at (0, 0)
+    bool split = false;      // came from cutting a chart (flips or size)
 };
 
 Status checkOptions(const BakeOptions& o) {
@@ -60,14 +63,159 @@ Status checkOptions(const BakeOptions& o) {
         return makeError(ErrorCode::InvalidArgument, "chart normal cone must be in (0, 180] degrees");
     if (c.maxTriangles == 0) return makeError(ErrorCode::InvalidArgument, "charts need at least 1 triangle");
     if (!(o.pack.minDensity > 0.0) || !std::isfinite(o.pack.minDensity))
-        return makeError(ErrorCode::InvalidArgument,
-                         "minimum texel density must be a positive number of texels per metre");
+        return makeError(ErrorCode::InvalidArgument, "minimum texel density must be a positive number of texels per metre");
     if (o.pack.width < 8 || o.pack.height < 8 || o.pack.width > 16384 || o.pack.height > 16384)
         return makeError(ErrorCode::InvalidArgument, "texture size " + std::to_string(o.pack.width) + "x" +
                                                          std::to_string(o.pack.height) + " is outside 8..16384");
-    if (o.pack.margin < 2)
-        return makeError(ErrorCode::InvalidArgument, "the chart margin must be at least 2 texels (seam padding)");
+    if (o.pack.margin < 2 || o.pack.margin > 64)
+        return makeError(ErrorCode::InvalidArgument, "the chart margin must be 2..64 texels (seam padding needs 2)");
     return {};
+}
+
+Status checkPart(const Part& p) {
+    const Mesh& m = p.mesh;
+    if (m.indices.size() % 3)
+        return makeError(ErrorCode::InvalidArgument, "part \"" + p.name + "\": index count is not a multiple of 3");
+    if (m.positions.size() >= 0xFFFFFFFFu || m.triangleCount() >= 0x3FFFFFFFu)
+        return makeError(ErrorCode::OutOfRange, "part \"" + p.name + "\" has too many vertices or triangles");
+    for (std::size_t i = 0; i < m.indices.size(); ++i)
+        if (m.indices[i] >= m.positions.size())
+            return makeError(ErrorCode::InvalidArgument, "part \"" + p.name + "\": index " + std::to_string(i) +
+                                                             " refers to vertex " + std::to_string(m.indices[i]) +
+                                                             " of " + std::to_string(m.positions.size()));
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        const glm::dvec3& q = m.positions[v];
+        if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+            return makeError(ErrorCode::InvalidArgument,
+                             "part \"" + p.name + "\": vertex " + std::to_string(v) + " has a non-finite coordinate");
+    }
+    return {};
+}
+
+void chartPart(PartWork& w, const ChartOptions& options) {
+    const Mesh& m = w.part->mesh;
+    const std::vector<std::uint32_t> weld = weldVertices(m.positions.data(), m.positions.size());
+    w.indices.resize(m.indices.size());
+    for (std::size_t i = 0; i < m.indices.size(); ++i) w.indices[i] = weld[m.indices[i]];
+    w.charts = buildCharts(m.positions.data(), m.positions.size(), w.indices.data(), m.triangleCount(), options);
+}
+
+// The largest chart extent (metres) that fits a page at `density`.
+double maxExtentAt(double density, const PackOptions& o) {
+    return (double(std::min(o.width, o.height)) - 2.0 * o.margin - 2.0) / density;
+}
+
+// Flattens chart `chart` of a part; pieces are cut and flattened again while LSCM flips or
+// collapses a triangle or the chart exceeds maxExtent. Appends to `out` in a fixed order.
+void flattenChart(const PartWork& w, std::uint32_t partIndex, std::size_t chart, double maxExtent,
+                  std::vector<Flattened>& out) {
+    const glm::dvec3* pos = w.part->mesh.positions.data();
+    const std::uint32_t* idx = w.indices.data();
+    std::vector<std::pair<std::vector<std::uint32_t>, bool>> stack;
+    const std::uint32_t b = w.charts.offsets[chart], e = w.charts.offsets[chart + 1];
+    stack.push_back({std::vector<std::uint32_t>(w.charts.triangles.begin() + b, w.charts.triangles.begin() + e), false});
+    std::vector<std::vector<std::uint32_t>> pieces;
+    while (!stack.empty()) {
+        auto [tris, split] = std::move(stack.back());
+        stack.pop_back();
+        ChartUv uv = lscmChart(pos, idx, tris.data(), tris.size());
+        glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+        for (const auto& q : uv.uv) {
+            lo = glm::min(lo, q);
+            hi = glm::max(hi, q);
+        }
+        const bool tooLarge = hi.x - lo.x > maxExtent || hi.y - lo.y > maxExtent;
+        if ((uv.badTriangles || tooLarge) && tris.size() > 1) {
+            pieces.clear();
+            splitTriangles(pos, idx, tris.data(), tris.size(), pieces);
+            // Pieces that are not disks are cut further before they are flattened.
+            for (auto it = pieces.rbegin(); it != pieces.rend(); ++it) {
+                if (it->size() > 1 && !isTopologicalDisk(idx, it->data(), it->size())) {
+                    std::vector<std::vector<std::uint32_t>> sub;
+                    splitTriangles(pos, idx, it->data(), it->size(), sub);
+                    for (auto s = sub.rbegin(); s != sub.rend(); ++s) stack.push_back({std::move(*s), true});
+                } else {
+                    stack.push_back({std::move(*it), true});
+                }
+            }
+            continue;
+        }
+        for (auto& q : uv.uv) q -= lo;
+        Flattened f;
+        f.part = partIndex;
+        f.distortion = measureDistortion(pos, idx, tris.data(), tris.size(), uv);
+        f.extent = uv.uv.empty() ? glm::dvec2(0.0) : hi - lo;
+        f.triangles = std::move(tris);
+        f.uv = std::move(uv);
+        f.split = split;
+        out.push_back(std::move(f));
+    }
+}
+
+// Appends a chart's vertices to its part (positions in the local frame, UVs on the page) and
+// points the chart's triangles at them.
+void emitChart(const Flattened& f, const Placement& pl, const Mesh& mesh, const glm::dvec3& origin, double density,
+               std::uint32_t width, std::uint32_t height, BakedPart& bp) {
+    const auto base = static_cast<std::uint32_t>(bp.positions.size());
+    for (std::size_t v = 0; v < f.uv.vertices.size(); ++v) {
+        bp.positions.emplace_back(mesh.positions[f.uv.vertices[v]] - origin);
+        const glm::dvec2 q = f.uv.uv[v];
+        bp.uvs.emplace_back(static_cast<float>(double(pl.page) + (pl.x + 0.5 + q.x * density) / width),
+                            static_cast<float>((pl.y + 0.5 + q.y * density) / height));
+    }
+    for (std::size_t k = 0; k < f.triangles.size(); ++k)
+        for (int e = 0; e < 3; ++e) bp.indices[3 * std::size_t(f.triangles[k]) + e] = base + f.uv.corners[3 * k + e];
+}
+
+// Rasterizes one emitted chart into its cell rectangle plus one texel of padding. Rectangles
+// are at least `margin` (>= 2) apart, so padded ones never overlap: charts may be written
+// concurrently.
+void rasterChart(const Flattened& f, const Placement& pl, const BakedPart& bp, std::uint32_t width,
+                 std::uint32_t height, std::uint32_t* texels) {
+    const std::uint32_t mw = pl.w + 2, mh = pl.h + 2;
+    std::vector<std::uint8_t> mask(std::size_t(mw) * mh, 0);
+    // Mask cell (i, j) is texel (pl.x - 1 + i, pl.y - 1 + j); corners from the stored float UVs.
+    for (std::size_t k = 0; k < f.triangles.size(); ++k) {
+        glm::dvec2 tri[3];
+        for (int e = 0; e < 3; ++e) {
+            const glm::vec2 uv = bp.uvs[bp.indices[3 * std::size_t(f.triangles[k]) + e]];
+            tri[e] = {(double(uv.x) - double(pl.page)) * width - (double(pl.x) - 1.0),
+                      double(uv.y) * height - (double(pl.y) - 1.0)};
+        }
+        rasterizeConservative(tri, mask.data(), mw, mh);
+    }
+    dilateMask(mask.data(), mw, mh);
+    std::uint32_t* page = texels + std::size_t(pl.page) * height * width;
+    for (std::uint32_t j = 0; j < mh; ++j) {
+        const long ty = long(pl.y) - 1 + long(j);
+        if (ty < 0 || ty >= long(height)) continue;
+        for (std::uint32_t i = 0; i < mw; ++i) {
+            const long tx = long(pl.x) - 1 + long(i);
+            if (tx < 0 || tx >= long(width) || !mask[std::size_t(j) * mw + i]) continue;
+            page[std::size_t(ty) * width + std::size_t(tx)] = bp.record;
+        }
+    }
+}
+
+void finishStats(BakedModel& b) {
+    std::size_t used = 0;
+    for (std::uint32_t v : b.texels) used += v != kNoRecord;
+    b.stats.texelUtilisation = b.texels.empty() ? 0.0 : double(used) / double(b.texels.size());
+    DistortionSums d;
+    for (const auto& c : b.charts) d.add(c.distortion);
+    b.stats.distortion = d.result();
+    b.stats.charts = b.charts.size();
+    b.stats.vertices = b.stats.triangles = 0;
+    for (const auto& p : b.parts) {
+        b.stats.vertices += p.positions.size();
+        b.stats.triangles += p.indices.size() / 3;
+    }
+}
+
+const Part* sourcePart(const Model& model, std::size_t source) {
+    if (source < model.bodies.size()) return &model.bodies[source];
+    if (source - model.bodies.size() < model.surfaces.size()) return &model.surfaces[source - model.bodies.size()];
+    return nullptr;
 }
 
 }  // namespace
@@ -76,37 +224,15 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     if (auto s = checkOptions(options); !s) return s.error();
     const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     std::vector<PartWork> parts;
-    std::size_t triangles = 0;
-    for (const auto* list : {&model.bodies, &model.surfaces}) {
-        for (const Part& p : *list) {
-            const Mesh& m = p.mesh;
-            if (m.indices.size() % 3)
-                return makeError(ErrorCode::InvalidArgument,
-                                 "part \"" + p.name + "\": index count is not a multiple of 3");
-            if (m.triangleCount() == 0) continue;
-            if (m.positions.size() >= 0xFFFFFFFFu || m.triangleCount() >= 0x3FFFFFFFu)
-                return makeError(ErrorCode::OutOfRange, "part \"" + p.name + "\" has too many vertices or triangles");
-            for (std::size_t i = 0; i < m.indices.size(); ++i)
-                if (m.indices[i] >= m.positions.size())
-                    return makeError(ErrorCode::InvalidArgument,
-                                     "part \"" + p.name + "\": index " + std::to_string(i) + " refers to vertex " +
-                                         std::to_string(m.indices[i]) + " of " + std::to_string(m.positions.size()));
-            for (std::size_t v = 0; v < m.positions.size(); ++v) {
-                const glm::dvec3& q = m.positions[v];
-                if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-                    return makeError(
-                        ErrorCode::InvalidArgument,
-                        "part \"" + p.name + "\": vertex " + std::to_string(v) + " has a non-finite coordinate");
-            }
-            parts.push_back({&p, {}, {}});
-            triangles += m.triangleCount();
-        }
+    for (std::size_t source = 0; source < model.bodies.size() + model.surfaces.size(); ++source) {
+        const Part& p = *sourcePart(model, source);
+        if (auto s = checkPart(p); !s) return s.error();
+        if (p.mesh.triangleCount()) parts.push_back({&p, source, {}, {}});
     }
     if (parts.empty())
         return makeError(ErrorCode::InvalidArgument, "model \"" + model.name + "\" has no triangles to bake");
-
     BakedModel out;
-    out.stats.triangles = triangles;
+    out.pack = options.pack;
 
     // 1. Charts, per part (largest parts first for balance; results stay in part order).
     double t0 = now();
@@ -115,96 +241,33 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     std::stable_sort(partOrder.begin(), partOrder.end(), [&](std::size_t a, std::size_t b) {
         return parts[a].part->mesh.triangleCount() > parts[b].part->mesh.triangleCount();
     });
-    parallelFor(parts.size(), threads, "charts", progress, [&](std::size_t k) {
-        PartWork& w = parts[partOrder[k]];
-        const Mesh& m = w.part->mesh;
-        const std::vector<std::uint32_t> weld = weldVertices(m.positions.data(), m.positions.size());
-        w.indices.resize(m.indices.size());
-        for (std::size_t i = 0; i < m.indices.size(); ++i) w.indices[i] = weld[m.indices[i]];
-        w.charts =
-            buildCharts(m.positions.data(), m.positions.size(), w.indices.data(), m.triangleCount(), options.charts);
-    });
+    parallelFor(parts.size(), threads, "charts", progress,
+                [&](std::size_t k) { chartPart(parts[partOrder[k]], options.charts); });
     out.stats.secondsCharts = now() - t0;
 
-    // 2. LSCM per chart; a chart with flipped or collapsed triangles is cut and flattened again.
+    // 2. LSCM per chart. A chart too large for a page at the minimum density is cut as well.
     t0 = now();
-    struct ChartRef {
-        std::uint32_t part, chart;
-    };
-    std::vector<ChartRef> refs;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> refs;  // (part, chart)
     for (std::size_t p = 0; p < parts.size(); ++p)
         for (std::size_t c = 0; c < parts[p].charts.count(); ++c)
-            refs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(c)});
-    std::vector<std::vector<Flattened>> flatSlots(refs.size());
-    // A chart that could not fit a page at the minimum density is cut as well.
-    const double maxExtent =
-        (double(std::min(options.pack.width, options.pack.height)) - 2.0 * options.pack.margin - 2.0) /
-        options.pack.minDensity;
-    auto tooLarge = [maxExtent](const ChartUv& uv) {
-        glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-        for (const auto& q : uv.uv) {
-            lo = glm::min(lo, q);
-            hi = glm::max(hi, q);
-        }
-        return hi.x - lo.x > maxExtent || hi.y - lo.y > maxExtent;
-    };
+            refs.emplace_back(static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(c));
+    std::vector<std::vector<Flattened>> slots(refs.size());
+    const double maxExtent = maxExtentAt(options.pack.minDensity, options.pack);
     parallelFor(refs.size(), threads, "lscm", progress, [&](std::size_t i) {
-        const PartWork& w = parts[refs[i].part];
-        const glm::dvec3* pos = w.part->mesh.positions.data();
-        const std::uint32_t* idx = w.indices.data();
-        std::vector<std::pair<std::vector<std::uint32_t>, bool>> stack;
-        const std::uint32_t b = w.charts.offsets[refs[i].chart], e = w.charts.offsets[refs[i].chart + 1];
-        stack.push_back(
-            {std::vector<std::uint32_t>(w.charts.triangles.begin() + b, w.charts.triangles.begin() + e), false});
-        std::vector<std::vector<std::uint32_t>> pieces;
-        while (!stack.empty()) {
-            auto [tris, split] = std::move(stack.back());
-            stack.pop_back();
-            ChartUv uv = lscmChart(pos, idx, tris.data(), tris.size());
-            if ((uv.badTriangles || tooLarge(uv)) && tris.size() > 1) {
-                pieces.clear();
-                splitTriangles(pos, idx, tris.data(), tris.size(), pieces);
-                // Pieces that are not disks are cut further before they are flattened.
-                for (auto it = pieces.rbegin(); it != pieces.rend(); ++it) {
-                    if (it->size() > 1 && !isTopologicalDisk(idx, it->data(), it->size())) {
-                        std::vector<std::vector<std::uint32_t>> sub;
-                        splitTriangles(pos, idx, it->data(), it->size(), sub);
-                        for (auto s = sub.rbegin(); s != sub.rend(); ++s) stack.push_back({std::move(*s), true});
-                    } else {
-                        stack.push_back({std::move(*it), true});
-                    }
-                }
-                continue;
-            }
-            Flattened f;
-            f.part = refs[i].part;
-            f.distortion = measureDistortion(pos, idx, tris.data(), tris.size(), uv);
-            f.triangles = std::move(tris);
-            f.uv = std::move(uv);
-            f.split = split;
-            flatSlots[i].push_back(std::move(f));
-        }
+        flattenChart(parts[refs[i].first], refs[i].first, refs[i].second, maxExtent, slots[i]);
     });
     std::vector<Flattened> charts;
-    for (auto& slot : flatSlots)
+    for (auto& slot : slots)
         for (auto& f : slot) charts.push_back(std::move(f));
-    flatSlots.clear();
+    slots.clear();
     out.stats.secondsLscm = now() - t0;
 
-    // 3. Packing: chart UVs moved to start at (0, 0), extents in metres.
+    // 3. Packing at one uniform density.
     t0 = now();
     if (progress) progress("pack", 0.0);
     std::vector<glm::dvec2> extents(charts.size());
-    DistortionSums distortion;
     for (std::size_t c = 0; c < charts.size(); ++c) {
-        glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-        for (const auto& q : charts[c].uv.uv) {
-            lo = glm::min(lo, q);
-            hi = glm::max(hi, q);
-        }
-        for (auto& q : charts[c].uv.uv) q -= lo;
-        extents[c] = hi - lo;
-        distortion.add(charts[c].distortion);
+        extents[c] = charts[c].extent;
         out.stats.splitCharts += charts[c].split ? 1 : 0;
     }
     auto packing = packCharts(extents.data(), extents.size(), options.pack);
@@ -221,77 +284,160 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     out.height = options.pack.height;
     out.pages = packing->pages;
     out.density = packing->density;
-    out.stats.charts = charts.size();
-    out.stats.distortion = distortion.result();
 
     // Output mesh: per part, one vertex per (chart, vertex); triangles keep their source order.
-    const double s = out.density, W = out.width, H = out.height;
-    std::vector<std::uint32_t> vertexBase(charts.size());
     out.parts.resize(parts.size());
     for (std::size_t p = 0; p < parts.size(); ++p) {
-        out.parts[p].name = parts[p].part->name;
-        out.parts[p].kind = parts[p].part->kind;
-        out.parts[p].record = parts[p].part->record;
-        out.parts[p].indices.resize(parts[p].indices.size());
+        BakedPart& bp = out.parts[p];
+        bp.source = parts[p].source;
+        bp.name = parts[p].part->name;
+        bp.kind = parts[p].part->kind;
+        bp.record = parts[p].part->record;
+        bp.indices.resize(parts[p].indices.size());
     }
+    out.charts.resize(charts.size());
     for (std::size_t c = 0; c < charts.size(); ++c) {
         const Flattened& f = charts[c];
-        BakedPart& bp = out.parts[f.part];
-        const Mesh& mesh = parts[f.part].part->mesh;
-        const Placement& pl = packing->placements[c];
-        vertexBase[c] = static_cast<std::uint32_t>(bp.positions.size());
-        for (std::size_t v = 0; v < f.uv.vertices.size(); ++v) {
-            bp.positions.emplace_back(mesh.positions[f.uv.vertices[v]] - model.origin);
-            const glm::dvec2 q = f.uv.uv[v];
-            bp.uvs.emplace_back(static_cast<float>(double(pl.page) + (pl.x + 0.5 + q.x * s) / W),
-                                static_cast<float>((pl.y + 0.5 + q.y * s) / H));
-        }
-        for (std::size_t k = 0; k < f.triangles.size(); ++k)
-            for (int e = 0; e < 3; ++e)
-                bp.indices[3 * std::size_t(f.triangles[k]) + e] = vertexBase[c] + f.uv.corners[3 * k + e];
-        out.stats.vertices += f.uv.vertices.size();
+        emitChart(f, packing->placements[c], parts[f.part].part->mesh, model.origin, out.density, out.width,
+                  out.height, out.parts[f.part]);
+        out.charts[c] = {f.part, packing->placements[c], f.distortion};
     }
     out.stats.secondsPack = now() - t0;
     if (progress) progress("pack", 1.0);
 
-    // 4. Raster: each chart into its own cell rectangle plus one texel of padding; rectangles
-    // are at least `margin` (>= 2) apart, so the padded ones never overlap and charts can be
-    // written concurrently.
+    // 4. Raster.
     t0 = now();
     out.texels.assign(std::size_t(out.pages) * out.height * out.width, kNoRecord);
     parallelFor(charts.size(), threads, "raster", progress, [&](std::size_t c) {
-        const Flattened& f = charts[c];
-        const BakedPart& bp = out.parts[f.part];
-        const Placement& pl = packing->placements[c];
-        const std::uint32_t mw = pl.w + 2, mh = pl.h + 2;
-        std::vector<std::uint8_t> mask(std::size_t(mw) * mh, 0);
-        // Mask cell (i, j) is texel (pl.x - 1 + i, pl.y - 1 + j); corners from the stored float UVs.
-        for (std::size_t k = 0; k < f.triangles.size(); ++k) {
-            glm::dvec2 tri[3];
-            for (int e = 0; e < 3; ++e) {
-                const glm::vec2 uv = bp.uvs[bp.indices[3 * std::size_t(f.triangles[k]) + e]];
-                tri[e] = {(double(uv.x) - double(pl.page)) * W - (double(pl.x) - 1.0),
-                          double(uv.y) * H - (double(pl.y) - 1.0)};
-            }
-            rasterizeConservative(tri, mask.data(), mw, mh);
-        }
-        dilateMask(mask.data(), mw, mh);
-        std::uint32_t* page = out.texels.data() + std::size_t(pl.page) * out.height * out.width;
-        for (std::uint32_t j = 0; j < mh; ++j) {
-            const long ty = long(pl.y) - 1 + long(j);
-            if (ty < 0 || ty >= long(out.height)) continue;
-            for (std::uint32_t i = 0; i < mw; ++i) {
-                const long tx = long(pl.x) - 1 + long(i);
-                if (tx < 0 || tx >= long(out.width) || !mask[std::size_t(j) * mw + i]) continue;
-                page[std::size_t(ty) * out.width + std::size_t(tx)] = bp.record;
-            }
-        }
+        rasterChart(charts[c], packing->placements[c], out.parts[charts[c].part], out.width, out.height,
+                    out.texels.data());
     });
-    std::size_t used = 0;
-    for (std::uint32_t v : out.texels) used += v != kNoRecord;
-    out.stats.texelUtilisation = out.texels.empty() ? 0.0 : double(used) / double(out.texels.size());
+    finishStats(out);
     out.stats.secondsRaster = now() - t0;
     return out;
+}
+
+Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options) {
+    if (auto s = checkOptions(options); !s) return s.error();
+    if (part >= baked.parts.size())
+        return makeError(ErrorCode::InvalidArgument, "re-bake: part " + std::to_string(part) + " of " +
+                                                         std::to_string(baked.parts.size()) + " baked parts");
+    const Part* source = sourcePart(model, baked.parts[part].source);
+    if (!source) return makeError(ErrorCode::InvalidArgument, "re-bake: the model no longer has part " + baked.parts[part].name);
+    if (auto s = checkPart(*source); !s) return s.error();
+    if (source->mesh.triangleCount() == 0)
+        return makeError(ErrorCode::InvalidArgument, "re-bake: part \"" + source->name + "\" has no triangles");
+    const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    const PackOptions& po = baked.pack;
+    const auto p32 = static_cast<std::uint32_t>(part);
+
+    PartWork w{source, baked.parts[part].source, {}, {}};
+    chartPart(w, options.charts);
+    std::vector<std::vector<Flattened>> slots(w.charts.count());
+    const double maxExtent = maxExtentAt(baked.density, po);
+    parallelFor(w.charts.count(), threads, "lscm", {},
+                [&](std::size_t c) { flattenChart(w, p32, c, maxExtent, slots[c]); });
+    std::vector<Flattened> charts;
+    for (auto& s : slots)
+        for (auto& f : s) charts.push_back(std::move(f));
+
+    // Free space (x1, y1 exclusive; a chart of w x h cells needs (w + margin) x (h + margin)).
+    struct Free {
+        std::uint32_t page, x0, y0, x1, y1;
+    };
+    const std::uint32_t m = po.margin, border = po.margin / 2;
+    struct Shelf {
+        std::uint32_t page, y, height = 0, end = 0;
+    };
+    std::vector<Shelf> shelves;
+    auto shelfOf = [&](std::uint32_t page, std::uint32_t y) -> Shelf& {
+        for (auto& s : shelves)
+            if (s.page == page && s.y == y) return s;
+        shelves.push_back({page, y});
+        return shelves.back();
+    };
+    for (const auto& c : baked.charts) {
+        Shelf& s = shelfOf(c.rect.page, c.rect.y);
+        s.height = std::max(s.height, c.rect.h);
+        s.end = std::max(s.end, c.rect.x + c.rect.w);
+    }
+    std::vector<Free> free;
+    for (const auto& c : baked.charts) {
+        const Shelf& s = shelfOf(c.rect.page, c.rect.y);
+        const std::uint32_t x1 = c.rect.x + c.rect.w + m, top = c.rect.y + s.height + m;
+        if (c.part == p32)
+            free.push_back({c.rect.page, c.rect.x, c.rect.y, x1, top});
+        else if (c.rect.y + c.rect.h + m < top)
+            free.push_back({c.rect.page, c.rect.x, c.rect.y + c.rect.h + m, x1, top});
+    }
+    std::vector<std::uint32_t> pageTop(baked.pages, border);
+    for (const auto& s : shelves) {
+        if (s.end + m < po.width - border + m) free.push_back({s.page, s.end + m, s.y, po.width - border + m, s.y + s.height + m});
+        pageTop[s.page] = std::max(pageTop[s.page], s.y + s.height + m);
+    }
+    for (std::uint32_t pg = 0; pg < baked.pages; ++pg)
+        if (pageTop[pg] < po.height - border) free.push_back({pg, border, pageTop[pg], po.width - border + m, po.height - border + m});
+    std::sort(free.begin(), free.end(), [](const Free& a, const Free& b) {
+        return a.page != b.page ? a.page < b.page : (a.y0 != b.y0 ? a.y0 < b.y0 : a.x0 < b.x0);
+    });
+
+    std::vector<std::size_t> order(charts.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return charts[a].extent.y != charts[b].extent.y ? charts[a].extent.y > charts[b].extent.y : a < b;
+    });
+    std::vector<Placement> placements(charts.size());
+    for (std::size_t i : order) {
+        const std::uint32_t cw = chartCells(charts[i].extent.x, baked.density);
+        const std::uint32_t ch = chartCells(charts[i].extent.y, baked.density);
+        auto it = std::find_if(free.begin(), free.end(),
+                               [&](const Free& f) { return f.x1 - f.x0 >= cw + m && f.y1 - f.y0 >= ch + m; });
+        if (it == free.end())
+            return makeError(ErrorCode::OutOfRange, "re-bake of \"" + source->name +
+                                                        "\": its new charts do not fit the free texture space; bake "
+                                                        "the model in full again");
+        const Free f = *it;
+        placements[i] = {f.page, f.x0, f.y0, cw, ch};
+        free.erase(it);
+        const Free right{f.page, f.x0 + cw + m, f.y0, f.x1, f.y0 + ch + m}, top{f.page, f.x0, f.y0 + ch + m, f.x1, f.y1};
+        for (const Free& r : {right, top})
+            if (r.x1 > r.x0 && r.y1 > r.y0)
+                free.insert(std::upper_bound(free.begin(), free.end(), r,
+                                             [](const Free& a, const Free& b) {
+                                                 return a.page != b.page ? a.page < b.page
+                                                                         : (a.y0 != b.y0 ? a.y0 < b.y0 : a.x0 < b.x0);
+                                             }),
+                            r);
+    }
+
+    // Commit: clear the part's old texels (its padded rectangles are its own), replace its
+    // charts, mesh and texels.
+    for (const auto& c : baked.charts) {
+        if (c.part != p32) continue;
+        std::uint32_t* page = baked.texels.data() + std::size_t(c.rect.page) * baked.height * baked.width;
+        for (long y = long(c.rect.y) - 1; y <= long(c.rect.y + c.rect.h); ++y)
+            for (long x = long(c.rect.x) - 1; x <= long(c.rect.x + c.rect.w); ++x)
+                if (x >= 0 && y >= 0 && x < long(baked.width) && y < long(baked.height))
+                    page[std::size_t(y) * baked.width + std::size_t(x)] = kNoRecord;
+    }
+    baked.charts.erase(std::remove_if(baked.charts.begin(), baked.charts.end(),
+                                      [&](const ChartSlot& c) { return c.part == p32; }),
+                       baked.charts.end());
+    BakedPart& bp = baked.parts[part];
+    bp.name = source->name;
+    bp.kind = source->kind;
+    bp.record = source->record;
+    bp.positions.clear();
+    bp.uvs.clear();
+    bp.indices.assign(source->mesh.indices.size(), 0);
+    for (std::size_t c = 0; c < charts.size(); ++c) {
+        emitChart(charts[c], placements[c], source->mesh, model.origin, baked.density, baked.width, baked.height, bp);
+        baked.charts.push_back({p32, placements[c], charts[c].distortion});
+    }
+    for (std::size_t c = 0; c < charts.size(); ++c)
+        rasterChart(charts[c], placements[c], bp, baked.width, baked.height, baked.texels.data());
+    finishStats(baked);
+    return {};
 }
 
 }  // namespace geoslice::bake

@@ -169,6 +169,7 @@ struct BakeOptions {
 
 // One part of the baked mesh: vertices split along chart borders.
 struct BakedPart {
+    std::size_t source = 0;  // index into the model's bodies, then surfaces (bodies.size() + i)
     std::string name;
     PartKind kind = PartKind::Body;
     RecordId record = kNoRecord;
@@ -184,11 +185,21 @@ struct BakeStats {
     double secondsCharts = 0, secondsLscm = 0, secondsPack = 0, secondsRaster = 0;
 };
 
+// Where one chart went: its part (index into BakedModel::parts), its cell rectangle, its
+// distortion sums (kept for incremental re-bakes).
+struct ChartSlot {
+    std::uint32_t part = 0;
+    Placement rect;
+    DistortionSums distortion;
+};
+
 struct BakedModel {
     std::vector<BakedPart> parts;  // bodies then surfaces, as in the model; empty parts skipped
     std::uint32_t width = 0, height = 0, pages = 0;
     std::vector<std::uint32_t> texels;  // pages * height * width, row-major, 0 = no geology
     double density = 0.0;               // texels per metre
+    std::vector<ChartSlot> charts;
+    PackOptions pack;  // the options it was packed with
     BakeStats stats;
 };
 
@@ -199,6 +210,16 @@ using ProgressFn = std::function<void(std::string_view stage, double fraction)>;
 // Errors: InvalidArgument (bad options, non-finite positions, indices out of range),
 // OutOfRange (the model does not fit the texture budget; the message says what to change).
 Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options = {}, const ProgressFn& progress = {});
+
+// Incremental re-bake (the paper's future work): re-bakes only baked.parts[part] from the
+// model's current geometry and record for it (model.bodies, then model.surfaces, index
+// BakedPart::source). Its old texels are cleared, its charts are built and flattened again
+// and placed at the bake's density into free space: the rectangles its old charts held, the
+// free room above shorter charts in each shelf, the ends of shelves and the top of each page
+// (first fit, tallest first, guillotine splits). Other parts' UVs and texels do not change.
+// Errors: InvalidArgument (bad part index, bad geometry), OutOfRange when the new charts do not
+// fit the free space (bake in full again). On error `baked` is unchanged.
+Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options = {});
 
 // The record id stored at a texture coordinate (page + u, v), nearest texel; 0 outside.
 RecordId fetchId(const std::uint32_t* texels, std::uint32_t width, std::uint32_t height, std::uint32_t pages,

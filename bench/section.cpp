@@ -3,7 +3,9 @@
 // index (BVH + welds), then for `planes` random planes through the model time separately
 // the BVH query, the cut (segments), contour assembly, the full-frame fill (colour + ID),
 // a tile straight from the BVH, the whole section image end to end, and the brute-force
-// cut of every triangle (the paper's "CPU geometric intersection" baseline). Prints JSON
+// cut of every triangle (the paper's "CPU geometric intersection" baseline); then 4 x
+// `planes` vertical boreholes, `planes` 3-point polyline sections (W x W/2 image) and the
+// reserves of every body (whole, and on one side of a plane). Prints JSON
 // with medians (ms) and the per-size build figures. --oracle N also compares an N x N ID
 // buffer per plane with the Embree oracle (section/classify.hpp) at every pixel centre.
 #include <cstdio>
@@ -20,10 +22,13 @@
 #include "bench/bench_util.hpp"
 #include "model/synthetic.hpp"
 #include "model/validate.hpp"
+#include "section/borehole.hpp"
 #include "section/classify.hpp"
 #include "section/contours.hpp"
 #include "section/plane_cut.hpp"
+#include "section/polyline.hpp"
 #include "section/raster.hpp"
+#include "section/reserves.hpp"
 #include "section/section_index.hpp"
 #include "tests/common/random_plane.hpp"
 
@@ -33,7 +38,6 @@ using json = nlohmann::ordered_json;
 namespace {
 
 double ms(double t0) { return (bench::nowSeconds() - t0) * 1000.0; }
-
 
 }  // namespace
 
@@ -217,6 +221,59 @@ int main(int argc, char** argv) {
                 return 1;
             }
         }
+        // Virtual boreholes (all hits, Embree), polyline sections and reserves.
+        t = bench::nowSeconds();
+        auto tracer = BoreholeTracer::build(model.value());
+        const double tracerBuildS = bench::nowSeconds() - t;
+        if (!tracer) {
+            std::fprintf(stderr, "%s\n", tracer.error().message.c_str());
+            return 1;
+        }
+        std::vector<double> tHole, holeIntervals, tLine, tLineEnd;
+        std::uniform_real_distribution<double> fx(0.05, 0.95);
+        for (int k = 0; k < 4 * planes; ++k) {
+            const double x = bounds.min.x + fx(rng) * (bounds.max.x - bounds.min.x);
+            const double y = bounds.min.y + fx(rng) * (bounds.max.y - bounds.min.y);
+            double s = bench::nowSeconds();
+            auto hole = (*tracer)->traceVertical(x, y);
+            tHole.push_back(1000.0 * ms(s));
+            if (!hole) {
+                std::fprintf(stderr, "borehole %d: %s\n", k, hole.error().message.c_str());
+                return 1;
+            }
+            holeIntervals.push_back(double(hole->intervals.size()));
+        }
+        for (int k = 0; k < planes; ++k) {
+            std::vector<glm::dvec2> line;
+            for (int i = 0; i < 3; ++i)
+                line.push_back({bounds.min.x + fx(rng) * (bounds.max.x - bounds.min.x),
+                                bounds.min.y + fx(rng) * (bounds.max.y - bounds.min.y)});
+            double s = bench::nowSeconds();
+            auto ps = computePolylineSection(idx, line);
+            tLine.push_back(ms(s));
+            if (!ps) {
+                std::fprintf(stderr, "line %d: %s\n", k, ps.error().message.c_str());
+                return 1;
+            }
+            auto img =
+                rasterizePolylineSection(idx, ps.value(), fitPolylineFrame(ps.value(), side, side / 2), side, side / 2);
+            tLineEnd.push_back(ms(s));
+            if (!img) {
+                std::fprintf(stderr, "line %d: %s\n", k, img.error().message.c_str());
+                return 1;
+            }
+        }
+        t = bench::nowSeconds();
+        auto whole = computeReserves(model.value());
+        const double reservesMs = ms(t);
+        t = bench::nowSeconds();
+        auto clipped = computeReserves(model.value(), test::randomPlane(bounds, rng, 2));
+        const double reservesPlaneMs = ms(t);
+        if (!whole || !clipped) {
+            std::fprintf(stderr, "reserves failed\n");
+            return 1;
+        }
+
         results.push_back({
             {"model", size},
             {"triangles", model->triangleCount()},
@@ -254,6 +311,17 @@ int main(int argc, char** argv) {
               {"contour_assembly", bench::median(cAssemble)},
               {"fill_" + std::to_string(side), bench::median(cFill)},
               {"end_to_end_" + std::to_string(side), bench::median(cEnd)}}},
+            {"borehole",
+             {{"tracer_build_s", tracerBuildS},
+              {"holes", tHole.size()},
+              {"median_us_per_vertical_hole", bench::median(tHole)},
+              {"median_intervals", bench::median(holeIntervals)}}},
+            {"polyline_3_points",
+             {{"lines", tLine.size()},
+              {"median_ms_section", bench::median(tLine)},
+              {"median_ms_end_to_end_" + std::to_string(side) + "x" + std::to_string(side / 2),
+               bench::median(tLineEnd)}}},
+            {"reserves_ms", {{"whole_model", reservesMs}, {"kept_side_of_a_plane", reservesPlaneMs}}},
             {"median_nodes_visited", bench::median(nodesVisited)},
             {"median_leaf_triangles_cut", bench::median(trisTested)},
         });

@@ -1,5 +1,5 @@
 // geoslice bake MODEL [--attributes table.csv|json] [--size 4096] [--min-density D]
-// [--max-pages N] [--threads N] --out DIR: bakes the attribute-indexed texture and writes the
+// [--max-pages N] [--threads N] [--gltf FILE.glb] --out DIR: bakes the attribute-indexed texture and writes the
 // package (bake/package.hpp). Progress: a bar on a terminal (stderr), plain lines otherwise.
 #include <unistd.h>
 
@@ -15,7 +15,7 @@ namespace geoslice::cli {
 namespace {
 
 struct BakeArgs {
-    std::string model, attributes, out;
+    std::string model, attributes, out, gltf;
     std::uint32_t size = 4096;
     double minDensity = bake::PackOptions{}.minDensity;
     std::uint32_t maxPages = bake::PackOptions{}.maxPages;
@@ -83,6 +83,12 @@ int runBake(const BakeArgs& a) {
         std::fprintf(stderr, "geoslice bake: %s\n", s.error().message.c_str());
         return 1;
     }
+    if (!a.gltf.empty()) {
+        if (auto s = bake::writeFeatureGlb(model.value(), baked.value(), a.gltf); !s) {
+            std::fprintf(stderr, "geoslice bake: %s: %s\n", a.gltf.c_str(), s.error().message.c_str());
+            return 1;
+        }
+    }
     progress("write", 1.0);
     const auto& st = baked->stats;
     std::printf(
@@ -113,6 +119,9 @@ void addBake(CLI::App& app, int& exitCode) {
         ->check(CLI::Range(1.0, 180.0));
     cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)");
     cmd->add_option("--out", a->out, "Package directory (created)")->required();
+    cmd->add_option("--gltf", a->gltf,
+                    "Also write a GLB with EXT_mesh_features (feature-ID texture) and EXT_structural_metadata "
+                    "(one-page bakes)");
     cmd->callback([a, &exitCode] { exitCode = runBake(*a); });
 }
 

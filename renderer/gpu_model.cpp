@@ -28,7 +28,7 @@ struct CellGrid {
     }
 };
 
-CellGrid makeGrid(const Aabb& local, std::size_t triangles, std::size_t perCell) {
+CellGrid makeGrid(const Aabb& local, std::size_t triangles, std::size_t perCell, std::size_t maxCells) {
     CellGrid g;
     if (!local.valid()) return g;
     const double target =
@@ -67,7 +67,7 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
         localBounds.extend(g->bounds_.min - model.origin);
         localBounds.extend(g->bounds_.max - model.origin);
     }
-    const CellGrid grid = makeGrid(localBounds, totalTriangles, options.trianglesPerCell);
+    const CellGrid grid = makeGrid(localBounds, totalTriangles, options.trianglesPerCell, options.maxCells);
     g->cellBounds_.assign(grid.count(), Aabb{});
 
     std::vector<glm::vec3> positions;
@@ -138,7 +138,7 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
             const std::uint32_t* tri = sorted.data() + 3 * std::size_t(start[cell]);
             for (GLsizei i = 0; i < cl.count[0]; ++i) g->cellBounds_[cell].extend(glm::dvec3(local[tri[i]]));
             // Tiny clusters are not worth a draw call per level.
-            if (lod && cl.count[0] >= 3 * 256) {
+            if (lod && cl.count[0] >= 3 * 64) {
                 const auto t0 = std::chrono::steady_clock::now();
                 compactPos.clear();
                 compactIdx.clear();

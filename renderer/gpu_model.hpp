@@ -34,14 +34,15 @@ namespace geoslice {
 struct GpuUploadOptions {
     enum class Lod { Off, On, Auto };  // Auto: on for software rasterisers (llvmpipe)
     Lod lod = Lod::Auto;
-    std::size_t trianglesPerCell = 4096;  // grid resolution; at most 4096 cells
+    std::size_t trianglesPerCell = 4096;  // grid resolution
+    std::size_t maxCells = 4096;          // 1..GpuModel::kMaxCells
     int lodLevels = 5;                    // levels including full detail, 1..GpuModel::kMaxLodLevels
 };
 
 class GpuModel {
 public:
     static constexpr int kMaxLodLevels = 8;
-    static constexpr std::size_t kMaxCells = 4096;
+    static constexpr std::size_t kMaxCells = 1 << 16;
     using UploadOptions = GpuUploadOptions;
     struct DrawPart {
         GLint baseVertex = 0;

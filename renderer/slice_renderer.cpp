@@ -419,10 +419,11 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         gl.DrawElementsBaseVertex(GL_TRIANGLES, count, GL_UNSIGNED_INT,
                                   reinterpret_cast<const void*>(first * sizeof(std::uint32_t)), p.baseVertex);
         image.trianglesDrawn += std::size_t(count) / 3;
+        ++image.drawCalls;
     };
     // Each cluster at the coarsest level its budget allows (-1: skipped); consecutive
     // full-detail clusters are contiguous in the index buffer and go out as one draw.
-    // shiftSign: -1 back faces (towards the viewer), +1 front faces and surfaces (away).
+    // shiftSign: 0 back faces (drawn where they are), +1 front faces and surfaces (away).
     const double shiftScale = std::max(1.0, request.exaggeration.factor);
     // offsetBase: the pass draws with the front-face polygon offset on.
     auto draw = [&](const GpuModel::DrawPart& p, float shiftSign, bool offsetBase) {
@@ -444,20 +445,26 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
                 runFirst = c.first[0];
                 runCount = c.count[0];
             } else {
-                // Along the ray (shader) for surfaces facing the viewer, plus a slope-scaled
-                // polygon offset for grazing ones: the level's error projects to `px` pixels,
-                // which moves depth by at most px times the depth slope per pixel.
-                const float px = request.lodPixelError * c.error[level] / budget;
-                gl.ProgramUniform1f(prog, v.u.lodShift, float(shiftSign * c.error[level] * shiftScale));
-                gl.Enable(GL_POLYGON_OFFSET_FILL);
-                gl.PolygonOffset(shiftSign * 1.5f * px + (offsetBase ? kFrontOffsetFactor : 0.0f),
-                                 offsetBase ? kFrontOffsetUnits : 0.0f);
+                // Front faces of a simplified cluster go back by twice its error: along the
+                // ray (shader) for surfaces facing the viewer, and by a slope-scaled polygon
+                // offset for grazing ones (the error projects to at most lodPixelError
+                // pixels, which moves depth by at most that many depth slopes). Back faces
+                // stay: moving them would reorder back faces among themselves. One offset per
+                // pass: llvmpipe compiles a setup variant per distinct polygon offset.
+                if (shiftSign > 0.0f) {
+                    gl.ProgramUniform1f(prog, v.u.lodShift, float(2.0 * c.error[level] * shiftScale));
+                    gl.Enable(GL_POLYGON_OFFSET_FILL);
+                    gl.PolygonOffset(3.0f * request.lodPixelError + (offsetBase ? kFrontOffsetFactor : 0.0f),
+                                     offsetBase ? kFrontOffsetUnits : 0.0f);
+                }
                 drawRange(p, c.first[level], c.count[level]);
-                gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
-                if (offsetBase)
-                    gl.PolygonOffset(kFrontOffsetFactor, kFrontOffsetUnits);
-                else
-                    gl.Disable(GL_POLYGON_OFFSET_FILL);
+                if (shiftSign > 0.0f) {
+                    gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
+                    if (offsetBase)
+                        gl.PolygonOffset(kFrontOffsetFactor, kFrontOffsetUnits);
+                    else
+                        gl.Disable(GL_POLYGON_OFFSET_FILL);
+                }
             }
         }
         drawRange(p, runFirst, runCount);
@@ -477,7 +484,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     for (const auto& p : model.parts())
         if (p.body) {
             setFace(1, p, p.record, p.colour);
-            draw(p, -1.0f, false);
+            draw(p, 0.0f, false);
         }
     // Front faces of bodies, pushed back so that coincident back faces win: the exterior of
     // a top-level body, or the cap of the container of a nested one.

@@ -108,7 +108,8 @@ struct SliceImage {
     double aaMs = 0.0;                   // MSAA resolve or FXAA pass + glFinish, wall clock
     bool lodUsed = false;
     std::size_t trianglesDrawn = 0;   // over all passes (bodies twice: back and front faces)
-    std::size_t clustersSkipped = 0;  // (part, cell) clusters culled, per pass
+    std::size_t clustersSkipped = 0;  // (part, cell) clusters culled, over all passes
+    std::size_t drawCalls = 0;
     RecordId idAt(int column, int row) const {
         return ids[std::size_t(row) * std::size_t(width) + std::size_t(column)];
     }

@@ -417,7 +417,9 @@ struct SectionServer::Impl {
     void sectionImage(const httplib::Request& req, httplib::Response& res) {
         auto m = model(req.matches[1], res, req.path);
         if (!m) return;
-        auto format = imageFormatFromName(std::string(req.matches[2]));
+        const std::string ext = req.matches[2];
+        if (ext == "geojson" || ext == "svg") return sectionVector(req, res, *m, ext == "svg");
+        auto format = imageFormatFromName(ext);
         if (!format)
             return problem(res, 404,
                            "unknown image format '" + std::string(req.matches[2]) +
@@ -468,6 +470,42 @@ struct SectionServer::Impl {
                 auto e = encode(view.value(), format, q, etag);
                 if (e) keepIds(viewKey, std::move(view.value()));
                 return e;
+            },
+            res, answered, req.path);
+        if (answered) return;
+        if (!result) return problem(res, result.error(), req.path);
+        sendEncoded(req, res, *result.value());
+    }
+
+    void sectionVector(const httplib::Request& req, httplib::Response& res, const api::CatalogModel& m, bool svg) {
+        auto params = toParams(req);
+        if (!params) return problem(res, params.error(), req.path);
+        bool world = false;
+        if (const auto space = api::param(params.value(), "space")) {
+            if (*space != "plane" && *space != "world")
+                return problem(res, 400, "parameter 'space': '" + std::string(*space) + "' is not 'plane' or 'world'",
+                               req.path, "invalid_argument");
+            world = *space == "world";
+        }
+        auto plan = api::parseViewPlan(params.value(), m.id, m.model.crs);
+        if (!plan) return problem(res, plan.error(), req.path);
+        const std::string key = m.version + "|" + plan.value().canonical() + (svg ? "|svg" : world ? "|geojson-world" : "|geojson");
+        const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
+        if (auto hit = images.get(key)) return sendEncoded(req, res, *hit);
+        auto mp = catalog.find(m.id);
+        bool answered = false;
+        auto result = renderCoalesced(
+            key,
+            [this, mp, plan = plan.value(), svg, world, etag](WorkerState&) -> Result<std::shared_ptr<const Encoded>> {
+                const auto t0 = Clock::now();
+                auto text = api::renderVector(*mp, plan, svg, world);
+                if (!text) return text.error();
+                metrics.render(svg ? "svg" : "geojson", std::chrono::duration<double>(Clock::now() - t0).count());
+                auto e = std::make_shared<Encoded>();
+                e->body = std::move(text.value());
+                e->contentType = svg ? "image/svg+xml" : "application/geo+json";
+                e->etag = etag;
+                return std::shared_ptr<const Encoded>(std::move(e));
             },
             res, answered, req.path);
         if (answered) return;

@@ -21,12 +21,15 @@ const float kSpanMax = 8.0;  // pixels
 
 vec4 premul(vec4 c) { return vec4(c.rgb * c.a, c.a); }
 vec4 tap(vec2 uv) { return premul(texture(uColour, uv)); }
+// The 3x3 taps sit on texel centres: an unfiltered fetch is enough and cheaper on llvmpipe.
+vec4 fetch(ivec2 p) { return premul(texelFetch(uColour, clamp(p, ivec2(0), textureSize(uColour, 0) - 1), 0)); }
 float luma(vec4 p) { return dot(p.rgb, vec3(0.299, 0.587, 0.114)) + 0.25 * p.a; }
 
 void main() {
-    vec4 m = tap(vUv);
-    vec4 nw = tap(vUv + vec2(-1.0, -1.0) * uTexel), ne = tap(vUv + vec2(1.0, -1.0) * uTexel);
-    vec4 sw = tap(vUv + vec2(-1.0, 1.0) * uTexel), se = tap(vUv + vec2(1.0, 1.0) * uTexel);
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    vec4 m = fetch(p);
+    vec4 nw = fetch(p + ivec2(-1, -1)), ne = fetch(p + ivec2(1, -1));
+    vec4 sw = fetch(p + ivec2(-1, 1)), se = fetch(p + ivec2(1, 1));
     float lm = luma(m), lnw = luma(nw), lne = luma(ne), lsw = luma(sw), lse = luma(se);
     float lo = min(lm, min(min(lnw, lne), min(lsw, lse)));
     float hi = max(lm, max(max(lnw, lne), max(lsw, lse)));

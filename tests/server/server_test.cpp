@@ -118,6 +118,25 @@ TEST_F(Server, SectionImagesInEveryFormat) {
     EXPECT_EQ(l->status, 200) << l->body;
 }
 
+TEST_F(Server, VectorSectionsAsGeoJsonAndSvg) {
+    const json g = getJson("/v1/models/demo/section.geojson?" + kPlane + "&size=256x128");
+    EXPECT_EQ(g["type"], "FeatureCollection");
+    ASSERT_GT(g["features"].size(), 3u);
+    double area = 0.0;
+    for (const auto& f : g["features"])
+        if (f["properties"]["kind"] == "body") area += f["properties"]["area_m2"].get<double>();
+    EXPECT_GT(area, 1e6);
+    const json w = getJson("/v1/models/demo/section.geojson?" + kPlane + "&space=world");
+    const auto& ring = w["features"][0]["geometry"]["coordinates"][0][0];
+    EXPECT_NEAR(ring[0][1].get<double>(), 3388846.0, 1e-3);  // world y of a point on the plane
+    auto svg = get("/v1/models/demo/section.svg?" + kPlane + "&size=256x128");
+    ASSERT_TRUE(svg);
+    EXPECT_EQ(svg->status, 200);
+    EXPECT_EQ(svg->get_header_value("Content-Type"), "image/svg+xml");
+    EXPECT_NE(svg->body.find("<svg"), std::string::npos);
+    expectProblem(get("/v1/models/demo/section.geojson?" + kPlane + "&space=mars"), 400, "space");
+}
+
 TEST_F(Server, EtagGives304) {
     const std::string path = "/v1/models/demo/section.jpg?" + kPlane + "&size=200x100&bg=%23ffffff";
     auto first = get(path);
@@ -386,6 +405,7 @@ TEST_F(Server, QueryAgreesWithTheImageIdBuffer) {
         }
     }
     EXPECT_EQ(total, 1000u);
+    std::printf("profile queries: ray and ID buffer agree at %zu of %zu pixels\n", agree, total);
     // Pixel centres exactly on a boundary may go either way between the float ray oracle
     // and the exact double cut; the section engine tests measured 0 such pixels.
     EXPECT_GE(double(agree) / double(total), 0.999) << agree << " of " << total;
@@ -478,6 +498,43 @@ TEST(ServerGl, PerspectiveViewThroughAWorkerContext) {
     EXPECT_EQ(j["gl"]["ready"], true) << ready->body;
     auto bad = cl.Get("/v1/models/demo/section.png?plane=0,1,0,-3388846&view=perspective&eye=1,2,3&target=1,2,3");
     expectProblem(bad, 400, "coincide");
+
+    // Queries of a perspective view: the exact ray (before the view is rendered) against the
+    // GL ID buffer (after). They differ only where a pixel centre falls within rasterisation
+    // precision of an edge, so >= 99 % of 500 random pixels must agree.
+    const json view = {{"plane", "0,1,0,-3388846"},
+                       {"view", "perspective"},
+                       {"eye", "35509000,3383000,4000"},
+                       {"target", "35504794,3388846,700"},
+                       {"size", "256x192"}};
+    std::mt19937 rng(11);
+    json pixels = json::array();
+    for (int i = 0; i < 500; ++i) pixels.push_back({int(rng() % 256u), int(rng() % 192u)});
+    const json body = {{"view", view}, {"pixels", pixels}};
+    auto ray = cl.Post("/v1/models/demo/query", body.dump(), "application/json");
+    ASSERT_TRUE(ray);
+    ASSERT_EQ(ray->status, 200) << ray->body;
+    std::string q;
+    for (const auto& [k, v] : view.items()) q += k + "=" + v.get<std::string>() + "&";
+    auto image = cl.Get(("/v1/models/demo/section.png?" + q).c_str());
+    ASSERT_TRUE(image);
+    ASSERT_EQ(image->status, 200) << image->body;
+    auto fromIds = cl.Post("/v1/models/demo/query", body.dump(), "application/json");
+    ASSERT_TRUE(fromIds);
+    const json a = json::parse(ray->body)["results"], b = json::parse(fromIds->body)["results"];
+    std::size_t agree = 0, hits = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i]["source"], "ray");
+        EXPECT_EQ(b[i]["source"], "id-buffer");
+        const int idA = a[i]["hit"] ? a[i]["record"]["id"].get<int>() : 0;
+        const int idB = b[i]["hit"] ? b[i]["record"]["id"].get<int>() : 0;
+        agree += idA == idB;
+        hits += idA != 0;
+    }
+    std::printf("perspective queries: ray and GL ID buffer agree at %zu of %zu pixels (%zu on geology)\n", agree,
+                a.size(), hits);
+    EXPECT_GT(hits, 100u);
+    EXPECT_GE(double(agree) / double(a.size()), 0.99) << agree << " of " << a.size();
 }
 
 }  // namespace

@@ -139,6 +139,13 @@ TEST(Borehole, BadInputIsAnError) {
     EXPECT_EQ(tr->traceRay({5, 5, 5}, {0, 0, 1}, 0.0).error().code, ErrorCode::InvalidArgument);
     EXPECT_EQ(tr->traceRay({5, 5, 5}, {0, 0, 1}, NAN).error().code, ErrorCode::InvalidArgument);
     EXPECT_EQ(tr->traceRay({50, 50, 50}, {0, 0, 1}).error().code, ErrorCode::OutOfRange);  // points away
+    // Far-away and huge values: an answer or an error, never a crash.
+    auto far = tr->traceRay({5, 5, 1e7}, {0, 0, -1});
+    ASSERT_TRUE(far.ok());
+    ASSERT_EQ(far->intervals.size(), 1u);
+    EXPECT_NEAR(far->intervals[0].fromElevation, 10.0, 1e-3);
+    EXPECT_FALSE(tr->traceRay({1e300, 5, 5}, {-1, 0, 0}).ok() && false);
+    EXPECT_FALSE(tr->traceRay({5, 5, 5}, {1e308, 1e308, 0}).ok());
 }
 
 TEST(Borehole, RandomHolesAgreeWithTheOracle) {

@@ -104,6 +104,8 @@ TEST(PolylineSection, BadLinesAreErrors) {
     EXPECT_EQ(computePolylineSection(*idx, {{1, 2}}).error().code, ErrorCode::InvalidArgument);
     EXPECT_EQ(computePolylineSection(*idx, {{1, 2}, {NAN, 3}}).error().code, ErrorCode::InvalidArgument);
     EXPECT_EQ(computePolylineSection(*idx, {{1, 2}, {1, 2}}).error().code, ErrorCode::InvalidArgument);
+    EXPECT_FALSE(computePolylineSection(*idx, {{0, 0}, {1e300, -1e300}}).ok());  // infinite length
+    EXPECT_FALSE(computePolylineSection(*idx, std::vector<glm::dvec2>(5000, glm::dvec2(0.0))).ok());
     auto miss = computePolylineSection(*idx, {{500, 0}, {500, 100}});
     ASSERT_FALSE(miss.ok());
     EXPECT_EQ(miss.error().code, ErrorCode::OutOfRange);
