@@ -70,6 +70,7 @@ J concat(J a, const J& b) {
 
 const std::vector<RouteSpec>& apiRoutes() {
     static const std::vector<RouteSpec> routes = {
+        {"GET", "/"},
         {"GET", "/healthz"},
         {"GET", "/readyz"},
         {"GET", "/metrics"},
@@ -99,6 +100,8 @@ J openApiDocument(const std::string& serverVersion) {
     auto get = [&](const std::string& path, J operation) { paths[path]["get"] = std::move(operation); };
     auto post = [&](const std::string& path, J operation) { paths[path]["post"] = std::move(operation); };
 
+    get("/", op("the thin web client: a section as Leaflet tiles; a click queries the geology", J::array(),
+                J{{"description", "HTML"}, {"content", {{"text/html", J::object()}}}}));
     get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok")));
     get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found)", J::array(),
                       jsonResponse("ready; 503 while loading")));

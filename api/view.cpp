@@ -241,9 +241,12 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
     // Kept where s(t) = s0 + t * ds >= 0.
     const double s0 = glm::dot(plane.normal, ray.origin) + plane.d, ds = glm::dot(plane.normal, ray.direction);
     double keepFrom = 0.0, keepTo = std::numeric_limits<double>::infinity();
-    if (ds > 0.0) keepFrom = std::max(0.0, -s0 / ds);
-    else if (ds < 0.0) keepTo = -s0 / ds;
-    else if (s0 < 0.0) keepTo = -1.0;
+    if (ds > 0.0)
+        keepFrom = std::max(0.0, -s0 / ds);
+    else if (ds < 0.0)
+        keepTo = -s0 / ds;
+    else if (s0 < 0.0)
+        keepTo = -1.0;
     QueryAnswer a;
     a.px = px;
     a.py = py;

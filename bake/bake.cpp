@@ -63,7 +63,8 @@ Status checkOptions(const BakeOptions& o) {
         return makeError(ErrorCode::InvalidArgument, "chart normal cone must be in (0, 180] degrees");
     if (c.maxTriangles == 0) return makeError(ErrorCode::InvalidArgument, "charts need at least 1 triangle");
     if (!(o.pack.minDensity > 0.0) || !std::isfinite(o.pack.minDensity))
-        return makeError(ErrorCode::InvalidArgument, "minimum texel density must be a positive number of texels per metre");
+        return makeError(ErrorCode::InvalidArgument,
+                         "minimum texel density must be a positive number of texels per metre");
     if (o.pack.width < 8 || o.pack.height < 8 || o.pack.width > 16384 || o.pack.height > 16384)
         return makeError(ErrorCode::InvalidArgument, "texture size " + std::to_string(o.pack.width) + "x" +
                                                          std::to_string(o.pack.height) + " is outside 8..16384");
@@ -113,7 +114,8 @@ void flattenChart(const PartWork& w, std::uint32_t partIndex, std::size_t chart,
     const std::uint32_t* idx = w.indices.data();
     std::vector<std::pair<std::vector<std::uint32_t>, bool>> stack;
     const std::uint32_t b = w.charts.offsets[chart], e = w.charts.offsets[chart + 1];
-    stack.push_back({std::vector<std::uint32_t>(w.charts.triangles.begin() + b, w.charts.triangles.begin() + e), false});
+    stack.push_back(
+        {std::vector<std::uint32_t>(w.charts.triangles.begin() + b, w.charts.triangles.begin() + e), false});
     std::vector<std::vector<std::uint32_t>> pieces;
     while (!stack.empty()) {
         auto [tris, split] = std::move(stack.back());
@@ -275,11 +277,11 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     // The texture is allocated whole: refuse sizes no machine here holds (4 GiB).
     const std::uint64_t textureBytes = std::uint64_t(packing->pages) * options.pack.width * options.pack.height * 4;
     if (textureBytes > (std::uint64_t(4) << 30))
-        return makeError(ErrorCode::OutOfRange, "model \"" + model.name + "\" does not fit the texture budget: " +
-                                                    std::to_string(packing->pages) + " pages of " +
-                                                    std::to_string(options.pack.width) + "x" +
-                                                    std::to_string(options.pack.height) + " need " +
-                                                    std::to_string(textureBytes >> 20) + " MiB, over 4096 MiB");
+        return makeError(ErrorCode::OutOfRange,
+                         "model \"" + model.name +
+                             "\" does not fit the texture budget: " + std::to_string(packing->pages) + " pages of " +
+                             std::to_string(options.pack.width) + "x" + std::to_string(options.pack.height) + " need " +
+                             std::to_string(textureBytes >> 20) + " MiB, over 4096 MiB");
     out.width = options.pack.width;
     out.height = options.pack.height;
     out.pages = packing->pages;
@@ -298,8 +300,8 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     out.charts.resize(charts.size());
     for (std::size_t c = 0; c < charts.size(); ++c) {
         const Flattened& f = charts[c];
-        emitChart(f, packing->placements[c], parts[f.part].part->mesh, model.origin, out.density, out.width,
-                  out.height, out.parts[f.part]);
+        emitChart(f, packing->placements[c], parts[f.part].part->mesh, model.origin, out.density, out.width, out.height,
+                  out.parts[f.part]);
         out.charts[c] = {f.part, packing->placements[c], f.distortion};
     }
     out.stats.secondsPack = now() - t0;
@@ -323,7 +325,8 @@ Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const
         return makeError(ErrorCode::InvalidArgument, "re-bake: part " + std::to_string(part) + " of " +
                                                          std::to_string(baked.parts.size()) + " baked parts");
     const Part* source = sourcePart(model, baked.parts[part].source);
-    if (!source) return makeError(ErrorCode::InvalidArgument, "re-bake: the model no longer has part " + baked.parts[part].name);
+    if (!source)
+        return makeError(ErrorCode::InvalidArgument, "re-bake: the model no longer has part " + baked.parts[part].name);
     if (auto s = checkPart(*source); !s) return s.error();
     if (source->mesh.triangleCount() == 0)
         return makeError(ErrorCode::InvalidArgument, "re-bake: part \"" + source->name + "\" has no triangles");
@@ -372,11 +375,13 @@ Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const
     }
     std::vector<std::uint32_t> pageTop(baked.pages, border);
     for (const auto& s : shelves) {
-        if (s.end + m < po.width - border + m) free.push_back({s.page, s.end + m, s.y, po.width - border + m, s.y + s.height + m});
+        if (s.end + m < po.width - border + m)
+            free.push_back({s.page, s.end + m, s.y, po.width - border + m, s.y + s.height + m});
         pageTop[s.page] = std::max(pageTop[s.page], s.y + s.height + m);
     }
     for (std::uint32_t pg = 0; pg < baked.pages; ++pg)
-        if (pageTop[pg] < po.height - border) free.push_back({pg, border, pageTop[pg], po.width - border + m, po.height - border + m});
+        if (pageTop[pg] < po.height - border)
+            free.push_back({pg, border, pageTop[pg], po.width - border + m, po.height - border + m});
     std::sort(free.begin(), free.end(), [](const Free& a, const Free& b) {
         return a.page != b.page ? a.page < b.page : (a.y0 != b.y0 ? a.y0 < b.y0 : a.x0 < b.x0);
     });
@@ -387,19 +392,27 @@ Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const
         return charts[a].extent.y != charts[b].extent.y ? charts[a].extent.y > charts[b].extent.y : a < b;
     });
     std::vector<Placement> placements(charts.size());
+    std::uint32_t pages = baked.pages;
     for (std::size_t i : order) {
         const std::uint32_t cw = chartCells(charts[i].extent.x, baked.density);
         const std::uint32_t ch = chartCells(charts[i].extent.y, baked.density);
         auto it = std::find_if(free.begin(), free.end(),
                                [&](const Free& f) { return f.x1 - f.x0 >= cw + m && f.y1 - f.y0 >= ch + m; });
-        if (it == free.end())
-            return makeError(ErrorCode::OutOfRange, "re-bake of \"" + source->name +
-                                                        "\": its new charts do not fit the free texture space; bake "
-                                                        "the model in full again");
+        if (it == free.end()) {
+            // No room: open a new page, within the page budget.
+            if (pages >= po.maxPages || border + cw > po.width - border || border + ch > po.height - border)
+                return makeError(ErrorCode::OutOfRange, "re-bake of \"" + source->name +
+                                                            "\": its new charts do not fit the free texture space " +
+                                                            "within " + std::to_string(po.maxPages) +
+                                                            " pages; bake the model in full again");
+            free.push_back({pages++, border, border, po.width - border + m, po.height - border + m});
+            it = free.end() - 1;
+        }
         const Free f = *it;
         placements[i] = {f.page, f.x0, f.y0, cw, ch};
         free.erase(it);
-        const Free right{f.page, f.x0 + cw + m, f.y0, f.x1, f.y0 + ch + m}, top{f.page, f.x0, f.y0 + ch + m, f.x1, f.y1};
+        const Free right{f.page, f.x0 + cw + m, f.y0, f.x1, f.y0 + ch + m},
+            top{f.page, f.x0, f.y0 + ch + m, f.x1, f.y1};
         for (const Free& r : {right, top})
             if (r.x1 > r.x0 && r.y1 > r.y0)
                 free.insert(std::upper_bound(free.begin(), free.end(), r,
@@ -410,6 +423,14 @@ Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const
                             r);
     }
 
+    if (pages > baked.pages) {
+        const std::uint64_t bytes = std::uint64_t(pages) * baked.width * baked.height * 4;
+        if (bytes > (std::uint64_t(4) << 30))
+            return makeError(ErrorCode::OutOfRange, "re-bake of \"" + source->name + "\" needs " +
+                                                        std::to_string(pages) + " texture pages, over 4096 MiB");
+        baked.texels.resize(std::size_t(pages) * baked.height * baked.width, kNoRecord);
+        baked.pages = pages;
+    }
     // Commit: clear the part's old texels (its padded rectangles are its own), replace its
     // charts, mesh and texels.
     for (const auto& c : baked.charts) {
@@ -420,9 +441,9 @@ Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const
                 if (x >= 0 && y >= 0 && x < long(baked.width) && y < long(baked.height))
                     page[std::size_t(y) * baked.width + std::size_t(x)] = kNoRecord;
     }
-    baked.charts.erase(std::remove_if(baked.charts.begin(), baked.charts.end(),
-                                      [&](const ChartSlot& c) { return c.part == p32; }),
-                       baked.charts.end());
+    baked.charts.erase(
+        std::remove_if(baked.charts.begin(), baked.charts.end(), [&](const ChartSlot& c) { return c.part == p32; }),
+        baked.charts.end());
     BakedPart& bp = baked.parts[part];
     bp.name = source->name;
     bp.kind = source->kind;

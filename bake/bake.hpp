@@ -216,9 +216,11 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options = {}
 // BakedPart::source). Its old texels are cleared, its charts are built and flattened again
 // and placed at the bake's density into free space: the rectangles its old charts held, the
 // free room above shorter charts in each shelf, the ends of shelves and the top of each page
-// (first fit, tallest first, guillotine splits). Other parts' UVs and texels do not change.
-// Errors: InvalidArgument (bad part index, bad geometry), OutOfRange when the new charts do not
-// fit the free space (bake in full again). On error `baked` is unchanged.
+// (first fit, tallest first, guillotine splits), and when that is full, on new pages (within
+// PackOptions::maxPages; a full bake compacts again). Other parts' UVs and texels do not
+// change. Errors: InvalidArgument (bad part index, bad geometry), OutOfRange when the new
+// charts need more than maxPages pages. On error `baked` is unchanged.
+// `options` gives the chart options and threads; page size, margin and budget are baked.pack.
 Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options = {});
 
 // The record id stored at a texture coordinate (page + u, v), nearest texel; 0 outside.

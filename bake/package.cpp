@@ -3,17 +3,17 @@
 #include "bake/package.hpp"
 
 #include <fcntl.h>
+#include <png.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#include <png.h>
 #include <zstd.h>
 
 #include <algorithm>
 #include <cstring>
-#include <optional>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 namespace geoslice::bake {
 namespace {
@@ -68,9 +68,11 @@ Result<std::vector<std::uint8_t>> encodeFeaturePng(const BakedModel& baked, cons
     for (std::size_t i = 0; i < texels.size(); ++i) {
         const RecordId id = baked.texels[i];
         auto it = std::lower_bound(rows.begin(), rows.end(), id);
-        const std::uint32_t row =
-            id != kNoRecord && it != rows.end() && *it == id ? static_cast<std::uint32_t>(it - rows.begin()) : kNullFeature;
-        const std::uint8_t b[4] = {std::uint8_t(row), std::uint8_t(row >> 8), std::uint8_t(row >> 16), std::uint8_t(row >> 24)};
+        const std::uint32_t row = id != kNoRecord && it != rows.end() && *it == id
+                                      ? static_cast<std::uint32_t>(it - rows.begin())
+                                      : kNullFeature;
+        const std::uint8_t b[4] = {std::uint8_t(row), std::uint8_t(row >> 8), std::uint8_t(row >> 16),
+                                   std::uint8_t(row >> 24)};
         std::memcpy(&texels[i], b, 4);
     }
     png_image image{};
@@ -188,14 +190,16 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
             std::vector<double> v;
             for (RecordId id : rows) {
                 const AttributeRecord* r = model.attributes.find(id);
-                const std::optional<double> x = r ? (std::strcmp(key, "density") ? r->grade : r->density) : std::nullopt;
+                const std::optional<double> x =
+                    r ? (std::strcmp(key, "density") ? r->grade : r->density) : std::nullopt;
                 v.push_back(x ? *x : -1.0);
             }
             schemaProps[key] = {{"type", "SCALAR"}, {"componentType", "FLOAT64"}, {"noData", -1.0}};
             tableProps[key] = {{"values", addView(v.data(), v.size() * 8, 0, 8)}};
         }
         metadata = {{"schema", {{"id", "geoslice"}, {"classes", {{"geology", {{"properties", schemaProps}}}}}}},
-                    {"propertyTables", json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
+                    {"propertyTables",
+                     json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
     }
     while (bin.size() % 4) bin.push_back(0);
     const glm::dvec3 o(model.origin.x, model.origin.z, -model.origin.y);

@@ -12,6 +12,8 @@
 // Cases: profile and perspective views, clip distance against discard; the perspective
 // view also with level of detail ("lod": simplified clusters away from the cut), with the
 // number of id pixels that differ from the full-detail frame and the triangles drawn.
+//   frame_cpu_ms     CPU time of the whole process over one render() call (all llvmpipe
+//                    threads): on a shared machine it shows the work without the waiting
 // peak_rss_mib per size is the process's peak so far (models are generated one by one).
 #include <cstdio>
 #include <cstring>
@@ -43,7 +45,7 @@ std::vector<std::string> split(const std::string& s) {
 }
 
 struct CaseResult {
-    std::vector<double> draw, aa, read;
+    std::vector<double> draw, aa, read, cpu;
     std::vector<RecordId> ids;
     std::vector<std::uint8_t> rgba;
     std::size_t triangles = 0, skipped = 0, drawCalls = 0;
@@ -54,7 +56,9 @@ struct CaseResult {
 CaseResult runCase(SliceRenderer& renderer, const GpuModel& gpu, const SliceRequest& req, int runs) {
     CaseResult r;
     for (int i = 0; i < runs + 1; ++i) {  // the first frame at a new size allocates the target
+        const double c0 = bench::processCpuSeconds();
         auto img = renderer.render(gpu, req);
+        const double cpuMs = (bench::processCpuSeconds() - c0) * 1e3;
         if (!img) {
             r.error = img.error().message;
             return r;
@@ -63,6 +67,7 @@ CaseResult runCase(SliceRenderer& renderer, const GpuModel& gpu, const SliceRequ
         r.draw.push_back(img->drawMs);
         r.aa.push_back(img->aaMs);
         r.read.push_back(img->readbackMs);
+        r.cpu.push_back(cpuMs);
         if (i == runs) {
             r.ids = std::move(img->ids);
             r.rgba = std::move(img->rgba);
@@ -240,6 +245,7 @@ int main(int argc, char** argv) {
                     jc["aa"] = r.aaUsed;
                     jc["aa_ms"] = bench::median(r.aa);
                     jc["readback_ms"] = bench::median(r.read);
+                    jc["frame_cpu_ms"] = bench::median(r.cpu);
                     jc["triangles_drawn"] = r.triangles;
                     jc["clusters_skipped"] = r.skipped;
                     jc["draw_calls"] = r.drawCalls;

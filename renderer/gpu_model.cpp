@@ -31,8 +31,8 @@ struct CellGrid {
 CellGrid makeGrid(const Aabb& local, std::size_t triangles, std::size_t perCell, std::size_t maxCells) {
     CellGrid g;
     if (!local.valid()) return g;
-    const double target =
-        double(std::clamp<std::size_t>(triangles / std::max<std::size_t>(perCell, 1), 1, GpuModel::kMaxCells));
+    const double target = double(std::clamp<std::size_t>(triangles / std::max<std::size_t>(perCell, 1), 1,
+                                                         std::clamp<std::size_t>(maxCells, 1, GpuModel::kMaxCells)));
     const glm::dvec3 extent = glm::max(local.size(), glm::dvec3(1e-3));
     const double k = std::cbrt(target / (extent.x * extent.y * extent.z));
     for (int a = 0; a < 3; ++a) g.dims[a] = std::max(1, int(std::floor(extent[a] * k)));

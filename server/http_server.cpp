@@ -18,6 +18,7 @@
 #include "server/lru_cache.hpp"
 #include "server/metrics.hpp"
 #include "server/render_pool.hpp"
+#include "server/web_assets.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -333,6 +334,9 @@ struct SectionServer::Impl {
     }
 
     void addRoutes() {
+        route("GET", "/", "/", [](const httplib::Request&, httplib::Response& res) {
+            res.set_content(std::string(webIndexHtml()), "text/html; charset=utf-8");
+        });
         route("GET", "/healthz", "/healthz", [this](const httplib::Request&, httplib::Response& res) {
             sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
         });
@@ -489,7 +493,10 @@ struct SectionServer::Impl {
         }
         auto plan = api::parseViewPlan(params.value(), m.id, m.model.crs);
         if (!plan) return problem(res, plan.error(), req.path);
-        const std::string key = m.version + "|" + plan.value().canonical() + (svg ? "|svg" : world ? "|geojson-world" : "|geojson");
+        const std::string key = m.version + "|" + plan.value().canonical() +
+                                (svg     ? "|svg"
+                                 : world ? "|geojson-world"
+                                         : "|geojson");
         const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
         if (auto hit = images.get(key)) return sendEncoded(req, res, *hit);
         auto mp = catalog.find(m.id);

@@ -208,7 +208,8 @@ TEST(BakePackage, FeatureGlbCarriesIdsAsMeshFeaturesAndMetadata) {
     ASSERT_EQ(rgba.size(), b.baked.texels.size() * 4);
     std::size_t mismatches = 0;
     for (std::size_t i = 0; i < b.baked.texels.size(); ++i) {
-        const std::uint32_t row = rgba[4 * i] | rgba[4 * i + 1] << 8 | rgba[4 * i + 2] << 16 | std::uint32_t(rgba[4 * i + 3]) << 24;
+        const std::uint32_t row =
+            rgba[4 * i] | rgba[4 * i + 1] << 8 | rgba[4 * i + 2] << 16 | std::uint32_t(rgba[4 * i + 3]) << 24;
         const std::uint32_t id = row == 0xFFFFFFFFu ? 0u : ids.at(row);
         mismatches += id != b.baked.texels[i];
     }

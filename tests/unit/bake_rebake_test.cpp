@@ -1,6 +1,7 @@
 // Incremental re-bake of one part: the changed part's points all fetch its (new) record,
 // every other part keeps its UVs, triangles and texels bit for bit, and a part that no longer
-// fits the free space is an error that leaves the bake unchanged.
+// fits the free space goes to a new page, or, over the page budget, is an error that leaves the
+// bake unchanged.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -80,7 +81,7 @@ TEST(BakeRebake, ChangedPartIsExactAndOthersUntouched) {
     EXPECT_GT(std::count(after.texels.begin(), after.texels.end(), 777u), 0);
 }
 
-TEST(BakeRebake, NoRoomIsAnErrorAndLeavesTheBake) {
+TEST(BakeRebake, NoRoomOpensAPageOrIsAnErrorThatLeavesTheBake) {
     Model m = test::syntheticModel(4000);
     bake::BakeOptions o;
     o.pack.width = o.pack.height = 256;
@@ -91,15 +92,22 @@ TEST(BakeRebake, NoRoomIsAnErrorAndLeavesTheBake) {
     // Grow the largest body 3x in plan: its charts need about 9x the texels it had.
     std::size_t p = 0;
     for (std::size_t i = 0; i < full->parts.size(); ++i)
-        if (full->parts[i].indices.size() > full->parts[p].indices.size() && full->parts[i].source < m.bodies.size()) p = i;
+        if (full->parts[i].indices.size() > full->parts[p].indices.size() && full->parts[i].source < m.bodies.size())
+            p = i;
     Part& body = m.bodies[full->parts[p].source];
     const glm::dvec3 c = body.mesh.bounds().centre();
     for (auto& q : body.mesh.positions) q = c + glm::dvec3(3.0, 3.0, 1.0) * (q - c);
     bake::BakedModel copy = full.value();
+    copy.pack.maxPages = 1;  // the budget of an existing bake is its own
     auto s = bake::rebakePart(m, p, copy, o);
     ASSERT_FALSE(s.ok());
     EXPECT_EQ(s.error().code, ErrorCode::OutOfRange);
     EXPECT_NE(s.error().message.find("bake the model in full again"), std::string::npos) << s.error().message;
     EXPECT_EQ(copy.texels, full->texels);
+    // With a page to spare, the grown body goes to a new page and all its points are exact.
+    copy.pack.maxPages = 4;
+    ASSERT_TRUE(bake::rebakePart(m, p, copy, o).ok());
+    EXPECT_GT(copy.pages, 1u);
+    EXPECT_EQ(partAccuracy(copy, p, 20000, 3), 1.0);
     EXPECT_EQ(bake::rebakePart(m, 999, copy, o).error().code, ErrorCode::InvalidArgument);
 }

@@ -144,7 +144,8 @@ TEST(Borehole, BadInputIsAnError) {
     ASSERT_TRUE(far.ok());
     ASSERT_EQ(far->intervals.size(), 1u);
     EXPECT_NEAR(far->intervals[0].fromElevation, 10.0, 1e-3);
-    EXPECT_FALSE(tr->traceRay({1e300, 5, 5}, {-1, 0, 0}).ok() && false);
+    auto huge = tr->traceRay({1e300, 5, 5}, {-1, 0, 0});
+    EXPECT_TRUE(!huge.ok() || huge->intervals.size() <= 1);
     EXPECT_FALSE(tr->traceRay({5, 5, 5}, {1e308, 1e308, 0}).ok());
 }
 
