@@ -159,11 +159,36 @@ void rasterizeConservative(const glm::dvec2 tri[3], std::uint8_t* mask, std::uin
 // Seam padding: every unset cell with a set 8-neighbour is set (one texel of dilation).
 void dilateMask(std::uint8_t* mask, std::uint32_t w, std::uint32_t h);
 
+// ---- 5. Spatially varying attributes (field.cpp) ----------------------------------------
+
+// A block model: axis-aligned blocks (world centre and size, metres) with one value each, e.g.
+// ore grade. Blocks may differ in size (sub-blocks); where blocks overlap, the smallest wins.
+struct BlockModel {
+    std::string name;  // the value column's header, e.g. "SiO2_pct"
+    std::vector<glm::dvec3> centres, sizes;
+    std::vector<double> values;
+};
+
+// CSV with a header row naming x,y,z (block centre, world: easting, northing, elevation),
+// dx,dy,dz (block size) and exactly one more column, the value; any column order, ',' or ';'.
+// Errors name the source and line: a missing column, a non-number, a non-finite value or a
+// size <= 0.
+Result<BlockModel> parseBlockCsv(std::string_view text, const std::string& source);
+
+// Grade classes of a field: class k holds values in [breaks[k-1], breaks[k]) (class 0 below
+// breaks[0], the last class from breaks.back() up). breaks must be finite and increasing.
+struct FieldOptions {
+    const BlockModel* blocks = nullptr;  // none: one record per part, no field
+    std::vector<double> breaks;
+    std::string unit;  // e.g. "% SiO2", copied into the class records' gradeUnit
+};
+
 // ---- Whole-model bake (bake.cpp) -------------------------------------------------------
 
 struct BakeOptions {
     ChartOptions charts;
     PackOptions pack;
+    FieldOptions field;
     unsigned threads = 0;  // 0: hardware concurrency
 };
 
@@ -200,6 +225,11 @@ struct BakedModel {
     double density = 0.0;               // texels per metre
     std::vector<ChartSlot> charts;
     PackOptions pack;  // the options it was packed with
+    // With a field: one record per (part record, class), ids from the model table's nextId()
+    // up; a texel whose point (the texel centre mapped back onto its nearest triangle) lies in a
+    // block holds the record of its part's record and that block's class, other texels their
+    // part's record. writePackage() adds these records to the attribute table.
+    std::vector<AttributeRecord> fieldRecords;
     BakeStats stats;
 };
 

@@ -174,7 +174,8 @@ int main(int argc, char** argv) {
                           {"triangles", copy.parts[p].indices.size() / 3},
                           {"ok", st2.ok()},
                           {"seconds", rebakeS},
-                          {"fractionOfFullBake", rebakeS / bakeS}};
+                          {"fractionOfFullBake", rebakeS / bakeS},
+                          {"pagesAfter", copy.pages}};
             if (!st2.ok())
                 entry["error"] = st2.error().message;
             else

@@ -3,7 +3,7 @@
 //   [--quality Q] [--lossless] [--ids ids.pgm]
 //   [--gl auto|egl-device|egl-surfaceless|osmesa] [--device N] [--clip clip-distance|discard]
 //   [--background transparent|#rrggbb[aa]] [--exaggeration F [--pivot Z]] [--aa auto|none|fxaa|msaa]
-//   [--no-traces]
+//   [--no-traces] [--lod auto|on|off]
 // Renders one frame of the slicing pass (renderer/slice_renderer.hpp) on a headless context.
 // Planes are world (a,b,c,d), kept where a*x+b*y+c*z+d >= 0; points are world easting,
 // northing, elevation in metres. The profile looks at the first plane's cut face (along +n).
@@ -54,7 +54,7 @@ struct RenderArgs {
     int quality = -1;  // JPEG/WebP quality; -1 = the encoder's default
     bool lossless = false;
     double exaggeration = 1.0, pivot = 0.0;
-    std::string aa = "auto";
+    std::string aa = "auto", lod = "auto";
     bool noTraces = false;
 };
 
@@ -91,6 +91,14 @@ int run(const RenderArgs& a) {
     else
         return fail("--aa " + a.aa + ": expected auto, none, fxaa or msaa");
     req.drawTraces = !a.noTraces;
+    if (a.lod == "auto")
+        req.lod = SliceRequest::Lod::Auto;
+    else if (a.lod == "on")
+        req.lod = SliceRequest::Lod::On;
+    else if (a.lod == "off")
+        req.lod = SliceRequest::Lod::Off;
+    else
+        return fail("--lod " + a.lod + ": expected auto, on or off");
     req.exaggeration.factor = a.exaggeration;
     req.exaggeration.pivotZ = a.pivot;
     if (auto s = checkExaggeration(req.exaggeration); !s) return fail("--exaggeration: " + s.error().message);
@@ -152,9 +160,10 @@ int run(const RenderArgs& a) {
         if (auto s = writeIdsPgm16(a.ids, img->ids, img->width, img->height); !s) return fail(s.error().message);
     std::fprintf(stderr,
                  "geoslice render: %dx%d, %zu triangles, %s, draw+finish %.1f ms (first frame, includes JIT), "
-                 "anti-aliasing %s %.1f ms, readback %.2f ms, %zu trace segments -> %s\n",
+                 "anti-aliasing %s %.1f ms, readback %.2f ms, %zu trace segments, %zu triangles drawn%s -> %s\n",
                  img->width, img->height, (*gpu)->triangleCount(), clipMethodName(img->clipUsed), img->drawMs,
-                 antiAliasName(img->aaUsed), img->aaMs, img->readbackMs, img->traceSegments, a.out.c_str());
+                 antiAliasName(img->aaUsed), img->aaMs, img->readbackMs, img->traceSegments, img->trianglesDrawn,
+                 img->lodUsed ? " (LOD)" : "", a.out.c_str());
     return 0;
 }
 
@@ -188,6 +197,8 @@ void addRender(CLI::App& app, int& exitCode) {
                     "Vertical exaggeration of the picture (default 1; ids and cut planes stay true)");
     cmd->add_option("--aa", a->aa,
                     "Anti-aliasing of the colour image: auto (MSAA on a GPU, FXAA on llvmpipe), none, fxaa, msaa");
+    cmd->add_option("--lod", a->lod,
+                    "Level of detail away from the cut: auto (3D views on llvmpipe), on, off (full detail)");
     cmd->add_flag("--no-traces", a->noTraces, "Do not draw fault traces on the cut");
     cmd->add_option("--pivot", a->pivot, "Elevation (m) that exaggeration keeps in place (default 0)");
     cmd->callback([a, &exitCode] { exitCode = run(*a); });

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <thread>
 
+#include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "cli/commands.hpp"
@@ -51,6 +52,8 @@ int runServe(const ServeArgs& a) {
         std::fprintf(stderr, "geoslice serve: %s\n", s.error().message.c_str());
         return 2;
     }
+    // Logs go to stderr (one logfmt line per event); stdout carries only the banner.
+    spdlog::set_default_logger(spdlog::stderr_logger_mt("geoslice"));
     spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%eZ level=%l %v", spdlog::pattern_time_type::utc);
     spdlog::set_level(spdlog::level::from_str(config.logLevel));
 

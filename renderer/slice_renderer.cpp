@@ -426,9 +426,11 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     // shiftSign: 0 back faces (drawn where they are), +1 front faces and surfaces (away).
     const double shiftScale = std::max(1.0, request.exaggeration.factor);
     // offsetBase: the pass draws with the front-face polygon offset on.
+    std::vector<std::pair<const GpuModel::DrawPart::Cluster*, int>> simplified;
     auto draw = [&](const GpuModel::DrawPart& p, float shiftSign, bool offsetBase) {
         std::size_t runFirst = 0;
         GLsizei runCount = 0;
+        simplified.clear();
         for (const GpuModel::DrawPart::Cluster& c : p.clusters) {
             const float budget = allowed[c.cell];
             int level = budget < 0.0f ? -1 : 0;
@@ -437,37 +439,42 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
                 runCount += c.count[0];
                 continue;
             }
-            drawRange(p, runFirst, runCount);
-            runCount = 0;
-            if (level < 0) {
-                ++image.clustersSkipped;
-            } else if (level == 0) {
+            if (level == 0) {
+                drawRange(p, runFirst, runCount);
                 runFirst = c.first[0];
                 runCount = c.count[0];
+            } else if (level < 0) {
+                ++image.clustersSkipped;
             } else {
-                // Front faces of a simplified cluster go back by twice its error: along the
-                // ray (shader) for surfaces facing the viewer, and by a slope-scaled polygon
-                // offset for grazing ones (the error projects to at most lodPixelError
-                // pixels, which moves depth by at most that many depth slopes). Back faces
-                // stay: moving them would reorder back faces among themselves. One offset per
-                // pass: llvmpipe compiles a setup variant per distinct polygon offset.
-                if (shiftSign > 0.0f) {
-                    gl.ProgramUniform1f(prog, v.u.lodShift, float(2.0 * c.error[level] * shiftScale));
-                    gl.Enable(GL_POLYGON_OFFSET_FILL);
-                    gl.PolygonOffset(3.0f * request.lodPixelError + (offsetBase ? kFrontOffsetFactor : 0.0f),
-                                     offsetBase ? kFrontOffsetUnits : 0.0f);
-                }
-                drawRange(p, c.first[level], c.count[level]);
-                if (shiftSign > 0.0f) {
-                    gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
-                    if (offsetBase)
-                        gl.PolygonOffset(kFrontOffsetFactor, kFrontOffsetUnits);
-                    else
-                        gl.Disable(GL_POLYGON_OFFSET_FILL);
-                }
+                simplified.push_back({&c, level});
             }
         }
         drawRange(p, runFirst, runCount);
+        if (simplified.empty()) return;
+        // Simplified clusters after the full-detail runs, so that the pass state changes
+        // twice per part. Their front faces go back by twice the level's error: along the
+        // ray (shader) for surfaces facing the viewer, and by a slope-scaled polygon offset
+        // for grazing ones (the error projects to at most lodPixelError pixels, which moves
+        // depth by at most that many depth slopes). Back faces stay: moving them would
+        // reorder back faces among themselves. One offset per pass: llvmpipe compiles a
+        // setup variant per distinct polygon offset.
+        const bool shift = shiftSign > 0.0f;
+        if (shift) {
+            gl.Enable(GL_POLYGON_OFFSET_FILL);
+            gl.PolygonOffset(3.0f * request.lodPixelError + (offsetBase ? kFrontOffsetFactor : 0.0f),
+                             offsetBase ? kFrontOffsetUnits : 0.0f);
+        }
+        for (const auto& [c, level] : simplified) {
+            if (shift) gl.ProgramUniform1f(prog, v.u.lodShift, float(2.0 * c->error[level] * shiftScale));
+            drawRange(p, c->first[level], c->count[level]);
+        }
+        if (shift) {
+            gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
+            if (offsetBase)
+                gl.PolygonOffset(kFrontOffsetFactor, kFrontOffsetUnits);
+            else
+                gl.Disable(GL_POLYGON_OFFSET_FILL);
+        }
     };
     auto setFace = [&](int role, const GpuModel::DrawPart& p, RecordId capRecord, const glm::vec4& capColour) {
         gl.ProgramUniform1i(prog, v.u.faceRole, role);

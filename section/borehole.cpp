@@ -58,6 +58,8 @@ struct BoreholeTracer::Impl {
         if (device) rtcReleaseDevice(device);
     }
 
+    // Float32 tolerance at distance `t` along a ray cast from near the model (its float
+    // origin is the box entry point, so t is measured from there, not from the caller's origin).
     double tolerance(double t) const { return 1e-6 * (double(maxLocalCoord) + std::abs(t)) + 1e-4; }
 };
 
@@ -189,7 +191,7 @@ Result<Borehole> BoreholeTracer::traceRay(const glm::dvec3& origin, const glm::d
         const auto s = static_cast<std::uint32_t>(-tag - 1);
         const double t = t0 + double(h.t);
         bool dup = false;
-        for (auto it = bh.crossings.rbegin(); it != bh.crossings.rend() && t - it->depth < im.tolerance(t); ++it)
+        for (auto it = bh.crossings.rbegin(); it != bh.crossings.rend() && t - it->depth < im.tolerance(t - t0); ++it)
             dup = dup || it->surface == s;
         if (dup) continue;
         BoreholeCrossing c;
@@ -215,7 +217,7 @@ Result<Borehole> BoreholeTracer::traceRay(const glm::dvec3& origin, const glm::d
         const double t = t0 + double(h.t);
         const bool enter = h.cosine < 0.0f;
         bool dup = false;
-        for (auto it = events.rbegin(); it != events.rend() && t - it->t < im.tolerance(t); ++it)
+        for (auto it = events.rbegin(); it != events.rend() && t - it->t < im.tolerance(t - t0); ++it)
             dup = dup || (it->body == b && it->enter == enter);
         if (!dup) events.push_back(Event{t, b, enter});
     }
@@ -257,12 +259,12 @@ Result<Borehole> BoreholeTracer::traceRay(const glm::dvec3& origin, const glm::d
     // Drop slivers (coincident faces of neighbours), then merge what they separated.
     std::vector<Span> kept;
     for (const Span& s : spans) {
-        if (s.to - s.from < im.tolerance(s.to)) continue;
-        if (!kept.empty() && kept.back().body == s.body && s.from - kept.back().to < im.tolerance(s.from)) {
+        if (s.to - s.from < im.tolerance(s.to - t0)) continue;
+        if (!kept.empty() && kept.back().body == s.body && s.from - kept.back().to < im.tolerance(s.from - t0)) {
             kept.back().to = s.to;
             continue;
         }
-        if (!kept.empty() && s.from - kept.back().to < im.tolerance(s.from)) {
+        if (!kept.empty() && s.from - kept.back().to < im.tolerance(s.from - t0)) {
             // Close a sliver gap between neighbours at the midpoint: one shared boundary.
             const double mid = 0.5 * (s.from + kept.back().to);
             kept.back().to = mid;

@@ -1,0 +1,100 @@
+// `geoslice serve` as a user runs it: the real executable on a free port, configured by a
+// file, the environment and flags; it answers, then SIGTERM stops it cleanly (exit 0).
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "server/config.hpp"
+
+namespace geoslice::server {
+namespace {
+
+TEST(ServeCli, StartsAnswersAndStopsOnSigterm) {
+    const auto dir = std::filesystem::temp_directory_path() / ("geoslice_serve_cli_" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string config = (dir / "server.json").string();
+    std::ofstream(config) << R"({"demoTriangles": 20000, "gl": "none", "cors": "https://mine.example"})";
+    int out[2];
+    ASSERT_EQ(pipe(out), 0);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        dup2(out[1], 1);
+        close(out[0]);
+        const int devnull = open("/dev/null", O_WRONLY);
+        dup2(devnull, 2);
+        setenv("GEOSLICE_WORKERS", "1", 1);
+        execl(GEOSLICE_BINARY, GEOSLICE_BINARY, "serve", "--port", "0", "--host", "127.0.0.1", "--config",
+              config.c_str(), static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    close(out[1]);
+    // The first line names the port: "geoslice serving on http://127.0.0.1:PORT ...".
+    std::string line;
+    char c;
+    while (line.find("serving on") == std::string::npos) {
+        line.clear();
+        while (read(out[0], &c, 1) == 1 && c != '\n') line += c;
+        if (line.empty()) break;
+    }
+    const auto colon = line.rfind(':', line.find("  "));
+    ASSERT_NE(colon, std::string::npos) << line;
+    const int port = std::stoi(line.substr(colon + 1));
+    httplib::Client cl("127.0.0.1", port);
+    bool ready = false;
+    for (int i = 0; i < 200 && !ready; ++i) {
+        auto r = cl.Get("/readyz");
+        ready = r && r->status == 200;
+        if (!ready) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_TRUE(ready);
+    auto models = cl.Get("/v1/models/demo");
+    ASSERT_TRUE(models);
+    EXPECT_EQ(models->status, 200);
+    EXPECT_EQ(models->get_header_value("Access-Control-Allow-Origin"), "https://mine.example");  // from the file
+    auto page = cl.Get("/");
+    ASSERT_TRUE(page);
+    EXPECT_NE(page->body.find("L.CRS.Simple"), std::string::npos);
+    kill(pid, SIGTERM);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0);
+    close(out[0]);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(ServeConfig, SourcesAndErrors) {
+    ServerConfig c;
+    ASSERT_TRUE(applyConfigJson(c, R"({"port": 9000, "models": "/data", "cacheMiB": 64})", "test.json"));
+    EXPECT_EQ(c.port, 9000);
+    EXPECT_EQ(c.modelsDir, "/data");
+    EXPECT_EQ(c.cacheMiB, 64u);
+    ASSERT_TRUE(applyConfigEnv(c, {{"GEOSLICE_PORT", "9100"}, {"OTHER", "x"}}));
+    EXPECT_EQ(c.port, 9100);
+    auto unknown = applyConfigJson(c, R"({"prot": 1})", "test.json");
+    ASSERT_FALSE(unknown);
+    EXPECT_NE(unknown.error().message.find("unknown setting 'prot'"), std::string::npos);
+    auto bad = applyConfigEnv(c, {{"GEOSLICE_PORT", "70000"}});
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("GEOSLICE_PORT"), std::string::npos);
+    EXPECT_FALSE(applyConfigJson(c, "{not json", "test.json"));
+    EXPECT_FALSE(applyConfigJson(c, R"({"port": [1]})", "test.json"));
+    c.gl = "vulkan";
+    EXPECT_FALSE(checkConfig(c));
+}
+
+}  // namespace
+}  // namespace geoslice::server
