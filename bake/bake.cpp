@@ -8,10 +8,13 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include "bake/bake.hpp"
+#include "bake/field.hpp"
 
 namespace geoslice::bake {
 namespace {
@@ -68,6 +71,13 @@ Status checkOptions(const BakeOptions& o) {
     if (o.pack.width < 8 || o.pack.height < 8 || o.pack.width > 16384 || o.pack.height > 16384)
         return makeError(ErrorCode::InvalidArgument, "texture size " + std::to_string(o.pack.width) + "x" +
                                                          std::to_string(o.pack.height) + " is outside 8..16384");
+    if (o.field.blocks) {
+        if (o.field.blocks->values.empty())
+            return makeError(ErrorCode::InvalidArgument, "the block model has no blocks");
+        for (std::size_t i = 0; i < o.field.breaks.size(); ++i)
+            if (!std::isfinite(o.field.breaks[i]) || (i && !(o.field.breaks[i] > o.field.breaks[i - 1])))
+                return makeError(ErrorCode::InvalidArgument, "field class breaks must be finite and increasing");
+    }
     if (o.pack.margin < 2 || o.pack.margin > 64)
         return makeError(ErrorCode::InvalidArgument, "the chart margin must be 2..64 texels (seam padding needs 2)");
     return {};
@@ -167,6 +177,119 @@ void emitChart(const Flattened& f, const Placement& pl, const Mesh& mesh, const 
     }
     for (std::size_t k = 0; k < f.triangles.size(); ++k)
         for (int e = 0; e < 3; ++e) bp.indices[3 * std::size_t(f.triangles[k]) + e] = base + f.uv.corners[3 * k + e];
+}
+
+// Record ids of a field bake: one per (part record, class), from `base` up.
+struct FieldIds {
+    const BlockIndex* index = nullptr;
+    const FieldOptions* options = nullptr;
+    std::vector<RecordId> partRecords;  // sorted, unique, no 0
+    RecordId base = 0;
+    RecordId at(RecordId partRecord, const glm::dvec3& world) const {
+        if (partRecord == kNoRecord) return partRecord;
+        const int b = index->find(world);
+        if (b < 0) return partRecord;
+        const auto r = std::lower_bound(partRecords.begin(), partRecords.end(), partRecord) - partRecords.begin();
+        const int k = fieldClass(options->breaks, options->blocks->values[std::size_t(b)]);
+        return base + RecordId(r) * RecordId(options->breaks.size() + 1) + RecordId(k);
+    }
+};
+
+// Closest point of a triangle to p (2D), as barycentric weights; returns the squared distance.
+double closestBarycentric(const glm::dvec2 t[3], const glm::dvec2& p, glm::dvec3& bary) {
+    const double area = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y);
+    if (area != 0.0) {
+        const double b1 = ((p.x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (p.y - t[0].y)) / area;
+        const double b2 = ((t[1].x - t[0].x) * (p.y - t[0].y) - (p.x - t[0].x) * (t[1].y - t[0].y)) / area;
+        if (b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0) {
+            bary = {1.0 - b1 - b2, b1, b2};
+            return 0.0;
+        }
+    }
+    double best = std::numeric_limits<double>::infinity();
+    for (int e = 0; e < 3; ++e) {
+        const glm::dvec2 a = t[e], d = t[(e + 1) % 3] - a;
+        const double len2 = glm::dot(d, d);
+        const double u = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+        const glm::dvec2 q = a + u * d;
+        const double dist = glm::dot(p - q, p - q);
+        if (dist < best) {
+            best = dist;
+            bary = glm::dvec3(0.0);
+            bary[e] = 1.0 - u;
+            bary[(e + 1) % 3] = u;
+        }
+    }
+    return best;
+}
+
+// The field variant of rasterChart: each covered cell's centre is mapped back onto its nearest
+// triangle of the chart (texel space -> barycentric -> world) and takes that point's id;
+// padding cells copy the id of their first covered neighbour (row by row, left to right).
+void rasterChartField(const Flattened& f, const Placement& pl, const BakedPart& bp, const Mesh& mesh,
+                      const FieldIds& field, std::uint32_t width, std::uint32_t height, std::uint32_t* texels) {
+    const std::uint32_t mw = pl.w + 2, mh = pl.h + 2;
+    const std::size_t cells = std::size_t(mw) * mh;
+    std::vector<double> bestDist(cells, std::numeric_limits<double>::infinity());
+    std::vector<glm::dvec3> bestPoint(cells);
+    std::vector<std::uint8_t> mask(cells, 0), local;
+    for (std::size_t k = 0; k < f.triangles.size(); ++k) {
+        glm::dvec2 tri[3];
+        glm::dvec3 world[3];
+        for (int e = 0; e < 3; ++e) {
+            const glm::vec2 uv = bp.uvs[bp.indices[3 * std::size_t(f.triangles[k]) + e]];
+            tri[e] = {(double(uv.x) - double(pl.page)) * width - (double(pl.x) - 1.0),
+                      double(uv.y) * height - (double(pl.y) - 1.0)};
+            world[e] = mesh.positions[f.uv.vertices[f.uv.corners[3 * k + e]]];
+        }
+        const glm::dvec2 lo = glm::min(tri[0], glm::min(tri[1], tri[2])),
+                         hi = glm::max(tri[0], glm::max(tri[1], tri[2]));
+        const long x0 = std::max(0L, long(std::ceil(lo.x)) - 1), y0 = std::max(0L, long(std::ceil(lo.y)) - 1);
+        const long x1 = std::min(long(mw) - 1, long(std::floor(hi.x))),
+                   y1 = std::min(long(mh) - 1, long(std::floor(hi.y)));
+        if (x0 > x1 || y0 > y1) continue;
+        const auto lw = std::uint32_t(x1 - x0 + 1), lh = std::uint32_t(y1 - y0 + 1);
+        local.assign(std::size_t(lw) * lh, 0);
+        const glm::dvec2 shift{double(x0), double(y0)};
+        const glm::dvec2 moved[3] = {tri[0] - shift, tri[1] - shift, tri[2] - shift};
+        rasterizeConservative(moved, local.data(), lw, lh);
+        for (std::uint32_t j = 0; j < lh; ++j)
+            for (std::uint32_t i = 0; i < lw; ++i) {
+                if (!local[std::size_t(j) * lw + i]) continue;
+                const std::size_t c = std::size_t(y0 + long(j)) * mw + std::size_t(x0 + long(i));
+                glm::dvec3 b(1.0 / 3.0);
+                const double d =
+                    closestBarycentric(tri, glm::dvec2(double(x0 + long(i)) + 0.5, double(y0 + long(j)) + 0.5), b);
+                mask[c] = 1;
+                if (d < bestDist[c]) {
+                    bestDist[c] = d;
+                    bestPoint[c] = b.x * world[0] + b.y * world[1] + b.z * world[2];
+                }
+            }
+    }
+    std::vector<RecordId> ids(cells, kNoRecord);
+    for (std::size_t c = 0; c < cells; ++c)
+        if (mask[c]) ids[c] = field.at(bp.record, bestPoint[c]);
+    dilateMask(mask.data(), mw, mh);
+    std::uint32_t* page = texels + std::size_t(pl.page) * height * width;
+    for (std::uint32_t j = 0; j < mh; ++j) {
+        const long ty = long(pl.y) - 1 + long(j);
+        for (std::uint32_t i = 0; i < mw; ++i) {
+            const std::size_t c = std::size_t(j) * mw + i;
+            if (!mask[c]) continue;
+            RecordId id = ids[c];
+            for (int dy = -1; dy <= 1 && mask[c] == 2 && id == kNoRecord; ++dy)
+                for (int dx = -1; dx <= 1 && id == kNoRecord; ++dx) {
+                    const long ni = long(i) + dx, nj = long(j) + dy;
+                    if (ni >= 0 && nj >= 0 && ni < long(mw) && nj < long(mh) &&
+                        mask[std::size_t(nj) * mw + std::size_t(ni)] == 1)
+                        id = ids[std::size_t(nj) * mw + std::size_t(ni)];
+                }
+            const long tx = long(pl.x) - 1 + long(i);
+            if (tx < 0 || ty < 0 || tx >= long(width) || ty >= long(height)) continue;
+            page[std::size_t(ty) * width + std::size_t(tx)] = id;
+        }
+    }
 }
 
 // Rasterizes one emitted chart into its cell rectangle plus one texel of padding. Rectangles
@@ -310,9 +433,56 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     // 4. Raster.
     t0 = now();
     out.texels.assign(std::size_t(out.pages) * out.height * out.width, kNoRecord);
+    std::optional<BlockIndex> blockIndex;
+    FieldIds field;
+    if (options.field.blocks) {
+        blockIndex.emplace(*options.field.blocks);
+        field.index = &*blockIndex;
+        field.options = &options.field;
+        for (const auto& p : out.parts)
+            if (p.record != kNoRecord) field.partRecords.push_back(p.record);
+        std::sort(field.partRecords.begin(), field.partRecords.end());
+        field.partRecords.erase(std::unique(field.partRecords.begin(), field.partRecords.end()),
+                                field.partRecords.end());
+        field.base = model.attributes.nextId();
+        const auto& br = options.field.breaks;
+        for (std::size_t r = 0; r < field.partRecords.size(); ++r)
+            for (std::size_t k = 0; k <= br.size(); ++k) {
+                const AttributeRecord* parent = model.attributes.find(field.partRecords[r]);
+                AttributeRecord rec = parent ? *parent : AttributeRecord{};
+                rec.id = field.base + RecordId(r * (br.size() + 1) + k);
+                const double lo = k ? br[k - 1] : -std::numeric_limits<double>::infinity();
+                const double hi = k < br.size() ? br[k] : std::numeric_limits<double>::infinity();
+                char range[96];
+                if (k == 0 && br.empty())
+                    std::snprintf(range, sizeof range, "all");
+                else if (k == 0)
+                    std::snprintf(range, sizeof range, "< %g", hi);
+                else if (k == br.size())
+                    std::snprintf(range, sizeof range, ">= %g", lo);
+                else
+                    std::snprintf(range, sizeof range, "%g - %g", lo, hi);
+                const std::string fieldName = options.field.blocks->name;
+                rec.name = (parent ? parent->name : "record " + std::to_string(field.partRecords[r])) + ", " +
+                           fieldName + " " + range;
+                rec.grade = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : (std::isfinite(lo) ? lo : hi);
+                if (br.empty()) rec.grade.reset();
+                if (!options.field.unit.empty()) rec.gradeUnit = options.field.unit;
+                rec.extra["field"] = fieldName;
+                rec.extra["class"] = k;
+                if (std::isfinite(lo)) rec.extra["min"] = lo;
+                if (std::isfinite(hi)) rec.extra["max"] = hi;
+                rec.extra["parent"] = field.partRecords[r];
+                out.fieldRecords.push_back(std::move(rec));
+            }
+    }
     parallelFor(charts.size(), threads, "raster", progress, [&](std::size_t c) {
-        rasterChart(charts[c], packing->placements[c], out.parts[charts[c].part], out.width, out.height,
-                    out.texels.data());
+        const BakedPart& bp = out.parts[charts[c].part];
+        if (field.index)
+            rasterChartField(charts[c], packing->placements[c], bp, parts[charts[c].part].part->mesh, field, out.width,
+                             out.height, out.texels.data());
+        else
+            rasterChart(charts[c], packing->placements[c], bp, out.width, out.height, out.texels.data());
     });
     finishStats(out);
     out.stats.secondsRaster = now() - t0;
@@ -321,6 +491,9 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
 
 Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options) {
     if (auto s = checkOptions(options); !s) return s.error();
+    if (options.field.blocks || !baked.fieldRecords.empty())
+        return makeError(ErrorCode::Unsupported,
+                         "re-bake of a bake with a field (block model) is not supported: bake in full");
     if (part >= baked.parts.size())
         return makeError(ErrorCode::InvalidArgument, "re-bake: part " + std::to_string(part) + " of " +
                                                          std::to_string(baked.parts.size()) + " baked parts");

@@ -14,7 +14,8 @@
 // [0,1]^2 of one page, with the page index added to u (u in [page, page + 1)), so a
 // one-page bake has plain [0,1]^2 UVs. Texel (x, y) of a page covers
 // u in [x/W, (x+1)/W), v in [y/H, (y+1)/H); row y = 0 is the first row in memory (v = 0:
-// glTF's first image row, GL's t = 0), so nearest sampling is texelFetch(floor(uv * size)).
+// glTF's first image row, GL's t = 0), so nearest sampling is texelFetch at layer floor(u),
+// texel floor((u - layer) * W), floor(v * H).
 #pragma once
 
 #include <cstddef>
@@ -38,8 +39,8 @@ struct ChartOptions {
     // their normals differ by at most this angle (the paper's 85 degrees).
     double maxDihedralDegrees = 85.0;
     // Shape bound: no triangle of a chart deviates from the chart's seed normal by more than
-    // this, so the chart is a height field over the seed plane (keeps LSCM well conditioned
-    // and far from folds).
+    // this, so every triangle projects onto the seed plane without flipping (keeps LSCM well
+    // conditioned and far from folds).
     double maxConeDegrees = 80.0;
     // Size bound: triangles per chart. Growth is breadth-first from the seed, so charts are
     // compact (about round in hops).
@@ -249,7 +250,8 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options = {}
 // (first fit, tallest first, guillotine splits), and when that is full, on new pages (within
 // PackOptions::maxPages; a full bake compacts again). Other parts' UVs and texels do not
 // change. Errors: InvalidArgument (bad part index, bad geometry), OutOfRange when the new
-// charts need more than maxPages pages. On error `baked` is unchanged.
+// charts need more than maxPages pages, Unsupported for bakes with a field. On error `baked`
+// is unchanged.
 // `options` gives the chart options and threads; page size, margin and budget are baked.pack.
 Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options = {});
 

@@ -19,7 +19,8 @@ std::vector<std::string_view> splitRow(std::string_view line, char sep) {
         if (i == line.size() || line[i] == sep) {
             std::string_view f = line.substr(start, i - start);
             while (!f.empty() && (f.front() == ' ' || f.front() == '\t' || f.front() == '"')) f.remove_prefix(1);
-            while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r' || f.back() == '"')) f.remove_suffix(1);
+            while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r' || f.back() == '"'))
+                f.remove_suffix(1);
             out.push_back(f);
             start = i + 1;
         }
@@ -83,7 +84,8 @@ Result<BlockModel> parseBlockCsv(std::string_view text, const std::string& sourc
                 return makeError(ErrorCode::ParseError, source + ":" + std::to_string(lineNo) + ": \"" +
                                                             std::string(s.substr(0, 40)) + "\" is not a finite number");
             if (j >= 3 && j < 6 && !(v[j] > 0.0))
-                return makeError(ErrorCode::ParseError, source + ":" + std::to_string(lineNo) + ": block size must be > 0");
+                return makeError(ErrorCode::ParseError,
+                                 source + ":" + std::to_string(lineNo) + ": block size must be > 0");
         }
         b.centres.push_back({v[0], v[1], v[2]});
         b.sizes.push_back({v[3], v[4], v[5]});
@@ -98,7 +100,11 @@ BlockIndex::BlockIndex(const BlockModel& blocks) : blocks_(blocks) {
     std::vector<double> s;
     for (const auto& d : blocks.sizes) s.push_back(std::min({d.x, d.y, d.z}));
     std::nth_element(s.begin(), s.begin() + std::ptrdiff_t(s.size() / 2), s.end());
-    cell_ = s[s.size() / 2];
+    // The median block size, but at least 1/32 of the largest block's side, so that no block
+    // spans more than 33 cells per axis.
+    double largest = 0.0;
+    for (const auto& d : blocks.sizes) largest = std::max({largest, d.x, d.y, d.z});
+    cell_ = std::max(s[s.size() / 2], largest / 32.0);
     // Smallest block first, so that the first block found holding a point is the smallest.
     std::vector<std::uint32_t> order(blocks.values.size());
     for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -110,11 +116,9 @@ BlockIndex::BlockIndex(const BlockModel& blocks) : blocks_(blocks) {
     for (std::uint32_t i : order) {
         const glm::dvec3 lo = blocks.centres[i] - 0.5 * blocks.sizes[i], hi = blocks.centres[i] + 0.5 * blocks.sizes[i];
         const glm::dvec3 a = glm::floor(lo / cell_), b = glm::floor(hi / cell_);
-        // A block much larger than the median spans many cells: cap the fan-out (such a block
-        // is found through the cells of its own range only up to 64 per axis).
-        for (double z = a.z; z <= b.z && z - a.z < 64; ++z)
-            for (double y = a.y; y <= b.y && y - a.y < 64; ++y)
-                for (double x = a.x; x <= b.x && x - a.x < 64; ++x) grid_[key(x, y, z)].push_back(i);
+        for (double z = a.z; z <= b.z; ++z)
+            for (double y = a.y; y <= b.y; ++y)
+                for (double x = a.x; x <= b.x; ++x) grid_[key(x, y, z)].push_back(i);
     }
 }
 

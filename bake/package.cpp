@@ -90,7 +90,15 @@ Result<std::vector<std::uint8_t>> encodeFeaturePng(const BakedModel& baked, cons
     return png;
 }
 
+// The model's records plus the bake's field-class records.
+AttributeTable mergedAttributes(const Model& model, const BakedModel& baked) {
+    AttributeTable table = model.attributes;
+    for (const auto& r : baked.fieldRecords) table.put(r);
+    return table;
+}
+
 Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedModel& baked, bool features) {
+    const AttributeTable table = mergedAttributes(model, baked);
     if (features && baked.pages != 1)
         return makeError(ErrorCode::Unsupported, "EXT_mesh_features export needs a one-page bake (this one has " +
                                                      std::to_string(baked.pages) + " pages: raise the texture size)");
@@ -109,7 +117,7 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
     // Property-table rows: every record of the table and every part's record, by id.
     std::vector<RecordId> rows;
     if (features) {
-        for (const auto& [id, rec] : model.attributes.records()) rows.push_back(id);
+        for (const auto& [id, rec] : table.records()) rows.push_back(id);
         for (const BakedPart& part : baked.parts)
             if (part.record != kNoRecord) rows.push_back(part.record);
         std::sort(rows.begin(), rows.end());
@@ -178,7 +186,7 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
             std::string values;
             std::vector<std::uint32_t> offsets{0};
             for (RecordId id : rows) {
-                if (const AttributeRecord* r = model.attributes.find(id)) values += get(*r);
+                if (const AttributeRecord* r = table.find(id)) values += get(*r);
                 offsets.push_back(static_cast<std::uint32_t>(values.size()));
             }
             schemaProps[key] = {{"type", "STRING"}};
@@ -189,7 +197,7 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
         for (const char* key : {"density", "grade"}) {
             std::vector<double> v;
             for (RecordId id : rows) {
-                const AttributeRecord* r = model.attributes.find(id);
+                const AttributeRecord* r = table.find(id);
                 const std::optional<double> x =
                     r ? (std::strcmp(key, "density") ? r->grade : r->density) : std::nullopt;
                 v.push_back(x ? *x : -1.0);
@@ -215,7 +223,7 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
                          {{"version", 1},
                           {"crs", model.crs.id()},
                           {"origin", {model.origin.x, model.origin.y, model.origin.z}},
-                          {"attributes", model.attributes.toJson()["records"]}}}}}}};
+                          {"attributes", table.toJson()["records"]}}}}}}};
     doc["nodes"] = nodes;
     doc["meshes"] = meshes;
     doc["accessors"] = accessors;
@@ -402,7 +410,8 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
     ZSTD_freeCCtx(cctx);
     if (ZSTD_isError(packed)) return makeError(ErrorCode::Internal, std::string("zstd: ") + ZSTD_getErrorName(packed));
     texture.resize(packed);
-    const std::string attributes = model.attributes.toJson().dump(1);
+    const AttributeTable table = mergedAttributes(model, baked);
+    const std::string attributes = table.toJson().dump(1);
 
     const fs::path root(dir);
     if (auto s = writeFile(root / kMeshFile, mesh->data(), mesh->size()); !s) return s;
@@ -434,7 +443,7 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
                            {"sampling", "nearest"}};
     manifest["mesh"] = {
         {"file", kMeshFile}, {"parts", baked.parts.size()}, {"vertices", vertices}, {"triangles", triangles}};
-    manifest["attributes"] = {{"file", kAttributesFile}, {"records", model.attributes.size()}};
+    manifest["attributes"] = {{"file", kAttributesFile}, {"records", table.size()}};
     manifest["bake"] = {{"charts", st.charts},
                         {"splitCharts", st.splitCharts},
                         {"texelUtilisation", st.texelUtilisation},

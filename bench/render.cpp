@@ -104,7 +104,7 @@ json encodeTimes(const std::vector<std::uint8_t>& rgba, int w, int h) {
 int main(int argc, char** argv) {
     std::string sizes = "L1,L4", resolutions = "1024x1024,1920x1080", backends = "egl-device,egl-surfaceless,osmesa";
     int runs = 5, lodLevels = 5;
-    std::size_t perCell = 4096, maxCells = 4096;
+    std::size_t perCell = GpuModel::UploadOptions{}.trianglesPerCell, maxCells = GpuModel::UploadOptions{}.maxCells;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--sizes"))
             sizes = argv[i + 1];

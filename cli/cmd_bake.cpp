@@ -1,9 +1,12 @@
-// geoslice bake MODEL [--attributes table.csv|json] [--size 4096] [--min-density D]
+// geoslice bake MODEL [--attributes table.csv|json] [--field blocks.csv --breaks a,b,..]
+// [--field-unit U] [--size 4096] [--min-density D]
 // [--max-pages N] [--threads N] [--gltf FILE.glb] --out DIR: bakes the attribute-indexed texture and writes the
 // package (bake/package.hpp). Progress: a bar on a terminal (stderr), plain lines otherwise.
 #include <unistd.h>
 
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "bake/bake.hpp"
@@ -15,7 +18,8 @@ namespace geoslice::cli {
 namespace {
 
 struct BakeArgs {
-    std::string model, attributes, out, gltf;
+    std::string model, attributes, out, gltf, field, fieldUnit;
+    std::vector<double> breaks;
     std::uint32_t size = 4096;
     double minDensity = bake::PackOptions{}.minDensity;
     std::uint32_t maxPages = bake::PackOptions{}.maxPages;
@@ -65,7 +69,27 @@ int runBake(const BakeArgs& a) {
         }
         for (const auto& [id, rec] : table->records()) model->attributes.put(rec);
     }
+    bake::BlockModel blocks;
+    if (!a.field.empty()) {
+        std::ifstream in(a.field, std::ios::binary);
+        if (!in) {
+            std::fprintf(stderr, "geoslice bake: %s: cannot open\n", a.field.c_str());
+            return 1;
+        }
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        auto parsed = bake::parseBlockCsv(text, a.field);
+        if (!parsed) {
+            std::fprintf(stderr, "geoslice bake: %s\n", parsed.error().message.c_str());
+            return 1;
+        }
+        blocks = std::move(parsed).value();
+    }
     bake::BakeOptions o;
+    if (!a.field.empty()) {
+        o.field.blocks = &blocks;
+        o.field.breaks = a.breaks;
+        o.field.unit = a.fieldUnit;
+    }
     o.pack.width = o.pack.height = a.size;
     o.pack.minDensity = a.minDensity;
     o.pack.maxPages = a.maxPages;
@@ -108,6 +132,12 @@ void addBake(CLI::App& app, int& exitCode) {
         "bake", "Bake the attribute-indexed texture (charts, LSCM, packing, R32UI record ids) and write the package");
     cmd->add_option("MODEL", a->model, "Model file (glTF/GLB, OBJ, TSurf, Geo3DML)")->required();
     cmd->add_option("--attributes", a->attributes, "Attribute table (.csv or .json) merged over the model's records");
+    cmd->add_option("--field", a->field,
+                    "Block model CSV (x,y,z,dx,dy,dz,value: centres and sizes in world metres): texels inside a block "
+                    "get a record per (part record, value class)");
+    cmd->add_option("--breaks", a->breaks, "Class breaks of the field's value, increasing (e.g. 95,98)")
+        ->delimiter(',');
+    cmd->add_option("--field-unit", a->fieldUnit, "Unit of the field's value (e.g. \"% SiO2\")");
     cmd->add_option("--size", a->size, "Texture width and height, texels (default 4096)")->check(CLI::Range(8, 16384));
     cmd->add_option("--min-density", a->minDensity,
                     "Texels per metre below which more texture pages are used instead of one")

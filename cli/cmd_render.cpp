@@ -1,6 +1,6 @@
 // geoslice render MODEL --plane a,b,c,d [--plane ...] [--union] [--profile [--frame u0,u1,v0,v1] |
 //   --eye x,y,z --target x,y,z [--up x,y,z] [--fov deg]] [--size WxH] --out img.jpg|png|webp
-//   [--quality Q] [--lossless] [--ids ids.pgm]
+//   [--quality Q] [--lossless] [--ids ids.png|ids.pgm]
 //   [--gl auto|egl-device|egl-surfaceless|osmesa] [--device N] [--clip clip-distance|discard]
 //   [--background transparent|#rrggbb[aa]] [--exaggeration F [--pivot Z]] [--aa auto|none|fxaa|msaa]
 //   [--no-traces] [--lod auto|on|off]
@@ -114,7 +114,8 @@ int run(const RenderArgs& a) {
         enc.jpegQuality = enc.webpQuality = a.quality;
     }
     enc.webpLossless = a.lossless;
-    if (!a.ids.empty() && !a.ids.ends_with(".pgm")) return fail("--ids " + a.ids + ": expected a .pgm path");
+    if (!a.ids.empty() && !a.ids.ends_with(".pgm") && !a.ids.ends_with(".png"))
+        return fail("--ids " + a.ids + ": expected a .png or .pgm path (16-bit record ids)");
 
     auto model = loadModel(a.model);
     if (!model) return fail(model.error().message);
@@ -156,8 +157,13 @@ int run(const RenderArgs& a) {
     auto img = (*renderer)->render(**gpu, req);
     if (!img) return fail(img.error().message);
     if (auto s = writeImage(a.out, img->rgba.data(), img->width, img->height, enc); !s) return fail(s.error().message);
-    if (!a.ids.empty())
+    if (a.ids.ends_with(".png")) {
+        auto bytes = encodeGray16Png(img->ids.data(), img->width, img->height);
+        if (!bytes) return fail(a.ids + ": " + bytes.error().message);
+        if (auto s = writeFile(a.ids, *bytes); !s) return fail(s.error().message);
+    } else if (!a.ids.empty()) {
         if (auto s = writeIdsPgm16(a.ids, img->ids, img->width, img->height); !s) return fail(s.error().message);
+    }
     std::fprintf(stderr,
                  "geoslice render: %dx%d, %zu triangles, %s, draw+finish %.1f ms (first frame, includes JIT), "
                  "anti-aliasing %s %.1f ms, readback %.2f ms, %zu trace segments, %zu triangles drawn%s -> %s\n",
@@ -172,7 +178,7 @@ int run(const RenderArgs& a) {
 void addRender(CLI::App& app, int& exitCode) {
     auto a = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "render", "Render a cut of a model on a headless GL context (JPEG/PNG/WebP colour, 16-bit PGM ids)");
+        "render", "Render a cut of a model on a headless GL context (JPEG/PNG/WebP colour, 16-bit PNG/PGM ids)");
     cmd->add_option("MODEL", a->model, "Model file")->required();
     cmd->add_option("--plane", a->planes,
                     "Cut plane a,b,c,d in world coordinates (repeat up to 6); kept where ax+by+cz+d >= 0");
@@ -188,7 +194,7 @@ void addRender(CLI::App& app, int& exitCode) {
         ->required();
     cmd->add_option("--quality", a->quality, "JPEG/WebP quality 1..100 (default 85 JPEG, 80 WebP)");
     cmd->add_flag("--lossless", a->lossless, "WebP: lossless instead of lossy");
-    cmd->add_option("--ids", a->ids, "Record-id image (16-bit .pgm, 0 = no geology)");
+    cmd->add_option("--ids", a->ids, "Record-id image, 16-bit grey .png or .pgm (0 = no geology)");
     cmd->add_option("--gl", a->gl, "GL backend: auto, egl-device, egl-surfaceless, osmesa");
     cmd->add_option("--device", a->device, "EGL device index for egl-device (default: prefer hardware)");
     cmd->add_option("--clip", a->clip, "clip-distance (default) or discard (the paper's fragment mask)");

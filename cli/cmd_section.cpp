@@ -122,7 +122,8 @@ void addSection(CLI::App& app, int& exitCode) {
     elevOpt->excludes(lineOpt);
     cmd->add_option("--size", o->size, "Image size WxH in pixels (default 1024x1024)");
     cmd->add_option("--frame", o->frame,
-                    "Frame u0,u1,v0,v1 in plane metres (default: the section's extent); same meaning as in render");
+                    "Frame u0,u1,v0,v1 in plane metres (with --line: distance along the line and elevation; "
+                    "default: the section's extent); same meaning as in render");
     cmd->add_option("--out", o->outs,
                     "Output file, repeatable: .png/.jpg/.webp/.ppm = colour, .pgm = record ids (16-bit)");
     cmd->add_option("--geojson", o->geojson, "Write the polygons and traces as GeoJSON");

@@ -34,9 +34,11 @@ namespace geoslice {
 struct GpuUploadOptions {
     enum class Lod { Off, On, Auto };  // Auto: on for software rasterisers (llvmpipe)
     Lod lod = Lod::Auto;
-    std::size_t trianglesPerCell = 4096;  // grid resolution
-    std::size_t maxCells = 4096;          // 1..GpuModel::kMaxCells
-    int lodLevels = 5;                    // levels including full detail, 1..GpuModel::kMaxLodLevels
+    // Grid resolution. Measured on L4 (10M triangles) at 1024x1024 on llvmpipe: 1024 per
+    // cell draws 2.42M triangles with LOD (274 ms CPU) against 2.78M (295 ms) at 4096.
+    std::size_t trianglesPerCell = 1024;
+    std::size_t maxCells = 16384;  // 1..GpuModel::kMaxCells
+    int lodLevels = 5;             // levels including full detail, 1..GpuModel::kMaxLodLevels
 };
 
 class GpuModel {

@@ -100,9 +100,10 @@ void pngError(png_structp png, png_const_charp msg) {
 }
 void pngWarning(png_structp, png_const_charp) {}
 
-// Returns false with st.message set on a codec error.
-bool pngEncodeRaw(const std::uint8_t* rgba, const std::uint8_t* rows3, int width, int height, const EncodeOptions& o,
-                  PngWriteState& st) {
+// Returns false with st.message set on a codec error. `rows`: height rows of `stride`
+// bytes in PNG sample order (16-bit samples big-endian).
+bool pngEncodeRaw(const std::uint8_t* rows, std::size_t stride, int width, int height, int bitDepth, int colourType,
+                  const EncodeOptions& o, PngWriteState& st) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &st, pngError, pngWarning);
     if (!png) {
         std::snprintf(st.message, sizeof st.message, "png_create_write_struct failed");
@@ -115,17 +116,13 @@ bool pngEncodeRaw(const std::uint8_t* rgba, const std::uint8_t* rows3, int width
         return false;
     }
     png_set_write_fn(png, &st, pngWrite, pngFlush);
-    const bool alpha = rows3 == nullptr;
-    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8,
-                 alpha ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bitDepth, colourType, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(png, o.pngLevel);
     png_set_filter(png, PNG_FILTER_TYPE_BASE, o.pngFilter == PngFilter::Sub ? PNG_FILTER_SUB : PNG_FILTER_NONE);
     png_set_compression_buffer_size(png, 1 << 17);
     png_write_info(png, info);
-    const std::size_t stride = std::size_t(width) * (alpha ? 4 : 3);
-    const std::uint8_t* base = alpha ? rgba : rows3;
-    for (int y = 0; y < height; ++y) png_write_row(png, const_cast<png_bytep>(base + std::size_t(y) * stride));
+    for (int y = 0; y < height; ++y) png_write_row(png, const_cast<png_bytep>(rows + std::size_t(y) * stride));
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
     return true;
@@ -145,8 +142,10 @@ Result<std::vector<std::uint8_t>> encodePng(const std::uint8_t* rgba, int width,
     bytes.reserve(pixels / 2);
     PngWriteState st;
     st.bytes = &bytes;
-    if (!pngEncodeRaw(rgba, o.keepAlpha ? nullptr : rgb.data(), width, height, o, st))
-        return makeError(ErrorCode::Internal, std::string("PNG encoding failed: ") + st.message);
+    const bool ok = o.keepAlpha
+                        ? pngEncodeRaw(rgba, std::size_t(width) * 4, width, height, 8, PNG_COLOR_TYPE_RGB_ALPHA, o, st)
+                        : pngEncodeRaw(rgb.data(), std::size_t(width) * 3, width, height, 8, PNG_COLOR_TYPE_RGB, o, st);
+    if (!ok) return makeError(ErrorCode::Internal, std::string("PNG encoding failed: ") + st.message);
     return bytes;
 }
 
@@ -346,17 +345,46 @@ Result<std::vector<std::uint8_t>> encodeImage(const std::vector<std::uint8_t>& r
     return encodeImage(rgba.data(), width, height, format, options);
 }
 
+Result<std::vector<std::uint8_t>> encodeGray16Png(const std::uint32_t* values, int width, int height,
+                                                  const EncodeOptions& options) {
+    if (width <= 0 || height <= 0 || width > kMaxPngSide || height > kMaxPngSide)
+        return makeError(ErrorCode::InvalidArgument, "cannot encode a " + sizeText(width, height) + " 16-bit PNG");
+    if (!values) return makeError(ErrorCode::InvalidArgument, "no values to encode (null buffer)");
+    if (options.pngLevel < 0 || options.pngLevel > 9)
+        return makeError(ErrorCode::InvalidArgument,
+                         "PNG zlib level " + std::to_string(options.pngLevel) + " is outside 0..9");
+    const std::size_t n = std::size_t(width) * std::size_t(height);
+    std::vector<std::uint8_t> samples(n * 2);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (values[i] > 0xffff)
+            return makeError(ErrorCode::OutOfRange, "value " + std::to_string(values[i]) + " at pixel " +
+                                                        std::to_string(i) + " does not fit a 16-bit PNG");
+        samples[2 * i] = std::uint8_t(values[i] >> 8);
+        samples[2 * i + 1] = std::uint8_t(values[i] & 0xff);
+    }
+    std::vector<std::uint8_t> bytes;
+    PngWriteState st;
+    st.bytes = &bytes;
+    if (!pngEncodeRaw(samples.data(), std::size_t(width) * 2, width, height, 16, PNG_COLOR_TYPE_GRAY, options, st))
+        return makeError(ErrorCode::Internal, std::string("PNG encoding failed: ") + st.message);
+    return bytes;
+}
+
+Status writeFile(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) return makeError(ErrorCode::IoError, "cannot open " + path + ": " + std::strerror(errno));
+    const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    if (std::fclose(f) != 0 || !ok) return makeError(ErrorCode::IoError, "cannot write " + path);
+    return {};
+}
+
 Status writeImage(const std::string& path, const std::uint8_t* rgba, int width, int height,
                   const EncodeOptions& options) {
     auto format = imageFormatFromPath(path);
     if (!format) return format.error();
     auto bytes = encodeImage(rgba, width, height, *format, options);
     if (!bytes) return makeError(bytes.error().code, path + ": " + bytes.error().message);
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) return makeError(ErrorCode::IoError, "cannot open " + path + ": " + std::strerror(errno));
-    const bool ok = std::fwrite(bytes->data(), 1, bytes->size(), f) == bytes->size();
-    if (std::fclose(f) != 0 || !ok) return makeError(ErrorCode::IoError, "cannot write " + path);
-    return {};
+    return writeFile(path, *bytes);
 }
 
 Result<DecodedImage> readPngRgba(const std::string& path) {

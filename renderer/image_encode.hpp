@@ -49,6 +49,14 @@ Result<std::vector<std::uint8_t>> encodeImage(const std::vector<std::uint8_t>& r
 // limit, WebP 16383).
 int maxImageSide(ImageFormat format);
 
+// Values 0..65535 (e.g. record ids) as a 16-bit grayscale PNG with the fast settings of
+// `options` (pngLevel, pngFilter). Errors: InvalidArgument (size), OutOfRange naming the
+// first value above 65535, Internal (codec).
+Result<std::vector<std::uint8_t>> encodeGray16Png(const std::uint32_t* values, int width, int height,
+                                                  const EncodeOptions& options = {});
+// Writes bytes to a file; IoError naming the path.
+Status writeFile(const std::string& path, const std::vector<std::uint8_t>& bytes);
+
 // Decodes a PNG file (8-bit gray/RGB/RGBA, palette expanded) to RGBA8, rows top first:
 // the reader for golden images. Errors: IoError naming the path, ParseError for a file
 // libpng rejects.

@@ -500,11 +500,19 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     gl.PolygonOffset(kFrontOffsetFactor, kFrontOffsetUnits);
     for (const auto& p : model.parts())
         if (p.body) {
-            if (p.containerRecord != kNoRecord)
+            if (p.containerRecord != kNoRecord) {
+                // A nested body shares no surface with its container, so its front faces
+                // need no offset; with one, its own back face won through them where the
+                // body is thin along the ray (specks of the nested body's cap at its rim).
                 setFace(1, p, p.containerRecord, p.containerColour);
-            else
+                gl.Disable(GL_POLYGON_OFFSET_FILL);
+                draw(p, 1.0f, false);
+                gl.Enable(GL_POLYGON_OFFSET_FILL);
+                gl.PolygonOffset(kFrontOffsetFactor, kFrontOffsetUnits);
+            } else {
                 setFace(0, p, p.record, p.colour);
-            draw(p, 1.0f, true);
+                draw(p, 1.0f, true);
+            }
         }
     gl.Disable(GL_POLYGON_OFFSET_FILL);
     // Open surfaces, both sides, never over a cut face (stencil 1).

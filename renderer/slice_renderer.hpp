@@ -15,8 +15,15 @@
 //   - a front face of a top-level body: its exterior -> D, lit.
 // Coincident faces of two bodies (partition models, shared horizons) tie; the back face
 // must win (the point is in the body being exited), so front faces are drawn with a small
-// polygon offset away from the viewer. The stencil buffer marks cap pixels (1) so that open
-// surfaces (faults) never cover a cut face.
+// polygon offset away from the viewer (not for nested bodies, which share no surface with
+// their container: there the offset let a thin rim's back face win). The stencil buffer
+// marks cap pixels (1) so that open surfaces (faults) never cover a cut face.
+//
+// After the bodies: open surfaces where no cap is; fault traces (CPU-cut segments of the
+// open surfaces, GL_LINES on cap pixels, colour only); then anti-aliasing of the colour
+// (MSAA resolve or an FXAA pass). Clusters of the GpuModel on the removed side or outside
+// the view are skipped; level of detail replaces clusters that no plane crosses by
+// simplified copies (see SliceRequest::lod and renderer/gpu_model.hpp).
 //
 // Threads: create, use and destroy on the owning GlContext's thread. GL state: render()
 // sets all the state it needs and, before returning, binds framebuffer 0, no program and no

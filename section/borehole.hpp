@@ -20,7 +20,8 @@
 // nesting depth from validation: nested bodies win over their host, like the oracle in
 // section/classify.hpp). A ray that starts inside a body (its first hit on that body
 // exits it) starts in the body. Slivers shorter than the float tolerance (1e-6 x (model
-// half-extent + distance) + 0.1 mm, the classifier's) are dropped, so the coincident faces
+// half-extent + distance from where the ray enters the model's box) + 0.1 mm, the
+// classifier's) are dropped, so the coincident faces
 // of two neighbouring bodies give one boundary, not a gap. Hits where the ray runs within
 // 1e-4 (cosine) of a face's plane decide nothing (the ray slides along the face).
 // Only closed bodies (validation's `closed`) give intervals; open surfaces give crossings.

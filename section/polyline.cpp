@@ -10,8 +10,8 @@
 namespace geoslice {
 namespace {
 
-constexpr std::size_t kMaxLinePoints = 4096;
-constexpr double kMinLeg = 1e-3;  // metres: closer consecutive points are one point
+constexpr std::size_t kMaxLinePoints = 256;  // as api/plan.hpp's kMaxLineVertices
+constexpr double kMinLeg = 1e-3;             // metres: closer consecutive points are one point
 
 // Clips against one vertical line: keeps x >= c (keepRight) or x <= c.
 Ring clipHalf(const Ring& in, double c, bool keepRight) {
@@ -68,6 +68,23 @@ void clipPolyline(const std::vector<glm::dvec2>& pts, bool closed, double lo, do
     flush();
 }
 
+// Whether the map segment a-b meets the rectangle [lo, hi] (Liang-Barsky).
+bool segmentMeetsRect(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& lo, const glm::dvec2& hi) {
+    double t0 = 0.0, t1 = 1.0;
+    for (int k = 0; k < 2; ++k) {
+        const double d = b[k] - a[k];
+        if (d == 0.0) {
+            if (a[k] < lo[k] || a[k] > hi[k]) return false;
+            continue;
+        }
+        double ta = (lo[k] - a[k]) / d, tb = (hi[k] - a[k]) / d;
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    return t0 <= t1;
+}
+
 void extendBox(glm::dvec2& lo, glm::dvec2& hi, const std::vector<glm::dvec2>& pts) {
     for (const auto& p : pts) {
         lo = glm::min(lo, p);
@@ -111,6 +128,8 @@ Result<SectionLine> makeSectionLine(const std::vector<glm::dvec2>& points) {
     }
     if (line.points.size() < 2)
         return makeError(ErrorCode::InvalidArgument, "the section line has zero length (all points within 1 mm)");
+    if (!std::isfinite(line.length()))
+        return makeError(ErrorCode::InvalidArgument, "the section line's length overflows (coordinates too large)");
     return line;
 }
 
@@ -144,6 +163,11 @@ Result<PolylineSection> computePolylineSection(const SectionIndex& index, const 
         const glm::dvec2 d = (b - a) / glm::length(b - a);
         const glm::dvec3 n(-d.y, d.x, 0.0);  // left of a -> b: the frame's u is then along the leg
         leg.plane = Plane{n, -(n.x * a.x + n.y * a.y)};
+        const glm::dvec2 mapLo(index.bounds.min.x, index.bounds.min.y), mapHi(index.bounds.max.x, index.bounds.max.y);
+        if (!segmentMeetsRect(a, b, mapLo, mapHi)) {  // the leg runs beside the model: nothing to cut
+            out.legs.push_back(leg);
+            continue;
+        }
         auto checked = checkSectionPlane(index, leg.plane);
         if (!checked) {
             if (checked.error().code != ErrorCode::OutOfRange) return checked.error();
@@ -208,7 +232,7 @@ Result<PolylineSection> computePolylineSection(const SectionIndex& index, const 
         const Aabb& b = index.bounds;
         char buf[512];
         std::snprintf(buf, sizeof buf,
-                      "the section line from (%.3f, %.3f) to (%.3f, %.3f) misses the model: its bounds are "
+                      "the section line from (%.3f, %.3f) to (%.3f, %.3f) misses the model: its map extent is "
                       "x %.3f..%.3f, y %.3f..%.3f",
                       L.points.front().x, L.points.front().y, L.points.back().x, L.points.back().y, b.min.x, b.max.x,
                       b.min.y, b.max.y);

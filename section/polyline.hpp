@@ -44,7 +44,8 @@ struct SectionLine {
 };
 
 // Checks and cleans a polyline: at least 2 points, all finite, consecutive duplicates
-// (closer than 1 mm) dropped, at most 4096 points. Errors: InvalidArgument naming the point.
+// (closer than 1 mm) dropped, at most 256 points (as the HTTP API), length finite.
+// Errors: InvalidArgument naming the point or the count.
 Result<SectionLine> makeSectionLine(const std::vector<glm::dvec2>& points);
 
 struct PolylineLeg {
@@ -66,8 +67,9 @@ struct PolylineSection {
     bool empty() const { return bodies.empty() && traces.empty(); }
 };
 
-// Cuts every leg and clips. Errors: those of makeSectionLine; OutOfRange when no leg's
-// plane meets the model's bounding box (names the line's ends and the bounds).
+// Cuts every leg and clips; a leg whose map segment misses the model's map extent is not
+// cut (PolylineLeg::cut = false). Errors: those of makeSectionLine; OutOfRange when no leg
+// meets the model's map extent (names the line's ends and the extent).
 Result<PolylineSection> computePolylineSection(const SectionIndex& index, const std::vector<glm::dvec2>& points,
                                                const SectionOptions& options = {});
 

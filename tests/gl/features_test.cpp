@@ -368,3 +368,86 @@ TEST(AntiAliasing, MsaaIdsAreSampledNeverBlended) {
     EXPECT_GE(double(same), 0.97 * kW * kH);
     EXPECT_GT(blended, 100u);
 }
+
+// Clusters (renderer/gpu_model.hpp): full detail is split exactly into clusters, every
+// simplified level is a smaller triangle list with a non-decreasing error, and skipping clusters on the removed side or
+// outside the view changes no pixel: the same frames from a one-cell upload are identical.
+TEST(Clusters, PartitionTheMeshAndCullingIsExact) {
+    auto ctx = makeContext();
+    ASSERT_TRUE(ctx);
+    Model model = syntheticModel(20000, OreVariant::Nested, 9);
+    GpuModel::UploadOptions many;
+    many.trianglesPerCell = 256;
+    many.maxCells = 4096;
+    many.lod = GpuModel::UploadOptions::Lod::On;
+    GpuModel::UploadOptions one;
+    one.maxCells = 1;
+    one.lod = GpuModel::UploadOptions::Lod::Off;
+    auto a = GpuModel::upload(*ctx, model, many);
+    auto b = GpuModel::upload(*ctx, model, one);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_GT((*a)->cellBounds().size(), 40u);
+    EXPECT_EQ((*b)->cellBounds().size(), 1u);
+    EXPECT_TRUE((*a)->hasLod());
+    std::size_t simplifiedClusters = 0;
+    const std::vector<Part*> partsInOrder = [&] {
+        std::vector<Part*> v;
+        for (Part& p : model.bodies) v.push_back(&p);
+        for (Part& p : model.surfaces) v.push_back(&p);
+        return v;
+    }();
+    ASSERT_EQ((*a)->parts().size(), partsInOrder.size());
+    for (std::size_t k = 0; k < partsInOrder.size(); ++k) {
+        const GpuModel::DrawPart& p = (*a)->parts()[k];
+        std::size_t next = p.firstIndex;
+        for (const auto& c : p.clusters) {
+            EXPECT_EQ(c.first[0], next);  // level 0 of the clusters tiles the part's range
+            next += std::size_t(c.count[0]);
+            EXPECT_EQ(c.count[0] % 3, 0);
+            for (int l = 1; l < c.levels; ++l) {
+                ++simplifiedClusters;
+                EXPECT_EQ(c.count[l] % 3, 0);
+                EXPECT_LT(c.count[l], c.count[l - 1]);
+                EXPECT_GE(c.error[l], c.error[l - 1]);
+            }
+        }
+        EXPECT_EQ(next, p.firstIndex + std::size_t(p.indexCount));
+        EXPECT_EQ(std::size_t(p.indexCount), partsInOrder[k]->mesh.indices.size());
+    }
+    EXPECT_GT(simplifiedClusters, 10u);
+
+    auto renderer = SliceRenderer::create(*ctx);
+    ASSERT_TRUE(renderer.ok());
+    SliceRequest req = profileRequest(model, 1.0);
+    req.lod = SliceRequest::Lod::Off;
+    req.antiAlias = AntiAlias::None;
+    const Aabb bb = model.bounds();
+    const glm::dvec3 c = bb.centre();
+    for (int view = 0; view < 3; ++view) {
+        if (view == 1) req.view = PerspectiveView{c + glm::dvec3(-3000, -9000, 4000), c, {0, 0, 1}, 35.0};
+        if (view == 2)  // zoomed in: most cells are outside the view
+            req.view = PerspectiveView{c + glm::dvec3(-300, -1500, 300), c, {0, 0, 1}, 20.0};
+        auto ia = (*renderer)->render(**a, req);
+        auto ib = (*renderer)->render(**b, req);
+        ASSERT_TRUE(ia.ok() && ib.ok());
+        std::printf("[ clusters ] view %d: %zu clusters skipped, %zu vs %zu triangles\n", view, ia->clustersSkipped,
+                    ia->trianglesDrawn, ib->trianglesDrawn);
+        EXPECT_GT(ia->clustersSkipped, 0u);
+        EXPECT_LT(ia->trianglesDrawn, ib->trianglesDrawn);
+        EXPECT_EQ(ia->ids, ib->ids) << "view " << view;
+        EXPECT_EQ(ia->rgba, ib->rgba) << "view " << view;
+    }
+    // Level of detail on the same 3D view: fewer triangles, ids nearly all equal.
+    req.view = PerspectiveView{c + glm::dvec3(-3000, -9000, 4000), c, {0, 0, 1}, 35.0};
+    auto full = (*renderer)->render(**a, req);
+    req.lod = SliceRequest::Lod::On;
+    auto lod = (*renderer)->render(**a, req);
+    ASSERT_TRUE(full.ok() && lod.ok());
+    EXPECT_TRUE(lod->lodUsed);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < full->ids.size(); ++i) differ += full->ids[i] != lod->ids[i];
+    std::printf("[ lod      ] %zu vs %zu triangles, %zu of %zu id pixels differ\n", lod->trianglesDrawn,
+                full->trianglesDrawn, differ, full->ids.size());
+    EXPECT_LT(lod->trianglesDrawn, full->trianglesDrawn);
+    EXPECT_LE(double(differ), 0.005 * double(full->ids.size()));
+}

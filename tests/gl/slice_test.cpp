@@ -232,6 +232,7 @@ TEST_F(SliceOracle, PerspectiveCutMatchesTheOracle) {
     req.width = req.height = kSize;
     req.planes = {plane};
     req.view = pv;
+    req.lod = SliceRequest::Lod::Off;  // the exact pass; level of detail is checked below
     auto img = renderer->render(*gpu, req);
     ASSERT_TRUE(img.ok()) << img.error().message;
     std::vector<char> valid;
@@ -241,6 +242,19 @@ TEST_F(SliceOracle, PerspectiveCutMatchesTheOracle) {
                 img->drawMs);
     EXPECT_GT(a.compared, 5000u);
     EXPECT_GE(a.fraction(), kMinAgreement);
+    // Level of detail (the llvmpipe default for 3D views): clusters the plane crosses stay
+    // exact, but where a simplified thin layer lies just behind the cut its back face can
+    // swap with its neighbour's. Measured 99.3% here (256 px: a pixel is ~25 m of error);
+    // bound 99%.
+    req.lod = SliceRequest::Lod::On;
+    auto lodImg = renderer->render(*gpu, req);
+    ASSERT_TRUE(lodImg.ok()) << lodImg.error().message;
+    if (lodImg->lodUsed) {
+        const Agreement l = compare(lodImg->ids, oracle, kSize, kSize, &valid);
+        std::printf("[ persp    ] LOD: %zu/%zu agree (%.4f%%), %zu/%zu triangles\n", l.agree, l.compared,
+                    100.0 * l.fraction(), lodImg->trianglesDrawn, img->trianglesDrawn);
+        EXPECT_GE(l.fraction(), 0.99);
+    }
     if (a.fraction() < kMinAgreement) {
         writePgm("gl_fail_persp_actual.pgm", img->ids, kSize, kSize);
         writePgm("gl_fail_persp_oracle.pgm", oracle, kSize, kSize);
@@ -253,7 +267,8 @@ TEST_F(SliceOracle, PerspectiveCutMatchesTheOracle) {
 // images that barely show the cut (< 2000 comparable pixels) are skipped, and at least 30
 // of the 40 must count. The perspective views are also drawn with level of detail (when the
 // model was uploaded with it, i.e. on llvmpipe): >= 99.5% per image and >= 99.9% over all
-// images, since a simplified thin layer can lose a pixel where the ray grazes it.
+// images (measured 99.86% worst, 99.97% overall), since a simplified thin layer just behind
+// the cut can swap with its neighbour.
 TEST_F(SliceOracle, L1TwentyRandomPlanesProfileAndPerspective) {
     load(OreVariant::Nested, 21, nullptr, *namedModelSize("L1"));
     ASSERT_TRUE(gpu);

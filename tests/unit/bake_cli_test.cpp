@@ -49,5 +49,25 @@ TEST(BakeCli, BakesAModelIntoALoadablePackage) {
     const std::string msg((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
     EXPECT_NE(msg.find("does not fit the texture budget"), std::string::npos) << msg;
     EXPECT_EQ(test::runGeoslice("bake " + (dir / "missing.glb").string() + " --out " + out).exitCode, 1);
+    // A block-model field: class records appear in the package's table; a bad CSV is exit 1.
+    {
+        std::ofstream csv(dir / "blocks.csv");
+        csv << "x,y,z,dx,dy,dz,SiO2\n1500,2000,700,3000,4000,3000,90\n4500,2000,700,3000,4000,3000,99\n";
+    }
+    r = test::runGeoslice("bake " + model + " --size 512 --field " + (dir / "blocks.csv").string() +
+                          " --breaks 95,98 --field-unit '% SiO2' --out " + (dir / "pkgf").string());
+    ASSERT_EQ(r.exitCode, 0);
+    auto withField = bake::loadPackage((dir / "pkgf").string());
+    ASSERT_TRUE(withField.ok()) << withField.error().message;
+    std::size_t classRecords = 0;
+    for (const auto& [id, rec] : withField->attributes.records()) classRecords += rec.extra.contains("class");
+    EXPECT_GT(classRecords, 0u);
+    EXPECT_EQ(classRecords % 3, 0u);  // three classes for each part record
+    {
+        std::ofstream csv(dir / "bad.csv");
+        csv << "x,y,z,dx,dy,dz,SiO2\n1,2,3,4,5,-6,7\n";
+    }
+    EXPECT_EQ(test::runGeoslice("bake " + model + " --field " + (dir / "bad.csv").string() + " --out " + out).exitCode,
+              1);
     fs::remove_all(dir);
 }

@@ -319,3 +319,34 @@ TEST(ImageEncode, WriteImageChoosesTheCodecByExtensionAndReportsIoErrors) {
 
 }  // namespace
 }  // namespace geoslice
+
+namespace geoslice {
+namespace {
+
+// 16-bit ids: decoded by libpng's simplified reader as 16-bit linear gray, exactly.
+TEST(ImageEncode, Gray16PngKeepsValuesExactlyAndRejectsWideOnes) {
+    const int w = 37, h = 11;
+    std::vector<std::uint32_t> v(std::size_t(w) * h);
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = std::uint32_t((i * 2654435761u) & 0xffff);
+    auto bytes = encodeGray16Png(v.data(), w, h);
+    ASSERT_TRUE(bytes.ok()) << bytes.error().message;
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    ASSERT_TRUE(png_image_begin_read_from_memory(&image, bytes->data(), bytes->size())) << image.message;
+    EXPECT_EQ(int(image.width), w);
+    EXPECT_EQ(image.format & PNG_FORMAT_FLAG_LINEAR, PNG_FORMAT_FLAG_LINEAR);  // 16-bit stays 16-bit
+    image.format = PNG_FORMAT_LINEAR_Y;
+    std::vector<std::uint16_t> back(v.size());
+    ASSERT_TRUE(png_image_finish_read(&image, nullptr, back.data(), 0, nullptr)) << image.message;
+    for (std::size_t i = 0; i < v.size(); ++i) ASSERT_EQ(back[i], v[i]) << "pixel " << i;
+    v[5] = 70000;
+    auto wide = encodeGray16Png(v.data(), w, h);
+    ASSERT_FALSE(wide.ok());
+    EXPECT_EQ(wide.error().code, ErrorCode::OutOfRange);
+    EXPECT_NE(wide.error().message.find("70000"), std::string::npos);
+    EXPECT_FALSE(encodeGray16Png(v.data(), 0, h).ok());
+    EXPECT_FALSE(encodeGray16Png(nullptr, w, h).ok());
+}
+
+}  // namespace
+}  // namespace geoslice

@@ -110,10 +110,21 @@ TEST(PolylineSection, BadLinesAreErrors) {
     ASSERT_FALSE(miss.ok());
     EXPECT_EQ(miss.error().code, ErrorCode::OutOfRange);
     EXPECT_NE(miss.error().message.find("misses the model"), std::string::npos);
-    // A leg inside the bounds' planes but beside the model gives an empty section, no error.
-    auto beside = computePolylineSection(*idx, {{200, 50}, {300, 50}});
-    ASSERT_TRUE(beside.ok());
-    EXPECT_TRUE(beside->empty());
+    // A line whose legs all run beside the model (their planes cross its box): an error too.
+    auto beside = computePolylineSection(*idx, {{200, 50}, {300, 50}, {300, 150}});
+    ASSERT_FALSE(beside.ok());
+    EXPECT_EQ(beside.error().code, ErrorCode::OutOfRange);
+    // One leg beside, one through: the first is not cut, the section is the second's.
+    auto part = computePolylineSection(*idx, {{50, 200}, {50, 150}, {50, -50}});
+    ASSERT_TRUE(part.ok());
+    ASSERT_EQ(part->legs.size(), 2u);
+    EXPECT_FALSE(part->legs[0].cut);
+    EXPECT_TRUE(part->legs[1].cut);
+    ASSERT_EQ(part->bodies.size(), 1u);
+    EXPECT_NEAR(part->bodies[0].area, 100.0 * 50.0, 1e-8);
+    std::vector<glm::dvec2> many;
+    for (int i = 0; i < 300; ++i) many.push_back({double(i), 0.5 * i});
+    EXPECT_EQ(computePolylineSection(*idx, many).error().code, ErrorCode::InvalidArgument);
     auto s = computePolylineSection(*idx, {{0, 50}, {100, 50}});
     ASSERT_TRUE(s.ok());
     EXPECT_FALSE(rasterizePolylineSection(*idx, s.value(), FrameRect{0, 0, 0, 1}, 10, 10).ok());

@@ -7,7 +7,9 @@
 #include <cmath>
 #include <random>
 
+#include "section/contours.hpp"
 #include "section/reserves.hpp"
+#include "section_test_util.hpp"
 #include "test_meshes.hpp"
 #include "tests/common/random_plane.hpp"
 #include "tests/common/synthetic_model.hpp"
@@ -134,4 +136,45 @@ TEST(Reserves, KeptAndRemovedSidesAddUp) {
     for (std::size_t i = 0; i < whole->bodies.size(); ++i)
         EXPECT_NEAR(whole->bodies[i].grossVolume, m.bodies[i].report.signedVolume,
                     1e-9 * m.bodies[i].report.signedVolume);
+}
+
+TEST(Reserves, KeptVolumeEqualsClosingWithTheSectionPolygons) {
+    // The other way to close the clipped shell: sum the clipped triangles about a point o
+    // OFF the plane and add the cap, the section polygons of section/contours.hpp, as the
+    // cone from o: (1/3) x area x distance(o, plane). Must equal meshVolume (o on the plane,
+    // cap contributes zero) to rounding, 1e-9 relative.
+    Model m = syntheticModel(30000, OreVariant::Partition, 6);
+    auto idx = indexFor(m);
+    std::mt19937_64 rng(17);
+    for (int k = 0; k < 8; ++k) {
+        const Plane p = randomPlane(m.bounds(), rng, k);
+        auto s = computeSection(*idx, p);
+        ASSERT_TRUE(s.ok());
+        for (const BodySection& b : s->bodies) {
+            const Mesh& mesh = m.bodies[b.part].mesh;
+            const glm::dvec3 o = mesh.bounds().centre() + glm::dvec3(37.0, -21.0, 13.0);
+            double sum = 0.0;
+            for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+                glm::dvec3 q[3];
+                double d[3];
+                for (int c = 0; c < 3; ++c) {
+                    q[c] = mesh.positions[mesh.indices[3 * t + static_cast<std::size_t>(c)]];
+                    d[c] = glm::dot(p.normal, q[c]) + p.d;
+                }
+                glm::dvec3 poly[4];
+                int n = 0;
+                for (int c = 0; c < 3; ++c) {
+                    const int c1 = (c + 1) % 3;
+                    if (d[c] >= 0.0) poly[n++] = q[c] - o;
+                    if ((d[c] >= 0.0) != (d[c1] >= 0.0))
+                        poly[n++] = q[c] + (q[c1] - q[c]) * (d[c] / (d[c] - d[c1])) - o;
+                }
+                for (int c = 1; c + 1 < n; ++c) sum += glm::dot(poly[0], glm::cross(poly[c], poly[c + 1]));
+            }
+            const double closed = sum / 6.0 + b.area * (glm::dot(p.normal, o) + p.d) / 3.0;
+            const double ours = meshVolume(mesh, &p);
+            EXPECT_NEAR(ours, closed, 1e-9 * std::abs(m.bodies[b.part].report.signedVolume))
+                << "plane " << k << " body " << b.part;
+        }
+    }
 }
