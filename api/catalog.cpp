@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 
 #include "api/plan.hpp"
@@ -103,33 +104,82 @@ nlohmann::ordered_json CatalogModel::summary() const {
     j["triangles"] = model.triangleCount();
     j["bodies"] = model.bodies.size();
     j["surfaces"] = model.surfaces.size();
+    if (package)
+        j["baked"] = {{"pages", package->pages},
+                      {"width", package->width},
+                      {"height", package->height},
+                      {"residentBytes", package->residentBytes()},
+                      {"note", "attribute-indexed texture (R32UI record ids) from the baked package"}};
     j["legend"] = legend();
     return j;
 }
 
-Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path) {
+namespace {
+
+// A baked package directory, loaded and checked (checksums), shared by its CatalogModel.
+Result<std::shared_ptr<const bake::Package>> openPackage(const std::string& dir) {
+    auto pkg = bake::loadPackage(dir);
+    if (!pkg) return pkg.error();
+    return std::shared_ptr<const bake::Package>(std::make_shared<bake::Package>(std::move(pkg.value())));
+}
+
+}  // namespace
+
+Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
+                                                             const std::string& bakeDir) {
+    namespace fs = std::filesystem;
     if (!isValidModelId(id)) return makeError(ErrorCode::InvalidArgument, "model id '" + id + "' is not valid");
     const auto t0 = std::chrono::steady_clock::now();
-    auto bytes = readFile(path);
-    if (!bytes) return bytes.error();
-    std::uint64_t h = fnv1a64(bytes.value());
-    // Sidecar attribute tables change what a model answers, so they enter its version.
-    const std::filesystem::path p(path);
-    for (const char* ext : {".attributes.json", ".attributes.csv"}) {
-        const auto side = p.parent_path() / (p.stem().string() + ext);
-        std::error_code ec;
-        if (std::filesystem::exists(side, ec))
-            if (auto sb = readFile(side.string())) h = fnv1a64(sb.value(), h);
-    }
-    bytes.value().clear();
-    bytes.value().shrink_to_fit();
-    auto model = loadModel(path);
-    if (!model) return model.error();
     auto m = std::make_shared<CatalogModel>();
     m->id = id;
     m->source = path;
-    m->version = hex64(h);
-    m->model = std::move(model.value());
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) {
+        // A baked package: the checksummed manifest identifies the content.
+        auto pkg = openPackage(path);
+        if (!pkg) return pkg.error();
+        auto manifest = readFile((fs::path(path) / bake::kManifestFile).string(), 64 << 20);
+        if (!manifest) return manifest.error();
+        m->version = hex64(fnv1a64(manifest.value()));
+        auto model = loadModel((fs::path(path) / bake::kMeshFile).string());
+        if (!model) return model.error();
+        m->model = std::move(model.value());
+        m->package = std::move(pkg.value());
+    } else {
+        auto bytes = readFile(path);
+        if (!bytes) return bytes.error();
+        std::uint64_t h = fnv1a64(bytes.value());
+        // Sidecar attribute tables change what a model answers, so they enter its version.
+        const fs::path p(path);
+        for (const char* ext : {".attributes.json", ".attributes.csv"}) {
+            const auto side = p.parent_path() / (p.stem().string() + ext);
+            if (fs::exists(side, ec))
+                if (auto sb = readFile(side.string())) h = fnv1a64(sb.value(), h);
+        }
+        bytes.value().clear();
+        bytes.value().shrink_to_fit();
+        m->version = hex64(h);
+        auto model = loadModel(path);
+        if (!model) return model.error();
+        m->model = std::move(model.value());
+        if (!bakeDir.empty()) {
+            const std::string dir = (fs::path(bakeDir) / id).string();
+            const std::string stamp = (fs::path(dir) / "source.version").string();
+            auto previous = readFile(stamp, 64);
+            if (!previous || previous.value() != m->version) {
+                auto baked = bake::bakeModel(m->model);
+                if (!baked) return makeError(baked.error().code, "baking model '" + id + "': " + baked.error().message);
+                if (auto s = bake::writePackage(m->model, baked.value(), dir); !s) return s.error();
+                std::FILE* f = std::fopen(stamp.c_str(), "wb");
+                if (!f) return makeError(ErrorCode::IoError, "cannot write " + stamp);
+                std::fwrite(m->version.data(), 1, m->version.size(), f);
+                std::fclose(f);
+            }
+            auto pkg = openPackage(dir);
+            if (!pkg) return pkg.error();
+            m->package = std::move(pkg.value());
+        }
+    }
     if (auto s = indexModel(*m); !s) return s.error();
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
@@ -165,15 +215,26 @@ Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir
         return makeError(ErrorCode::NotFound, "models directory '" + dir + "' does not exist or is not a directory");
     std::map<std::string, std::string> out;
     for (const auto& entry : fs::directory_iterator(dir, ec)) {
-        if (!entry.is_regular_file(ec)) continue;
         const fs::path p = entry.path();
+        std::error_code e2;
+        if (entry.is_directory(e2)) {
+            const std::string name = p.filename().string();
+            if (isValidModelId(name) && fs::exists(p / bake::kManifestFile, e2)) out[name] = p.string();
+            continue;
+        }
+        if (!entry.is_regular_file(e2)) continue;
         std::string ext = p.extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
         if (ext != ".glb" && ext != ".gltf" && ext != ".obj" && ext != ".ts" && ext != ".xml") continue;
         const std::string stem = p.stem().string();
         if (stem.size() > 11 && stem.ends_with(".attributes")) continue;
         if (!isValidModelId(stem)) continue;
-        out.emplace(stem, p.string());
+        out.emplace(stem, p.string());  // a package of the same id (inserted or not yet) wins
+    }
+    for (auto it = out.begin(); it != out.end(); ++it) {
+        std::error_code e3;
+        const fs::path pkg = fs::path(dir) / it->first;
+        if (fs::is_directory(pkg, e3) && fs::exists(pkg / bake::kManifestFile, e3)) it->second = pkg.string();
     }
     if (ec) return makeError(ErrorCode::IoError, "cannot list models directory '" + dir + "': " + ec.message());
     return out;

@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bake/package.hpp"
 #include "model/model.hpp"
 #include "model/result.hpp"
 #include "section/borehole.hpp"
@@ -35,6 +36,9 @@ struct CatalogModel {
     std::unique_ptr<SectionIndex> index;
     std::unique_ptr<Classifier> classifier;
     std::unique_ptr<BoreholeTracer> tracer;
+    // The baked package (index texture, UVs) when the model came from one or was baked on
+    // load; null for a raw model.
+    std::shared_ptr<const bake::Package> package;
     double loadMs = 0.0;
     // Serialised attribute record per record id, and the first body's name per record,
     // made once at load so that a query answer is a few appends.
@@ -49,12 +53,19 @@ struct CatalogModel {
 
 bool isValidModelId(std::string_view id);
 
-// Loads, validates and indexes a model file (glTF/GLB, OBJ, TSurf, Geo3DML). Errors: the
-// loader's, and InvalidArgument when validation found errors (named).
-Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path);
+// Loads, validates and indexes a model: a file (glTF/GLB, OBJ, TSurf, Geo3DML), or a baked
+// package directory (bake/package.hpp: checksums verified, its mesh.glb is the geometry,
+// its manifest checksum the version). With `bakeDir` non-empty a raw model is baked on
+// first load into bakeDir/<id>/ (reused while the model's version is unchanged).
+// Errors: the loader's or the package reader's, and InvalidArgument when validation found
+// errors (named).
+Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
+                                                             const std::string& bakeDir = "");
 // The built-in demo mine (synthetic, EPSG:4523 at 105.05 E 30.62 N), `triangles` in total.
 Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles = 200000);
-// Model files directly in `dir` whose stem is a valid id: id -> path, sorted by id.
+// Model files directly in `dir` whose stem is a valid id, and package directories (holding a
+// manifest.json) whose name is a valid id: id -> path, sorted by id. A package wins over a
+// file of the same id.
 Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir);
 
 class Catalog {

@@ -19,7 +19,7 @@ std::atomic<int> gSignal{0};
 void onSignal(int sig) { gSignal = sig; }
 
 struct ServeArgs {
-    std::string configFile, host, models, gl, cors, logLevel;
+    std::string configFile, host, models, bakeDir, gl, cors, logLevel;
     int port = -1, deadlineMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
 };
@@ -38,6 +38,7 @@ int runServe(const ServeArgs& a) {
     if (!a.host.empty()) config.host = a.host;
     if (a.port >= 0) config.port = a.port;
     if (!a.models.empty()) config.modelsDir = a.models;
+    if (!a.bakeDir.empty()) config.bakeDir = a.bakeDir;
     if (!a.gl.empty()) config.gl = a.gl;
     if (!a.cors.empty()) config.cors = a.cors == "none" ? "" : a.cors;
     if (!a.logLevel.empty()) config.logLevel = a.logLevel;
@@ -83,6 +84,8 @@ void addServe(CLI::App& app, int& exitCode) {
     cmd->add_option("--host", a->host, "Address to listen on (default 0.0.0.0)");
     cmd->add_option("--port", a->port, "Port (default 8080; 0 = any free port)");
     cmd->add_option("--models", a->models, "Directory of model files (default: the built-in demo model)");
+    cmd->add_option("--bake-dir", a->bakeDir,
+                    "Bake raw models on first load into DIR/<id>/ (attribute-indexed texture packages)");
     cmd->add_option("--gl", a->gl, "GL backend for perspective views: auto|egl-device|egl-surfaceless|osmesa|none");
     cmd->add_option("--workers", a->workers, "Render workers (default: number of cores)");
     cmd->add_option("--queue", a->queue, "Render queue capacity (default 64; full -> 503)");

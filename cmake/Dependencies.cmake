@@ -9,6 +9,8 @@ find_package(embree 3 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(fmt REQUIRED)
+find_package(zstd REQUIRED)  # libzstd-dev: the baked index texture's lossless encoding
+find_package(PNG REQUIRED)   # libpng-dev
 
 # GeographicLib ships only a find-module on Debian.
 list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)

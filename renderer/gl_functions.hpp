@@ -90,6 +90,7 @@ namespace geoslice {
     X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                   \
     X(PFNGLDRAWELEMENTSPROC, DrawElements)                                               \
     X(PFNGLDRAWELEMENTSBASEVERTEXPROC, DrawElementsBaseVertex)                           \
+    X(PFNGLMULTIDRAWELEMENTSBASEVERTEXPROC, MultiDrawElementsBaseVertex)                 \
     /* framebuffers and renderbuffers (DSA) */                                           \
     X(PFNGLCREATEFRAMEBUFFERSPROC, CreateFramebuffers)                                   \
     X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                   \

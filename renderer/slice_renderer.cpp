@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -414,44 +415,66 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     gl.BindVertexArray(model.vertexArray());
 
     const std::vector<float> allowed = clusterBudget(model, request, *view, unionMode, planesLocalD, image);
-    auto drawRange = [&](const GpuModel::DrawPart& p, std::size_t first, GLsizei count) {
-        if (count == 0) return;
-        gl.DrawElementsBaseVertex(GL_TRIANGLES, count, GL_UNSIGNED_INT,
-                                  reinterpret_cast<const void*>(first * sizeof(std::uint32_t)), p.baseVertex);
-        image.trianglesDrawn += std::size_t(count) / 3;
-        ++image.drawCalls;
+    // Ranges of one part go out as one glMultiDrawElementsBaseVertex: llvmpipe pays its
+    // per-draw validation once instead of per cluster (thousands of clusters at L4).
+    struct Batch {
+        std::vector<GLsizei> counts;
+        std::vector<const void*> offsets;
+        std::vector<GLint> baseVertices;
+        void add(std::size_t first, GLsizei count, GLint baseVertex) {
+            if (count == 0) return;
+            const void* offset = reinterpret_cast<const void*>(first * sizeof(std::uint32_t));
+            // Contiguous with the previous range (full-detail clusters in index order): extend.
+            if (!counts.empty() && baseVertices.back() == baseVertex &&
+                static_cast<const char*>(offsets.back()) + std::size_t(counts.back()) * sizeof(std::uint32_t) ==
+                    static_cast<const char*>(offset)) {
+                counts.back() += count;
+                return;
+            }
+            counts.push_back(count);
+            offsets.push_back(offset);
+            baseVertices.push_back(baseVertex);
+        }
+        void clear() { counts.clear(), offsets.clear(), baseVertices.clear(); }
     };
-    // Each cluster at the coarsest level its budget allows (-1: skipped); consecutive
-    // full-detail clusters are contiguous in the index buffer and go out as one draw.
+    auto flush = [&](Batch& batch) {
+        if (batch.counts.empty()) return;
+        gl.MultiDrawElementsBaseVertex(GL_TRIANGLES, batch.counts.data(), GL_UNSIGNED_INT, batch.offsets.data(),
+                                       GLsizei(batch.counts.size()), batch.baseVertices.data());
+        for (GLsizei c : batch.counts) image.trianglesDrawn += std::size_t(c) / 3;
+        ++image.drawCalls;
+        batch.clear();
+    };
+    // Each cluster at the coarsest level its budget allows (-1: skipped).
     // shiftSign: 0 back faces (drawn where they are), +1 front faces and surfaces (away).
-    const double shiftScale = std::max(1.0, request.exaggeration.factor);
     // offsetBase: the pass draws with the front-face polygon offset on.
-    std::vector<std::pair<const GpuModel::DrawPart::Cluster*, int>> simplified;
+    const double shiftScale = std::max(1.0, request.exaggeration.factor);
+    // Simplified clusters are grouped by their push rounded up to a power of two (at most
+    // twice what they need), so that each group is one draw with one uniform value.
+    constexpr int kShiftBuckets = 24;
+    Batch full;
+    std::vector<Batch> pushed(kShiftBuckets + 1);
     auto draw = [&](const GpuModel::DrawPart& p, float shiftSign, bool offsetBase) {
-        std::size_t runFirst = 0;
-        GLsizei runCount = 0;
-        simplified.clear();
+        bool anySimplified = false;
         for (const GpuModel::DrawPart::Cluster& c : p.clusters) {
             const float budget = allowed[c.cell];
             int level = budget < 0.0f ? -1 : 0;
             while (level >= 0 && level + 1 < c.levels && c.error[level + 1] <= budget) ++level;
-            if (level == 0 && runCount > 0 && runFirst + std::size_t(runCount) == c.first[0]) {
-                runCount += c.count[0];
-                continue;
-            }
-            if (level == 0) {
-                drawRange(p, runFirst, runCount);
-                runFirst = c.first[0];
-                runCount = c.count[0];
-            } else if (level < 0) {
+            if (level < 0) {
                 ++image.clustersSkipped;
+            } else if (level == 0) {
+                full.add(c.first[0], c.count[0], p.baseVertex);
             } else {
-                simplified.push_back({&c, level});
+                // Bucket k holds pushes in (2^(k-9), 2^(k-8)] metres; bucket 0 everything below.
+                const double push = 2.0 * c.error[level] * shiftScale;
+                const int k = push <= 0.0 ? 0 : std::clamp(int(std::ceil(std::log2(push))) + 9, 0, kShiftBuckets);
+                pushed[std::size_t(k)].add(c.first[level], c.count[level], p.baseVertex);
+                anySimplified = true;
             }
         }
-        drawRange(p, runFirst, runCount);
-        if (simplified.empty()) return;
-        // Simplified clusters after the full-detail runs, so that the pass state changes
+        flush(full);
+        if (!anySimplified) return;
+        // Simplified clusters after the full-detail ones, so that the pass state changes
         // twice per part. Their front faces go back by twice the level's error: along the
         // ray (shader) for surfaces facing the viewer, and by a slope-scaled polygon offset
         // for grazing ones (the error projects to at most lodPixelError pixels, which moves
@@ -464,9 +487,11 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
             gl.PolygonOffset(3.0f * request.lodPixelError + (offsetBase ? kFrontOffsetFactor : 0.0f),
                              offsetBase ? kFrontOffsetUnits : 0.0f);
         }
-        for (const auto& [c, level] : simplified) {
-            if (shift) gl.ProgramUniform1f(prog, v.u.lodShift, float(2.0 * c->error[level] * shiftScale));
-            drawRange(p, c->first[level], c->count[level]);
+        for (int k = 0; k <= kShiftBuckets; ++k) {
+            Batch& batch = pushed[std::size_t(k)];
+            if (batch.counts.empty()) continue;
+            if (shift) gl.ProgramUniform1f(prog, v.u.lodShift, std::ldexp(1.0f, k - 9));
+            flush(batch);
         }
         if (shift) {
             gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);

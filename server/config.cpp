@@ -82,6 +82,7 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_HOST", "host"},
         {"GEOSLICE_PORT", "port"},
         {"GEOSLICE_MODELS", "models"},
+        {"GEOSLICE_BAKE_DIR", "bakeDir"},
         {"GEOSLICE_GL", "gl"},
         {"GEOSLICE_WORKERS", "workers"},
         {"GEOSLICE_QUEUE", "queue"},

@@ -5,6 +5,7 @@
 //   host              GEOSLICE_HOST            --host          0.0.0.0
 //   port              GEOSLICE_PORT            --port          8080 (0 = any free port)
 //   models            GEOSLICE_MODELS          --models        "" (none: the demo model)
+//   bakeDir           GEOSLICE_BAKE_DIR        --bake-dir      "" (raw models are not baked)
 //   gl                GEOSLICE_GL              --gl            auto (auto|egl-device|egl-surfaceless|osmesa|none)
 //   workers           GEOSLICE_WORKERS         --workers       number of cores
 //   queue             GEOSLICE_QUEUE           --queue         64 jobs
@@ -29,6 +30,7 @@ struct ServerConfig {
     std::string host = "0.0.0.0";
     int port = 8080;
     std::string modelsDir;
+    std::string bakeDir;  // bake raw models on first load into bakeDir/<id>/ (reused while unchanged)
     std::string gl = "auto";
     unsigned workers = 0;  // 0 = hardware concurrency
     std::size_t queue = 64;

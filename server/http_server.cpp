@@ -179,6 +179,8 @@ struct SectionServer::Impl {
     std::atomic<bool> draining{false};
     std::atomic<bool> loaded{false};
     std::atomic<bool> loadOk{false};
+    std::mutex failedMutex;
+    nlohmann::ordered_json failed = nlohmann::ordered_json::array();  // {id, error} of models that did not load
     std::atomic<int> inFlight{0};
     std::thread listener, loader;
     std::mutex stopMutex;
@@ -341,10 +343,17 @@ struct SectionServer::Impl {
             sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
         });
         route("GET", "/readyz", "/readyz", [this](const httplib::Request&, httplib::Response& res) {
-            const bool modelsReady = loaded && loadOk && catalog.size() > 0;
+            // Ready once loading is done and at least one model is in: a broken file in the
+            // models directory is reported here and in the logs, not a reason to stay unready.
+            const bool modelsReady = loaded && catalog.size() > 0;
             const bool glOk = !glBackend || glReady;
+            Json failures;
+            {
+                std::lock_guard lock(failedMutex);
+                failures = failed;
+            }
             Json j{{"ready", modelsReady && glOk},
-                   {"models", {{"loaded", catalog.size()}, {"done", bool(loaded)}, {"ok", bool(loadOk)}}},
+                   {"models", {{"loaded", catalog.size()}, {"done", bool(loaded)}, {"failed", failures}}},
                    {"gl", {{"enabled", bool(glBackend)}, {"ready", bool(glReady)}, {"device", glInfo}}},
                    {"workers", pool->workers()}};
             sendJson(res, j, modelsReady && glOk ? 200 : 503);
@@ -690,17 +699,21 @@ struct SectionServer::Impl {
             } else {
                 ok = false;
                 spdlog::error("event=model_failed id=demo error=\"{}\"", demo.error().message);
+                std::lock_guard lock(failedMutex);
+                failed.push_back({{"id", "demo"}, {"error", demo.error().message}});
             }
         } else {
             auto files = api::listModelFiles(config.modelsDir);
             if (!files) {
                 ok = false;
                 spdlog::error("event=models_dir_failed error=\"{}\"", files.error().message);
+                std::lock_guard lock(failedMutex);
+                failed.push_back({{"id", nullptr}, {"error", files.error().message}});
             } else {
                 if (files.value().empty()) spdlog::warn("event=models_dir_empty dir=\"{}\"", config.modelsDir);
                 for (const auto& [id, path] : files.value()) {
                     if (draining) break;
-                    auto m = api::loadCatalogModel(id, path);
+                    auto m = api::loadCatalogModel(id, path, config.bakeDir);
                     if (m) {
                         spdlog::info("event=model_loaded id={} triangles={} ms={:.0f} version={}", id,
                                      m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version);
@@ -708,6 +721,8 @@ struct SectionServer::Impl {
                     } else {
                         ok = false;
                         spdlog::error("event=model_failed id={} path=\"{}\" error=\"{}\"", id, path, m.error().message);
+                        std::lock_guard lock(failedMutex);
+                        failed.push_back({{"id", id}, {"error", m.error().message}});
                     }
                 }
             }

@@ -1,0 +1,124 @@
+// Models from a directory: raw files, baked packages (bake/package.hpp), a corrupt package
+// that must not take the others down, and raw models baked on first load (--bake-dir).
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
+
+#include "bake/bake.hpp"
+#include "bake/package.hpp"
+#include "model/gltf_io.hpp"
+#include "server/http_server.hpp"
+#include "tests/common/synthetic_model.hpp"
+
+namespace geoslice::server {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct TempDir {
+    fs::path path;
+    explicit TempDir(const std::string& name)
+        : path(fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()))) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+};
+
+ServerConfig config(const fs::path& models, const std::string& bakeDir = "") {
+    ServerConfig c;
+    c.host = "127.0.0.1";
+    c.port = 0;
+    c.gl = "none";
+    c.workers = 2;
+    c.modelsDir = models.string();
+    c.bakeDir = bakeDir;
+    return c;
+}
+
+json getJson(int port, const std::string& path, int status = 200) {
+    httplib::Client c("127.0.0.1", port);
+    auto r = c.Get(path.c_str());
+    EXPECT_TRUE(r) << path;
+    if (!r) return json();
+    EXPECT_EQ(r->status, status) << path << "\n" << r->body;
+    return json::parse(r->body, nullptr, false);
+}
+
+TEST(ModelsDir, RawFilesPackagesAndACorruptPackage) {
+    spdlog::set_level(spdlog::level::off);
+    TempDir dir("geoslice_models_dir");
+    const Model model = test::syntheticModel(20000, OreVariant::Nested, 3, "EPSG:4523");
+    ASSERT_TRUE(writeGlb(model, (dir.path / "raw.glb").string()));
+    auto baked = bake::bakeModel(model);
+    ASSERT_TRUE(baked) << baked.error().message;
+    ASSERT_TRUE(bake::writePackage(model, baked.value(), (dir.path / "pkg").string()));
+    ASSERT_TRUE(bake::writePackage(model, baked.value(), (dir.path / "broken").string()));
+    fs::resize_file(dir.path / "broken" / bake::kTextureFile, 10);  // truncated texture
+    std::ofstream(dir.path / "notes.txt") << "not a model";
+
+    SectionServer s(config(dir.path));
+    auto port = s.start();
+    ASSERT_TRUE(port);
+    EXPECT_FALSE(s.waitUntilLoaded());  // one model failed...
+    const json ready = getJson(port.value(), "/readyz");
+    EXPECT_EQ(ready["ready"], true);  // ...and the others serve
+    ASSERT_EQ(ready["models"]["failed"].size(), 1u);
+    EXPECT_EQ(ready["models"]["failed"][0]["id"], "broken");
+    EXPECT_NE(ready["models"]["failed"][0]["error"].get<std::string>().find(bake::kTextureFile), std::string::npos);
+
+    const json models = getJson(port.value(), "/v1/models");
+    ASSERT_EQ(models["models"].size(), 2u);
+    const json pkg = getJson(port.value(), "/v1/models/pkg");
+    ASSERT_TRUE(pkg.contains("baked"));
+    EXPECT_GE(pkg["baked"]["pages"].get<int>(), 1);
+    EXPECT_FALSE(getJson(port.value(), "/v1/models/raw").contains("baked"));
+    getJson(port.value(), "/v1/models/broken", 404);
+
+    // The package's geometry is the raw model's: the same answers at the same pixels.
+    const Aabb b = model.bounds();
+    const std::string view = "plane=0,1,0," + std::to_string(-0.5 * (b.min.y + b.max.y)) + "&size=64x32";
+    int hits = 0;
+    for (int px = 0; px < 64; px += 7)
+        for (int py = 0; py < 32; py += 5) {
+            const std::string q = "/query?" + view + "&px=" + std::to_string(px) + "&py=" + std::to_string(py);
+            const json a = getJson(port.value(), "/v1/models/raw" + q), p = getJson(port.value(), "/v1/models/pkg" + q);
+            EXPECT_EQ(a["record"], p["record"]) << px << "," << py;
+            hits += a["hit"].get<bool>();
+        }
+    EXPECT_GT(hits, 10);
+}
+
+TEST(ModelsDir, RawModelsBakedOnFirstLoadAndReused) {
+    spdlog::set_level(spdlog::level::off);
+    TempDir dir("geoslice_bake_on_load");
+    TempDir cache("geoslice_bake_cache");
+    const Model model = test::syntheticModel(20000, OreVariant::Nested, 5, "EPSG:4523");
+    ASSERT_TRUE(writeGlb(model, (dir.path / "mine.glb").string()));
+    fs::file_time_type first;
+    {
+        SectionServer s(config(dir.path, cache.path.string()));
+        auto port = s.start();
+        ASSERT_TRUE(port);
+        ASSERT_TRUE(s.waitUntilLoaded());
+        EXPECT_TRUE(getJson(port.value(), "/v1/models/mine").contains("baked"));
+        ASSERT_TRUE(fs::exists(cache.path / "mine" / bake::kManifestFile));
+        first = fs::last_write_time(cache.path / "mine" / bake::kManifestFile);
+    }
+    {
+        SectionServer s(config(dir.path, cache.path.string()));
+        auto port = s.start();
+        ASSERT_TRUE(port);
+        ASSERT_TRUE(s.waitUntilLoaded());
+        EXPECT_TRUE(getJson(port.value(), "/v1/models/mine").contains("baked"));
+        EXPECT_EQ(fs::last_write_time(cache.path / "mine" / bake::kManifestFile), first);  // not baked again
+    }
+}
+
+}  // namespace
+}  // namespace geoslice::server
