@@ -264,6 +264,24 @@ Camera defaultCamera(const Aabb& bounds) {
     return c;
 }
 
+DisplaySpace displaySpace(const SectionDef& def, const Aabb& bounds) {
+    return DisplaySpace{def.exaggeration, 0.5 * (bounds.min.z + bounds.max.z)};
+}
+
+Camera displayCamera(const ViewPlan& plan, const Aabb& bounds) {
+    const DisplaySpace ds = displaySpace(plan.section, bounds);
+    if (plan.camera) {
+        Camera c = *plan.camera;
+        c.eye = ds.toDisplay(c.eye);
+        c.target = ds.toDisplay(c.target);
+        return c;
+    }
+    Aabb display;
+    display.extend(ds.toDisplay(bounds.min));
+    display.extend(ds.toDisplay(bounds.max));
+    return defaultCamera(display);
+}
+
 std::string encodeSectionId(const SectionDef& def) { return base64UrlEncode(def.canonical()); }
 
 Result<SectionDef> decodeSectionId(std::string_view sid, const std::function<const Crs*(const std::string&)>& crsOf) {

@@ -89,6 +89,19 @@ FrameRect defaultFrame(const Plane& plane, const Aabb& bounds, const glm::dvec3&
 // The default perspective camera: from the south-east, above, looking at the bounds' centre.
 Camera defaultCamera(const Aabb& bounds);
 
+// Display space of perspective views with vertical exaggeration k (SectionDef::exaggeration):
+// z' = pivot + k (z - pivot), pivot = the centre elevation of the model's bounds; x and y
+// unchanged. Cameras given in a request are world points; they are mapped like the model.
+struct DisplaySpace {
+    double k = 1.0, pivot = 0.0;
+    glm::dvec3 toDisplay(const glm::dvec3& w) const { return {w.x, w.y, pivot + k * (w.z - pivot)}; }
+    glm::dvec3 toWorld(const glm::dvec3& d) const { return {d.x, d.y, pivot + (d.z - pivot) / k}; }
+};
+DisplaySpace displaySpace(const SectionDef& def, const Aabb& bounds);
+// The camera of a perspective plan in display space: the request's camera mapped, or the
+// default camera around the display-space bounds.
+Camera displayCamera(const ViewPlan& plan, const Aabb& bounds);
+
 // Stateless section ids: base64url (no padding) of SectionDef::canonical(), and back.
 std::string encodeSectionId(const SectionDef& def);
 Result<SectionDef> decodeSectionId(std::string_view sid, const std::function<const Crs*(const std::string&)>& crsOf);

@@ -235,8 +235,14 @@ namespace {
 // plane cuts shows its cut face, where the kept part of its interval begins).
 Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
                                       const ViewImage* cached) {
-    const Camera cam = plan.camera ? *plan.camera : defaultCamera(model.index->bounds);
-    const PixelRay ray = perspectiveRay(cam, plan.width, plan.height, double(px) + 0.5, double(py) + 0.5);
+    // The pixel's ray in display space, mapped to world (the exaggeration is affine: a line
+    // stays a line). Distances along it are world metres.
+    const DisplaySpace display = displaySpace(plan.section, model.index->bounds);
+    const Camera cam = displayCamera(plan, model.index->bounds);
+    const PixelRay displayRay = perspectiveRay(cam, plan.width, plan.height, double(px) + 0.5, double(py) + 0.5);
+    PixelRay ray;
+    ray.origin = display.toWorld(displayRay.origin);
+    ray.direction = glm::normalize(display.toWorld(displayRay.origin + displayRay.direction) - ray.origin);
     const Plane plane = sectionPlane(plan.section);
     // Kept where s(t) = s0 + t * ds >= 0.
     const double s0 = glm::dot(plane.normal, ray.origin) + plane.d, ds = glm::dot(plane.normal, ray.direction);
@@ -273,7 +279,7 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
         }
     }
     if (std::isfinite(hitT)) a.world = ray.origin + hitT * ray.direction;
-    a.distanceAlong = std::isfinite(hitT) ? hitT : std::numeric_limits<double>::quiet_NaN();
+    a.distanceAlong = std::isfinite(hitT) ? glm::length(a.world - ray.origin) : std::numeric_limits<double>::quiet_NaN();
     if (cached && !cached->ids.empty()) {
         a.record = cached->ids[std::size_t(py) * std::size_t(cached->width) + std::size_t(px)];
         a.fromIdBuffer = true;

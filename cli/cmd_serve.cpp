@@ -19,7 +19,7 @@ std::atomic<int> gSignal{0};
 void onSignal(int sig) { gSignal = sig; }
 
 struct ServeArgs {
-    std::string configFile, host, models, bakeDir, gl, cors, logLevel;
+    std::string configFile, host, models, bakeDir, gl, lod, cors, logLevel;
     int port = -1, deadlineMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
 };
@@ -40,6 +40,7 @@ int runServe(const ServeArgs& a) {
     if (!a.models.empty()) config.modelsDir = a.models;
     if (!a.bakeDir.empty()) config.bakeDir = a.bakeDir;
     if (!a.gl.empty()) config.gl = a.gl;
+    if (!a.lod.empty()) config.lod = a.lod;
     if (!a.cors.empty()) config.cors = a.cors == "none" ? "" : a.cors;
     if (!a.logLevel.empty()) config.logLevel = a.logLevel;
     if (a.deadlineMs > 0) config.deadlineMs = a.deadlineMs;
@@ -87,6 +88,8 @@ void addServe(CLI::App& app, int& exitCode) {
     cmd->add_option("--bake-dir", a->bakeDir,
                     "Bake raw models on first load into DIR/<id>/ (attribute-indexed texture packages)");
     cmd->add_option("--gl", a->gl, "GL backend for perspective views: auto|egl-device|egl-surfaceless|osmesa|none");
+    cmd->add_option("--lod", a->lod,
+                    "3D views on CPU backends: off (default, exact) or auto (simplified geometry away from the cut)");
     cmd->add_option("--workers", a->workers, "Render workers (default: number of cores)");
     cmd->add_option("--queue", a->queue, "Render queue capacity (default 64; full -> 503)");
     cmd->add_option("--http-threads", a->httpThreads, "Connections served at once (default 128)");

@@ -83,7 +83,7 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_PORT", "port"},
         {"GEOSLICE_MODELS", "models"},
         {"GEOSLICE_BAKE_DIR", "bakeDir"},
-        {"GEOSLICE_GL", "gl"},
+        {"GEOSLICE_GL", "gl"}, {"GEOSLICE_LOD", "lod"},
         {"GEOSLICE_WORKERS", "workers"},
         {"GEOSLICE_QUEUE", "queue"},
         {"GEOSLICE_HTTP_THREADS", "httpThreads"},
@@ -114,6 +114,8 @@ Status checkConfig(const ServerConfig& c) {
     if (c.gl != "auto" && c.gl != "egl-device" && c.gl != "egl-surfaceless" && c.gl != "osmesa" && c.gl != "none")
         return makeError(ErrorCode::InvalidArgument,
                          "gl '" + c.gl + "' is not auto, egl-device, egl-surfaceless, osmesa or none");
+    if (c.lod != "off" && c.lod != "auto")
+        return makeError(ErrorCode::InvalidArgument, "lod '" + c.lod + "' is not off or auto");
     if (c.logLevel != "trace" && c.logLevel != "debug" && c.logLevel != "info" && c.logLevel != "warn" &&
         c.logLevel != "error" && c.logLevel != "off")
         return makeError(ErrorCode::InvalidArgument,

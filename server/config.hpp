@@ -7,6 +7,7 @@
 //   models            GEOSLICE_MODELS          --models        "" (none: the demo model)
 //   bakeDir           GEOSLICE_BAKE_DIR        --bake-dir      "" (raw models are not baked)
 //   gl                GEOSLICE_GL              --gl            auto (auto|egl-device|egl-surfaceless|osmesa|none)
+//   lod               GEOSLICE_LOD             --lod           off (auto: simplified context geometry in 3D views on CPU backends)
 //   workers           GEOSLICE_WORKERS         --workers       number of cores
 //   queue             GEOSLICE_QUEUE           --queue         64 jobs
 //   httpThreads       GEOSLICE_HTTP_THREADS    --http-threads  128 (connections served at once)
@@ -32,6 +33,7 @@ struct ServerConfig {
     std::string modelsDir;
     std::string bakeDir;  // bake raw models on first load into bakeDir/<id>/ (reused while unchanged)
     std::string gl = "auto";
+    std::string lod = "off";  // "auto": faster 3D views on llvmpipe, not exact behind cut faces
     unsigned workers = 0;  // 0 = hardware concurrency
     std::size_t queue = 64;
     unsigned httpThreads = 128;

@@ -12,12 +12,13 @@ GlWorker::~GlWorker() {
     context.reset();
 }
 
-Result<std::unique_ptr<GlWorker>> GlWorker::create(GlBackend backend) {
+Result<std::unique_ptr<GlWorker>> GlWorker::create(GlBackend backend, bool lod) {
     GlContextOptions options;
     options.backend = backend;
     auto context = GlContext::create(options);
     if (!context) return context.error();
     auto w = std::make_unique<GlWorker>();
+    w->lod = lod;
     w->context = std::move(context.value());
     auto renderer = SliceRenderer::create(*w->context);
     if (!renderer) return renderer.error();
@@ -34,7 +35,9 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
         // One resident copy per model: drop other versions of the same id.
         for (auto m = models.begin(); m != models.end();)
             m = m->first.rfind(model.id + "@", 0) == 0 ? models.erase(m) : std::next(m);
-        auto gpu = GpuModel::upload(*context, model.model);
+        GpuUploadOptions upload;
+        upload.lod = lod ? GpuUploadOptions::Lod::Auto : GpuUploadOptions::Lod::Off;
+        auto gpu = GpuModel::upload(*context, model.model, upload);
         if (!gpu) return gpu.error();
         if (auto s = renderer->warmUp(*gpu.value()); !s) return s.error();
         it = models.emplace(key, std::move(gpu.value())).first;
@@ -42,12 +45,20 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     const Plane plane = api::sectionPlane(plan.section);
     SliceRequest req;
     req.planes = {WorldPlane(plane.normal, plane.d)};
-    const api::Camera cam = plan.camera ? *plan.camera : api::defaultCamera(model.index->bounds);
+    // Eye and target in display space (the exaggerated model), as the renderer expects.
+    const api::DisplaySpace ds = api::displaySpace(plan.section, model.index->bounds);
+    const api::Camera cam = api::displayCamera(plan, model.index->bounds);
     PerspectiveView view;
     view.eye = cam.eye;
     view.target = cam.target;
     view.up = cam.up;
     view.fovYDegrees = cam.fovDeg;
+    // Level of detail is exact at the cut but may swap a thin layer just behind a cut face
+    // (renderer/slice_renderer.hpp), so by default the server draws full detail and its
+    // images agree with exact ray queries; --lod trades that for speed on CPU backends.
+    req.lod = lod ? SliceRequest::Lod::Auto : SliceRequest::Lod::Off;
+    req.exaggeration.factor = ds.k;
+    req.exaggeration.pivotZ = ds.pivot;
     req.view = view;
     req.width = plan.width;
     req.height = plan.height;

@@ -21,9 +21,10 @@ struct GlWorker {
     std::unique_ptr<GlContext> context;
     std::unique_ptr<SliceRenderer> renderer;
     std::map<std::string, std::unique_ptr<GpuModel>> models;
+    bool lod = false;  // simplified context geometry in 3D views (CPU backends)
 
     // Creates the context on the calling thread. Errors: the backend's, naming it.
-    static Result<std::unique_ptr<GlWorker>> create(GlBackend backend);
+    static Result<std::unique_ptr<GlWorker>> create(GlBackend backend, bool lod = false);
     ~GlWorker();
 
     // A perspective view of the plan's section (the half-space a.x + b.y + c.z + d >= 0 kept,

@@ -470,7 +470,7 @@ struct SectionServer::Impl {
                 Result<api::ViewImage> view = makeError(ErrorCode::Internal, "no view");
                 if (plan.view == api::ViewKind::Perspective) {
                     if (!w.gl) {
-                        auto gl = GlWorker::create(*glBackend);
+                        auto gl = GlWorker::create(*glBackend, config.lod == "auto");
                         if (!gl) return gl.error();
                         w.gl = std::move(gl.value());
                     }
@@ -740,7 +740,7 @@ struct SectionServer::Impl {
         // Create one worker's context now, so /readyz can report the device and the first
         // perspective request does not pay for it.
         pool->submit([this](WorkerState& w) {
-            auto gl = GlWorker::create(*glBackend);
+            auto gl = GlWorker::create(*glBackend, config.lod == "auto");
             if (!gl) {
                 glInfo = "failed: " + gl.error().message;
                 spdlog::warn("event=gl_unavailable error=\"{}\"", gl.error().message);

@@ -506,7 +506,8 @@ TEST(ServerGl, PerspectiveViewThroughAWorkerContext) {
                        {"view", "perspective"},
                        {"eye", "35509000,3383000,4000"},
                        {"target", "35504794,3388846,700"},
-                       {"size", "256x192"}};
+                       {"size", "256x192"},
+                       {"vx", "2"}};
     std::mt19937 rng(11);
     json pixels = json::array();
     for (int i = 0; i < 500; ++i) pixels.push_back({int(rng() % 256u), int(rng() % 192u)});
