@@ -103,6 +103,15 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
         if (!p) return makeError(p.error().code, "parameter 'plane': " + p.error().message);
         def.geometry = Geometry::Plane;
         def.plane = p.value();
+        // A normal that is already unit to rounding is kept bit for bit, so that the
+        // canonical text is a fixed point: parsing it again gives the same text (stateless
+        // section ids decode to the key they were made from; found by fuzz_request).
+        const double len = std::sqrt(v.value()[0] * v.value()[0] + v.value()[1] * v.value()[1] +
+                                     v.value()[2] * v.value()[2]);
+        if (std::abs(len - 1.0) <= 1e-15) {
+            def.plane.normal = {v.value()[0], v.value()[1], v.value()[2]};
+            def.plane.d = v.value()[3];
+        }
     } else if (elevation) {
         auto z = parseNumber("elevation", *elevation);
         if (!z) return z.error();
