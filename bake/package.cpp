@@ -15,15 +15,16 @@
 #include <fstream>
 #include <optional>
 
+#include "model/gltf_io.hpp"
+
 namespace geoslice::bake {
 namespace {
 
 using json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
-constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
-constexpr std::uint32_t kChunkJson = 0x4E4F534A;
-constexpr std::uint32_t kChunkBin = 0x004E4942;
+constexpr std::uint32_t kChunkJson = kGlbChunkJson;
+constexpr std::uint32_t kChunkBin = kGlbChunkBin;
 constexpr int kFloat = 5126, kUint = 5125;
 // zstd stores a 128 KiB block of one repeated byte in 4 bytes: no frame expands more than
 // this, so a header that claims more is a lie and nothing is allocated for it.
@@ -237,29 +238,7 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
         doc["extensionsUsed"] = {"EXT_mesh_features", "EXT_structural_metadata"};
         doc["extensions"]["EXT_structural_metadata"] = metadata;
     }
-    std::string text = doc.dump();
-    while (text.size() % 4) text.push_back(' ');
-    const std::uint64_t total = 12 + 8 + text.size() + 8 + bin.size();
-    if (total >= 0xFFFFFFFFull)
-        return makeError(ErrorCode::OutOfRange,
-                         "baked mesh too large for one GLB (" + std::to_string(total) + " bytes)");
-    std::vector<std::uint8_t> out;
-    out.reserve(total);
-    auto u32 = [&](std::uint32_t v) {
-        std::uint8_t b[4];
-        std::memcpy(b, &v, 4);
-        out.insert(out.end(), b, b + 4);
-    };
-    u32(kGlbMagic);
-    u32(2);
-    u32(static_cast<std::uint32_t>(total));
-    u32(static_cast<std::uint32_t>(text.size()));
-    u32(kChunkJson);
-    out.insert(out.end(), text.begin(), text.end());
-    u32(static_cast<std::uint32_t>(bin.size()));
-    u32(kChunkBin);
-    out.insert(out.end(), bin.begin(), bin.end());
-    return out;
+    return packGlb(doc.dump(), bin, "baked mesh");
 }
 
 // A read-only file mapping (or nothing, for an empty file).

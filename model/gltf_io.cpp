@@ -13,18 +13,17 @@
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
+#include <tiny_gltf.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <tiny_gltf.h>
 
 #include "model/loaders.hpp"
 
 namespace geoslice {
 namespace {
 
-constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
-constexpr std::uint32_t kChunkJson = 0x4E4F534A;
-constexpr std::uint32_t kChunkBin = 0x004E4942;
+constexpr std::uint32_t kChunkJson = kGlbChunkJson;
+constexpr std::uint32_t kChunkBin = kGlbChunkBin;
 constexpr int kTriangles = 4;
 constexpr int kTriangleStrip = 5;
 constexpr int kTriangleFan = 6;
@@ -71,11 +70,14 @@ Status checkGlbContainer(const std::uint8_t* data, std::size_t size, const std::
     if (readU32(data) != kGlbMagic) return fail(0, "wrong magic, not a GLB file");
     if (readU32(data + 4) != 2) return fail(4, "GLB version " + std::to_string(readU32(data + 4)) + ", expected 2");
     std::uint32_t length = readU32(data + 8);
-    if (length > size) return fail(8, "header says " + std::to_string(length) + " bytes but the file has " + std::to_string(size) + " (truncated?)");
+    if (length > size)
+        return fail(8, "header says " + std::to_string(length) + " bytes but the file has " + std::to_string(size) +
+                           " (truncated?)");
     std::uint32_t jsonLen = readU32(data + 12);
     if (readU32(data + 16) != kChunkJson) return fail(16, "first chunk is not JSON");
     if (jsonLen == 0) return fail(12, "the JSON chunk is empty");
-    if (std::uint64_t(jsonLen) + 20 > length) return fail(12, "JSON chunk length " + std::to_string(jsonLen) + " runs past the end of the file");
+    if (std::uint64_t(jsonLen) + 20 > length)
+        return fail(12, "JSON chunk length " + std::to_string(jsonLen) + " runs past the end of the file");
     std::uint64_t binAt = 20 + std::uint64_t(jsonLen);
     if (binAt < length) {
         // Same rules as tinygltf, which would refuse these without saying where.
@@ -83,8 +85,10 @@ Status checkGlbContainer(const std::uint8_t* data, std::size_t size, const std::
             return fail(binAt, "a chunk after the JSON chunk needs at least 12 bytes, the file has " +
                                    std::to_string(length - binAt) + " left");
         std::uint32_t binLen = readU32(data + binAt);
-        if (binAt + 8 + binLen > length) return fail(binAt, "BIN chunk length " + std::to_string(binLen) + " runs past the end of the file");
-        if (binLen < 4 || binLen % 4 != 0) return fail(binAt, "BIN chunk length " + std::to_string(binLen) + " is not a positive multiple of 4");
+        if (binAt + 8 + binLen > length)
+            return fail(binAt, "BIN chunk length " + std::to_string(binLen) + " runs past the end of the file");
+        if (binLen < 4 || binLen % 4 != 0)
+            return fail(binAt, "BIN chunk length " + std::to_string(binLen) + " is not a positive multiple of 4");
         if (readU32(data + binAt + 4) != kChunkBin) return fail(binAt + 4, "second chunk is not BIN");
     }
     return {};
@@ -98,9 +102,12 @@ std::size_t tooDeepAt(const char* text, std::size_t size) {
     for (std::size_t i = 0; i < size; ++i) {
         const char c = text[i];
         if (inString) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
-            else if (c == '"') inString = false;
+            if (escaped)
+                escaped = false;
+            else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                inString = false;
         } else if (c == '"') {
             inString = true;
         } else if (c == '[' || c == '{') {
@@ -112,7 +119,9 @@ std::size_t tooDeepAt(const char* text, std::size_t size) {
     return std::string::npos;
 }
 
-bool isUnsigned(const nlohmann::json& j) { return j.is_number_unsigned() || (j.is_number_integer() && j.get<std::int64_t>() >= 0); }
+bool isUnsigned(const nlohmann::json& j) {
+    return j.is_number_unsigned() || (j.is_number_integer() && j.get<std::int64_t>() >= 0);
+}
 
 // A relative path that stays inside the model's folder: not absolute, no scheme or drive
 // ("file:", "C:"), no ".." segment.
@@ -189,7 +198,8 @@ Result<std::optional<std::string>> preflightJson(const char* text, std::size_t s
             const std::string uri = b["uri"].get<std::string>();
             if (uri.rfind("data:", 0) == 0) continue;  // embedded; tinygltf decodes and size-checks it
             const std::string where = "buffer " + std::to_string(i) + " refers to the external file " + quoted(uri);
-            if (!staysInsideFolder(percentDecoded(uri))) return failJson(where + ", which lies outside the model's folder");
+            if (!staysInsideFolder(percentDecoded(uri)))
+                return failJson(where + ", which lies outside the model's folder");
             if (baseDir.empty()) return failJson(where + ", but this input has no folder to read it from");
         }
     }
@@ -208,9 +218,12 @@ Result<std::optional<std::string>> preflightJson(const char* text, std::size_t s
             const nlohmann::json* b = nullptr;
             if (bv.is_object() && bv.contains("buffer") && bv["buffer"].is_number_integer() && buffers) {
                 const std::int64_t bi = bv["buffer"].get<std::int64_t>();
-                if (bi >= 0 && static_cast<std::uint64_t>(bi) < buffers->size()) b = &(*buffers)[static_cast<std::size_t>(bi)];
+                if (bi >= 0 && static_cast<std::uint64_t>(bi) < buffers->size())
+                    b = &(*buffers)[static_cast<std::size_t>(bi)];
             }
-            const std::uint64_t offset = bv.is_object() && bv.contains("byteOffset") && isUnsigned(bv["byteOffset"]) ? bv["byteOffset"].get<std::uint64_t>() : 0;
+            const std::uint64_t offset = bv.is_object() && bv.contains("byteOffset") && isUnsigned(bv["byteOffset"])
+                                             ? bv["byteOffset"].get<std::uint64_t>()
+                                             : 0;
             const bool sized = b && b->is_object() && b->contains("byteLength") && isUnsigned((*b)["byteLength"]) &&
                                bv.contains("byteLength") && isUnsigned(bv["byteLength"]);
             if (!sized || offset > (*b)["byteLength"].get<std::uint64_t>() ||
@@ -232,8 +245,8 @@ Result<std::optional<std::string>> preflightJson(const char* text, std::size_t s
                 auto draco = exts->find(kDracoExtension);
                 if (draco == exts->end()) continue;
                 if (!draco->is_object())
-                    return failJson("mesh " + std::to_string(m) + " primitive " + std::to_string(p) + ": " + kDracoExtension +
-                                    " is not an object");
+                    return failJson("mesh " + std::to_string(m) + " primitive " + std::to_string(p) + ": " +
+                                    kDracoExtension + " is not an object");
                 nlohmann::json ext = std::move(*draco);
                 exts->erase(draco);
                 (*exts)[kDracoDeferred] = std::move(ext);
@@ -262,7 +275,8 @@ glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
         return m;
     }
     glm::dmat4 m(1.0);
-    if (n.translation.size() == 3) m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
+    if (n.translation.size() == 3)
+        m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
     if (n.rotation.size() == 4) {
         // glTF asks for unit quaternions; exporters write them rounded to float. Normalising
         // keeps a rotation from adding a scale of (1 + rounding error).
@@ -284,13 +298,15 @@ struct AccessorView {
 
 Result<AccessorView> viewAccessor(const tinygltf::Model& g, int index, const std::string& where) {
     auto fail = [&](const std::string& what) { return makeError(ErrorCode::ParseError, where + ": " + what); };
-    if (index < 0 || static_cast<std::size_t>(index) >= g.accessors.size()) return fail("accessor " + std::to_string(index) + " does not exist");
+    if (index < 0 || static_cast<std::size_t>(index) >= g.accessors.size())
+        return fail("accessor " + std::to_string(index) + " does not exist");
     const auto& a = g.accessors[static_cast<std::size_t>(index)];
     if (a.sparse.isSparse) return makeError(ErrorCode::Unsupported, where + ": sparse accessors are not supported");
     if (a.bufferView < 0 || static_cast<std::size_t>(a.bufferView) >= g.bufferViews.size())
         return fail("accessor " + std::to_string(index) + " has no valid bufferView");
     const auto& bv = g.bufferViews[static_cast<std::size_t>(a.bufferView)];
-    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= g.buffers.size()) return fail("bufferView has no valid buffer");
+    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= g.buffers.size())
+        return fail("bufferView has no valid buffer");
     const auto& buf = g.buffers[static_cast<std::size_t>(bv.buffer)];
     int comps = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type));
     int csize = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
@@ -302,8 +318,8 @@ Result<AccessorView> viewAccessor(const tinygltf::Model& g, int index, const std
     // straight from the file (up to 2^64 - 1) and a sum could wrap.
     const std::uint64_t size = buf.data.size();
     auto pastEnd = [&] {
-        return fail("accessor " + std::to_string(index) + " (" + std::to_string(a.count) + " elements) runs past its buffer of " +
-                    std::to_string(size) + " bytes");
+        return fail("accessor " + std::to_string(index) + " (" + std::to_string(a.count) +
+                    " elements) runs past its buffer of " + std::to_string(size) + " bytes");
     };
     if (bv.byteOffset > size || bv.byteLength > size - bv.byteOffset) return pastEnd();
     if (a.count > 0) {
@@ -321,19 +337,26 @@ struct DracoPrimitive {
     const draco::PointAttribute* position = nullptr;
 };
 
-Result<DracoPrimitive> decodeDraco(const tinygltf::Model& g, const tinygltf::Primitive& prim, const std::string& where) {
-    auto fail = [&](const std::string& what) { return makeError(ErrorCode::ParseError, where + ": " + std::string(kDracoExtension) + ": " + what); };
+Result<DracoPrimitive> decodeDraco(const tinygltf::Model& g, const tinygltf::Primitive& prim,
+                                   const std::string& where) {
+    auto fail = [&](const std::string& what) {
+        return makeError(ErrorCode::ParseError, where + ": " + std::string(kDracoExtension) + ": " + what);
+    };
     nlohmann::json exts = parseExtras(prim.extensions_json_string);
-    if (!exts.is_object() || !exts.contains(kDracoDeferred) || !exts[kDracoDeferred].is_object()) return fail("not an object");
+    if (!exts.is_object() || !exts.contains(kDracoDeferred) || !exts[kDracoDeferred].is_object())
+        return fail("not an object");
     const nlohmann::json& ext = exts[kDracoDeferred];
     if (!ext.contains("bufferView") || !ext["bufferView"].is_number_integer()) return fail("no bufferView");
     const std::int64_t v = ext["bufferView"].get<std::int64_t>();
-    if (v < 0 || static_cast<std::uint64_t>(v) >= g.bufferViews.size()) return fail("bufferView " + std::to_string(v) + " does not exist");
+    if (v < 0 || static_cast<std::uint64_t>(v) >= g.bufferViews.size())
+        return fail("bufferView " + std::to_string(v) + " does not exist");
     const auto& view = g.bufferViews[static_cast<std::size_t>(v)];
-    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= g.buffers.size()) return fail("bufferView " + std::to_string(v) + " has no valid buffer");
+    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= g.buffers.size())
+        return fail("bufferView " + std::to_string(v) + " has no valid buffer");
     const auto& buf = g.buffers[static_cast<std::size_t>(view.buffer)];
     if (view.byteOffset > buf.data.size() || view.byteLength > buf.data.size() - view.byteOffset)
-        return fail("bufferView " + std::to_string(v) + " runs past its buffer of " + std::to_string(buf.data.size()) + " bytes");
+        return fail("bufferView " + std::to_string(v) + " runs past its buffer of " + std::to_string(buf.data.size()) +
+                    " bytes");
     if (!ext.contains("attributes") || !ext["attributes"].is_object() || !ext["attributes"].contains("POSITION") ||
         !isUnsigned(ext["attributes"]["POSITION"]) || ext["attributes"]["POSITION"].get<std::uint64_t>() > 0xFFFFFFFFu)
         return fail("attributes.POSITION is not a Draco attribute id");
@@ -349,11 +372,15 @@ Result<DracoPrimitive> decodeDraco(const tinygltf::Model& g, const tinygltf::Pri
     if (!out.mesh) return fail("cannot decode: no mesh");
     const draco::PointAttribute* att = out.mesh->GetAttributeByUniqueId(id);
     if (!att) return fail("no Draco attribute with id " + std::to_string(id) + " (POSITION)");
-    if (att->num_components() != 3) return fail("POSITION has " + std::to_string(att->num_components()) + " components, expected 3");
+    if (att->num_components() != 3)
+        return fail("POSITION has " + std::to_string(att->num_components()) + " components, expected 3");
     const std::int64_t component = draco::DataTypeLength(att->data_type());
     if (component <= 0 || !att->buffer() || att->byte_stride() < 3 * component || att->byte_offset() < 0)
         return fail("POSITION has an unusable data layout");
-    const std::uint64_t need = att->size() == 0 ? 0 : std::uint64_t(att->byte_offset()) + std::uint64_t(att->byte_stride()) * (att->size() - 1) + 3 * std::uint64_t(component);
+    const std::uint64_t need = att->size() == 0 ? 0
+                                                : std::uint64_t(att->byte_offset()) +
+                                                      std::uint64_t(att->byte_stride()) * (att->size() - 1) +
+                                                      3 * std::uint64_t(component);
     if (need > att->buffer()->data_size()) return fail("POSITION values run past their storage");
     out.position = att;
     return out;
@@ -363,14 +390,16 @@ Result<DracoPrimitive> decodeDraco(const tinygltf::Model& g, const tinygltf::Pri
 // scene frame, in double) and then to world axes. Under a mirroring transform (negative
 // determinant) each triangle's winding is reversed, so outward normals stay outward.
 // `budget` is what is left of the file's expansion allowance (kExpansionFactor), in bytes.
-Status appendPrimitive(const tinygltf::Model& g, const tinygltf::Primitive& prim, const glm::dmat4& toWorld,
-                       Mesh& mesh, const std::string& where, std::uint64_t& budget) {
+Status appendPrimitive(const tinygltf::Model& g, const tinygltf::Primitive& prim, const glm::dmat4& toWorld, Mesh& mesh,
+                       const std::string& where, std::uint64_t& budget) {
     if (prim.mode < 0 || prim.mode > kTriangleFan)
-        return makeError(ErrorCode::ParseError, where + ": primitive mode " + std::to_string(prim.mode) + " is not a glTF mode");
+        return makeError(ErrorCode::ParseError,
+                         where + ": primitive mode " + std::to_string(prim.mode) + " is not a glTF mode");
     if (prim.mode < kTriangles) return {};  // points and lines carry no volume or sheet
     const bool draco = prim.extensions.count(kDracoDeferred) != 0;
     auto posIt = prim.attributes.find("POSITION");
-    if (posIt == prim.attributes.end() && !draco) return makeError(ErrorCode::ParseError, where + ": primitive has no POSITION");
+    if (posIt == prim.attributes.end() && !draco)
+        return makeError(ErrorCode::ParseError, where + ": primitive has no POSITION");
 
     const std::size_t first = mesh.positions.size();
     const bool mirror = glm::determinant(glm::dmat3(toWorld)) < 0.0;
@@ -422,20 +451,24 @@ Status appendPrimitive(const tinygltf::Model& g, const tinygltf::Primitive& prim
         const draco::Mesh& dm = *d->mesh;
         const draco::PointAttribute& att = *d->position;
         vertexCount = dm.num_points();
-        if (first + vertexCount > 0xFFFFFFF0u) return makeError(ErrorCode::OutOfRange, where + ": more than 4 billion vertices");
+        if (first + vertexCount > 0xFFFFFFF0u)
+            return makeError(ErrorCode::OutOfRange, where + ": more than 4 billion vertices");
         // Every point needs a POSITION value; checked here so that the reservation below is
         // bounded by storage libdraco has already allocated.
         if ((att.is_mapping_identity() ? att.size() : att.indices_map_size()) < vertexCount)
-            return makeError(ErrorCode::ParseError, where + ": Draco POSITION has fewer values than the mesh has points");
+            return makeError(ErrorCode::ParseError,
+                             where + ": Draco POSITION has fewer values than the mesh has points");
         if (auto s = spend(vertexCount, std::uint64_t(dm.num_faces()) * 3); !s) return s;
         mesh.positions.reserve(first + vertexCount);
         for (draco::PointIndex p(0); p < dm.num_points(); ++p) {
             if (!att.is_mapping_identity() && p.value() >= att.indices_map_size())
-                return makeError(ErrorCode::ParseError, where + ": Draco point " + std::to_string(p.value()) + " has no POSITION");
+                return makeError(ErrorCode::ParseError,
+                                 where + ": Draco point " + std::to_string(p.value()) + " has no POSITION");
             const draco::AttributeValueIndex value = att.mapped_index(p);
             double xyz[3];
             if (value.value() >= att.size() || !att.ConvertValue<double>(value, 3, xyz))
-                return makeError(ErrorCode::ParseError, where + ": Draco point " + std::to_string(p.value()) + " has no POSITION");
+                return makeError(ErrorCode::ParseError,
+                                 where + ": Draco point " + std::to_string(p.value()) + " has no POSITION");
             addVertex(xyz[0], xyz[1], xyz[2]);
         }
         // Draco stores triangle lists whatever the primitive's mode says.
@@ -449,14 +482,16 @@ Status appendPrimitive(const tinygltf::Model& g, const tinygltf::Primitive& prim
     if (pos->componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || pos->components != 3)
         return makeError(ErrorCode::Unsupported, where + ": POSITION must be float VEC3");
     vertexCount = pos->count;
-    if (first + vertexCount > 0xFFFFFFF0u) return makeError(ErrorCode::OutOfRange, where + ": more than 4 billion vertices");
+    if (first + vertexCount > 0xFFFFFFF0u)
+        return makeError(ErrorCode::OutOfRange, where + ": more than 4 billion vertices");
     AccessorView idx;
     if (prim.indices >= 0) {
         auto view = viewAccessor(g, prim.indices, where);
         if (!view) return view.error();
         idx = view.value();
         if (idx.components != 1) return makeError(ErrorCode::ParseError, where + ": indices must be SCALAR");
-        if (idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        if (idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+            idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
             idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
             return makeError(ErrorCode::ParseError, where + ": indices must be unsigned byte, short or int");
     }
@@ -471,9 +506,18 @@ Status appendPrimitive(const tinygltf::Model& g, const tinygltf::Primitive& prim
     return pushCorners(prim.mode, idx.count, [&](std::size_t i) -> std::uint64_t {
         const std::uint8_t* p = idx.base + i * idx.stride;
         switch (idx.componentType) {
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return *p;
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
-            default: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                return *p;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                std::uint16_t v;
+                std::memcpy(&v, p, 2);
+                return v;
+            }
+            default: {
+                std::uint32_t v;
+                std::memcpy(&v, p, 4);
+                return v;
+            }
         }
     });
 }
@@ -516,9 +560,11 @@ bool writeNothing(std::string* err, const std::string&, const std::vector<unsign
     return false;
 }
 
-Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const std::string& source, const std::string& baseDir) {
+Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const std::string& source,
+                               const std::string& baseDir) {
     if (size == 0) return makeError(ErrorCode::ParseError, source + ": empty file");
-    if (size >= 0xFFFFFFFFu) return makeError(ErrorCode::OutOfRange, source + ": glTF files over 4 GiB are not supported");
+    if (size >= 0xFFFFFFFFu)
+        return makeError(ErrorCode::OutOfRange, source + ": glTF files over 4 GiB are not supported");
     const bool binary = size >= 4 && readU32(data) == kGlbMagic;
     const std::uint8_t* bytes = data;
     std::size_t byteCount = size;
@@ -535,7 +581,8 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
             while (text.size() % 4) text.push_back(' ');
             const std::size_t binAt = 20 + std::size_t(jsonLen);
             const std::uint64_t total = 20 + std::uint64_t(text.size()) + (length - binAt);
-            if (total >= 0xFFFFFFFFu) return makeError(ErrorCode::OutOfRange, source + ": glTF files over 4 GiB are not supported");
+            if (total >= 0xFFFFFFFFu)
+                return makeError(ErrorCode::OutOfRange, source + ": glTF files over 4 GiB are not supported");
             rewrittenGlb.reserve(total);
             auto u32 = [&](std::uint32_t v) {
                 std::uint8_t b[4];
@@ -567,7 +614,8 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
             byteCount = rewrittenJson.size();
         }
     }
-    if (byteCount >= 0xFFFFFFFFu) return makeError(ErrorCode::OutOfRange, source + ": glTF files over 4 GiB are not supported");
+    if (byteCount >= 0xFFFFFFFFu)
+        return makeError(ErrorCode::OutOfRange, source + ": glTF files over 4 GiB are not supported");
 
     tinygltf::TinyGLTF loader;
     loader.SetStoreOriginalJSONForExtrasAndExtensions(true);
@@ -582,7 +630,8 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
         if (err.size() > 2 * kMaxQuoted) err = err.substr(0, 2 * kMaxQuoted) + "...";
-        return makeError(ErrorCode::ParseError, source + ": " + (err.empty() ? std::string("not a valid glTF file") : err));
+        return makeError(ErrorCode::ParseError,
+                         source + ": " + (err.empty() ? std::string("not a valid glTF file") : err));
     }
     rewrittenGlb = {};
     rewrittenJson = {};
@@ -591,7 +640,8 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
     model.source = source;
     bool ours = false;
     if (g.defaultScene < -1 || (g.defaultScene >= 0 && static_cast<std::size_t>(g.defaultScene) >= g.scenes.size()))
-        return makeError(ErrorCode::ParseError, source + ": the default scene " + std::to_string(g.defaultScene) + " does not exist");
+        return makeError(ErrorCode::ParseError,
+                         source + ": the default scene " + std::to_string(g.defaultScene) + " does not exist");
     int sceneIndex = g.defaultScene >= 0 ? g.defaultScene : 0;
     std::vector<int> roots;
     if (static_cast<std::size_t>(sceneIndex) < g.scenes.size()) {
@@ -633,7 +683,10 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
     std::vector<char> seen(g.nodes.size(), 0);
     std::uint64_t budget = kExpansionFactor * size + kExpansionAllowance;
     bool allKinds = true;
-    struct Item { int node; glm::dmat4 parent; };
+    struct Item {
+        int node;
+        glm::dmat4 parent;
+    };
     std::vector<Item> stack;
     for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, glm::dmat4(1.0)});
     while (!stack.empty()) {
@@ -642,15 +695,17 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
         if (item.node < 0 || static_cast<std::size_t>(item.node) >= g.nodes.size())
             return makeError(ErrorCode::ParseError, source + ": node " + std::to_string(item.node) + " does not exist");
         if (seen[static_cast<std::size_t>(item.node)])
-            return makeError(ErrorCode::ParseError, source + ": node " + std::to_string(item.node) +
-                                                        " is reached twice: the node hierarchy has a cycle or a node with two parents");
+            return makeError(ErrorCode::ParseError,
+                             source + ": node " + std::to_string(item.node) +
+                                 " is reached twice: the node hierarchy has a cycle or a node with two parents");
         seen[static_cast<std::size_t>(item.node)] = 1;
         const auto& node = g.nodes[static_cast<std::size_t>(item.node)];
         glm::dmat4 m = item.parent * nodeMatrix(node);
         for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, m});
         if (node.mesh < 0) continue;
         if (static_cast<std::size_t>(node.mesh) >= g.meshes.size())
-            return makeError(ErrorCode::ParseError, source + ": node \"" + node.name + "\" uses mesh " + std::to_string(node.mesh) + " which does not exist");
+            return makeError(ErrorCode::ParseError, source + ": node \"" + node.name + "\" uses mesh " +
+                                                        std::to_string(node.mesh) + " which does not exist");
         const auto& gm = g.meshes[static_cast<std::size_t>(node.mesh)];
         Part part;
         part.name = !node.name.empty() ? node.name : !gm.name.empty() ? gm.name : "mesh " + std::to_string(node.mesh);
@@ -668,7 +723,8 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
                 part.kind = gs["kind"] == "surface" ? PartKind::Surface : PartKind::Body;
                 kindKnown = true;
             }
-            if (gs.contains("record") && gs["record"].is_number_unsigned() && gs["record"].get<std::uint64_t>() <= 0xFFFFFFFEu)
+            if (gs.contains("record") && gs["record"].is_number_unsigned() &&
+                gs["record"].get<std::uint64_t>() <= 0xFFFFFFFEu)
                 part.record = gs["record"].get<RecordId>();
         } else if (ex.is_object() && !ex.empty()) {
             // Plain extras describe the part's geology: they become its record.
@@ -691,7 +747,8 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
 
 }  // namespace
 
-Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::string& source, const std::string& baseDir) {
+Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::string& source,
+                        const std::string& baseDir) {
     // tinygltf, libdraco and the containers may throw (bad_alloc, length_error) on inputs
     // that pass every check above; a bad file is an error value, never an escaped exception.
     try {
@@ -706,7 +763,9 @@ Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::s
 Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOptions& options) {
     using json = nlohmann::ordered_json;
     std::vector<std::uint8_t> bin;
-    auto align4 = [&] { while (bin.size() % 4) bin.push_back(0); };
+    auto align4 = [&] {
+        while (bin.size() % 4) bin.push_back(0);
+    };
     json accessors = json::array(), views = json::array(), meshes = json::array(), nodes = json::array();
     json rootChildren = json::array();
     nodes.push_back(json::object());  // root, filled below
@@ -734,8 +793,11 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
             lo = glm::min(lo, g);
             hi = glm::max(hi, g);
         }
-        json posAcc = {{"componentType", 5126}, {"count", mesh.positions.size()}, {"type", "VEC3"},
-                       {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
+        json posAcc = {{"componentType", 5126},
+                       {"count", mesh.positions.size()},
+                       {"type", "VEC3"},
+                       {"min", {lo.x, lo.y, lo.z}},
+                       {"max", {hi.x, hi.y, hi.z}}};
         json idxAcc = {{"componentType", 5125}, {"count", mesh.indices.size()}, {"type", "SCALAR"}};
         json prim = {{"mode", kTriangles}};
         if (options.draco) {
@@ -744,7 +806,8 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
             ga.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_FLOAT32, false, sizeof(float) * 3, 0);
             int att = dm.AddAttribute(ga, true, static_cast<std::uint32_t>(mesh.positions.size()));
             for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-                dm.attribute(att)->SetAttributeValue(draco::AttributeValueIndex(static_cast<std::uint32_t>(i)), &pos[3 * i]);
+                dm.attribute(att)->SetAttributeValue(draco::AttributeValueIndex(static_cast<std::uint32_t>(i)),
+                                                     &pos[3 * i]);
             for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
                 dm.AddFace({draco::PointIndex(mesh.indices[3 * t]), draco::PointIndex(mesh.indices[3 * t + 1]),
                             draco::PointIndex(mesh.indices[3 * t + 2])});
@@ -753,10 +816,12 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
             enc.SetSpeedOptions(options.dracoSpeed, options.dracoSpeed);
             draco::EncoderBuffer out;
             draco::Status st = enc.EncodeMeshToBuffer(dm, &out);
-            if (!st.ok()) return makeError(ErrorCode::Internal, "Draco encoding of \"" + part.name + "\" failed: " + st.error_msg_string());
+            if (!st.ok())
+                return makeError(ErrorCode::Internal,
+                                 "Draco encoding of \"" + part.name + "\" failed: " + st.error_msg_string());
             int view = addView(out.data(), out.size(), 0);
-            prim["extensions"]["KHR_draco_mesh_compression"] = {{"bufferView", view},
-                                                                {"attributes", {{"POSITION", dm.attribute(att)->unique_id()}}}};
+            prim["extensions"]["KHR_draco_mesh_compression"] = {
+                {"bufferView", view}, {"attributes", {{"POSITION", dm.attribute(att)->unique_id()}}}};
         } else {
             posAcc["bufferView"] = addView(pos.data(), pos.size() * sizeof(float), 34962);
             idxAcc["bufferView"] = addView(mesh.indices.data(), mesh.indices.size() * 4, 34963);
@@ -766,8 +831,11 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
         accessors.push_back(idxAcc);
         prim["indices"] = accessors.size() - 1;
         meshes.push_back({{"name", part.name}, {"primitives", json::array({prim})}});
-        nodes.push_back({{"name", part.name}, {"mesh", meshes.size() - 1},
-                         {"extras", {{"geoslice", {{"kind", part.kind == PartKind::Body ? "body" : "surface"}, {"record", part.record}}}}}});
+        nodes.push_back(
+            {{"name", part.name},
+             {"mesh", meshes.size() - 1},
+             {"extras",
+              {{"geoslice", {{"kind", part.kind == PartKind::Body ? "body" : "surface"}, {"record", part.record}}}}}});
         rootChildren.push_back(nodes.size() - 1);
         return {};
     };
@@ -778,7 +846,9 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
     align4();
 
     glm::dvec3 o = worldToGltf(model.origin);
-    nodes[0] = {{"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}, {"children", rootChildren}};
+    nodes[0] = {{"name", model.name.empty() ? "model" : model.name},
+                {"translation", {o.x, o.y, o.z}},
+                {"children", rootChildren}};
     json doc;
     doc["asset"] = {{"version", "2.0"}, {"generator", "geoslice 0.1.0"}};
     if (options.draco) {
@@ -786,38 +856,21 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
         doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
     }
     doc["scene"] = 0;
-    doc["scenes"] = {{{"name", model.name}, {"nodes", {0}},
-                      {"extras", {{"geoslice", {{"version", 1}, {"crs", model.crs.id()},
-                                                {"origin", {model.origin.x, model.origin.y, model.origin.z}},
-                                                {"attributes", model.attributes.toJson()["records"]},
-                                                {"notes", model.notes}}}}}}};
+    doc["scenes"] = {{{"name", model.name},
+                      {"nodes", {0}},
+                      {"extras",
+                       {{"geoslice",
+                         {{"version", 1},
+                          {"crs", model.crs.id()},
+                          {"origin", {model.origin.x, model.origin.y, model.origin.z}},
+                          {"attributes", model.attributes.toJson()["records"]},
+                          {"notes", model.notes}}}}}}};
     doc["nodes"] = nodes;
     doc["meshes"] = meshes;
     doc["accessors"] = accessors;
     doc["bufferViews"] = views;
     doc["buffers"] = {{{"byteLength", bin.size()}}};
-    std::string text = doc.dump();
-    while (text.size() % 4) text.push_back(' ');
-
-    std::uint64_t total = 12 + 8 + text.size() + 8 + bin.size();
-    if (total >= 0xFFFFFFFFull) return makeError(ErrorCode::OutOfRange, "model too large for one GLB (" + std::to_string(total) + " bytes)");
-    std::vector<std::uint8_t> out;
-    out.reserve(total);
-    auto u32 = [&](std::uint32_t v) {
-        std::uint8_t b[4];
-        std::memcpy(b, &v, 4);
-        out.insert(out.end(), b, b + 4);
-    };
-    u32(kGlbMagic);
-    u32(2);
-    u32(static_cast<std::uint32_t>(total));
-    u32(static_cast<std::uint32_t>(text.size()));
-    u32(kChunkJson);
-    out.insert(out.end(), text.begin(), text.end());
-    u32(static_cast<std::uint32_t>(bin.size()));
-    u32(kChunkBin);
-    out.insert(out.end(), bin.begin(), bin.end());
-    return out;
+    return packGlb(doc.dump(), bin, "model");
 }
 
 Status writeGlb(const Model& model, const std::string& path, const GlbWriteOptions& options) {
@@ -835,6 +888,31 @@ Status writeGlb(const Model& model, const std::string& path, const GlbWriteOptio
     std::filesystem::rename(tmp, path, ec);
     if (ec) return makeError(ErrorCode::IoError, path + ": cannot rename from " + tmp + ": " + ec.message());
     return {};
+}
+
+Result<std::vector<std::uint8_t>> packGlb(std::string text, const std::vector<std::uint8_t>& bin,
+                                          const std::string& what) {
+    while (text.size() % 4) text.push_back(' ');
+    const std::uint64_t total = 12 + 8 + text.size() + 8 + bin.size();
+    if (total >= 0xFFFFFFFFull)
+        return makeError(ErrorCode::OutOfRange, what + " too large for one GLB (" + std::to_string(total) + " bytes)");
+    std::vector<std::uint8_t> out;
+    out.reserve(total);
+    auto u32 = [&](std::uint32_t v) {
+        std::uint8_t b[4];
+        std::memcpy(b, &v, 4);
+        out.insert(out.end(), b, b + 4);
+    };
+    u32(kGlbMagic);
+    u32(2);
+    u32(static_cast<std::uint32_t>(total));
+    u32(static_cast<std::uint32_t>(text.size()));
+    u32(kGlbChunkJson);
+    out.insert(out.end(), text.begin(), text.end());
+    u32(static_cast<std::uint32_t>(bin.size()));
+    u32(kGlbChunkBin);
+    out.insert(out.end(), bin.begin(), bin.end());
+    return out;
 }
 
 }  // namespace geoslice

@@ -23,6 +23,15 @@ struct GlbWriteOptions {
 };
 
 Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOptions& options = {});
+
+// GLB container constants (glTF 2.0 spec, "Binary glTF Layout").
+constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr std::uint32_t kGlbChunkJson = 0x4E4F534A;
+constexpr std::uint32_t kGlbChunkBin = 0x004E4942;
+// Packs a glTF JSON document and its binary buffer into one GLB (JSON padded with spaces to
+// 4 bytes; `bin` must already be 4-byte padded). OutOfRange naming `what` past 4 GiB.
+Result<std::vector<std::uint8_t>> packGlb(std::string json, const std::vector<std::uint8_t>& bin,
+                                          const std::string& what);
 Status writeGlb(const Model& model, const std::string& path, const GlbWriteOptions& options = {});
 
 }  // namespace geoslice
