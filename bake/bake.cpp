@@ -71,9 +71,12 @@ Status checkOptions(const BakeOptions& o) {
     if (o.pack.width < 8 || o.pack.height < 8 || o.pack.width > 16384 || o.pack.height > 16384)
         return makeError(ErrorCode::InvalidArgument, "texture size " + std::to_string(o.pack.width) + "x" +
                                                          std::to_string(o.pack.height) + " is outside 8..16384");
-    if (o.field.blocks) {
-        if (o.field.blocks->values.empty())
-            return makeError(ErrorCode::InvalidArgument, "the block model has no blocks");
+    if (o.field.blocks && !o.field.vertexProperty.empty())
+        return makeError(ErrorCode::InvalidArgument, "a field is either a block model or the per-vertex property \"" +
+                                                         o.field.vertexProperty + "\", not both");
+    if (o.field.blocks && o.field.blocks->values.empty())
+        return makeError(ErrorCode::InvalidArgument, "the block model has no blocks");
+    if (o.field.enabled()) {
         for (std::size_t i = 0; i < o.field.breaks.size(); ++i)
             if (!std::isfinite(o.field.breaks[i]) || (i && !(o.field.breaks[i] > o.field.breaks[i - 1])))
                 return makeError(ErrorCode::InvalidArgument, "field class breaks must be finite and increasing");
@@ -181,17 +184,25 @@ void emitChart(const Flattened& f, const Placement& pl, const Mesh& mesh, const 
 
 // Record ids of a field bake: one per (part record, class), from `base` up.
 struct FieldIds {
-    const BlockIndex* index = nullptr;
+    const BlockIndex* index = nullptr;  // block field only
     const FieldOptions* options = nullptr;
     std::vector<RecordId> partRecords;  // sorted, unique, no 0
     RecordId base = 0;
+    // The record of a part record's class of `value`; the part record itself for NaN values
+    // and records without classes.
+    RecordId classRecord(RecordId partRecord, double value) const {
+        if (partRecord == kNoRecord || std::isnan(value)) return partRecord;
+        const auto it = std::lower_bound(partRecords.begin(), partRecords.end(), partRecord);
+        if (it == partRecords.end() || *it != partRecord) return partRecord;
+        const int k = fieldClass(options->breaks, value);
+        return base + RecordId(it - partRecords.begin()) * RecordId(options->breaks.size() + 1) + RecordId(k);
+    }
+    // Block field: the record at a world point.
     RecordId at(RecordId partRecord, const glm::dvec3& world) const {
         if (partRecord == kNoRecord) return partRecord;
         const int b = index->find(world);
         if (b < 0) return partRecord;
-        const auto r = std::lower_bound(partRecords.begin(), partRecords.end(), partRecord) - partRecords.begin();
-        const int k = fieldClass(options->breaks, options->blocks->values[std::size_t(b)]);
-        return base + RecordId(r) * RecordId(options->breaks.size() + 1) + RecordId(k);
+        return classRecord(partRecord, options->blocks->values[std::size_t(b)]);
     }
 };
 
@@ -224,23 +235,27 @@ double closestBarycentric(const glm::dvec2 t[3], const glm::dvec2& p, glm::dvec3
 }
 
 // The field variant of rasterChart: each covered cell's centre is mapped back onto its nearest
-// triangle of the chart (texel space -> barycentric -> world) and takes that point's id;
-// padding cells copy the id of their first covered neighbour (row by row, left to right).
+// triangle of the chart (texel space -> barycentric) and takes the id of that point: for a block
+// field, of the block holding the world point; for a vertex property (column >= 0 of the part's
+// mesh), of the class of the value interpolated with those barycentric weights. Padding cells
+// copy the id of their first covered neighbour (row by row, left to right).
 void rasterChartField(const Flattened& f, const Placement& pl, const BakedPart& bp, const Mesh& mesh,
-                      const FieldIds& field, std::uint32_t width, std::uint32_t height, std::uint32_t* texels) {
+                      const FieldIds& field, int column, std::uint32_t width, std::uint32_t height,
+                      std::uint32_t* texels) {
     const std::uint32_t mw = pl.w + 2, mh = pl.h + 2;
     const std::size_t cells = std::size_t(mw) * mh;
     std::vector<double> bestDist(cells, std::numeric_limits<double>::infinity());
-    std::vector<glm::dvec3> bestPoint(cells);
+    // Per cell: the nearest triangle (index into the chart's list) and the barycentric weights
+    // of the cell centre's point on it.
+    std::vector<glm::dvec3> bestBary(cells);
+    std::vector<std::uint32_t> bestTriangle(cells, 0);
     std::vector<std::uint8_t> mask(cells, 0), local;
     for (std::size_t k = 0; k < f.triangles.size(); ++k) {
         glm::dvec2 tri[3];
-        glm::dvec3 world[3];
         for (int e = 0; e < 3; ++e) {
             const glm::vec2 uv = bp.uvs[bp.indices[3 * std::size_t(f.triangles[k]) + e]];
             tri[e] = {(double(uv.x) - double(pl.page)) * width - (double(pl.x) - 1.0),
                       double(uv.y) * height - (double(pl.y) - 1.0)};
-            world[e] = mesh.positions[f.uv.vertices[f.uv.corners[3 * k + e]]];
         }
         const glm::dvec2 lo = glm::min(tri[0], glm::min(tri[1], tri[2])),
                          hi = glm::max(tri[0], glm::max(tri[1], tri[2]));
@@ -263,13 +278,24 @@ void rasterChartField(const Flattened& f, const Placement& pl, const BakedPart& 
                 mask[c] = 1;
                 if (d < bestDist[c]) {
                     bestDist[c] = d;
-                    bestPoint[c] = b.x * world[0] + b.y * world[1] + b.z * world[2];
+                    bestBary[c] = b;
+                    bestTriangle[c] = static_cast<std::uint32_t>(k);
                 }
             }
     }
     std::vector<RecordId> ids(cells, kNoRecord);
-    for (std::size_t c = 0; c < cells; ++c)
-        if (mask[c]) ids[c] = field.at(bp.record, bestPoint[c]);
+    for (std::size_t c = 0; c < cells; ++c) {
+        if (!mask[c]) continue;
+        const std::size_t k = bestTriangle[c];
+        const glm::dvec3& b = bestBary[c];
+        if (column >= 0) {
+            ids[c] = field.classRecord(bp.record, interpolateProperty(mesh, column, f.triangles[k], b));
+        } else {
+            glm::dvec3 world[3];
+            for (int e = 0; e < 3; ++e) world[e] = mesh.positions[f.uv.vertices[f.uv.corners[3 * k + e]]];
+            ids[c] = field.at(bp.record, b.x * world[0] + b.y * world[1] + b.z * world[2]);
+        }
+    }
     dilateMask(mask.data(), mw, mh);
     std::uint32_t* page = texels + std::size_t(pl.page) * height * width;
     for (std::uint32_t j = 0; j < mh; ++j) {
@@ -356,6 +382,34 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     }
     if (parts.empty())
         return makeError(ErrorCode::InvalidArgument, "model \"" + model.name + "\" has no triangles to bake");
+    // Vertex-property field: the property's column per part (-1: the part does not have it).
+    std::vector<int> columns(parts.size(), -1);
+    if (!options.field.vertexProperty.empty()) {
+        const std::string& name = options.field.vertexProperty;
+        std::vector<std::string> known;
+        bool found = false;
+        for (std::size_t p = 0; p < parts.size(); ++p) {
+            const Mesh& m = parts[p].part->mesh;
+            for (const auto& n : m.propertyNames)
+                if (std::find(known.begin(), known.end(), n) == known.end()) known.push_back(n);
+            columns[p] = propertyColumn(m, name);
+            if (columns[p] < 0) continue;
+            found = true;
+            if (m.propertyValues.size() != m.positions.size() * m.propertyNames.size())
+                return makeError(ErrorCode::InvalidArgument,
+                                 "part \"" + parts[p].part->name + "\": " + std::to_string(m.propertyValues.size()) +
+                                     " per-vertex property values for " + std::to_string(m.positions.size()) +
+                                     " vertices x " + std::to_string(m.propertyNames.size()) + " properties");
+        }
+        if (!found) {
+            std::string list;
+            for (const auto& n : known) list += (list.empty() ? "\"" : ", \"") + n + "\"";
+            return makeError(ErrorCode::InvalidArgument,
+                             "model \"" + model.name + "\" has no per-vertex property \"" + name + "\" (" +
+                                 (known.empty() ? std::string("it has no per-vertex properties") : "known: " + list) +
+                                 ")");
+        }
+    }
     BakedModel out;
     out.pack = options.pack;
 
@@ -435,12 +489,16 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
     out.texels.assign(std::size_t(out.pages) * out.height * out.width, kNoRecord);
     std::optional<BlockIndex> blockIndex;
     FieldIds field;
-    if (options.field.blocks) {
-        blockIndex.emplace(*options.field.blocks);
-        field.index = &*blockIndex;
+    if (options.field.enabled()) {
+        if (options.field.blocks) {
+            blockIndex.emplace(*options.field.blocks);
+            field.index = &*blockIndex;
+        }
         field.options = &options.field;
-        for (const auto& p : out.parts)
-            if (p.record != kNoRecord) field.partRecords.push_back(p.record);
+        // A vertex property gives classes only to the records of parts that have it.
+        for (std::size_t p = 0; p < out.parts.size(); ++p)
+            if (out.parts[p].record != kNoRecord && (options.field.blocks || columns[p] >= 0))
+                field.partRecords.push_back(out.parts[p].record);
         std::sort(field.partRecords.begin(), field.partRecords.end());
         field.partRecords.erase(std::unique(field.partRecords.begin(), field.partRecords.end()),
                                 field.partRecords.end());
@@ -462,7 +520,8 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
                     std::snprintf(range, sizeof range, ">= %g", lo);
                 else
                     std::snprintf(range, sizeof range, "%g - %g", lo, hi);
-                const std::string fieldName = options.field.blocks->name;
+                const std::string fieldName =
+                    options.field.blocks ? options.field.blocks->name : options.field.vertexProperty;
                 rec.name = (parent ? parent->name : "record " + std::to_string(field.partRecords[r])) + ", " +
                            fieldName + " " + range;
                 rec.grade = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : (std::isfinite(lo) ? lo : hi);
@@ -473,14 +532,29 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
                 if (std::isfinite(lo)) rec.extra["min"] = lo;
                 if (std::isfinite(hi)) rec.extra["max"] = hi;
                 rec.extra["parent"] = field.partRecords[r];
+                // Classes must look different, not only carry different ids: blend the parent's
+                // colour from dark (lowest class) to a bright warm tint (highest), so a
+                // grade map reads low -> high like a heat scale over the stratum's own hue.
+                if (br.size() > 0) {
+                    const double t = double(k) / double(br.size());
+                    const double dark = 0.55, tint[3] = {255.0, 210.0, 60.0};
+                    auto mix = [&](std::uint8_t c, double warm) {
+                        const double base = double(c) * (dark + (1.0 - dark) * (1.0 - t));
+                        return std::uint8_t(std::lround(std::clamp(base + t * 0.6 * warm, 0.0, 255.0)));
+                    };
+                    rec.colour.r = mix(rec.colour.r, tint[0]);
+                    rec.colour.g = mix(rec.colour.g, tint[1]);
+                    rec.colour.b = mix(rec.colour.b, tint[2]);
+                }
                 out.fieldRecords.push_back(std::move(rec));
             }
     }
     parallelFor(charts.size(), threads, "raster", progress, [&](std::size_t c) {
         const BakedPart& bp = out.parts[charts[c].part];
-        if (field.index)
-            rasterChartField(charts[c], packing->placements[c], bp, parts[charts[c].part].part->mesh, field, out.width,
-                             out.height, out.texels.data());
+        const int column = columns[charts[c].part];
+        if (field.index || column >= 0)
+            rasterChartField(charts[c], packing->placements[c], bp, parts[charts[c].part].part->mesh, field, column,
+                             out.width, out.height, out.texels.data());
         else
             rasterChart(charts[c], packing->placements[c], bp, out.width, out.height, out.texels.data());
     });
@@ -491,9 +565,10 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
 
 Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options) {
     if (auto s = checkOptions(options); !s) return s.error();
-    if (options.field.blocks || !baked.fieldRecords.empty())
+    if (options.field.enabled() || !baked.fieldRecords.empty())
         return makeError(ErrorCode::Unsupported,
-                         "re-bake of a bake with a field (block model) is not supported: bake in full");
+                         "re-bake of a bake with a field (block model or vertex property) is not supported: bake in "
+                         "full");
     if (part >= baked.parts.size())
         return makeError(ErrorCode::InvalidArgument, "re-bake: part " + std::to_string(part) + " of " +
                                                          std::to_string(baked.parts.size()) + " baked parts");

@@ -178,10 +178,19 @@ Result<BlockModel> parseBlockCsv(std::string_view text, const std::string& sourc
 
 // Grade classes of a field: class k holds values in [breaks[k-1], breaks[k]) (class 0 below
 // breaks[0], the last class from breaks.back() up). breaks must be finite and increasing.
+// Two sources, at most one per bake:
+// - blocks: a texel's value is that of the block holding its point (see BakedModel);
+// - vertexProperty: a per-vertex property (Mesh::propertyNames, e.g. a TSurf PVRTX column
+//   "grade"): a texel's value is interpolated barycentrically from its triangle's three vertex
+//   values (the source mesh's vertices, before welding) at the texel centre's point on its
+//   nearest triangle. Parts without the property, and NaN (no-data) values, keep the part's
+//   record. A name no part has is an InvalidArgument error that lists the known names.
 struct FieldOptions {
-    const BlockModel* blocks = nullptr;  // none: one record per part, no field
+    const BlockModel* blocks = nullptr;  // none (and no vertexProperty): one record per part
+    std::string vertexProperty;          // empty: none
     std::vector<double> breaks;
     std::string unit;  // e.g. "% SiO2", copied into the class records' gradeUnit
+    bool enabled() const { return blocks != nullptr || !vertexProperty.empty(); }
 };
 
 // ---- Whole-model bake (bake.cpp) -------------------------------------------------------
@@ -227,9 +236,12 @@ struct BakedModel {
     std::vector<ChartSlot> charts;
     PackOptions pack;  // the options it was packed with
     // With a field: one record per (part record, class), ids from the model table's nextId()
-    // up; a texel whose point (the texel centre mapped back onto its nearest triangle) lies in a
-    // block holds the record of its part's record and that block's class, other texels their
-    // part's record. writePackage() adds these records to the attribute table.
+    // up (record r's classes in order; with a vertex property, only the records of parts that
+    // have it). A texel's point is its centre mapped back onto its nearest triangle. Blocks: a
+    // texel whose point lies in a block holds the record of its part's record and that block's
+    // class. Vertex property: a texel whose interpolated value is a number holds the record of
+    // its part's record and that value's class. Other texels hold their part's record.
+    // writePackage() adds these records to the attribute table.
     std::vector<AttributeRecord> fieldRecords;
     BakeStats stats;
 };
@@ -250,7 +262,7 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options = {}
 // (first fit, tallest first, guillotine splits), and when that is full, on new pages (within
 // PackOptions::maxPages; a full bake compacts again). Other parts' UVs and texels do not
 // change. Errors: InvalidArgument (bad part index, bad geometry), OutOfRange when the new
-// charts need more than maxPages pages, Unsupported for bakes with a field. On error `baked`
+// charts need more than maxPages pages, Unsupported for bakes with a field (either source). On error `baked`
 // is unchanged.
 // `options` gives the chart options and threads; page size, margin and budget are baked.pack.
 Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options = {});

@@ -1,8 +1,10 @@
 // Spatially varying attributes (issue 4, section 5): a block model of grades, its classes,
-// and a uniform-grid index (cell = median block size) that finds the block holding a point.
+// a uniform-grid index (cell = median block size) that finds the block holding a point, and
+// the barycentric interpolation of a per-vertex property (TSurf PVRTX).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <unordered_map>
 
@@ -141,6 +143,24 @@ int BlockIndex::find(const glm::dvec3& p) const {
 
 int fieldClass(const std::vector<double>& breaks, double value) {
     return int(std::upper_bound(breaks.begin(), breaks.end(), value) - breaks.begin());
+}
+
+int propertyColumn(const Mesh& mesh, const std::string& name) {
+    for (std::size_t k = 0; k < mesh.propertyNames.size(); ++k)
+        if (mesh.propertyNames[k] == name) return int(k);
+    return -1;
+}
+
+double interpolateProperty(const Mesh& mesh, int column, std::size_t triangle, const glm::dvec3& bary) {
+    const std::size_t columns = mesh.propertyNames.size();
+    double sum = 0.0;
+    for (int e = 0; e < 3; ++e) {
+        const std::size_t v = mesh.indices[3 * triangle + std::size_t(e)];
+        const double value = mesh.propertyValues[v * columns + std::size_t(column)];
+        if (std::isnan(value)) return std::numeric_limits<double>::quiet_NaN();
+        sum += bary[e] * value;
+    }
+    return sum;
 }
 
 }  // namespace geoslice::bake

@@ -1,7 +1,9 @@
-// Internal to bake/: the block index used while rasterizing a field. Not part of the API.
+// Internal to bake/: the block index and the per-vertex property lookups used while
+// rasterizing a field. Not part of the API.
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -25,5 +27,16 @@ private:
 
 // The class of a value: the number of breaks <= value.
 int fieldClass(const std::vector<double>& breaks, double value);
+
+// Column of the per-vertex property `name` in a mesh (exact name, as Mesh::propertyNames
+// holds it), or -1 when the mesh does not have it.
+int propertyColumn(const Mesh& mesh, const std::string& name);
+
+// The property in column `column` at barycentric weights `bary` of triangle `triangle` of
+// `mesh`: sum of weight x value over the triangle's three source vertices (mesh.indices).
+// NaN when any of the three values is NaN (no data). Preconditions (checked by the caller):
+// column < propertyNames.size(), propertyValues holds vertexCount() x propertyNames.size()
+// values, indices are in range.
+double interpolateProperty(const Mesh& mesh, int column, std::size_t triangle, const glm::dvec3& bary);
 
 }  // namespace geoslice::bake

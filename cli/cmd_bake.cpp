@@ -1,5 +1,5 @@
-// geoslice bake MODEL [--attributes table.csv|json] [--field blocks.csv --breaks a,b,..]
-// [--field-unit U] [--size 4096] [--min-density D]
+// geoslice bake MODEL [--attributes table.csv|json] [--field blocks.csv | --vertex-field NAME]
+// [--breaks a,b,..] [--field-unit U] [--size 4096] [--min-density D]
 // [--max-pages N] [--threads N] [--gltf FILE.glb] --out DIR: bakes the attribute-indexed texture and writes the
 // package (bake/package.hpp). Progress: a bar on a terminal (stderr), plain lines otherwise.
 #include <unistd.h>
@@ -18,7 +18,7 @@ namespace geoslice::cli {
 namespace {
 
 struct BakeArgs {
-    std::string model, attributes, out, gltf, field, fieldUnit;
+    std::string model, attributes, out, gltf, field, vertexField, fieldUnit;
     std::vector<double> breaks;
     std::uint32_t size = 4096;
     double minDensity = bake::PackOptions{}.minDensity;
@@ -69,6 +69,12 @@ int runBake(const BakeArgs& a) {
         }
         for (const auto& [id, rec] : table->records()) model->attributes.put(rec);
     }
+    if (!a.field.empty() && !a.vertexField.empty()) {
+        std::fprintf(stderr,
+                     "geoslice bake: --field (block model) and --vertex-field (per-vertex property) exclude "
+                     "each other: give one\n");
+        return 1;
+    }
     bake::BlockModel blocks;
     if (!a.field.empty()) {
         std::ifstream in(a.field, std::ios::binary);
@@ -85,8 +91,9 @@ int runBake(const BakeArgs& a) {
         blocks = std::move(parsed).value();
     }
     bake::BakeOptions o;
-    if (!a.field.empty()) {
-        o.field.blocks = &blocks;
+    if (!a.field.empty() || !a.vertexField.empty()) {
+        if (!a.field.empty()) o.field.blocks = &blocks;
+        o.field.vertexProperty = a.vertexField;
         o.field.breaks = a.breaks;
         o.field.unit = a.fieldUnit;
     }
@@ -133,9 +140,14 @@ void addBake(CLI::App& app, int& exitCode) {
     cmd->add_option("MODEL", a->model, "Model file (glTF/GLB, OBJ, TSurf, Geo3DML)")->required();
     cmd->add_option("--attributes", a->attributes, "Attribute table (.csv or .json) merged over the model's records");
     cmd->add_option("--field", a->field,
-                    "Block model CSV (x,y,z,dx,dy,dz,value: centres and sizes in world metres): texels inside a block "
-                    "get a record per (part record, value class)");
-    cmd->add_option("--breaks", a->breaks, "Class breaks of the field's value, increasing (e.g. 95,98)")
+                    "Field from a block model CSV (x,y,z,dx,dy,dz,value: centres and sizes in world metres): texels "
+                    "inside a block get a record per (part record, class of the block's value)");
+    cmd->add_option("--vertex-field", a->vertexField,
+                    "Field from a per-vertex property of the model (e.g. a TSurf PVRTX column such as \"grade\"): "
+                    "texels get a record per (part record, class of the value interpolated from the triangle's "
+                    "vertices); parts without it keep their record. Not with --field");
+    cmd->add_option("--breaks", a->breaks,
+                    "Class breaks of the field's value (--field or --vertex-field), increasing (e.g. 95,98)")
         ->delimiter(',');
     cmd->add_option("--field-unit", a->fieldUnit, "Unit of the field's value (e.g. \"% SiO2\")");
     cmd->add_option("--size", a->size, "Texture width and height, texels (default 4096)")->check(CLI::Range(8, 16384));

@@ -3,13 +3,15 @@
 //   [--quality Q] [--lossless] [--ids ids.png|ids.pgm]
 //   [--gl auto|egl-device|egl-surfaceless|osmesa] [--device N] [--clip clip-distance|discard]
 //   [--background transparent|#rrggbb[aa]] [--exaggeration F [--pivot Z]] [--aa auto|none|fxaa|msaa]
-//   [--no-traces] [--lod auto|on|off]
+//   [--no-traces] [--lod auto|on|off] [--baked [--bake-size N]]
 // Renders one frame of the slicing pass (renderer/slice_renderer.hpp) on a headless context.
 // Planes are world (a,b,c,d), kept where a*x+b*y+c*z+d >= 0; points are world easting,
 // northing, elevation in metres. The profile looks at the first plane's cut face (along +n).
 // With --exaggeration F the picture is stretched vertically by F about elevation --pivot:
 // --eye/--target are true world points (mapped into display space here); --frame is in the
-// display plane's u/v metres.
+// display plane's u/v metres. --baked bakes the model's attribute texture in memory first
+// (bake/bake.hpp, N x N texels per page) and takes every fragment's record id from it
+// (issue 4 item 8), as the server does with a baked package.
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "bake/bake.hpp"
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
 #include "renderer/gl_context.hpp"
@@ -56,6 +59,8 @@ struct RenderArgs {
     double exaggeration = 1.0, pivot = 0.0;
     std::string aa = "auto", lod = "auto";
     bool noTraces = false;
+    bool baked = false;
+    unsigned bakeSize = 4096;
 };
 
 int run(const RenderArgs& a) {
@@ -149,7 +154,20 @@ int run(const RenderArgs& a) {
     auto ctx = GlContext::create(o);
     if (!ctx) return fail(ctx.error().message);
     std::fprintf(stderr, "geoslice render: %s\n", (*ctx)->info().describe().c_str());
-    auto gpu = GpuModel::upload(**ctx, *model);
+    Result<std::unique_ptr<GpuModel>> gpu = makeError(ErrorCode::Internal, "no upload");
+    if (a.baked) {
+        if (a.bakeSize < 64 || a.bakeSize > 16384)
+            return fail("--bake-size " + std::to_string(a.bakeSize) + ": expected 64..16384");
+        bake::BakeOptions bo;
+        bo.pack.width = bo.pack.height = a.bakeSize;
+        auto baked = bake::bakeModel(*model, bo);
+        if (!baked) return fail(baked.error().message);
+        std::fprintf(stderr, "geoslice render: baked %ux%u x %u pages, %zu charts\n", baked->width, baked->height,
+                     baked->pages, baked->stats.charts);
+        gpu = GpuModel::upload(**ctx, *model, *baked);
+    } else {
+        gpu = GpuModel::upload(**ctx, *model);
+    }
     if (!gpu) return fail(gpu.error().message);
     auto renderer = SliceRenderer::create(**ctx);
     if (!renderer) return fail(renderer.error().message);
@@ -206,6 +224,8 @@ void addRender(CLI::App& app, int& exitCode) {
     cmd->add_option("--lod", a->lod,
                     "Level of detail away from the cut: auto (3D views on llvmpipe), on, off (full detail)");
     cmd->add_flag("--no-traces", a->noTraces, "Do not draw fault traces on the cut");
+    cmd->add_flag("--baked", a->baked, "Bake the attribute texture first and take record ids from it");
+    cmd->add_option("--bake-size", a->bakeSize, "Texels per side of a baked page (default 4096)");
     cmd->add_option("--pivot", a->pivot, "Elevation (m) that exaggeration keeps in place (default 0)");
     cmd->callback([a, &exitCode] { exitCode = run(*a); });
 }

@@ -113,6 +113,9 @@ namespace geoslice {
     X(PFNGLCREATETEXTURESPROC, CreateTextures)                                           \
     X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                           \
     X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                       \
+    X(PFNGLTEXTURESTORAGE3DPROC, TextureStorage3D)                                       \
+    X(PFNGLTEXTURESUBIMAGE2DPROC, TextureSubImage2D)                                     \
+    X(PFNGLTEXTURESUBIMAGE3DPROC, TextureSubImage3D)                                     \
     X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)                                     \
     X(PFNGLBINDTEXTUREUNITPROC, BindTextureUnit)                                         \
     /* timing and sync */                                                                \

@@ -6,6 +6,11 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <span>
+#include <string>
+
+#include "bake/bake.hpp"
+#include "bake/package.hpp"
 
 namespace geoslice {
 namespace {
@@ -49,6 +54,113 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Model& model,
                                                    const UploadOptions& options) {
+    return build(context, model, nullptr, options);
+}
+
+struct GpuModel::BakeSource {
+    struct PartView {
+        std::string name;
+        PartKind kind = PartKind::Body;
+        RecordId record = kNoRecord;
+        std::size_t source = 0;            // index into the model's bodies, then surfaces
+        const float* positions = nullptr;  // 3 per vertex, relative to BakeSource::origin
+        bool gltfAxes = false;             // (east, up, -north); else (east, north, up)
+        const float* uvs = nullptr;        // 2 per vertex
+        std::size_t vertexCount = 0;
+        std::span<const std::uint32_t> indices;
+    };
+    std::vector<PartView> parts;
+    glm::dvec3 origin{0.0};  // world, metres
+    std::span<const std::uint32_t> texels;
+    std::uint32_t width = 0, height = 0, pages = 0;
+    std::vector<const AttributeRecord*> records;  // colours beyond the model's table
+};
+
+Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Model& model,
+                                                   const bake::BakedModel& baked, const UploadOptions& options) {
+    BakeSource src;
+    src.origin = model.origin;  // BakedPart positions are world - Model::origin
+    for (const bake::BakedPart& bp : baked.parts) {
+        if (bp.uvs.size() != bp.positions.size())
+            return makeError(ErrorCode::InvalidArgument, "bake of model " + model.name + ": part " + bp.name + " has " +
+                                                             std::to_string(bp.uvs.size()) + " UVs for " +
+                                                             std::to_string(bp.positions.size()) + " vertices");
+        src.parts.push_back({bp.name, bp.kind, bp.record, bp.source,
+                             bp.positions.empty() ? nullptr : &bp.positions[0].x, false,
+                             bp.uvs.empty() ? nullptr : &bp.uvs[0].x, bp.positions.size(), bp.indices});
+    }
+    src.texels = baked.texels;
+    src.width = baked.width, src.height = baked.height, src.pages = baked.pages;
+    for (const AttributeRecord& r : baked.fieldRecords) src.records.push_back(&r);
+    auto g = build(context, model, &src, options);
+    if (!g) return g.error();
+    if (auto s = (*g)->uploadIdTexture(model, src); !s) return s.error();
+    return g;
+}
+
+Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Model& model, const bake::Package& package,
+                                                   const UploadOptions& options) {
+    BakeSource src;
+    src.origin = package.origin;
+    // Package part i: the model's i-th part with triangles.
+    std::size_t next = 0;
+    const std::size_t sourceCount = model.bodies.size() + model.surfaces.size();
+    for (const bake::PackagePart& pp : package.parts) {
+        auto partAt = [&](std::size_t i) -> const Part& {
+            return i < model.bodies.size() ? model.bodies[i] : model.surfaces[i - model.bodies.size()];
+        };
+        while (next < sourceCount && partAt(next).mesh.indices.empty()) ++next;
+        if (next == sourceCount)
+            return makeError(ErrorCode::InvalidArgument, "package " + package.name + " has more parts than model " +
+                                                             model.name + " (part " + pp.name + ")");
+        src.parts.push_back({pp.name, pp.kind, pp.record, next++, pp.positions, true, pp.uvs, pp.vertexCount,
+                             std::span<const std::uint32_t>(pp.indices, pp.indexCount)});
+    }
+    src.texels = package.texels;
+    src.width = package.width, src.height = package.height, src.pages = package.pages;
+    for (const auto& [id, r] : package.attributes.records()) src.records.push_back(&r);
+    auto g = build(context, model, &src, options);
+    if (!g) return g.error();
+    if (auto s = (*g)->uploadIdTexture(model, src); !s) return s.error();
+    return g;
+}
+
+Result<std::unique_ptr<GpuModel>> GpuModel::build(GlContext& context, const Model& model, const BakeSource* baked,
+                                                  const UploadOptions& options) {
+    // The baked part of each model part (bodies, then surfaces), checked one to one.
+    const std::size_t sourceCount = model.bodies.size() + model.surfaces.size();
+    std::vector<const BakeSource::PartView*> bakedOf(sourceCount, nullptr);
+    if (baked) {
+        for (std::size_t i = 0; i < baked->parts.size(); ++i) {
+            const BakeSource::PartView& bp = baked->parts[i];
+            const std::string where =
+                "bake of model " + model.name + ": part " + std::to_string(i) + " (" + bp.name + ")";
+            if (bp.source >= sourceCount)
+                return makeError(ErrorCode::InvalidArgument, where + " names source part " + std::to_string(bp.source) +
+                                                                 " of " + std::to_string(sourceCount));
+            if (bakedOf[bp.source])
+                return makeError(ErrorCode::InvalidArgument,
+                                 where + " repeats source part " + std::to_string(bp.source));
+            const bool body = bp.source < model.bodies.size();
+            const Part& part = body ? model.bodies[bp.source] : model.surfaces[bp.source - model.bodies.size()];
+            if (body != (bp.kind == PartKind::Body) || bp.record != part.record ||
+                bp.indices.size() != part.mesh.indices.size())
+                return makeError(ErrorCode::InvalidArgument,
+                                 where + " does not match the model's part " + part.name + " (kind, record " +
+                                     std::to_string(bp.record) + " vs " + std::to_string(part.record) + ", " +
+                                     std::to_string(bp.indices.size() / 3) + " vs " +
+                                     std::to_string(part.mesh.triangleCount()) + " triangles): bake this model again");
+            if (bp.vertexCount && (!bp.positions || !bp.uvs))
+                return makeError(ErrorCode::InvalidArgument, where + " has no positions or UVs");
+            bakedOf[bp.source] = &bp;
+        }
+        for (std::size_t i = 0; i < sourceCount; ++i) {
+            const Part& part = i < model.bodies.size() ? model.bodies[i] : model.surfaces[i - model.bodies.size()];
+            if (!bakedOf[i] && !part.mesh.indices.empty())
+                return makeError(ErrorCode::InvalidArgument, "bake of model " + model.name + " lacks part " +
+                                                                 part.name + ": bake this model again");
+        }
+    }
     if (options.lodLevels < 1 || options.lodLevels > kMaxLodLevels)
         return makeError(ErrorCode::InvalidArgument, "LOD levels " + std::to_string(options.lodLevels) +
                                                          " is outside 1.." + std::to_string(kMaxLodLevels));
@@ -71,6 +183,7 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
     g->cellBounds_.assign(grid.count(), Aabb{});
 
     std::vector<glm::vec3> positions;
+    std::vector<glm::vec2> uvs;  // baked only: one per position
     std::vector<std::uint32_t> indices;
     // Simplified levels go after every part's full-detail indices; offsets relative to
     // lodIndices until the fix-up below.
@@ -78,14 +191,28 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
     double lodMs = 0.0;
     // Scratch for clusters: part vertex -> compact vertex.
     std::vector<std::uint32_t> remap;
-    auto add = [&](const Part& part, bool body) -> Status {
-        const Mesh& mesh = part.mesh;
-        if (mesh.indices.empty()) return {};
+    // `bp`: the part's bake (its own vertices, UVs and local positions), or none.
+    auto add = [&](const Part& part, bool body, const BakeSource::PartView* bp) -> Status {
+        const std::span<const std::uint32_t> partIndices = bp ? bp->indices : std::span(part.mesh.indices);
+        if (partIndices.empty()) return {};
         if (positions.size() > std::size_t(std::numeric_limits<GLint>::max()) ||
-            indices.size() + mesh.indices.size() > std::size_t(std::numeric_limits<GLsizei>::max()))
+            indices.size() + partIndices.size() > std::size_t(std::numeric_limits<GLsizei>::max()))
             return makeError(ErrorCode::OutOfRange, "model " + model.name + " is too large for one GL buffer");
-        std::vector<glm::vec3> local = model.localPositions(mesh);
-        for (std::uint32_t i : mesh.indices)
+        std::vector<glm::vec3> local;
+        if (bp) {
+            // The bake's frame -> the model's local frame, in double (exact when they agree).
+            const glm::dvec3 shift = baked->origin - model.origin;
+            local.resize(bp->vertexCount);
+            for (std::size_t v = 0; v < bp->vertexCount; ++v) {
+                const float* q = bp->positions + 3 * v;
+                const glm::dvec3 p =
+                    bp->gltfAxes ? glm::dvec3(q[0], -double(q[2]), q[1]) : glm::dvec3(q[0], q[1], q[2]);
+                local[v] = glm::vec3(p + shift);
+            }
+        } else {
+            local = model.localPositions(part.mesh);
+        }
+        for (std::uint32_t i : partIndices)
             if (i >= local.size())
                 return makeError(ErrorCode::InvalidArgument,
                                  "model " + model.name + ": part " + part.name + " has vertex index " +
@@ -93,7 +220,7 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
         DrawPart d;
         d.baseVertex = GLint(positions.size());
         d.firstIndex = indices.size();
-        d.indexCount = GLsizei(mesh.indices.size());
+        d.indexCount = GLsizei(partIndices.size());
         d.body = body;
         d.record = part.record;
         d.colour = recordColour(model, part.record);
@@ -102,28 +229,28 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
             d.containerColour = recordColour(model, d.containerRecord);
         }
         if (!body)
-            for (std::uint32_t i : mesh.indices) g->surfaceTriangles_.push_back(local[i]);
+            for (std::uint32_t i : partIndices) g->surfaceTriangles_.push_back(local[i]);
 
         // Triangles by the cell of their centroid (counting sort keeps the input order
         // within a cell, so the output is deterministic).
-        const std::size_t triCount = mesh.indices.size() / 3;
+        const std::size_t triCount = partIndices.size() / 3;
         std::vector<std::uint32_t> cellOf(triCount);
         std::vector<std::uint32_t> start(grid.count() + 1, 0);
         for (std::size_t t = 0; t < triCount; ++t) {
-            const glm::dvec3 c = (glm::dvec3(local[mesh.indices[3 * t]]) + glm::dvec3(local[mesh.indices[3 * t + 1]]) +
-                                  glm::dvec3(local[mesh.indices[3 * t + 2]])) /
+            const glm::dvec3 c = (glm::dvec3(local[partIndices[3 * t]]) + glm::dvec3(local[partIndices[3 * t + 1]]) +
+                                  glm::dvec3(local[partIndices[3 * t + 2]])) /
                                  3.0;
             cellOf[t] = grid.cellOf(c);
             ++start[cellOf[t] + 1];
         }
         for (std::size_t c = 0; c < grid.count(); ++c) start[c + 1] += start[c];
-        std::vector<std::uint32_t> sorted(mesh.indices.size());
+        std::vector<std::uint32_t> sorted(partIndices.size());
         {
             std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
             for (std::size_t t = 0; t < triCount; ++t) {
                 const std::uint32_t at = fill[cellOf[t]]++;
                 for (int k = 0; k < 3; ++k)
-                    sorted[3 * std::size_t(at) + std::size_t(k)] = mesh.indices[3 * t + std::size_t(k)];
+                    sorted[3 * std::size_t(at) + std::size_t(k)] = partIndices[3 * t + std::size_t(k)];
             }
         }
         remap.assign(local.size(), std::numeric_limits<std::uint32_t>::max());
@@ -177,15 +304,18 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
             d.clusters.push_back(cl);
         }
         positions.insert(positions.end(), local.begin(), local.end());
+        if (bp)
+            for (std::size_t v = 0; v < bp->vertexCount; ++v) uvs.emplace_back(bp->uvs[2 * v], bp->uvs[2 * v + 1]);
         indices.insert(indices.end(), sorted.begin(), sorted.end());
         g->parts_.push_back(std::move(d));
-        g->triangles_ += mesh.triangleCount();
+        g->triangles_ += partIndices.size() / 3;
         return {};
     };
-    for (const Part& p : model.bodies)
-        if (auto s = add(p, true); !s) return s.error();
-    for (const Part& p : model.surfaces)
-        if (auto s = add(p, false); !s) return s.error();
+    for (std::size_t i = 0; i < model.bodies.size(); ++i)
+        if (auto s = add(model.bodies[i], true, baked ? bakedOf[i] : nullptr); !s) return s.error();
+    for (std::size_t i = 0; i < model.surfaces.size(); ++i)
+        if (auto s = add(model.surfaces[i], false, baked ? bakedOf[model.bodies.size() + i] : nullptr); !s)
+            return s.error();
     if (positions.empty())
         return makeError(ErrorCode::InvalidArgument, "model " + model.name + " has no triangles to draw");
     if (indices.size() + lodIndices.size() > std::size_t(std::numeric_limits<GLsizei>::max()))
@@ -207,6 +337,17 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
     gl.EnableVertexArrayAttrib(g->vao_, 0);
     gl.VertexArrayAttribFormat(g->vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
     gl.VertexArrayAttribBinding(g->vao_, 0, 0);
+    if (baked) {
+        // Attribute 1: the bake's UV (page + u, v). Without a bake it stays disabled and reads
+        // the constant (0, 0, 0, 1), which the shader ignores.
+        g->uvBytes_ = uvs.size() * sizeof(glm::vec2);
+        gl.CreateBuffers(1, &g->uvBuffer_);
+        gl.NamedBufferStorage(g->uvBuffer_, GLsizeiptr(g->uvBytes_), uvs.data(), 0);
+        gl.VertexArrayVertexBuffer(g->vao_, 1, g->uvBuffer_, 0, sizeof(glm::vec2));
+        gl.EnableVertexArrayAttrib(g->vao_, 1);
+        gl.VertexArrayAttribFormat(g->vao_, 1, 2, GL_FLOAT, GL_FALSE, 0);
+        gl.VertexArrayAttribBinding(g->vao_, 1, 1);
+    }
     if (GLenum e = gl.GetError(); e != GL_NO_ERROR)
         return makeError(
             e == GL_OUT_OF_MEMORY ? ErrorCode::OutOfRange : ErrorCode::Internal,
@@ -214,11 +355,74 @@ Result<std::unique_ptr<GpuModel>> GpuModel::upload(GlContext& context, const Mod
     return g;
 }
 
+Status GpuModel::uploadIdTexture(const Model& model, const BakeSource& baked) {
+    const GlFunctions& gl = context_.gl();
+    const std::string what = "id texture of model " + model.name + " (" + std::to_string(baked.width) + "x" +
+                             std::to_string(baked.height) + "x" + std::to_string(baked.pages) + ")";
+    if (baked.width == 0 || baked.height == 0 || baked.pages == 0 ||
+        baked.texels.size() != std::size_t(baked.width) * baked.height * baked.pages)
+        return makeError(ErrorCode::InvalidArgument,
+                         what + " holds " + std::to_string(baked.texels.size()) + " texels, not width*height*pages");
+    GLint maxSize = 0, maxLayers = 0;
+    gl.GetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    gl.GetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    if (baked.width > std::uint32_t(maxSize) || baked.height > std::uint32_t(maxSize))
+        return makeError(ErrorCode::OutOfRange, what + ": a side exceeds GL_MAX_TEXTURE_SIZE " +
+                                                    std::to_string(maxSize) + " of this device; bake with --size " +
+                                                    std::to_string(maxSize) + " or less");
+    if (baked.pages > std::uint32_t(maxLayers))
+        return makeError(ErrorCode::OutOfRange, what + ": pages exceed GL_MAX_ARRAY_TEXTURE_LAYERS " +
+                                                    std::to_string(maxLayers) + " of this device");
+    // Record -> colour: every record of the model's table and of the field.
+    RecordId maxId = 0;
+    for (const auto& [id, r] : model.attributes.records()) maxId = std::max(maxId, id);
+    for (const AttributeRecord* r : baked.records) maxId = std::max(maxId, r->id);
+    const std::size_t rows = std::size_t(maxId) / kColourTableWidth + 1;
+    if (rows > std::size_t(maxSize))
+        return makeError(ErrorCode::OutOfRange, "model " + model.name + ": record id " + std::to_string(maxId) +
+                                                    " is beyond the colour table (" +
+                                                    std::to_string(kColourTableWidth) + " x GL_MAX_TEXTURE_SIZE " +
+                                                    std::to_string(maxSize) + " records)");
+    const Rgba8 grey;  // what recordColour() gives a record that is not in the table
+    std::vector<Rgba8> table(rows * kColourTableWidth, grey);
+    for (const auto& [id, r] : model.attributes.records()) table[id] = r.colour;
+    for (const AttributeRecord* r : baked.records) table[r->id] = r->colour;
+
+    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    gl.CreateTextures(GL_TEXTURE_2D_ARRAY, 1, &idTexture_);
+    gl.TextureParameteri(idTexture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TextureParameteri(idTexture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TextureParameteri(idTexture_, GL_TEXTURE_MAX_LEVEL, 0);
+    gl.TextureStorage3D(idTexture_, 1, GL_R32UI, GLsizei(baked.width), GLsizei(baked.height), GLsizei(baked.pages));
+    // One page per call: a page is at most GL_MAX_TEXTURE_SIZE^2 * 4 bytes.
+    for (std::uint32_t page = 0; page < baked.pages; ++page)
+        gl.TextureSubImage3D(idTexture_, 0, 0, 0, GLint(page), GLsizei(baked.width), GLsizei(baked.height), 1,
+                             GL_RED_INTEGER, GL_UNSIGNED_INT,
+                             baked.texels.data() + std::size_t(page) * baked.width * baked.height);
+    idTextureBytes_ = baked.texels.size() * sizeof(std::uint32_t);
+
+    gl.CreateTextures(GL_TEXTURE_2D, 1, &colourTable_);
+    gl.TextureParameteri(colourTable_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TextureParameteri(colourTable_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TextureParameteri(colourTable_, GL_TEXTURE_MAX_LEVEL, 0);
+    gl.TextureStorage2D(colourTable_, 1, GL_RGBA8, kColourTableWidth, GLsizei(rows));
+    gl.TextureSubImage2D(colourTable_, 0, 0, 0, kColourTableWidth, GLsizei(rows), GL_RGBA, GL_UNSIGNED_BYTE,
+                         table.data());
+    colourTableBytes_ = table.size() * sizeof(Rgba8);
+    if (GLenum e = gl.GetError(); e != GL_NO_ERROR)
+        return makeError(e == GL_OUT_OF_MEMORY ? ErrorCode::OutOfRange : ErrorCode::Internal,
+                         "uploading the " + what + ": " + glErrorName(e));
+    return {};
+}
+
 GpuModel::~GpuModel() {
     const GlFunctions& gl = context_.gl();
     if (vao_) gl.DeleteVertexArrays(1, &vao_);
     if (vertexBuffer_) gl.DeleteBuffers(1, &vertexBuffer_);
     if (indexBuffer_) gl.DeleteBuffers(1, &indexBuffer_);
+    if (uvBuffer_) gl.DeleteBuffers(1, &uvBuffer_);
+    if (idTexture_) gl.DeleteTextures(1, &idTexture_);
+    if (colourTable_) gl.DeleteTextures(1, &colourTable_);
 }
 
 }  // namespace geoslice

@@ -14,8 +14,19 @@
 // cracks; each copy records its geometric error in metres (meshopt_simplify's error times
 // meshopt_simplifyScale). A simplified copy lies in the convex hull of its cluster's
 // vertices, hence inside the cell bounds (cellBounds()).
+//
+// Baked record ids (paper section 2.2, issue 4 item 8): upload(context, model, baked) draws the
+// bake's mesh instead of the model's (the same triangles in the same order, vertices split
+// along chart borders) with a per-vertex UV (attribute 1, "page + u, v", bake/bake.hpp) and
+// uploads the index texture T_ID as a GL_TEXTURE_2D_ARRAY (GL_R32UI, one layer per page,
+// nearest, no mipmaps; the shader uses texelFetch, so no filtering ever mixes two ids) plus a
+// record -> colour table (GL_TEXTURE_2D RGBA8, kColourTableWidth records per row, record id r
+// at texel (r % width, r / width)), so that field records (grade classes) get their own colour.
+// Limits: pages <= GL_MAX_ARRAY_TEXTURE_LAYERS, width and height <= GL_MAX_TEXTURE_SIZE, the
+// largest record id < kColourTableWidth * GL_MAX_TEXTURE_SIZE; beyond them upload() returns
+// OutOfRange naming the limit.
 // Threads: create, use and destroy on the owning GlContext's thread. GL state: upload()
-// creates buffers and a vertex array with DSA and leaves no binding changed.
+// creates buffers, textures and a vertex array with DSA and leaves no binding changed.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +40,11 @@
 #include "renderer/gl_context.hpp"
 
 namespace geoslice {
+
+namespace bake {
+struct BakedModel;
+struct Package;
+}  // namespace bake
 
 // How GpuModel::upload builds clusters and levels of detail.
 struct GpuUploadOptions {
@@ -72,6 +88,23 @@ public:
     // should have been validated (loaders do; generateSynthetic callers run validate()).
     static Result<std::unique_ptr<GpuModel>> upload(GlContext& context, const Model& model,
                                                     const UploadOptions& options = {});
+    // The bake of `model` (bake::bakeModel(model), or a package loaded back into the same
+    // model) with its id texture. baked.parts must match the model's non-empty parts one to
+    // one (source index, kind, record, triangle count); errors: InvalidArgument naming the
+    // first mismatch or a malformed bake (texel count, UV count, vertex index), OutOfRange
+    // for the GL limits above or GL_OUT_OF_MEMORY. Colours: model.attributes, then
+    // baked.fieldRecords (records not found: grey).
+    static Result<std::unique_ptr<GpuModel>> upload(GlContext& context, const Model& model,
+                                                    const bake::BakedModel& baked, const UploadOptions& options = {});
+    // The same from a loaded package (bake/package.hpp): `model` is the package's mesh.glb
+    // loaded as a model (what api/catalog.cpp serves) or the model it was baked from; package
+    // part i is the model's i-th part with triangles (bodies, then surfaces). Positions are
+    // taken from the package (glTF axes, its origin) into the model's local frame in double.
+    // Colours: model.attributes, then package.attributes (field records). The package must
+    // outlive the call only.
+    static Result<std::unique_ptr<GpuModel>> upload(GlContext& context, const Model& model,
+                                                    const bake::Package& package, const UploadOptions& options = {});
+    static constexpr int kColourTableWidth = 1024;
     ~GpuModel();
     GpuModel(const GpuModel&) = delete;
     GpuModel& operator=(const GpuModel&) = delete;
@@ -87,12 +120,27 @@ public:
     // Bounds of the triangles of each cell, local frame (empty cells are invalid boxes).
     const std::vector<Aabb>& cellBounds() const { return cellBounds_; }
     bool hasLod() const { return hasLod_; }
+    // Baked ids: 0 when uploaded without a bake.
+    GLuint idTexture() const { return idTexture_; }
+    GLuint colourTable() const { return colourTable_; }
+    bool hasIdTexture() const { return idTexture_ != 0; }
+    // GPU bytes of the bake: the id texture (width * height * pages * 4), the UV attribute
+    // (8 per vertex) and the colour table (4 per entry).
+    std::size_t idTextureBytes() const { return idTextureBytes_; }
+    std::size_t uvBytes() const { return uvBytes_; }
+    std::size_t colourTableBytes() const { return colourTableBytes_; }
     double lodBuildMs() const { return lodBuildMs_; }
 
 private:
     explicit GpuModel(GlContext& context) : context_(context) {}
+    struct BakeSource;  // a BakedModel or a Package, viewed alike (gpu_model.cpp)
+    static Result<std::unique_ptr<GpuModel>> build(GlContext& context, const Model& model, const BakeSource* baked,
+                                                   const UploadOptions& options);
+    Status uploadIdTexture(const Model& model, const BakeSource& baked);
     GlContext& context_;
-    GLuint vao_ = 0, vertexBuffer_ = 0, indexBuffer_ = 0;
+    GLuint vao_ = 0, vertexBuffer_ = 0, indexBuffer_ = 0, uvBuffer_ = 0;
+    GLuint idTexture_ = 0, colourTable_ = 0;
+    std::size_t idTextureBytes_ = 0, uvBytes_ = 0, colourTableBytes_ = 0;
     std::vector<DrawPart> parts_;
     glm::dvec3 origin_{0.0};
     Aabb bounds_;

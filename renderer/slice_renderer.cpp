@@ -119,6 +119,8 @@ Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context)
         v.u.shadeScale = v.program.uniform("uShadeScale");
         v.u.eye = v.program.uniform("uEye");
         v.u.lodShift = v.program.uniform("uLodShift");
+        v.u.baked = v.program.uniform("uBaked");
+        v.u.fetch = v.program.uniform("uFetch");
         r->programs_.push_back(std::move(v));
     }
     auto trace = GlProgram::build(context.gl(), "trace.vert", "trace.frag", {});
@@ -412,6 +414,13 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     }
     gl.ProgramUniform4fv(prog, v.u.eye, 1, glm::value_ptr(eyeUniform));
     gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
+    const bool baked = model.hasIdTexture() && request.bakedIds;
+    gl.ProgramUniform1i(prog, v.u.baked, baked ? 1 : 0);
+    gl.ProgramUniform1i(prog, v.u.fetch, 0);
+    if (baked) {
+        gl.BindTextureUnit(0, model.idTexture());  // binding 0: uIdTexture (shaders/slice.frag)
+        gl.BindTextureUnit(1, model.colourTable());
+    }
     gl.BindVertexArray(model.vertexArray());
 
     const std::vector<float> allowed = clusterBudget(model, request, *view, unionMode, planesLocalD, image);
@@ -501,8 +510,12 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
                 gl.Disable(GL_POLYGON_OFFSET_FILL);
         }
     };
-    auto setFace = [&](int role, const GpuModel::DrawPart& p, RecordId capRecord, const glm::vec4& capColour) {
+    // fetch: the drawn surface's own texels hold the record to show (shaders/slice.frag); not
+    // for a nested body's front faces, which show their container's cap.
+    auto setFace = [&](int role, const GpuModel::DrawPart& p, RecordId capRecord, const glm::vec4& capColour,
+                       bool fetch = true) {
         gl.ProgramUniform1i(prog, v.u.faceRole, role);
+        if (baked) gl.ProgramUniform1i(prog, v.u.fetch, fetch ? 1 : 0);
         gl.ProgramUniform1ui(prog, v.u.record, p.record);
         gl.ProgramUniform4fv(prog, v.u.colour, 1, glm::value_ptr(p.colour));
         gl.ProgramUniform1ui(prog, v.u.capRecord, capRecord);
@@ -529,7 +542,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
                 // A nested body shares no surface with its container, so its front faces
                 // need no offset; with one, its own back face won through them where the
                 // body is thin along the ray (specks of the nested body's cap at its rim).
-                setFace(1, p, p.containerRecord, p.containerColour);
+                setFace(1, p, p.containerRecord, p.containerColour, false);
                 gl.Disable(GL_POLYGON_OFFSET_FILL);
                 draw(p, 1.0f, false);
                 gl.Enable(GL_POLYGON_OFFSET_FILL);
@@ -550,6 +563,10 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
                 gl.StencilFunc(GL_EQUAL, 0, 0xff);
                 draw(p, 1.0f, false);
             }
+    }
+    if (baked) {
+        gl.BindTextureUnit(0, 0);
+        gl.BindTextureUnit(1, 0);
     }
     if (request.drawTraces && planeCount > 0 && !model.surfaceTriangles().empty())
         if (auto s = drawTraces(request, model, planesLocalD, viewProj, image.traceSegments); !s) return s.error();

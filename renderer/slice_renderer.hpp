@@ -19,6 +19,10 @@
 // their container: there the offset let a thin rim's back face win). The stencil buffer
 // marks cap pixels (1) so that open surfaces (faults) never cover a cut face.
 //
+// Baked ids (GpuModel uploaded with a bake::BakedModel): every fragment, caps included, takes
+// its record from the id texture at its UV (see shaders/slice.frag for which surface a cap's
+// UV lies on), writes it to the ID buffer and is coloured by it.
+//
 // After the bodies: open surfaces where no cap is; fault traces (CPU-cut segments of the
 // open surfaces, GL_LINES on cap pixels, colour only); then anti-aliasing of the colour
 // (MSAA resolve or an FXAA pass). Clusters of the GpuModel on the removed side or outside
@@ -98,6 +102,10 @@ struct SliceRequest {
     Lod lod = Lod::Auto;
     float lodPixelError = 1.0f;  // pixels, > 0
     int msaaSamples = 4;         // for Msaa: 2..64, clamped to GL_MAX_SAMPLES / GL_MAX_INTEGER_SAMPLES
+    // A GpuModel uploaded with a bake: ids (and colours) per fragment from its id texture
+    // (issue 4 item 8, shaders/slice.frag). false: one record per part, as without a bake
+    // (same geometry: the bake's mesh).
+    bool bakedIds = true;
 };
 
 struct SliceImage {
@@ -163,7 +171,8 @@ private:
 
     struct Uniforms {
         GLint viewProj = -1, planes = -1, planeCount = -1, unionMode = -1, faceRole = -1, record = -1, colour = -1,
-              capRecord = -1, capColour = -1, lightDir = -1, shadeScale = -1, eye = -1, lodShift = -1;
+              capRecord = -1, capColour = -1, lightDir = -1, shadeScale = -1, eye = -1, lodShift = -1, baked = -1,
+              fetch = -1;
     };
     struct Variant {
         GlProgram program;

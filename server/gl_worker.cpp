@@ -37,7 +37,10 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
             m = m->first.rfind(model.id + "@", 0) == 0 ? models.erase(m) : std::next(m);
         GpuUploadOptions upload;
         upload.lod = lod ? GpuUploadOptions::Lod::Auto : GpuUploadOptions::Lod::Off;
-        auto gpu = GpuModel::upload(*context, model.model, upload);
+        // A baked model draws its own mesh with UVs and fetches record ids from the
+        // attribute-indexed texture (grade classes and all); a raw model has one record per part.
+        auto gpu = model.package ? GpuModel::upload(*context, model.model, *model.package, upload)
+                                 : GpuModel::upload(*context, model.model, upload);
         if (!gpu) return gpu.error();
         if (auto s = renderer->warmUp(*gpu.value()); !s) return s.error();
         it = models.emplace(key, std::move(gpu.value())).first;

@@ -8,10 +8,22 @@
 //     body X (the ray is inside X: cap of X), or a front face of a nested body whose
 //     container was cut (the ray is inside the container). The CPU puts the right body's
 //     record and colour into uCapRecord / uCapColour; drawn flat (unlit) like a cut face.
+// uBaked = 1 (a GpuModel with an id texture): the record comes from T_ID (usampler2DArray,
+// one layer per page, texelFetch = nearest) at the fragment's interpolated UV, as
+// bake::fetchId() reads it on the CPU, and the colour from the record -> colour table.
+// uFetch (per draw) says whether this fragment's own surface holds the record to show:
+//   exterior faces and open surfaces: yes;
+//   cap from a back face of body X: yes. The UV lies on X's far surface behind the cut, which
+//     holds X's record in a per-body bake; with a grade field the cap shows the class of that
+//     far surface point, not of the point on the cut plane (T_ID has no volume);
+//   cap from a front face of a nested body D (the container's cut): no, D's texels hold D,
+//     so the container's uCapRecord stays.
+// A texel that holds no id (0: rounding at a chart border) falls back to the draw's record.
 // GS_CLIP_DISTANCE = 0: the paper's pixel mask (eq. 5): discard when the plane test fails;
 // uUnion = 1 keeps a fragment on the positive side of any plane, 0 of every plane.
 
 in vec3 vLocal;
+in vec2 vUv;
 
 uniform vec4 uPlanes[6];
 uniform int uPlaneCount;
@@ -23,9 +35,22 @@ uniform uint uCapRecord;
 uniform vec4 uCapColour;
 uniform vec3 uLightDir;  // local frame, unit, towards the light
 uniform vec3 uShadeScale;  // (1, 1, vertical exaggeration): shade the surface as displayed
+uniform int uBaked;
+uniform int uFetch;
+layout(binding = 0) uniform usampler2DArray uIdTexture;
+layout(binding = 1) uniform sampler2D uColourTable;  // record r at (r % width, r / width)
 
 layout(location = 0) out vec4 oColour;
 layout(location = 1) out uint oRecord;
+
+// bake::fetchId(): layer floor(u), texel floor((u - layer) * W), floor(v * H); 0 outside.
+uint fetchId(vec2 uv) {
+    ivec3 size = textureSize(uIdTexture, 0);
+    float page = floor(uv.x);
+    ivec3 t = ivec3(ivec2(floor(vec2(uv.x - page, uv.y) * vec2(size.xy))), int(page));
+    if (any(lessThan(t, ivec3(0))) || any(greaterThanEqual(t, size))) return 0u;
+    return texelFetch(uIdTexture, t, 0).r;
+}
 
 void main() {
     // Derivatives before any discard: they need the whole 2x2 quad alive.
@@ -41,12 +66,21 @@ void main() {
         if (!keep) discard;
     }
 #endif
+    uint record = uFaceRole == 1 ? uCapRecord : uRecord;
+    vec4 colour = uFaceRole == 1 ? uCapColour : uColour;
+    if (uBaked != 0) {
+        uint id = 0u;
+        if (uFetch != 0) id = fetchId(vUv);
+        if (id != 0u) record = id;
+        ivec2 table = textureSize(uColourTable, 0);
+        ivec2 at = ivec2(int(record % uint(table.x)), int(record / uint(table.x)));
+        if (at.y < table.y) colour = texelFetch(uColourTable, at, 0);
+    }
+    oRecord = record;
     if (uFaceRole == 1) {
-        oRecord = uCapRecord;
-        oColour = uCapColour;
+        oColour = colour;
     } else {
         float diffuse = abs(dot(n, uLightDir));
-        oRecord = uRecord;
-        oColour = vec4(uColour.rgb * (0.35 + 0.65 * diffuse), uColour.a);
+        oColour = vec4(colour.rgb * (0.35 + 0.65 * diffuse), colour.a);
     }
 }

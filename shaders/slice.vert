@@ -6,6 +6,8 @@
 // distance must be >= 0). GS_CLIP_DISTANCE = 0: the fragment stage discards (paper eq. 5).
 
 layout(location = 0) in vec3 aPosition;
+// Baked models only (renderer/gpu_model.hpp): texture coordinate "page + u, v" of T_ID.
+layout(location = 1) in vec2 aUv;
 
 uniform mat4 uViewProj;
 uniform vec4 uPlanes[6];
@@ -24,9 +26,11 @@ out gl_PerVertex {
     float gl_ClipDistance[6];
 };
 out vec3 vLocal;
+out vec2 vUv;
 
 void main() {
     vLocal = aPosition;
+    vUv = aUv;
     vec3 ray = uEye.w != 0.0 ? aPosition - uEye.xyz : uEye.xyz;
     vec3 shown = aPosition + (uLodShift != 0.0 ? normalize(ray) * uLodShift : vec3(0.0));
     gl_Position = uViewProj * vec4(shown, 1.0);

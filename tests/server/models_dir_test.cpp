@@ -122,3 +122,48 @@ TEST(ModelsDir, RawModelsBakedOnFirstLoadAndReused) {
 
 }  // namespace
 }  // namespace geoslice::server
+
+namespace geoslice::server {
+namespace {
+
+// A baked package's perspective view draws through the attribute-indexed texture on a render
+// worker's GL context; its ID buffer (read back through queries) holds the baked records.
+TEST(ModelsDir, PerspectiveOfABakedPackageUsesItsTexture) {
+    spdlog::set_level(spdlog::level::off);
+    TempDir dir("geoslice_models_gl");
+    const Model model = test::syntheticModel(20000, OreVariant::Nested, 3, "EPSG:4523");
+    bake::BakeOptions options;
+    options.pack.width = options.pack.height = 1024;
+    auto baked = bake::bakeModel(model, options);
+    ASSERT_TRUE(baked) << baked.error().message;
+    ASSERT_TRUE(bake::writePackage(model, baked.value(), (dir.path / "pkg").string()));
+    ServerConfig c = config(dir.path);
+    c.gl = "auto";
+    SectionServer s(c);
+    auto port = s.start();
+    ASSERT_TRUE(port);
+    ASSERT_TRUE(s.waitUntilLoaded());
+    const Aabb b = model.bounds();
+    const std::string view =
+        "plane=0,1,0," + std::to_string(-0.5 * (b.min.y + b.max.y)) + "&view=perspective&size=96x72";
+    httplib::Client cl("127.0.0.1", port.value());
+    cl.set_read_timeout(60, 0);
+    auto image = cl.Get(("/v1/models/pkg/section.png?" + view).c_str());
+    ASSERT_TRUE(image);
+    ASSERT_EQ(image->status, 200) << image->body;
+    int hits = 0;
+    for (int px = 8; px < 96; px += 8)
+        for (int py = 6; py < 72; py += 6) {
+            const json q = getJson(port.value(), "/v1/models/pkg/query?" + view + "&px=" + std::to_string(px) +
+                                                     "&py=" + std::to_string(py));
+            EXPECT_EQ(q["source"], "id-buffer");
+            if (q["hit"].get<bool>()) {
+                ++hits;
+                EXPECT_NE(model.attributes.find(q["record"]["id"].get<RecordId>()), nullptr);
+            }
+        }
+    EXPECT_GT(hits, 5);
+}
+
+}  // namespace
+}  // namespace geoslice::server
