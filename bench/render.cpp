@@ -213,12 +213,15 @@ int main(int argc, char** argv) {
                     const char* view;
                     ClipMethod clip;
                     SliceRequest::Lod lod;
+                    float pixelError = 1.0f;  // LOD: screen-space error bound, pixels
                 };
                 const Spec specs[] = {{"profile", ClipMethod::ClipDistance, SliceRequest::Lod::Off},
                                       {"profile", ClipMethod::Discard, SliceRequest::Lod::Off},
                                       {"perspective", ClipMethod::ClipDistance, SliceRequest::Lod::Off},
                                       {"perspective", ClipMethod::Discard, SliceRequest::Lod::Off},
-                                      {"perspective", ClipMethod::ClipDistance, SliceRequest::Lod::On}};
+                                      {"perspective", ClipMethod::ClipDistance, SliceRequest::Lod::On, 1.0f},
+                                      {"perspective", ClipMethod::ClipDistance, SliceRequest::Lod::On, 2.0f},
+                                      {"perspective", ClipMethod::ClipDistance, SliceRequest::Lod::On, 4.0f}};
                 for (const Spec& sp : specs) {
                     SliceRequest req;
                     req.width = w;
@@ -226,6 +229,7 @@ int main(int argc, char** argv) {
                     req.planes = {plane};
                     req.clip = sp.clip;
                     req.lod = sp.lod;
+                    req.lodPixelError = sp.pixelError;
                     req.background = Rgba8{255, 255, 255, 255};
                     if (!std::strcmp(sp.view, "profile"))
                         req.view = profileAround(plane, b, w, h);
@@ -236,6 +240,7 @@ int main(int argc, char** argv) {
                     jc["view"] = sp.view;
                     jc["clip"] = clipMethodName(sp.clip);
                     jc["detail"] = sp.lod == SliceRequest::Lod::On ? (r.lodUsed ? "lod" : "lod-unavailable") : "full";
+                    if (sp.lod == SliceRequest::Lod::On) jc["lod_pixel_error"] = sp.pixelError;
                     if (!r.error.empty()) {
                         jc["error"] = r.error;
                         ji["cases"].push_back(jc);
