@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <random>
 #include <string>
 #include <thread>
 
@@ -707,6 +708,24 @@ Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const
         rasterChart(charts[c], placements[c], bp, baked.width, baked.height, baked.texels.data());
     finishStats(baked);
     return {};
+}
+
+double partIdAccuracy(const BakedModel& b, std::size_t p, std::size_t samples, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto& part = b.parts[p];
+    std::uniform_int_distribution<std::size_t> pick(0, part.indices.size() / 3 - 1);
+    std::size_t good = 0;
+    for (std::size_t i = 0; i < samples; ++i) {
+        const std::size_t t = pick(rng);
+        double r1 = unit(rng), r2 = unit(rng);
+        if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
+        const float w1 = float(r1), w2 = float(r2), w0 = 1.0f - w1 - w2;
+        const glm::vec2 uv = w0 * part.uvs[part.indices[3 * t]] + w1 * part.uvs[part.indices[3 * t + 1]] +
+                             w2 * part.uvs[part.indices[3 * t + 2]];
+        good += fetchId(b.texels.data(), b.width, b.height, b.pages, glm::dvec2(uv)) == part.record;
+    }
+    return double(good) / double(samples);
 }
 
 }  // namespace geoslice::bake

@@ -267,6 +267,11 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options = {}
 // `options` gives the chart options and threads; page size, margin and budget are baked.pack.
 Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options = {});
 
+// The fraction of `samples` random points on baked part `p` (a uniform triangle, then
+// uniform barycentrics; UVs interpolated in float, as a GPU does) whose nearest texel holds
+// the part's record: the paper's "attribute mapping accuracy" for one part of a per-body bake.
+double partIdAccuracy(const BakedModel& baked, std::size_t p, std::size_t samples, std::uint64_t seed);
+
 // The record id stored at a texture coordinate (page + u, v), nearest texel; 0 outside.
 RecordId fetchId(const std::uint32_t* texels, std::uint32_t width, std::uint32_t height, std::uint32_t pages,
                  glm::dvec2 uv);

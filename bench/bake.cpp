@@ -60,25 +60,6 @@ json accuracy(const bake::Package& pkg, std::size_t points, std::uint64_t seed) 
             {"percent", 100.0 * double(good) / double(std::max<std::size_t>(1, total))}};
 }
 
-// Accuracy over one part of a bake in memory (same sampling as above).
-double partAccuracy(const bake::BakedModel& b, std::size_t p, std::size_t samples, std::uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const auto& part = b.parts[p];
-    std::uniform_int_distribution<std::size_t> pick(0, part.indices.size() / 3 - 1);
-    std::size_t good = 0;
-    for (std::size_t i = 0; i < samples; ++i) {
-        const std::size_t t = pick(rng);
-        double r1 = unit(rng), r2 = unit(rng);
-        if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
-        const float w1 = float(r1), w2 = float(r2), w0 = 1.0f - w1 - w2;
-        const glm::vec2 uv = w0 * part.uvs[part.indices[3 * t]] + w1 * part.uvs[part.indices[3 * t + 1]] +
-                             w2 * part.uvs[part.indices[3 * t + 2]];
-        good += bake::fetchId(b.texels.data(), b.width, b.height, b.pages, glm::dvec2(uv)) == part.record;
-    }
-    return double(good) / double(samples);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -179,7 +160,7 @@ int main(int argc, char** argv) {
             if (!st2.ok())
                 entry["error"] = st2.error().message;
             else
-                entry["accuracyPercent"] = 100.0 * partAccuracy(copy, p, 200000, 99);
+                entry["accuracyPercent"] = 100.0 * bake::partIdAccuracy(copy, p, 200000, 99);
             rebake.push_back(entry);
         }
         r["rebake"] = rebake;

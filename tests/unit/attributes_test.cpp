@@ -49,10 +49,11 @@ TEST(Attributes, CsvErrorsNameFileAndLine) {
         const char* text;
         const char* expect;
     };
-    for (const Case& c : {Case{"name\nx\n", "line 1"}, Case{"id,name\n0,x\n", "line 2"}, Case{"id,name\n1,x\n1,y\n", "duplicate id 1"},
-                          Case{"id,name\n1\n", "1 fields"}, Case{"id,density\n1,abc\n", "density"},
-                          Case{"id,density\n1,nan\n", "density"}, Case{"id,name\n1,\"open\n", "unterminated quote"},
-                          Case{"id,colour\n1,#zz0000\n", "colour"}, Case{"id\n99999999999\n", "not an integer"}}) {
+    for (const Case& c :
+         {Case{"name\nx\n", "line 1"}, Case{"id,name\n0,x\n", "line 2"}, Case{"id,name\n1,x\n1,y\n", "duplicate id 1"},
+          Case{"id,name\n1\n", "1 fields"}, Case{"id,density\n1,abc\n", "density"},
+          Case{"id,density\n1,nan\n", "density"}, Case{"id,name\n1,\"open\n", "unterminated quote"},
+          Case{"id,colour\n1,#zz0000\n", "colour"}, Case{"id\n99999999999\n", "not an integer"}}) {
         auto t = AttributeTable::fromCsv(c.text, "bad.csv");
         ASSERT_FALSE(t.ok()) << c.text;
         EXPECT_NE(t.error().message.find("bad.csv"), std::string::npos) << t.error().message;
@@ -61,8 +62,9 @@ TEST(Attributes, CsvErrorsNameFileAndLine) {
 }
 
 TEST(Attributes, JsonErrors) {
-    for (const char* text : {R"({"records": 3})", R"([{"name": "x"}])", R"([{"id": -1}])", R"([{"id": 1, "density": "heavy"}])",
-                             R"([{"id": 1, "colour": "#12"}])", R"([{"id": 1}, {"id": 1}])", R"([{"id": 1, "name": 5}])"}) {
+    for (const char* text :
+         {R"({"records": 3})", R"([{"name": "x"}])", R"([{"id": -1}])", R"([{"id": 1, "density": "heavy"}])",
+          R"([{"id": 1, "colour": "#12"}])", R"([{"id": 1}, {"id": 1}])", R"([{"id": 1, "name": 5}])"}) {
         auto t = AttributeTable::fromJson(nlohmann::json::parse(text), "bad.json");
         ASSERT_FALSE(t.ok()) << text;
         EXPECT_NE(t.error().message.find("bad.json"), std::string::npos);

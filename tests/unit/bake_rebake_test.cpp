@@ -13,26 +13,6 @@ using namespace geoslice;
 
 namespace {
 
-// Fraction of random points of part `p` (float barycentric interpolation of its UVs) whose
-// nearest texel holds the part's record.
-double partAccuracy(const bake::BakedModel& b, std::size_t p, std::size_t samples, std::uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const auto& part = b.parts[p];
-    std::uniform_int_distribution<std::size_t> pick(0, part.indices.size() / 3 - 1);
-    std::size_t good = 0;
-    for (std::size_t i = 0; i < samples; ++i) {
-        const std::size_t t = pick(rng);
-        double r1 = unit(rng), r2 = unit(rng);
-        if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
-        const float w1 = float(r1), w2 = float(r2), w0 = 1.0f - w1 - w2;
-        const glm::vec2 uv = w0 * part.uvs[part.indices[3 * t]] + w1 * part.uvs[part.indices[3 * t + 1]] +
-                             w2 * part.uvs[part.indices[3 * t + 2]];
-        good += bake::fetchId(b.texels.data(), b.width, b.height, b.pages, glm::dvec2(uv)) == part.record;
-    }
-    return double(good) / double(samples);
-}
-
 // True when texel (page, x, y) lies in the padded rectangle of one of part p's charts.
 bool inPartRects(const bake::BakedModel& b, std::uint32_t p, std::uint32_t page, std::uint32_t x, std::uint32_t y) {
     for (const auto& c : b.charts)
@@ -60,12 +40,12 @@ TEST(BakeRebake, ChangedPartIsExactAndOthersUntouched) {
     auto s = bake::rebakePart(m, p, after, o);
     ASSERT_TRUE(s.ok()) << s.error().message;
     EXPECT_EQ(after.parts[p].record, 777u);
-    EXPECT_EQ(partAccuracy(after, p, 20000, 1), 1.0);
+    EXPECT_EQ(bake::partIdAccuracy(after, p, 20000, 1), 1.0);
     for (std::size_t q = 0; q < after.parts.size(); ++q) {
         if (q == p) continue;
         EXPECT_EQ(after.parts[q].uvs, before.parts[q].uvs) << q;
         EXPECT_EQ(after.parts[q].indices, before.parts[q].indices) << q;
-        EXPECT_EQ(partAccuracy(after, q, 2000, q), 1.0) << q;
+        EXPECT_EQ(bake::partIdAccuracy(after, q, 2000, q), 1.0) << q;
     }
     // Outside the part's old and new rectangles, not one texel changed.
     std::size_t changedOutside = 0;
@@ -108,6 +88,6 @@ TEST(BakeRebake, NoRoomOpensAPageOrIsAnErrorThatLeavesTheBake) {
     copy.pack.maxPages = 4;
     ASSERT_TRUE(bake::rebakePart(m, p, copy, o).ok());
     EXPECT_GT(copy.pages, 1u);
-    EXPECT_EQ(partAccuracy(copy, p, 20000, 3), 1.0);
+    EXPECT_EQ(bake::partIdAccuracy(copy, p, 20000, 3), 1.0);
     EXPECT_EQ(bake::rebakePart(m, 999, copy, o).error().code, ErrorCode::InvalidArgument);
 }

@@ -16,15 +16,6 @@ using namespace geoslice::test;
 
 namespace {
 
-Model modelOf(std::vector<Part> bodies, std::vector<Part> surfaces = {}) {
-    Model m;
-    m.bodies = std::move(bodies);
-    m.surfaces = std::move(surfaces);
-    m.recentre();
-    validate(m);
-    return m;
-}
-
 std::unique_ptr<BoreholeTracer> tracerFor(const Model& m) {
     auto t = BoreholeTracer::build(m);
     EXPECT_TRUE(t.ok()) << (t.ok() ? "" : t.error().message);

@@ -49,11 +49,13 @@ TEST(Classify, RaysThroughEdgesAndVertices) {
     Model m;
     m.bodies.push_back(makePart("box", PartKind::Body, 5, boxMesh({0, 0, 0}, {10, 10, 10})));
     auto c = buildFor(m);
-    const glm::dvec3 vertex(10, 10, 10), edge(10, 10, 4), faceDiagonal(5, 5, 10);  // the last: shared edge of two top triangles
+    const glm::dvec3 vertex(10, 10, 10), edge(10, 10, 4),
+        faceDiagonal(5, 5, 10);  // the last: shared edge of two top triangles
     for (const glm::dvec3& target : {vertex, edge, faceDiagonal}) {
         for (double t : {0.5, 2.0, 4.0}) {
             glm::dvec3 inside = target - kFirstDir * t;
-            bool truth = inside.x > 0 && inside.y > 0 && inside.z > 0 && inside.x < 10 && inside.y < 10 && inside.z < 10;
+            bool truth =
+                inside.x > 0 && inside.y > 0 && inside.z > 0 && inside.x < 10 && inside.y < 10 && inside.z < 10;
             EXPECT_EQ(c->classify(inside), truth ? 5u : kNoRecord) << inside.x << " " << inside.y << " " << inside.z;
             EXPECT_EQ(c->classifyBody(inside), c->classifyBodyByParity(inside));
         }
@@ -105,7 +107,8 @@ TEST(Classify, AgreesWithBruteForceOnSyntheticModel) {
             int truth = -1;
             for (std::size_t k = 0; k < m->bodies.size(); ++k)
                 if (pointInClosedMesh(m->bodies[k].mesh, p) &&
-                    (truth < 0 || m->bodies[k].report.nestingDepth > m->bodies[static_cast<std::size_t>(truth)].report.nestingDepth))
+                    (truth < 0 ||
+                     m->bodies[k].report.nestingDepth > m->bodies[static_cast<std::size_t>(truth)].report.nestingDepth))
                     truth = static_cast<int>(k);
             int fast = (*c)->classifyBody(p);
             disagreements += fast != truth;

@@ -59,7 +59,8 @@ TEST_F(CliTest, GenerateInfoClassify) {
     EXPECT_GE(j["bodies"].size(), 22u);
 
     // A point well above the terrain, one in the lowest stratum, and a bad line.
-    const double cx = 0.5 * (xmin + xmax), cy = 0.5 * (j["bounds"]["min"][1].get<double>() + j["bounds"]["max"][1].get<double>());
+    const double cx = 0.5 * (xmin + xmax),
+                 cy = 0.5 * (j["bounds"]["min"][1].get<double>() + j["bounds"]["max"][1].get<double>());
     const double zmin = j["bounds"]["min"][2].get<double>();
     char pts[256];
     std::snprintf(pts, sizeof pts, "%.3f %.3f 5000\n%.3f %.3f %.3f\nnot a point\n", cx, cy, cx, cy, zmin + 5.0);

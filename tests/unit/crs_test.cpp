@@ -107,9 +107,7 @@ CommandResult runCommand(const std::string& command) {
     return r;
 }
 
-std::string quote(const std::string& s) {
-    return "'" + s + "'";
-}
+std::string quote(const std::string& s) { return "'" + s + "'"; }
 
 std::vector<std::string> splitLines(const std::string& s) {
     std::vector<std::string> lines;
@@ -124,9 +122,8 @@ std::vector<std::string> splitLines(const std::string& s) {
 std::vector<std::string> runCs2cs(int from, int to, const std::string& input, const char* format) {
     const std::string cs2cs = findOnPath("cs2cs");
     if (cs2cs.empty()) {
-        ADD_FAILURE()
-            << "cs2cs (PROJ) not found on PATH: run scripts/install-deps.sh (Debian package "
-               "proj-bin)";
+        ADD_FAILURE() << "cs2cs (PROJ) not found on PATH: run scripts/install-deps.sh (Debian package "
+                         "proj-bin)";
         return {};
     }
     TempFile in(input);
@@ -145,8 +142,7 @@ const std::vector<int> kComparedCodes = {4513, 4523, 4527, 4533, 4534, 4541, 454
 // China's latitudes.
 std::vector<glm::dvec2> zonePoints(const Crs& crs) {
     const double w = crs.zoneWidthDeg();
-    const double offsets[] = {-0.5, -0.37, -0.21, -0.04, 0.0,
-                              0.13, 0.29,  0.43,  0.5};  // of the width
+    const double offsets[] = {-0.5, -0.37, -0.21, -0.04, 0.0, 0.13, 0.29, 0.43, 0.5};  // of the width
     const double lats[] = {3.9, 18.2, 25.0, 31.7, 40.3, 47.9, 53.5};
     std::vector<glm::dvec2> pts;
     for (double lat : lats)
@@ -172,10 +168,8 @@ TEST(Crs, ForwardMatchesCs2cs) {
             ASSERT_EQ(std::sscanf(out[i].c_str(), "%lf %lf", &north, &east), 2) << out[i];
             const auto en = crs.fromLonLat(pts[i].x, pts[i].y);
             ASSERT_TRUE(en.ok()) << en.error().message;
-            EXPECT_NEAR(en->x, east, kProjToleranceM)
-                << "EPSG:" << code << " lon " << pts[i].x << " lat " << pts[i].y;
-            EXPECT_NEAR(en->y, north, kProjToleranceM)
-                << "EPSG:" << code << " lon " << pts[i].x << " lat " << pts[i].y;
+            EXPECT_NEAR(en->x, east, kProjToleranceM) << "EPSG:" << code << " lon " << pts[i].x << " lat " << pts[i].y;
+            EXPECT_NEAR(en->y, north, kProjToleranceM) << "EPSG:" << code << " lon " << pts[i].x << " lat " << pts[i].y;
             ++compared;
         }
     }
@@ -190,8 +184,7 @@ TEST(Crs, InverseMatchesCs2cs) {
         // zone is about +-170 km wide at 20 N, a 6-degree one twice that), northings over China.
         const double scale = crs.zoneWidthDeg() / 3.0;
         const double xs[] = {-170e3, -123456.789, -60e3, -1.5, 0.0, 25e3, 98765.4321, 170e3};
-        const double ys[] = {431234.5,  2012345.678, 2800000.0, 3456789.012,
-                             4400000.0, 5300000.25,  5930000.0};
+        const double ys[] = {431234.5, 2012345.678, 2800000.0, 3456789.012, 4400000.0, 5300000.25, 5930000.0};
         std::vector<glm::dvec2> en;
         std::string input;
         char line[128];
@@ -209,10 +202,8 @@ TEST(Crs, InverseMatchesCs2cs) {
             ASSERT_EQ(std::sscanf(out[i].c_str(), "%lf %lf", &lat, &lon), 2) << out[i];
             const auto ll = crs.toLonLat(en[i].x, en[i].y);
             ASSERT_TRUE(ll.ok()) << ll.error().message;
-            EXPECT_NEAR(ll->x, lon, kProjToleranceDeg)
-                << "EPSG:" << code << " E " << en[i].x << " N " << en[i].y;
-            EXPECT_NEAR(ll->y, lat, kProjToleranceDeg)
-                << "EPSG:" << code << " E " << en[i].x << " N " << en[i].y;
+            EXPECT_NEAR(ll->x, lon, kProjToleranceDeg) << "EPSG:" << code << " E " << en[i].x << " N " << en[i].y;
+            EXPECT_NEAR(ll->y, lat, kProjToleranceDeg) << "EPSG:" << code << " E " << en[i].x << " N " << en[i].y;
             ++compared;
         }
     }
@@ -222,8 +213,7 @@ TEST(Crs, InverseMatchesCs2cs) {
 TEST(Crs, ProjectedToProjectedMatchesCs2cs) {
     // Zone 35 with the zone number in the easting -> CM 108E without: through lon/lat.
     const Crs from = crsOrDie(4523), to = crsOrDie(4545);
-    const std::vector<glm::dvec2> en = {
-        {35500000.0, 3320113.5}, {35612345.678, 3900000.0}, {35401234.5, 2500000.0}};
+    const std::vector<glm::dvec2> en = {{35500000.0, 3320113.5}, {35612345.678, 3900000.0}, {35401234.5, 2500000.0}};
     std::string input;
     char line[128];
     for (const auto& p : en) {
@@ -246,8 +236,7 @@ TEST(Crs, ProjectedToProjectedMatchesCs2cs) {
 TEST(Crs, EpsgTableParses) {
     for (int code = 4490; code <= 4554; ++code) {
         const std::string id = "EPSG:" + std::to_string(code);
-        for (const std::string& text :
-             {id, "epsg:" + std::to_string(code), std::to_string(code), "  " + id + "\t\n"}) {
+        for (const std::string& text : {id, "epsg:" + std::to_string(code), std::to_string(code), "  " + id + "\t\n"}) {
             const auto c = Crs::parse(text);
             ASSERT_TRUE(c.ok()) << "\"" << text << "\": " << c.error().message;
             EXPECT_EQ(c->epsg(), code);
@@ -270,12 +259,10 @@ TEST(Crs, EpsgTableParses) {
     for (int code : {0, -1, 4326, 4489, 4555, 32650, 99999}) {
         const auto c = Crs::fromEpsg(code);
         ASSERT_FALSE(c.ok()) << code;
-        EXPECT_NE(c.error().message.find(std::to_string(code)), std::string::npos)
-            << c.error().message;
+        EXPECT_NE(c.error().message.find(std::to_string(code)), std::string::npos) << c.error().message;
         const auto p = Crs::parse("EPSG:" + std::to_string(code));
         ASSERT_FALSE(p.ok()) << code;
-        EXPECT_NE(p.error().message.find(std::to_string(code)), std::string::npos)
-            << p.error().message;
+        EXPECT_NE(p.error().message.find(std::to_string(code)), std::string::npos) << p.error().message;
     }
 }
 
@@ -318,35 +305,29 @@ TEST(Crs, EpsgParametersOfSomeCodes) {
 TEST(Crs, EpsgTableMatchesProjinfo) {
     // Every code's name and PROJ definition as the installed EPSG database has them.
     const std::string projinfo = findOnPath("projinfo");
-    ASSERT_FALSE(projinfo.empty())
-        << "projinfo (PROJ) not found on PATH: run scripts/install-deps.sh "
-           "(Debian package proj-bin)";
+    ASSERT_FALSE(projinfo.empty()) << "projinfo (PROJ) not found on PATH: run scripts/install-deps.sh "
+                                      "(Debian package proj-bin)";
     std::map<int, std::string> names;  // code -> name
-    for (const auto& line :
-         splitLines(runCommand(quote(projinfo) + " --list-crs --authority EPSG").out)) {
+    for (const auto& line : splitLines(runCommand(quote(projinfo) + " --list-crs --authority EPSG").out)) {
         int code = 0;
         char name[256] = {};
-        if (std::sscanf(line.c_str(), "EPSG:%d \"%255[^\"]\"", &code, name) == 2 && code >= 4490 &&
-            code <= 4554)
+        if (std::sscanf(line.c_str(), "EPSG:%d \"%255[^\"]\"", &code, name) == 2 && code >= 4490 && code <= 4554)
             names[code] = name;
     }
     ASSERT_EQ(names.size(), 65u);
-    for (const auto& [code, name] : names)
-        EXPECT_EQ(crsOrDie(code).name(), name) << "EPSG:" << code;
+    for (const auto& [code, name] : names) EXPECT_EQ(crsOrDie(code).name(), name) << "EPSG:" << code;
 
-    const auto defs = runCommand("for c in $(seq 4491 4554); do printf '%s ' $c; " +
-                                 quote(projinfo) + " -o PROJ -q EPSG:$c; done");
+    const auto defs =
+        runCommand("for c in $(seq 4491 4554); do printf '%s ' $c; " + quote(projinfo) + " -o PROJ -q EPSG:$c; done");
     ASSERT_EQ(defs.exitCode, 0);
     int checked = 0;
     for (const auto& line : splitLines(defs.out)) {
         int code = 0;
         double lon0 = 0.0, x0 = 0.0, k = 0.0;
         char ellps[16] = {};
-        ASSERT_EQ(
-            std::sscanf(line.c_str(),
-                        "%d +proj=tmerc +lat_0=0 +lon_0=%lf +k=%lf +x_0=%lf +y_0=0 +ellps=%15s",
-                        &code, &lon0, &k, &x0, ellps),
-            5)
+        ASSERT_EQ(std::sscanf(line.c_str(), "%d +proj=tmerc +lat_0=0 +lon_0=%lf +k=%lf +x_0=%lf +y_0=0 +ellps=%15s",
+                              &code, &lon0, &k, &x0, ellps),
+                  5)
             << line;
         // GRS80 in PROJ is a = 6378137 m, 1/f = 298.257222101, as CGCS2000.
         EXPECT_STREQ(ellps, "GRS80") << line;
@@ -373,9 +354,9 @@ TEST(Crs, RoundTripOverZones) {
                 ASSERT_TRUE(en.ok()) << en.error().message;
                 const auto ll = c.toLonLat(en->x, en->y);
                 ASSERT_TRUE(ll.ok()) << ll.error().message;
-                const double err = std::hypot(
-                    (ll->y - lat) * kMetresPerDegree,
-                    (ll->x - lon) * kMetresPerDegree * std::cos(lat * std::numbers::pi / 180.0));
+                const double err =
+                    std::hypot((ll->y - lat) * kMetresPerDegree,
+                               (ll->x - lon) * kMetresPerDegree * std::cos(lat * std::numbers::pi / 180.0));
                 worst = std::max(worst, err);
                 const auto en2 = c.fromLonLat(ll->x, ll->y);
                 ASSERT_TRUE(en2.ok()) << en2.error().message;
@@ -394,8 +375,8 @@ TEST(Crs, ParseForms) {
         EXPECT_EQ(c->epsg(), 0);
         EXPECT_EQ(c->id(), "local");
     }
-    for (const char* text : {"EPSG:abc", "EPSG:", "EPSG:4523x", "EPSG:45 23", "4523.0",
-                             "EPSG:-4523", "WGS84", "EPSG:99999999999999"}) {
+    for (const char* text :
+         {"EPSG:abc", "EPSG:", "EPSG:4523x", "EPSG:45 23", "4523.0", "EPSG:-4523", "WGS84", "EPSG:99999999999999"}) {
         const auto c = Crs::parse(text);
         ASSERT_FALSE(c.ok()) << "\"" << text << "\"";
         EXPECT_NE(c.error().message.find(text), std::string::npos) << c.error().message;
@@ -413,10 +394,9 @@ TEST(Crs, GaussKrugerForLon) {
         int epsg;
     };
     const Case cases[] = {
-        {105.4, 3, true, 4523},  {105.4, 3, false, 4544}, {106.4, 3, false, 4544},
-        {106.6, 3, false, 4545}, {75.0, 3, true, 4513},   {135.0, 3, false, 4554},
-        {105.4, 6, true, 4496},  {102.1, 6, false, 4507}, {107.9, 6, true, 4496},
-        {73.6, 6, true, 4491},   {134.7, 6, false, 4512},
+        {105.4, 3, true, 4523}, {105.4, 3, false, 4544}, {106.4, 3, false, 4544}, {106.6, 3, false, 4545},
+        {75.0, 3, true, 4513},  {135.0, 3, false, 4554}, {105.4, 6, true, 4496},  {102.1, 6, false, 4507},
+        {107.9, 6, true, 4496}, {73.6, 6, true, 4491},   {134.7, 6, false, 4512},
     };
     for (const auto& k : cases) {
         const auto c = Crs::gaussKrugerForLon(k.lon, k.width, k.zoneInEasting);
@@ -521,13 +501,11 @@ TEST(Crs, ConvertPointPaths) {
 
 CommandResult runCoords(const std::string& args, const std::string& input) {
     TempFile in(input);
-    return runCommand(quote(GEOSLICE_BINARY) + " coords " + args + " < " + quote(in.path()) +
-                      " 2>/dev/null");
+    return runCommand(quote(GEOSLICE_BINARY) + " coords " + args + " < " + quote(in.path()) + " 2>/dev/null");
 }
 
 TEST(CoordsCli, GeographicToGaussKruger) {
-    const auto r = runCoords("--from EPSG:4490 --to EPSG:4523",
-                             "# lon lat h\n105.5 30.25 500\n\n104.1\t29.9\n");
+    const auto r = runCoords("--from EPSG:4490 --to EPSG:4523", "# lon lat h\n105.5 30.25 500\n\n104.1\t29.9\n");
     ASSERT_EQ(r.exitCode, 0) << r.out;
     const auto lines = splitLines(r.out);
     ASSERT_EQ(lines.size(), 4u) << r.out;
@@ -552,8 +530,7 @@ TEST(CoordsCli, GeographicToGaussKruger) {
 }
 
 TEST(CoordsCli, GaussKrugerToGeographicAndBadLine) {
-    const auto r = runCoords("--from 4544 --to epsg:4490",
-                             "512345.678 3456789.012\nnot a point\n487000 3300000 12\n");
+    const auto r = runCoords("--from 4544 --to epsg:4490", "512345.678 3456789.012\nnot a point\n487000 3300000 12\n");
     EXPECT_EQ(r.exitCode, 1) << r.out;
     const auto lines = splitLines(r.out);
     ASSERT_EQ(lines.size(), 3u) << r.out;

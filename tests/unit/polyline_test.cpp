@@ -16,15 +16,6 @@ using namespace geoslice::test;
 
 namespace {
 
-Model modelOf(std::vector<Part> bodies, std::vector<Part> surfaces = {}) {
-    Model m;
-    m.bodies = std::move(bodies);
-    m.surfaces = std::move(surfaces);
-    m.recentre();
-    validate(m);
-    return m;
-}
-
 double areaOf(const PolylineSection& s, std::uint32_t part) {
     for (const auto& b : s.bodies)
         if (b.part == part) return b.area;

@@ -21,14 +21,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Model modelOf(std::vector<Part> bodies) {
-    Model m;
-    m.bodies = std::move(bodies);
-    m.recentre();
-    validate(m);
-    return m;
-}
-
 }  // namespace
 
 TEST(Reserves, BoxWholeAndClipped) {

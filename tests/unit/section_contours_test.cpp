@@ -18,15 +18,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Model modelOf(std::vector<Part> bodies, std::vector<Part> surfaces = {}) {
-    Model m;
-    m.bodies = std::move(bodies);
-    m.surfaces = std::move(surfaces);
-    m.recentre();
-    validate(m);
-    return m;
-}
-
 Section cut(const SectionIndex& idx, const Plane& p) {
     auto s = computeSection(idx, p);
     EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);

@@ -14,18 +14,6 @@
 using namespace geoslice;
 using namespace geoslice::test;
 
-namespace {
-
-Model modelOf(std::vector<Part> bodies) {
-    Model m;
-    m.bodies = std::move(bodies);
-    m.recentre();
-    validate(m);
-    return m;
-}
-
-}  // namespace
-
 TEST(SectionRaster, BoxIdsAndExactCoverage) {
     Model m = modelOf({makePart("box", PartKind::Body, 4, boxMesh({0, 0, 0}, {10.3, 6.1, 5}))});
     AttributeRecord rec;

@@ -94,7 +94,8 @@ TEST(Synthetic, EveryBodyWatertightAndOutward) {
     for (OreVariant ore : {OreVariant::Nested, OreVariant::Partition}) {
         Model m = generate(30000, ore);
         ValidationReport r = validate(m);
-        for (const auto& i : r.issues) EXPECT_NE(i.severity, ValidationIssue::Severity::Error) << i.part << ": " << i.message;
+        for (const auto& i : r.issues)
+            EXPECT_NE(i.severity, ValidationIssue::Severity::Error) << i.part << ": " << i.message;
         for (const auto& p : m.bodies) {
             EXPECT_TRUE(p.report.closed) << p.name;
             EXPECT_TRUE(p.report.consistentlyOriented) << p.name;

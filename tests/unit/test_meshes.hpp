@@ -3,8 +3,11 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "model/model.hpp"
+#include "model/validate.hpp"
 
 namespace geoslice::test {
 
@@ -28,7 +31,8 @@ inline Mesh sphereMesh(const glm::dvec3& c, double r, int nTheta = 48, int nPhi 
     for (int j = 1; j < nPhi; ++j)
         for (int i = 0; i < nTheta; ++i) {
             double th = 2 * kPi * i / nTheta, ph = kPi * j / nPhi;
-            m.positions.push_back(c + r * glm::dvec3(std::sin(ph) * std::cos(th), std::sin(ph) * std::sin(th), std::cos(ph)));
+            m.positions.push_back(
+                c + r * glm::dvec3(std::sin(ph) * std::cos(th), std::sin(ph) * std::sin(th), std::cos(ph)));
         }
     m.positions.push_back(c - glm::dvec3(0, 0, r));
     const auto south = static_cast<std::uint32_t>(m.positions.size() - 1);
@@ -36,7 +40,8 @@ inline Mesh sphereMesh(const glm::dvec3& c, double r, int nTheta = 48, int nPhi 
     for (int i = 0; i < nTheta; ++i) m.indices.insert(m.indices.end(), {0u, R(1, i), R(1, i + 1)});
     for (int j = 1; j + 1 < nPhi; ++j)
         for (int i = 0; i < nTheta; ++i)
-            m.indices.insert(m.indices.end(), {R(j + 1, i), R(j + 1, i + 1), R(j, i + 1), R(j + 1, i), R(j, i + 1), R(j, i)});
+            m.indices.insert(m.indices.end(),
+                             {R(j + 1, i), R(j + 1, i + 1), R(j, i + 1), R(j + 1, i), R(j, i + 1), R(j, i)});
     for (int i = 0; i < nTheta; ++i) m.indices.insert(m.indices.end(), {south, R(nPhi - 1, i + 1), R(nPhi - 1, i)});
     return m;
 }
@@ -58,6 +63,16 @@ inline Part makePart(std::string name, PartKind kind, RecordId record, Mesh mesh
     p.record = record;
     p.mesh = std::move(mesh);
     return p;
+}
+
+// A model of these parts, recentred and validated (closed flags, orientation, nesting).
+inline Model modelOf(std::vector<Part> bodies, std::vector<Part> surfaces = {}) {
+    Model m;
+    m.bodies = std::move(bodies);
+    m.surfaces = std::move(surfaces);
+    m.recentre();
+    validate(m);
+    return m;
 }
 
 }  // namespace geoslice::test
