@@ -199,6 +199,20 @@ int main(int argc, char** argv) {
                      {"rssDeltaMiB", rssLoaded - rssBefore},
                      {"residentMiB", double(pkg->residentBytes()) / (1024.0 * 1024.0)},
                      {"textureMiB", double(pkg->texels.size()) * 4.0 / (1024.0 * 1024.0)}};
+        // What the renderer uploads for this package (renderer/gpu_model.cpp): the R32UI
+        // texture array, float32 positions and UVs, uint32 indices. Computed from the buffer
+        // sizes (a GPU driver adds its own padding); measure with the device where one is lent.
+        std::size_t vertices = 0, indices = 0;
+        for (const auto& part : pkg->parts) {
+            vertices += part.vertexCount;
+            indices += part.indexCount;
+        }
+        const double mib = 1024.0 * 1024.0;
+        r["gpuEstimate"] = {{"textureMiB", double(pkg->texels.size()) * 4.0 / mib},
+                            {"positionsMiB", double(vertices) * 12.0 / mib},
+                            {"uvsMiB", double(vertices) * 8.0 / mib},
+                            {"indicesMiB", double(indices) * 4.0 / mib},
+                            {"totalMiB", double(pkg->texels.size() * 4 + vertices * 20 + indices * 4) / mib}};
         t = bench::nowSeconds();
         r["accuracy"] = accuracy(pkg.value(), points, 12345);
         r["accuracy"]["seconds"] = bench::nowSeconds() - t;
