@@ -14,6 +14,7 @@
 
 #include "api/openapi.hpp"
 #include "api/plan.hpp"
+#include "model/crs.hpp"
 #include "server/http_server.hpp"
 
 namespace geoslice::server {
@@ -135,6 +136,31 @@ TEST_F(Server, VectorSectionsAsGeoJsonAndSvg) {
     EXPECT_EQ(svg->get_header_value("Content-Type"), "image/svg+xml");
     EXPECT_NE(svg->body.find("<svg"), std::string::npos);
     expectProblem(get("/v1/models/demo/section.geojson?" + kPlane + "&space=mars"), 400, "space");
+}
+
+// A polyline given in CGCS2000 lon/lat is the same section as the line in projected metres.
+TEST_F(Server, LonLatLinesAndBoreholes) {
+    const Crs crs = Crs::fromEpsg(4523).value();
+    const glm::dvec2 a{35502500.0, 3388000.0}, b{35506500.0, 3388500.0};
+    const glm::dvec2 la = crs.toLonLat(a.x, a.y).value(), lb = crs.toLonLat(b.x, b.y).value();
+    char lonlat[256];
+    std::snprintf(lonlat, sizeof lonlat, "line=%.12f,%.12f,%.12f,%.12f&coords=lonlat", la.x, la.y, lb.x, lb.y);
+    const std::string world = "line=35502500,3388000,35506500,3388500";
+    for (const char* px : {"40", "120", "200"}) {
+        const std::string q = std::string("&size=256x96&px=") + px + "&py=50";
+        const json w = getJson("/v1/models/demo/query?" + world + q);
+        const json g = getJson("/v1/models/demo/query?" + std::string(lonlat) + q);
+        EXPECT_EQ(w["record"], g["record"]);
+        EXPECT_NEAR(w["world"]["x"].get<double>(), g["world"]["x"].get<double>(), 1e-6);  // GeographicLib round trip
+        EXPECT_NEAR(w["world"]["y"].get<double>(), g["world"]["y"].get<double>(), 1e-6);
+    }
+    const glm::dvec2 hole = crs.toLonLat(35504000.0, 3388000.0).value();
+    char q[128];
+    std::snprintf(q, sizeof q, "/v1/models/demo/borehole?lon=%.12f&lat=%.12f", hole.x, hole.y);
+    const json byLonLat = getJson(q);
+    const json byXy = getJson("/v1/models/demo/borehole?x=35504000&y=3388000");
+    EXPECT_EQ(byLonLat["intervals"].size(), byXy["intervals"].size());
+    expectProblem(get("/v1/models/demo/section.png?line=1,2,3,4&coords=mercator"), 400, "coords");
 }
 
 TEST_F(Server, EtagGives304) {
@@ -411,6 +437,38 @@ TEST_F(Server, QueryAgreesWithTheImageIdBuffer) {
     EXPECT_GE(double(agree) / double(total), 0.999) << agree << " of " << total;
 }
 
+// Identical requests that arrive while the first is rendering share its render.
+TEST(ServerCoalescing, IdenticalRequestsShareOneRender) {
+    spdlog::set_level(spdlog::level::err);
+    ServerConfig c = testConfig();
+    c.workers = 1;
+    SectionServer s(c);
+    auto port = s.start();
+    ASSERT_TRUE(port);
+    ASSERT_TRUE(s.waitUntilLoaded());
+    std::vector<std::thread> threads;
+    std::vector<std::string> bodies(8);
+    for (int t = 0; t < 8; ++t)
+        threads.emplace_back([&, t] {
+            httplib::Client cl("127.0.0.1", port.value());
+            cl.set_read_timeout(60, 0);
+            auto r = cl.Get("/v1/models/demo/section.png?plane=0,1,0,-3388846&size=3000x3000");
+            if (r && r->status == 200) bodies[std::size_t(t)] = r->body;
+        });
+    for (auto& t : threads) t.join();
+    for (const auto& b : bodies) EXPECT_EQ(b, bodies[0]);
+    httplib::Client cl("127.0.0.1", port.value());
+    auto m = cl.Get("/metrics");
+    ASSERT_TRUE(m);
+    const auto at = m->body.find("\ngeoslice_renders_coalesced ");
+    ASSERT_NE(at, std::string::npos);
+    const double coalesced = std::stod(m->body.substr(at + 28));
+    // 8 requests, one render of about 100 ms: the ones that arrive during it join it (the
+    // rest, if any, are cache hits).
+    EXPECT_GE(coalesced, 1.0);
+    std::printf("8 identical requests: %.0f joined another's render\n", coalesced);
+}
+
 // A full queue answers 503 with Retry-After; a render past its deadline answers 504.
 TEST(ServerLimits, QueueFullAndDeadline) {
     spdlog::set_level(spdlog::level::err);
@@ -502,12 +560,8 @@ TEST(ServerGl, PerspectiveViewThroughAWorkerContext) {
     // Queries of a perspective view: the exact ray (before the view is rendered) against the
     // GL ID buffer (after). They differ only where a pixel centre falls within rasterisation
     // precision of an edge, so >= 99 % of 500 random pixels must agree.
-    const json view = {{"plane", "0,1,0,-3388846"},
-                       {"view", "perspective"},
-                       {"eye", "35509000,3383000,4000"},
-                       {"target", "35504794,3388846,700"},
-                       {"size", "256x192"},
-                       {"vx", "2"}};
+    const json view = {{"plane", "0,1,0,-3388846"},        {"view", "perspective"}, {"eye", "35509000,3383000,4000"},
+                       {"target", "35504794,3388846,700"}, {"size", "256x192"},     {"vx", "2"}};
     std::mt19937 rng(11);
     json pixels = json::array();
     for (int i = 0; i < 500; ++i) pixels.push_back({int(rng() % 256u), int(rng() % 192u)});
