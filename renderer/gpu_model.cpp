@@ -303,6 +303,97 @@ Result<std::unique_ptr<GpuModel>> GpuModel::build(GlContext& context, const Mode
             }
             d.clusters.push_back(cl);
         }
+        if (lod) {
+            const auto t0 = std::chrono::steady_clock::now();
+            // Blocks of 2, 4 and 8 cells a side, each merging the groups of the level below
+            // (or its clusters' coarsest levels where there is none).
+            std::vector<std::int32_t> cover(d.clusters.size(), -1);  // finest group so far
+            for (std::uint32_t side = 2; side <= 8; side *= 2) {
+                auto blockOf = [&](std::uint32_t cell) {
+                    const std::uint32_t x = cell % std::uint32_t(grid.dims.x),
+                                        y = cell / std::uint32_t(grid.dims.x) % std::uint32_t(grid.dims.y),
+                                        z = cell / std::uint32_t(grid.dims.x) / std::uint32_t(grid.dims.y);
+                    const std::uint32_t bx = (std::uint32_t(grid.dims.x) + side - 1) / side,
+                                        by = (std::uint32_t(grid.dims.y) + side - 1) / side;
+                    return ((z / side) * by + y / side) * bx + x / side;
+                };
+                std::vector<std::pair<std::uint32_t, std::uint32_t>> byBlock;
+                for (std::uint32_t i = 0; i < d.clusters.size(); ++i)
+                    byBlock.emplace_back(blockOf(d.clusters[i].cell), i);
+                std::sort(byBlock.begin(), byBlock.end());
+                std::vector<std::int32_t> nextCover = cover;
+                for (std::size_t b0 = 0; b0 < byBlock.size();) {
+                    std::size_t b1 = b0;
+                    while (b1 < byBlock.size() && byBlock[b1].first == byBlock[b0].first) ++b1;
+                    DrawPart::Group grp;
+                    std::vector<std::uint32_t> merged;
+                    std::vector<std::int32_t> usedGroups;
+                    float memberError = 0.0f;
+                    std::size_t sources = 0;
+                    for (std::size_t k = b0; k < b1; ++k) {
+                        const std::uint32_t ci = byBlock[k].second;
+                        grp.members.push_back(ci);
+                        if (cover[ci] >= 0) {
+                            if (std::find(usedGroups.begin(), usedGroups.end(), cover[ci]) != usedGroups.end())
+                                continue;
+                            usedGroups.push_back(cover[ci]);
+                            const DrawPart::Group& sub = d.groups[std::size_t(cover[ci])];
+                            merged.insert(merged.end(), lodIndices.begin() + std::ptrdiff_t(sub.first),
+                                          lodIndices.begin() + std::ptrdiff_t(sub.first) + sub.count);
+                            memberError = std::max(memberError, sub.error);
+                        } else {
+                            const DrawPart::Cluster& c = d.clusters[ci];
+                            const int l = c.levels - 1;
+                            const std::uint32_t* src =
+                                l == 0 ? sorted.data() + (c.first[0] - d.firstIndex) : lodIndices.data() + c.first[l];
+                            merged.insert(merged.end(), src, src + c.count[l]);
+                            memberError = std::max(memberError, c.error[l]);
+                        }
+                        ++sources;
+                    }
+                    b0 = b1;
+                    if (sources < 2 || merged.size() < 3 * 128) continue;
+                    compactPos.clear();
+                    compactIdx.clear();
+                    back.clear();
+                    for (std::uint32_t v : merged) {
+                        std::uint32_t& r = remap[v];
+                        if (r == std::numeric_limits<std::uint32_t>::max()) {
+                            r = std::uint32_t(compactPos.size());
+                            compactPos.push_back(local[v]);
+                            back.push_back(v);
+                        }
+                        compactIdx.push_back(r);
+                    }
+                    for (std::uint32_t v : back) remap[v] = std::numeric_limits<std::uint32_t>::max();
+                    const float scale = meshopt_simplifyScale(&compactPos[0].x, compactPos.size(), sizeof(glm::vec3));
+                    prev = compactIdx;
+                    float cumulative = 0.0f;
+                    // Up to three levels per group, each about half the one before; every one
+                    // is a group entry of its own (finer first).
+                    for (int round = 0; round < 3; ++round) {
+                        out.resize(prev.size());
+                        float err = 0.0f;
+                        const std::size_t n =
+                            meshopt_simplify(out.data(), prev.data(), prev.size(), &compactPos[0].x, compactPos.size(),
+                                             sizeof(glm::vec3), std::max<std::size_t>(prev.size() / 2 / 3 * 3, 3), 1.0f,
+                                             meshopt_SimplifyLockBorder, &err);
+                        if (n == 0 || n * 10 > prev.size() * 8) break;
+                        cumulative += err * scale;
+                        prev.assign(out.begin(), out.begin() + std::ptrdiff_t(n));
+                        DrawPart::Group level = grp;
+                        level.first = lodIndices.size();
+                        level.count = GLsizei(prev.size());
+                        level.error = memberError + cumulative;
+                        for (std::uint32_t i : prev) lodIndices.push_back(back[i]);
+                        for (std::uint32_t m : grp.members) nextCover[m] = std::int32_t(d.groups.size());
+                        d.groups.push_back(std::move(level));
+                    }
+                }
+                cover = std::move(nextCover);
+            }
+            lodMs += msSince(t0);
+        }
         positions.insert(positions.end(), local.begin(), local.end());
         if (bp)
             for (std::size_t v = 0; v < bp->vertexCount; ++v) uvs.emplace_back(bp->uvs[2 * v], bp->uvs[2 * v + 1]);
@@ -324,6 +415,8 @@ Result<std::unique_ptr<GpuModel>> GpuModel::build(GlContext& context, const Mode
     for (DrawPart& d : g->parts_)
         for (DrawPart::Cluster& c : d.clusters)
             for (int l = 1; l < c.levels; ++l) c.first[l] += lodBase;
+    for (DrawPart& d : g->parts_)
+        for (DrawPart::Group& group : d.groups) group.first += lodBase;
     indices.insert(indices.end(), lodIndices.begin(), lodIndices.end());
     g->lodBuildMs_ = lodMs;
 

@@ -50,10 +50,13 @@ struct Package;
 struct GpuUploadOptions {
     enum class Lod { Off, On, Auto };  // Auto: on for software rasterisers (llvmpipe)
     Lod lod = Lod::Auto;
-    // Grid resolution. Measured on L4 (10M triangles) at 1024x1024 on llvmpipe: 1024 per
-    // cell draws 2.42M triangles with LOD (274 ms CPU) against 2.78M (295 ms) at 4096.
-    std::size_t trianglesPerCell = 1024;
-    std::size_t maxCells = 16384;  // 1..GpuModel::kMaxCells
+    // Grid resolution. Measured on L4 (10M triangles) at 1024x1024 on llvmpipe, perspective,
+    // 1 px: 1024 per cell (16384 cells at most) drew 2.42M triangles with LOD (166-178 ms
+    // draw + finish); 256 per cell (65536 cells) with groups (GpuModel::DrawPart::groups)
+    // 1.73M (143 ms): smaller cells keep less at full detail around a cut, groups merge
+    // their borders away from it.
+    std::size_t trianglesPerCell = 256;
+    std::size_t maxCells = 65536;  // 1..GpuModel::kMaxCells
     int lodLevels = 5;             // levels including full detail, 1..GpuModel::kMaxLodLevels
 };
 
@@ -82,6 +85,21 @@ public:
             float error[kMaxLodLevels] = {};
         };
         std::vector<Cluster> clusters;  // in index-buffer order
+        // Groups (LOD only; Nanite-style): the part's clusters in a block of 2, 4 or 8 cells
+        // a side, their coarsest levels (or the coarsest group of the block size below)
+        // merged and simplified again with the block's outer border locked, so the borders
+        // between its cells collapse while it still meets its neighbours without cracks.
+        // Up to three groups per block, each about half the one before, stored finest block
+        // size first and finer before coarser. Drawn instead of all its members when every
+        // member may have `error` (metres: the largest merged error plus the new one);
+        // indices [first, first + count) like a cluster level.
+        struct Group {
+            std::size_t first = 0;
+            GLsizei count = 0;
+            float error = 0.0f;
+            std::vector<std::uint32_t> members;  // indices into clusters
+        };
+        std::vector<Group> groups;
     };
 
     // Uploads every body and surface. Nesting comes from Part::report.parent, so the model

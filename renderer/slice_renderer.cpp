@@ -463,9 +463,36 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     constexpr int kShiftBuckets = 24;
     Batch full;
     std::vector<Batch> pushed(kShiftBuckets + 1);
+    std::vector<std::uint8_t> handled;  // per cluster of the part being drawn: in a group
     auto draw = [&](const GpuModel::DrawPart& p, float shiftSign, bool offsetBase) {
         bool anySimplified = false;
-        for (const GpuModel::DrawPart::Cluster& c : p.clusters) {
+        auto addSimplified = [&](std::size_t first, GLsizei count, float error) {
+            // Bucket k holds pushes in (2^(k-9), 2^(k-8)] metres; bucket 0 everything below.
+            const double push = 2.0 * error * shiftScale;
+            const int k = push <= 0.0 ? 0 : std::clamp(int(std::ceil(std::log2(push))) + 9, 0, kShiftBuckets);
+            pushed[std::size_t(k)].add(first, count, p.baseVertex);
+            anySimplified = true;
+        };
+        // A group replaces its members when every one of them may have its error and none is
+        // at full detail for a cut (budget 0) or skipped; coarsest first (the model stores
+        // them finest first), and a group with a member already drawn by a coarser one stays.
+        // Intersection of planes only: then every member cell lies in the kept region, which
+        // is convex, so the group (in the hull of its members) meets no plane; a union's kept
+        // region is not convex.
+        handled.assign(p.clusters.size(), 0);
+        for (auto it = p.groups.rbegin(); it != p.groups.rend() && !unionMode; ++it) {
+            bool ok = true;
+            for (std::uint32_t m : it->members) {
+                const float budget = allowed[p.clusters[m].cell];
+                ok = ok && !handled[m] && budget > 0.0f && budget >= it->error;
+            }
+            if (!ok) continue;
+            for (std::uint32_t m : it->members) handled[m] = 1;
+            addSimplified(it->first, it->count, it->error);
+        }
+        for (std::size_t ci = 0; ci < p.clusters.size(); ++ci) {
+            if (handled[ci]) continue;
+            const GpuModel::DrawPart::Cluster& c = p.clusters[ci];
             const float budget = allowed[c.cell];
             int level = budget < 0.0f ? -1 : 0;
             while (level >= 0 && level + 1 < c.levels && c.error[level + 1] <= budget) ++level;
@@ -474,11 +501,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
             } else if (level == 0) {
                 full.add(c.first[0], c.count[0], p.baseVertex);
             } else {
-                // Bucket k holds pushes in (2^(k-9), 2^(k-8)] metres; bucket 0 everything below.
-                const double push = 2.0 * c.error[level] * shiftScale;
-                const int k = push <= 0.0 ? 0 : std::clamp(int(std::ceil(std::log2(push))) + 9, 0, kShiftBuckets);
-                pushed[std::size_t(k)].add(c.first[level], c.count[level], p.baseVertex);
-                anySimplified = true;
+                addSimplified(c.first[level], c.count[level], c.error[level]);
             }
         }
         flush(full);
