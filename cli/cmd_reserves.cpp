@@ -37,12 +37,8 @@ void addReserves(CLI::App& app, int& exitCode) {
         };
         std::optional<Plane> plane;
         if (!o->plane.empty()) {
-            double v[4];
-            char extra = 0;
-            if (std::sscanf(o->plane.c_str(), "%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &extra) != 4)
-                return fail("--plane \"" + o->plane + "\" is not a,b,c,d (four numbers)", 2);
-            auto p = makePlane(v[0], v[1], v[2], v[3]);
-            if (!p) return fail("--plane: " + p.error().message, 2);
+            auto p = parsePlaneFlag(o->plane);
+            if (!p) return fail(p.error().message, 2);
             plane = p.value();
         }
         auto model = loadModel(o->model);

@@ -2,7 +2,12 @@
 // its callback stores the process exit code in `exitCode` (0 ok, 1 failure, 2 usage).
 #pragma once
 
+#include <string>
+
 #include <CLI/CLI.hpp>
+
+#include "model/result.hpp"
+#include "section/plane.hpp"
 
 namespace geoslice::cli {
 
@@ -16,5 +21,9 @@ void addBorehole(CLI::App& app, int& exitCode);
 void addReserves(CLI::App& app, int& exitCode);
 void addBake(CLI::App& app, int& exitCode);
 void addServe(CLI::App& app, int& exitCode);
+
+// A --plane value "a,b,c,d" (four finite numbers, (a, b, c) not zero) -> a unit plane.
+// Errors name the flag and the text.
+Result<Plane> parsePlaneFlag(const std::string& text);
 
 }  // namespace geoslice::cli

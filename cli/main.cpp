@@ -6,6 +6,20 @@
 
 #include "cli/commands.hpp"
 
+namespace geoslice::cli {
+
+Result<Plane> parsePlaneFlag(const std::string& text) {
+    double v[4];
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &extra) != 4)
+        return makeError(ErrorCode::InvalidArgument, "--plane \"" + text + "\" is not a,b,c,d (four numbers)");
+    auto p = makePlane(v[0], v[1], v[2], v[3]);
+    if (!p) return makeError(p.error().code, "--plane: " + p.error().message);
+    return p;
+}
+
+}  // namespace geoslice::cli
+
 int main(int argc, char** argv) {
     CLI::App app{"geoslice: cut 3D geological models with planes and serve the sections"};
     app.require_subcommand(1);
