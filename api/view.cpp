@@ -279,7 +279,8 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
         }
     }
     if (std::isfinite(hitT)) a.world = ray.origin + hitT * ray.direction;
-    a.distanceAlong = std::isfinite(hitT) ? glm::length(a.world - ray.origin) : std::numeric_limits<double>::quiet_NaN();
+    a.distanceAlong =
+        std::isfinite(hitT) ? glm::length(a.world - ray.origin) : std::numeric_limits<double>::quiet_NaN();
     if (cached && !cached->ids.empty()) {
         a.record = cached->ids[std::size_t(py) * std::size_t(cached->width) + std::size_t(px)];
         a.fromIdBuffer = true;
@@ -452,34 +453,10 @@ Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Param
     nlohmann::ordered_json out;
     out["model"] = model.id;
     out["version"] = model.version;
-    out["collar"] =
+    out.update(boreholeJson(model.model, b));
+    // The collar in CGCS2000 too, like every point the API reports.
+    out["collarCoordinates"] =
         std::isnan(b.collarDepth) ? nlohmann::ordered_json(nullptr) : worldPointJson(model.model.crs, b.collar);
-    out["depthNote"] = "from/to: metres below the collar (the first surface the vertical hole meets), along the hole";
-    nlohmann::ordered_json intervals = nlohmann::ordered_json::array();
-    for (const BoreholeInterval& iv : b.intervals) {
-        nlohmann::ordered_json e;
-        e["from"] = iv.fromCollar;
-        e["to"] = iv.toCollar;
-        e["thickness"] = iv.to - iv.from;
-        e["fromElevation"] = iv.fromElevation;
-        e["toElevation"] = iv.toElevation;
-        e["body"] = iv.body < model.model.bodies.size() ? model.model.bodies[iv.body].name : "";
-        const AttributeRecord* r = model.model.attributes.find(iv.record);
-        e["record"] = r ? r->toJson() : nlohmann::ordered_json{{"id", iv.record}};
-        intervals.push_back(std::move(e));
-    }
-    out["intervals"] = std::move(intervals);
-    nlohmann::ordered_json crossings = nlohmann::ordered_json::array();
-    for (const BoreholeCrossing& c : b.crossings) {
-        nlohmann::ordered_json e;
-        e["depth"] = c.depthCollar;
-        e["elevation"] = c.elevation;
-        e["surface"] = c.surface < model.model.surfaces.size() ? model.model.surfaces[c.surface].name : "";
-        const AttributeRecord* r = model.model.attributes.find(c.record);
-        e["record"] = r ? r->toJson() : nlohmann::ordered_json{{"id", c.record}};
-        crossings.push_back(std::move(e));
-    }
-    out["crossings"] = std::move(crossings);
     return out;
 }
 

@@ -217,14 +217,7 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
     json doc;
     doc["asset"] = {{"version", "2.0"}, {"generator", "geoslice bake"}};
     doc["scene"] = 0;
-    doc["scenes"] = {{{"name", model.name},
-                      {"nodes", {0}},
-                      {"extras",
-                       {{"geoslice",
-                         {{"version", 1},
-                          {"crs", model.crs.id()},
-                          {"origin", {model.origin.x, model.origin.y, model.origin.z}},
-                          {"attributes", table.toJson()["records"]}}}}}}};
+    doc["scenes"] = {{{"name", model.name}, {"nodes", {0}}, {"extras", {{"geoslice", sceneExtras(model, table)}}}}};
     doc["nodes"] = nodes;
     doc["meshes"] = meshes;
     doc["accessors"] = accessors;

@@ -24,14 +24,6 @@ bool parse3(const std::string& text, glm::dvec3& v) {
     return std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v.x, &v.y, &v.z, &extra) == 3;
 }
 
-json vec3(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
-json recordJson(const Model& m, RecordId id) {
-    const AttributeRecord* r = m.attributes.find(id);
-    return r ? r->toJson() : json(nullptr);
-}
-
 std::string recordName(const Model& m, RecordId id) {
     const AttributeRecord* r = m.attributes.find(id);
     return r ? r->name : std::string("(no record)");
@@ -85,37 +77,8 @@ void addBorehole(CLI::App& app, int& exitCode) {
         const Model& m = model.value();
         const Borehole& b = bh.value();
         if (o->json) {
-            json intervals = json::array(), crossings = json::array();
-            for (const auto& iv : b.intervals)
-                intervals.push_back({{"from_m", iv.from},
-                                     {"to_m", iv.to},
-                                     {"from_collar_m", number(iv.fromCollar)},
-                                     {"to_collar_m", number(iv.toCollar)},
-                                     {"from_elevation_m", iv.fromElevation},
-                                     {"to_elevation_m", iv.toElevation},
-                                     {"from_world", vec3(iv.fromWorld)},
-                                     {"to_world", vec3(iv.toWorld)},
-                                     {"body", m.bodies[iv.body].name},
-                                     {"record", iv.record},
-                                     {"attributes", recordJson(m, iv.record)}});
-            for (const auto& c : b.crossings)
-                crossings.push_back({{"depth_m", c.depth},
-                                     {"depth_collar_m", number(c.depthCollar)},
-                                     {"elevation_m", c.elevation},
-                                     {"world", vec3(c.world)},
-                                     {"surface", m.surfaces[c.surface].name},
-                                     {"record", c.record},
-                                     {"attributes", recordJson(m, c.record)}});
-            json j = {{"model", o->model},
-                      {"axes", "world: x easting, y northing, z elevation, metres; depths in metres along the hole"},
-                      {"origin", vec3(b.origin)},
-                      {"direction", vec3(b.direction)},
-                      {"length_m", b.length},
-                      {"collar_depth_m", number(b.collarDepth)},
-                      {"collar", std::isfinite(b.collarDepth) ? vec3(b.collar) : json(nullptr)},
-                      {"depths", "*_m: from the ray origin; *_collar_m: from the collar (first surface hit)"},
-                      {"intervals", intervals},
-                      {"crossings", crossings}};
+            json j = {{"model", o->model}};
+            j.update(boreholeJson(m, b));
             std::printf("%s\n", j.dump(2).c_str());
             return;
         }

@@ -856,15 +856,8 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
         doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
     }
     doc["scene"] = 0;
-    doc["scenes"] = {{{"name", model.name},
-                      {"nodes", {0}},
-                      {"extras",
-                       {{"geoslice",
-                         {{"version", 1},
-                          {"crs", model.crs.id()},
-                          {"origin", {model.origin.x, model.origin.y, model.origin.z}},
-                          {"attributes", model.attributes.toJson()["records"]},
-                          {"notes", model.notes}}}}}}};
+    doc["scenes"] = {
+        {{"name", model.name}, {"nodes", {0}}, {"extras", {{"geoslice", sceneExtras(model, model.attributes)}}}}};
     doc["nodes"] = nodes;
     doc["meshes"] = meshes;
     doc["accessors"] = accessors;
@@ -888,6 +881,14 @@ Status writeGlb(const Model& model, const std::string& path, const GlbWriteOptio
     std::filesystem::rename(tmp, path, ec);
     if (ec) return makeError(ErrorCode::IoError, path + ": cannot rename from " + tmp + ": " + ec.message());
     return {};
+}
+
+nlohmann::ordered_json sceneExtras(const Model& model, const AttributeTable& attributes) {
+    return {{"version", 1},
+            {"crs", model.crs.id()},
+            {"origin", {model.origin.x, model.origin.y, model.origin.z}},
+            {"attributes", attributes.toJson()["records"]},
+            {"notes", model.notes}};
 }
 
 Result<std::vector<std::uint8_t>> packGlb(std::string text, const std::vector<std::uint8_t>& bin,

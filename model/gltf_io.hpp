@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "model/model.hpp"
 #include "model/result.hpp"
 
@@ -23,6 +25,11 @@ struct GlbWriteOptions {
 };
 
 Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOptions& options = {});
+
+// The scene's extras.geoslice object that every GLB geoslice writes carries and parseGltf
+// reads back: {version, crs, origin (world, metres), attributes (records), notes}.
+// `attributes` may differ from model.attributes (a bake adds its grade-class records).
+nlohmann::ordered_json sceneExtras(const Model& model, const AttributeTable& attributes);
 
 // GLB container constants (glTF 2.0 spec, "Binary glTF Layout").
 constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"

@@ -307,4 +307,44 @@ Result<Borehole> BoreholeTracer::traceVertical(double x, double y) const {
     return traceRay(glm::dvec3(x, y, top), glm::dvec3(0.0, 0.0, -1.0), top - b.min.z + 1.0);
 }
 
+nlohmann::ordered_json boreholeJson(const Model& model, const Borehole& b) {
+    using json = nlohmann::ordered_json;
+    auto vec3 = [](const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); };
+    auto number = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+    auto attributes = [&](RecordId id) {
+        const AttributeRecord* r = model.attributes.find(id);
+        return r ? r->toJson() : json(nullptr);
+    };
+    json intervals = json::array(), crossings = json::array();
+    for (const auto& iv : b.intervals)
+        intervals.push_back({{"from_m", iv.from},
+                             {"to_m", iv.to},
+                             {"from_collar_m", number(iv.fromCollar)},
+                             {"to_collar_m", number(iv.toCollar)},
+                             {"from_elevation_m", iv.fromElevation},
+                             {"to_elevation_m", iv.toElevation},
+                             {"from_world", vec3(iv.fromWorld)},
+                             {"to_world", vec3(iv.toWorld)},
+                             {"body", model.bodies[iv.body].name},
+                             {"record", iv.record},
+                             {"attributes", attributes(iv.record)}});
+    for (const auto& c : b.crossings)
+        crossings.push_back({{"depth_m", c.depth},
+                             {"depth_collar_m", number(c.depthCollar)},
+                             {"elevation_m", c.elevation},
+                             {"world", vec3(c.world)},
+                             {"surface", model.surfaces[c.surface].name},
+                             {"record", c.record},
+                             {"attributes", attributes(c.record)}});
+    return {{"axes", "world: x easting, y northing, z elevation, metres; depths in metres along the hole"},
+            {"origin", vec3(b.origin)},
+            {"direction", vec3(b.direction)},
+            {"length_m", b.length},
+            {"collar_depth_m", number(b.collarDepth)},
+            {"collar", std::isfinite(b.collarDepth) ? vec3(b.collar) : json(nullptr)},
+            {"depths", "*_m: from the ray origin; *_collar_m: from the collar (first surface hit)"},
+            {"intervals", std::move(intervals)},
+            {"crossings", std::move(crossings)}};
+}
+
 }  // namespace geoslice

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 #include "model/model.hpp"
 #include "model/result.hpp"
@@ -96,5 +97,12 @@ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
+
+// The borehole as JSON, the one format of `geoslice borehole --json` and the HTTP API:
+// origin, direction, length_m, collar_depth_m, collar, and per interval from_m / to_m (from
+// the ray origin), from_collar_m / to_collar_m (from the collar), elevations, world points,
+// body, record and its attributes; per crossing the same for one depth. World coordinates
+// as above; non-finite values (no collar) are null.
+nlohmann::ordered_json boreholeJson(const Model& model, const Borehole& hole);
 
 }  // namespace geoslice

@@ -203,9 +203,9 @@ TEST_F(Server, BoreholeListsIntervals) {
     ASSERT_GE(j["intervals"].size(), 3u) << j.dump();
     double last = -1.0;
     for (const auto& iv : j["intervals"]) {
-        EXPECT_GE(iv["from"].get<double>(), last - 1e-6);
-        EXPECT_GT(iv["to"].get<double>(), iv["from"].get<double>());
-        last = iv["to"].get<double>();
+        EXPECT_GE(iv["from_collar_m"].get<double>(), last - 1e-6);
+        EXPECT_GT(iv["to_collar_m"].get<double>(), iv["from_collar_m"].get<double>());
+        last = iv["to_collar_m"].get<double>();
     }
     auto outside = get("/v1/models/demo/borehole?x=0&y=0");
     expectProblem(outside, 400, "");
