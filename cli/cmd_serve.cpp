@@ -22,6 +22,9 @@ struct ServeArgs {
     std::string configFile, host, models, bakeDir, gl, lod, cors, logLevel;
     int port = -1, deadlineMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
+    long long maxConnections = -1, headerTimeoutMs = -1, bodyTimeoutMs = -1, keepAliveMs = -1, keepAliveRequests = -1,
+              sendTimeoutMs = -1;
+    bool reusePort = false;
 };
 
 int runServe(const ServeArgs& a) {
@@ -47,6 +50,13 @@ int runServe(const ServeArgs& a) {
     if (a.workers >= 0) config.workers = unsigned(a.workers);
     if (a.queue > 0) config.queue = std::size_t(a.queue);
     if (a.httpThreads > 0) config.httpThreads = unsigned(a.httpThreads);
+    if (a.maxConnections > 0) config.maxConnections = std::size_t(a.maxConnections);
+    if (a.headerTimeoutMs > 0) config.headerTimeoutMs = int(a.headerTimeoutMs);
+    if (a.bodyTimeoutMs > 0) config.bodyTimeoutMs = int(a.bodyTimeoutMs);
+    if (a.keepAliveMs > 0) config.keepAliveMs = int(a.keepAliveMs);
+    if (a.keepAliveRequests > 0) config.keepAliveRequests = std::size_t(a.keepAliveRequests);
+    if (a.sendTimeoutMs > 0) config.sendTimeoutMs = int(a.sendTimeoutMs);
+    if (a.reusePort) config.reusePort = true;
     if (a.cacheMiB >= 0) config.cacheMiB = std::size_t(a.cacheMiB);
     if (a.demoTriangles > 0) config.demoTriangles = std::size_t(a.demoTriangles);
     if (a.maxBody > 0) config.maxBodyBytes = std::size_t(a.maxBody);
@@ -92,7 +102,17 @@ void addServe(CLI::App& app, int& exitCode) {
                     "3D views on CPU backends: off (default, exact) or auto (simplified geometry away from the cut)");
     cmd->add_option("--workers", a->workers, "Render workers (default: number of cores)");
     cmd->add_option("--queue", a->queue, "Render queue capacity (default 64; full -> 503)");
-    cmd->add_option("--http-threads", a->httpThreads, "Connections served at once (default 128)");
+    cmd->add_option("--http-threads", a->httpThreads, "Requests handled at once (default 128)");
+    cmd->add_option("--max-connections", a->maxConnections,
+                    "Open connections (default 10000; then the longest-waiting idle one closes, else 503)");
+    cmd->add_option("--header-timeout-ms", a->headerTimeoutMs,
+                    "Deadline for a whole request header, ms (default 10000)");
+    cmd->add_option("--body-timeout-ms", a->bodyTimeoutMs, "Deadline for a whole request body, ms (default 10000)");
+    cmd->add_option("--keep-alive-ms", a->keepAliveMs, "Idle keep-alive connections close after, ms (default 5000)");
+    cmd->add_option("--keep-alive-requests", a->keepAliveRequests, "Requests per connection (default 10000)");
+    cmd->add_option("--send-timeout-ms", a->sendTimeoutMs,
+                    "Deadline for the client to take an answer, ms per 8 MiB (default 10000)");
+    cmd->add_flag("--reuse-port", a->reusePort, "SO_REUSEPORT: share the port with other processes (default: refused)");
     cmd->add_option("--cache-mib", a->cacheMiB, "Cache budget for images and ID buffers, MiB (default 512)");
     cmd->add_option("--deadline-ms", a->deadlineMs, "Per-request render deadline, ms (default 10000)");
     cmd->add_option("--max-body", a->maxBody, "Largest request body, bytes (default 1 MiB)");

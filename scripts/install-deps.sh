@@ -19,7 +19,8 @@ packages=(
   # geodesy (GeographicLib) and PROJ as the test oracle (cs2cs)
   libgeographiclib-dev proj-bin
   # service and CLI
-  libcpp-httplib-dev libspdlog-dev libfmt-dev libcli11-dev curl
+  libboost-dev libspdlog-dev libfmt-dev libcli11-dev curl   # Boost.Beast/Asio: the HTTP server
+  libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

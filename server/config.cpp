@@ -36,6 +36,20 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.queue, 1, 100000);
     else if (key == "httpThreads")
         return number(c.httpThreads, 2, 4096);
+    else if (key == "maxConnections")
+        return number(c.maxConnections, 16, 1000000);
+    else if (key == "headerTimeoutMs")
+        return number(c.headerTimeoutMs, 100, 3600000);
+    else if (key == "bodyTimeoutMs")
+        return number(c.bodyTimeoutMs, 100, 3600000);
+    else if (key == "keepAliveMs")
+        return number(c.keepAliveMs, 100, 3600000);
+    else if (key == "keepAliveRequests")
+        return number(c.keepAliveRequests, 1, 1LL << 40);
+    else if (key == "sendTimeoutMs")
+        return number(c.sendTimeoutMs, 100, 3600000);
+    else if (key == "reusePort")
+        return number(c.reusePort, 0, 1);
     else if (key == "cacheMiB")
         return number(c.cacheMiB, 0, 1 << 20);
     else if (key == "deadlineMs")
@@ -83,10 +97,18 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_PORT", "port"},
         {"GEOSLICE_MODELS", "models"},
         {"GEOSLICE_BAKE_DIR", "bakeDir"},
-        {"GEOSLICE_GL", "gl"}, {"GEOSLICE_LOD", "lod"},
+        {"GEOSLICE_GL", "gl"},
+        {"GEOSLICE_LOD", "lod"},
         {"GEOSLICE_WORKERS", "workers"},
         {"GEOSLICE_QUEUE", "queue"},
         {"GEOSLICE_HTTP_THREADS", "httpThreads"},
+        {"GEOSLICE_MAX_CONNECTIONS", "maxConnections"},
+        {"GEOSLICE_HEADER_TIMEOUT_MS", "headerTimeoutMs"},
+        {"GEOSLICE_BODY_TIMEOUT_MS", "bodyTimeoutMs"},
+        {"GEOSLICE_KEEP_ALIVE_MS", "keepAliveMs"},
+        {"GEOSLICE_KEEP_ALIVE_REQUESTS", "keepAliveRequests"},
+        {"GEOSLICE_SEND_TIMEOUT_MS", "sendTimeoutMs"},
+        {"GEOSLICE_REUSE_PORT", "reusePort"},
         {"GEOSLICE_CACHE_MIB", "cacheMiB"},
         {"GEOSLICE_DEADLINE_MS", "deadlineMs"},
         {"GEOSLICE_MAX_BODY", "maxBodyBytes"},

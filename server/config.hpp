@@ -7,11 +7,16 @@
 //   models            GEOSLICE_MODELS          --models        "" (none: the demo model)
 //   bakeDir           GEOSLICE_BAKE_DIR        --bake-dir      "" (raw models are not baked)
 //   gl                GEOSLICE_GL              --gl            auto (auto|egl-device|egl-surfaceless|osmesa|none)
-//   lod               GEOSLICE_LOD             --lod           off (auto: simplified context geometry in 3D views on CPU backends)
-//   workers           GEOSLICE_WORKERS         --workers       number of cores
-//   queue             GEOSLICE_QUEUE           --queue         64 jobs
-//   httpThreads       GEOSLICE_HTTP_THREADS    --http-threads  128 (connections served at once)
-//   cacheMiB          GEOSLICE_CACHE_MIB       --cache-mib     512
+//   lod               GEOSLICE_LOD             --lod           off (auto: simplified context geometry in 3D views on
+//   CPU backends) workers           GEOSLICE_WORKERS         --workers       number of cores queue GEOSLICE_QUEUE
+//   --queue         64 jobs httpThreads       GEOSLICE_HTTP_THREADS    --http-threads  128 (requests handled at once)
+//   maxConnections    GEOSLICE_MAX_CONNECTIONS --max-connections 10000 (then the longest-waiting idle one closes, else
+//   503) headerTimeoutMs   GEOSLICE_HEADER_TIMEOUT_MS --header-timeout-ms 10000 (whole request header, from its first
+//   byte) bodyTimeoutMs     GEOSLICE_BODY_TIMEOUT_MS --body-timeout-ms 10000 (whole request body) keepAliveMs
+//   GEOSLICE_KEEP_ALIVE_MS   --keep-alive-ms 5000 (idle keep-alive connection) keepAliveRequests
+//   GEOSLICE_KEEP_ALIVE_REQUESTS --keep-alive-requests 10000 (per connection) sendTimeoutMs GEOSLICE_SEND_TIMEOUT_MS
+//   --send-timeout-ms 10000 (per 8 MiB of answer) reusePort         GEOSLICE_REUSE_PORT      --reuse-port    0 (1:
+//   SO_REUSEPORT, share the port with other processes) cacheMiB          GEOSLICE_CACHE_MIB       --cache-mib     512
 //   deadlineMs        GEOSLICE_DEADLINE_MS     --deadline-ms   10000
 //   maxBodyBytes      GEOSLICE_MAX_BODY        --max-body      1048576
 //   cors              GEOSLICE_CORS            --cors          * ("" = no CORS headers)
@@ -37,6 +42,13 @@ struct ServerConfig {
     unsigned workers = 0;  // 0 = hardware concurrency
     std::size_t queue = 64;
     unsigned httpThreads = 128;
+    std::size_t maxConnections = 10000;
+    int headerTimeoutMs = 10000;
+    int bodyTimeoutMs = 10000;
+    int keepAliveMs = 5000;
+    std::size_t keepAliveRequests = 10000;
+    int sendTimeoutMs = 10000;
+    bool reusePort = false;
     std::size_t cacheMiB = 512;
     int deadlineMs = 10000;
     std::size_t maxBodyBytes = 1 << 20;

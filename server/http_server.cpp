@@ -4,8 +4,8 @@
 #include <condition_variable>
 #include <csignal>
 #include <mutex>
+#include <regex>
 
-#include <httplib.h>
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
@@ -15,6 +15,7 @@
 #include "api/view.hpp"
 #include "renderer/image_encode.hpp"
 #include "server/gl_worker.hpp"
+#include "server/http_transport.hpp"
 #include "server/lru_cache.hpp"
 #include "server/metrics.hpp"
 #include "server/render_pool.hpp"
@@ -83,7 +84,7 @@ const char* statusTitle(int status) {
     }
 }
 
-void problem(httplib::Response& res, int status, const std::string& detail, const std::string& instance,
+void problem(HttpResponse& res, int status, const std::string& detail, const std::string& instance,
              const char* code = nullptr) {
     Json j;
     j["type"] = "about:blank";
@@ -96,18 +97,18 @@ void problem(httplib::Response& res, int status, const std::string& detail, cons
     res.set_content(j.dump(), "application/problem+json");
 }
 
-void problem(httplib::Response& res, const Error& e, const std::string& instance) {
+void problem(HttpResponse& res, const Error& e, const std::string& instance) {
     problem(res, httpStatus(e.code), e.message, instance, errorCodeName(e.code));
 }
 
-void sendJson(httplib::Response& res, const Json& j, int status = 200) {
+void sendJson(HttpResponse& res, const Json& j, int status = 200) {
     res.status = status;
     res.set_content(j.dump(), "application/json");
 }
 
 // Query parameters -> api::Params; a parameter given twice is an error (which one wins
 // would otherwise depend on the parser).
-Result<api::Params> toParams(const httplib::Request& req) {
+Result<api::Params> toParams(const HttpRequest& req) {
     api::Params p;
     for (const auto& [k, v] : req.params) {
         if (!p.emplace(k, v).second)
@@ -166,7 +167,6 @@ bool etagMatches(const std::string& ifNoneMatch, const std::string& etag) {
 
 struct SectionServer::Impl {
     ServerConfig config;
-    httplib::Server http;
     api::Catalog catalog;
     Metrics metrics;
     LruCache<Encoded> images;
@@ -182,11 +182,18 @@ struct SectionServer::Impl {
     std::mutex failedMutex;
     nlohmann::ordered_json failed = nlohmann::ordered_json::array();  // {id, error} of models that did not load
     std::atomic<int> inFlight{0};
-    std::thread listener, loader;
+    std::thread loader;
     std::mutex stopMutex;
     bool stopped = false;
     std::mutex loadMutex;
     std::condition_variable loadDone;
+    struct Route {
+        std::string method;
+        std::regex pattern;
+        std::function<void(const HttpRequest&, HttpResponse&)> fn;
+    };
+    std::vector<Route> routes;
+    std::unique_ptr<HttpTransport> http;  // declared last: its handlers use all of the above
 
     explicit Impl(ServerConfig c)
         : config(std::move(c)),
@@ -194,7 +201,7 @@ struct SectionServer::Impl {
           idBuffers(config.cacheMiB * (std::size_t(1) << 20) / 4) {}
 
     // ---- helpers -------------------------------------------------------------------
-    std::shared_ptr<const api::CatalogModel> model(const std::string& id, httplib::Response& res,
+    std::shared_ptr<const api::CatalogModel> model(const std::string& id, HttpResponse& res,
                                                    const std::string& instance) {
         if (!api::isValidModelId(id)) {
             problem(res, 404, "model id '" + id.substr(0, 80) + "' is not a valid id ([A-Za-z0-9][A-Za-z0-9._-]{0,63})",
@@ -213,7 +220,7 @@ struct SectionServer::Impl {
         return m;
     }
 
-    void sendEncoded(const httplib::Request& req, httplib::Response& res, const Encoded& e) {
+    void sendEncoded(const HttpRequest& req, HttpResponse& res, const Encoded& e) {
         res.set_header("ETag", e.etag);
         res.set_header("Cache-Control", "public, max-age=86400");
         if (etagMatches(req.get_header_value("If-None-Match"), e.etag)) {
@@ -226,9 +233,8 @@ struct SectionServer::Impl {
 
     // Runs `render` on a worker (coalesced by `key`), waits up to the deadline.
     using RenderFn = std::function<Result<std::shared_ptr<const Encoded>>(WorkerState&)>;
-    Result<std::shared_ptr<const Encoded>> renderCoalesced(const std::string& key, RenderFn render,
-                                                           httplib::Response& res, bool& answered,
-                                                           const std::string& instance) {
+    Result<std::shared_ptr<const Encoded>> renderCoalesced(const std::string& key, RenderFn render, HttpResponse& res,
+                                                           bool& answered, const std::string& instance) {
         answered = false;
         bool leader = false;
         auto future = coalescer.join(key, leader);
@@ -307,8 +313,8 @@ struct SectionServer::Impl {
 
     // ---- routes ------------------------------------------------------------------
     void route(const char* method, const std::string& name, const std::string& pattern,
-               std::function<void(const httplib::Request&, httplib::Response&)> fn) {
-        auto wrapped = [this, name, method, fn = std::move(fn)](const httplib::Request& req, httplib::Response& res) {
+               std::function<void(const HttpRequest&, HttpResponse&)> fn) {
+        auto wrapped = [this, name, method, fn = std::move(fn)](const HttpRequest& req, HttpResponse& res) {
             const auto t0 = Clock::now();
             ++inFlight;
             if (draining) {
@@ -329,20 +335,50 @@ struct SectionServer::Impl {
                           res.status, s * 1e3);
             --inFlight;
         };
-        if (std::string(method) == "GET")
-            http.Get(pattern, wrapped);
-        else
-            http.Post(pattern, wrapped);
+        routes.push_back({method, std::regex(pattern), std::move(wrapped)});
+    }
+
+    // Runs on a transport handler thread: the route whose method and pattern match the
+    // whole path, else 404; OPTIONS answers any path (CORS preflight).
+    void dispatch(HttpRequest& req, HttpResponse& res) {
+        const std::string& cors = config.cors;
+        if (req.method == "OPTIONS") {
+            if (!cors.empty()) {
+                res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
+                res.set_header("Access-Control-Allow-Headers", "Content-Type, If-None-Match");
+                res.set_header("Access-Control-Max-Age", "86400");
+            }
+            res.status = 204;
+        } else {
+            const Route* found = nullptr;
+            std::smatch m;
+            for (const auto& r : routes)
+                if (r.method == req.method && std::regex_match(req.path, m, r.pattern)) {
+                    found = &r;
+                    break;
+                }
+            if (found) {
+                req.matches.clear();
+                for (const auto& group : m) req.matches.push_back(group.str());
+                found->fn(req, res);
+            } else {
+                problem(res, 404, "no route for " + req.method + " " + req.path, req.path, "not_found");
+            }
+        }
+        if (!cors.empty()) {
+            res.set_header("Access-Control-Allow-Origin", cors);
+            res.set_header("Access-Control-Expose-Headers", "ETag, Retry-After");
+        }
     }
 
     void addRoutes() {
-        route("GET", "/", "/", [](const httplib::Request&, httplib::Response& res) {
+        route("GET", "/", "/", [](const HttpRequest&, HttpResponse& res) {
             res.set_content(std::string(webIndexHtml()), "text/html; charset=utf-8");
         });
-        route("GET", "/healthz", "/healthz", [this](const httplib::Request&, httplib::Response& res) {
+        route("GET", "/healthz", "/healthz", [this](const HttpRequest&, HttpResponse& res) {
             sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
         });
-        route("GET", "/readyz", "/readyz", [this](const httplib::Request&, httplib::Response& res) {
+        route("GET", "/readyz", "/readyz", [this](const HttpRequest&, HttpResponse& res) {
             // Ready once loading is done and at least one model is in: a broken file in the
             // models directory is reported here and in the logs, not a reason to stay unready.
             const bool modelsReady = loaded && catalog.size() > 0;
@@ -358,12 +394,12 @@ struct SectionServer::Impl {
                    {"workers", pool->workers()}};
             sendJson(res, j, modelsReady && glOk ? 200 : 503);
         });
-        route("GET", "/metrics", "/metrics", [this](const httplib::Request&, httplib::Response& res) {
+        route("GET", "/metrics", "/metrics", [this](const HttpRequest&, HttpResponse& res) {
             res.set_content(metrics.text(), "text/plain; version=0.0.4");
         });
         route("GET", "/openapi.json", "/openapi\\.json",
-              [](const httplib::Request&, httplib::Response& res) { sendJson(res, api::openApiDocument(kVersion)); });
-        route("GET", "/v1/models", "/v1/models", [this](const httplib::Request&, httplib::Response& res) {
+              [](const HttpRequest&, HttpResponse& res) { sendJson(res, api::openApiDocument(kVersion)); });
+        route("GET", "/v1/models", "/v1/models", [this](const HttpRequest&, HttpResponse& res) {
             Json list = Json::array();
             for (const auto& m : catalog.list()) {
                 Json s = m->summary();
@@ -372,13 +408,12 @@ struct SectionServer::Impl {
             }
             sendJson(res, Json{{"models", std::move(list)}, {"loading", !loaded}});
         });
-        route("GET", "/v1/models/{id}", "/v1/models/([^/]+)",
-              [this](const httplib::Request& req, httplib::Response& res) {
-                  auto m = model(req.matches[1], res, req.path);
-                  if (m) sendJson(res, m->summary());
-              });
+        route("GET", "/v1/models/{id}", "/v1/models/([^/]+)", [this](const HttpRequest& req, HttpResponse& res) {
+            auto m = model(req.matches[1], res, req.path);
+            if (m) sendJson(res, m->summary());
+        });
         route("GET", "/v1/models/{id}/legend.png", "/v1/models/([^/]+)/legend\\.png",
-              [this](const httplib::Request& req, httplib::Response& res) {
+              [this](const HttpRequest& req, HttpResponse& res) {
                   auto m = model(req.matches[1], res, req.path);
                   if (!m) return;
                   const std::string key = "legend|" + m->id + "|" + m->version;
@@ -394,13 +429,13 @@ struct SectionServer::Impl {
                   sendEncoded(req, res, *e.value());
               });
         route("GET", "/v1/models/{id}/section.{format}", "/v1/models/([^/]+)/section\\.([A-Za-z0-9]+)",
-              [this](const httplib::Request& req, httplib::Response& res) { sectionImage(req, res); });
+              [this](const HttpRequest& req, HttpResponse& res) { sectionImage(req, res); });
         route("GET", "/v1/models/{id}/query", "/v1/models/([^/]+)/query",
-              [this](const httplib::Request& req, httplib::Response& res) { queryGet(req, res); });
+              [this](const HttpRequest& req, HttpResponse& res) { queryGet(req, res); });
         route("POST", "/v1/models/{id}/query", "/v1/models/([^/]+)/query",
-              [this](const httplib::Request& req, httplib::Response& res) { queryPost(req, res); });
+              [this](const HttpRequest& req, HttpResponse& res) { queryPost(req, res); });
         route("GET", "/v1/models/{id}/borehole", "/v1/models/([^/]+)/borehole",
-              [this](const httplib::Request& req, httplib::Response& res) {
+              [this](const HttpRequest& req, HttpResponse& res) {
                   auto m = model(req.matches[1], res, req.path);
                   if (!m) return;
                   auto params = toParams(req);
@@ -410,12 +445,12 @@ struct SectionServer::Impl {
                   sendJson(res, j.value());
               });
         route("POST", "/v1/models/{id}/sections", "/v1/models/([^/]+)/sections",
-              [this](const httplib::Request& req, httplib::Response& res) { defineSection(req, res); });
+              [this](const HttpRequest& req, HttpResponse& res) { defineSection(req, res); });
         route("GET", "/v1/sections/{sid}", "/v1/sections/([A-Za-z0-9_-]+)",
-              [this](const httplib::Request& req, httplib::Response& res) { describeSection(req, res); });
+              [this](const HttpRequest& req, HttpResponse& res) { describeSection(req, res); });
         route("GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
               "/v1/sections/([A-Za-z0-9_-]+)/tiles/(-?[0-9]+)/(-?[0-9]+)/(-?[0-9]+)\\.([A-Za-z0-9]+)",
-              [this](const httplib::Request& req, httplib::Response& res) { tile(req, res); });
+              [this](const HttpRequest& req, HttpResponse& res) { tile(req, res); });
     }
 
     Result<int> qualityParam(const api::Params& params) {
@@ -427,7 +462,7 @@ struct SectionServer::Impl {
         return 0;
     }
 
-    void sectionImage(const httplib::Request& req, httplib::Response& res) {
+    void sectionImage(const HttpRequest& req, HttpResponse& res) {
         auto m = model(req.matches[1], res, req.path);
         if (!m) return;
         const std::string ext = req.matches[2];
@@ -490,7 +525,7 @@ struct SectionServer::Impl {
         sendEncoded(req, res, *result.value());
     }
 
-    void sectionVector(const httplib::Request& req, httplib::Response& res, const api::CatalogModel& m, bool svg) {
+    void sectionVector(const HttpRequest& req, HttpResponse& res, const api::CatalogModel& m, bool svg) {
         auto params = toParams(req);
         if (!params) return problem(res, params.error(), req.path);
         bool world = false;
@@ -543,7 +578,7 @@ struct SectionServer::Impl {
         return api::queryPixel(m, plan, x.value(), y.value(), cached ? &cached->view : nullptr);
     }
 
-    void queryGet(const httplib::Request& req, httplib::Response& res) {
+    void queryGet(const HttpRequest& req, HttpResponse& res) {
         auto m = model(req.matches[1], res, req.path);
         if (!m) return;
         auto params = toParams(req);
@@ -556,7 +591,7 @@ struct SectionServer::Impl {
         res.set_content(j.value(), "application/json");
     }
 
-    void queryPost(const httplib::Request& req, httplib::Response& res) {
+    void queryPost(const HttpRequest& req, HttpResponse& res) {
         auto m = model(req.matches[1], res, req.path);
         if (!m) return;
         const nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
@@ -594,7 +629,7 @@ struct SectionServer::Impl {
         res.set_content(results, "application/json");
     }
 
-    void defineSection(const httplib::Request& req, httplib::Response& res) {
+    void defineSection(const HttpRequest& req, HttpResponse& res) {
         auto m = model(req.matches[1], res, req.path);
         if (!m) return;
         const nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
@@ -627,7 +662,7 @@ struct SectionServer::Impl {
         return std::make_pair(m, def.value());
     }
 
-    void describeSection(const httplib::Request& req, httplib::Response& res) {
+    void describeSection(const HttpRequest& req, HttpResponse& res) {
         auto s = section(req.matches[1]);
         if (!s) return problem(res, s.error(), req.path);
         auto grid = api::tileGrid(*s.value().first, s.value().second);
@@ -638,7 +673,7 @@ struct SectionServer::Impl {
                            {"grid", grid.value().describe()}});
     }
 
-    void tile(const httplib::Request& req, httplib::Response& res) {
+    void tile(const HttpRequest& req, HttpResponse& res) {
         auto format = imageFormatFromName(std::string(req.matches[5]));
         if (!format)
             return problem(res, 404, "unknown tile format '" + std::string(req.matches[5]) + "'", req.path,
@@ -768,51 +803,6 @@ Result<int> SectionServer::start() {
     const unsigned workers = config_.workers ? config_.workers : std::max(1u, std::thread::hardware_concurrency());
     im.pool = std::make_unique<RenderPool>(workers, config_.queue);
 
-    auto& http = im.http;
-    const unsigned httpThreads = config_.httpThreads;
-    http.new_task_queue = [httpThreads] { return new httplib::ThreadPool(httpThreads); };
-    http.set_keep_alive_max_count(100000);
-    http.set_keep_alive_timeout(5);
-    http.set_read_timeout(10, 0);
-    http.set_write_timeout(10, 0);
-    http.set_payload_max_length(config_.maxBodyBytes);
-    http.set_tcp_nodelay(true);
-    const std::string cors = config_.cors;
-    http.set_post_routing_handler([cors](const httplib::Request&, httplib::Response& res) {
-        if (!cors.empty()) {
-            res.set_header("Access-Control-Allow-Origin", cors);
-            res.set_header("Access-Control-Expose-Headers", "ETag, Retry-After");
-        }
-    });
-    http.Options(".*", [cors](const httplib::Request&, httplib::Response& res) {
-        if (!cors.empty()) {
-            res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
-            res.set_header("Access-Control-Allow-Headers", "Content-Type, If-None-Match");
-            res.set_header("Access-Control-Max-Age", "86400");
-        }
-        res.status = 204;
-    });
-    http.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
-        if (!res.body.empty()) return;
-        if (res.status == 404)
-            problem(res, 404, "no route for " + req.method + " " + req.path, req.path, "not_found");
-        else if (res.status == 413)
-            problem(res, 413, "the request body is larger than the limit", req.path, "out_of_range");
-        else if (res.status == 400)
-            problem(res, 400, "malformed request", req.path, "invalid_argument");
-        else
-            problem(res, res.status, "request failed", req.path);
-    });
-    http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
-        std::string what = "unknown exception";
-        try {
-            if (ep) std::rethrow_exception(ep);
-        } catch (const std::exception& e) {
-            what = e.what();
-        } catch (...) {
-        }
-        problem(res, 500, "internal error: " + what, req.path, "internal");
-    });
     im.addRoutes();
 
     im.metrics.gauge("geoslice_queue_depth", "Render jobs waiting.", [&im] { return double(im.pool->queueDepth()); });
@@ -827,21 +817,52 @@ Result<int> SectionServer::start() {
                      [&im] { return double(im.coalescer.coalesced()); });
     im.metrics.gauge("geoslice_models_loaded", "Models loaded.", [&im] { return double(im.catalog.size()); });
 
-    int port = config_.port;
-    if (port == 0) {
-        port = http.bind_to_any_port(config_.host);
-        if (port <= 0) return makeError(ErrorCode::IoError, "cannot bind to any port on " + config_.host);
-    } else if (!http.bind_to_port(config_.host, port)) {
-        return makeError(ErrorCode::IoError, "cannot bind to " + config_.host + ":" + std::to_string(port) +
-                                                 " (address in use, or no permission)");
-    }
-    port_ = port;
-    im.listener = std::thread([&im] { im.http.listen_after_bind(); });
+    TransportConfig tc;
+    tc.host = config_.host;
+    tc.port = config_.port;
+    tc.reusePort = config_.reusePort;
+    tc.ioThreads = std::max(1u, std::thread::hardware_concurrency() / 4);
+    tc.handlerThreads = config_.httpThreads;
+    tc.maxConnections = config_.maxConnections;
+    tc.maxBodyBytes = config_.maxBodyBytes;
+    tc.headerTimeoutMs = config_.headerTimeoutMs;
+    tc.bodyTimeoutMs = config_.bodyTimeoutMs;
+    tc.keepAliveMs = config_.keepAliveMs;
+    tc.sendTimeoutMs = config_.sendTimeoutMs;
+    tc.keepAliveRequests = config_.keepAliveRequests;
+    im.http = std::make_unique<HttpTransport>(
+        tc, [&im](HttpRequest& req, HttpResponse& res) { im.dispatch(req, res); },
+        [](HttpResponse& res, int status, const std::string& detail, const std::string& path) {
+            problem(res, status, detail, path,
+                    status == 503   ? nullptr
+                    : status == 413 ? "out_of_range"
+                                    : "invalid_argument");
+        });
+    auto port = im.http->listen();
+    if (!port) return port.error();
+    port_ = port.value();
+    HttpTransport& http = *im.http;
+    im.metrics.gauge("geoslice_connections_open", "HTTP connections open.",
+                     [&http] { return double(http.stats().open); });
+    im.metrics.gauge("geoslice_connections_refused", "Connections answered 503 at the connection cap (total).",
+                     [&http] { return double(http.stats().rejected); });
+    im.metrics.gauge("geoslice_connections_evicted",
+                     "Connections waiting for a request closed to admit a new one at the cap (total).",
+                     [&http] { return double(http.stats().evicted); });
+    im.metrics.gauge("geoslice_connection_timeouts", "Connections closed by a header, body or send deadline (total).",
+                     [&http] {
+                         const auto s = http.stats();
+                         return double(s.headerTimeouts + s.bodyTimeouts + s.sendTimeouts);
+                     });
+    im.metrics.gauge("geoslice_requests_abandoned", "Requests whose client went away while being handled (total).",
+                     [&http] { return double(http.stats().cancelled); });
+    http.start();
     im.loader = std::thread([&im] { im.loadModels(); });
     im.probeGl();
-    spdlog::info("event=listening host={} port={} workers={} http_threads={} gl={} models=\"{}\"", config_.host, port,
-                 workers, httpThreads, config_.gl, config_.modelsDir.empty() ? "demo" : config_.modelsDir);
-    return port;
+    spdlog::info("event=listening host={} port={} workers={} http_threads={} max_connections={} gl={} models=\"{}\"",
+                 config_.host, port_, workers, tc.handlerThreads, tc.maxConnections, config_.gl,
+                 config_.modelsDir.empty() ? "demo" : config_.modelsDir);
+    return port_;
 }
 
 bool SectionServer::waitUntilLoaded() {
@@ -872,8 +893,8 @@ void SectionServer::stop() {
     // Let in-flight requests finish (bounded by the deadline plus a margin).
     const auto until = Clock::now() + std::chrono::milliseconds(config_.deadlineMs + 1000);
     while (im.inFlight > 0 && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    im.http.stop();
-    if (im.listener.joinable()) im.listener.join();
+    // Answers being written get a second; connections that wait for a request close now.
+    if (im.http) im.http->stop(1000);
     if (im.loader.joinable()) im.loader.join();
     im.pool.reset();  // runs what is queued, joins the workers (and destroys their GL contexts)
     im.stopped = true;

@@ -1,7 +1,7 @@
 // The HTTP section server: routes (api/openapi.hpp lists them), render workers, caches,
-// metrics and graceful shutdown. HTTP/1.1 with keep-alive through cpp-httplib (Debian's
-// header; a thread per connection from a fixed pool, which suits the short requests of
-// this API); gzip for JSON when the client accepts it; errors as RFC 9457 problem details.
+// metrics and graceful shutdown. HTTP/1.1 (keep-alive, pipelining, deadlines, connection
+// cap) through server/http_transport.hpp (Boost.Beast); gzip for JSON when the client
+// accepts it; errors as RFC 9457 problem details.
 //
 // Threads: HTTP handler threads parse, look up caches and answer queries (no GL); image
 // and tile renders go to the RenderPool, whose workers own any GL context. Models load on
