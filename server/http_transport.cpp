@@ -245,8 +245,9 @@ struct Core {
 
     net::io_context ioc;
     std::optional<net::executor_work_guard<net::io_context::executor_type>> work;
-    tcp::acceptor acceptor{ioc};
-    net::steady_timer acceptRetry{ioc};
+    net::strand<net::io_context::executor_type> acceptStrand{net::make_strand(ioc)};  // acceptor and its timer
+    tcp::acceptor acceptor{acceptStrand};
+    net::steady_timer acceptRetry{acceptStrand};
     std::vector<std::thread> ioThreads;
     std::optional<HandlerPool> pool;
     std::mutex stopMutex;
@@ -707,7 +708,7 @@ void HttpTransport::start() {
     im.started = true;
     im.pool.emplace(im.config.handlerThreads);
     im.work.emplace(net::make_work_guard(im.ioc));
-    net::post(im.ioc, [&im] { im.accept(); });
+    net::post(im.acceptStrand, [&im] { im.accept(); });
     for (unsigned i = 0; i < std::max(1u, im.config.ioThreads); ++i) im.ioThreads.emplace_back([&im] { im.ioc.run(); });
 }
 
@@ -717,7 +718,7 @@ void HttpTransport::stop(int graceMs) {
     if (!im.started || im.stopped) return;
     im.stopped = true;
     im.stopping = true;
-    net::post(im.ioc, [&im] {
+    net::post(im.acceptStrand, [&im] {
         beast::error_code ignored;
         im.acceptor.close(ignored);
         im.acceptRetry.cancel();
@@ -744,10 +745,9 @@ void HttpTransport::stop(int graceMs) {
         closeWaiting();  // those that finished an answer meanwhile
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
-    im.forEachConnection([](const std::shared_ptr<Connection>& c) {
-        if (c->cancel) c->cancel->store(true);
-        net::post(c->stream.get_executor(), [c] { c->closeNow(); });
-    });
+    // closeNow trips the cancel token of a request still being handled.
+    im.forEachConnection(
+        [](const std::shared_ptr<Connection>& c) { net::post(c->stream.get_executor(), [c] { c->closeNow(); }); });
     im.work.reset();
     // Give the posted closes a moment to run, then stop whatever is left.
     const auto closeUntil = Clock::now() + std::chrono::milliseconds(200);
