@@ -1,36 +1,79 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package geoslice needs to build, test, benchmark and fuzz.
-# Idempotent and non-interactive; README, .ci/run and deploy/Dockerfile all call it.
-# Run as root (or with sudo available).
+# The Debian 12 packages geoslice needs, in three lists, installed idempotently and
+# non-interactively. README, .ci/run and deploy/Dockerfile all call this file, so they
+# stay in step.
+#   bash scripts/install-deps.sh            everything: build, tests, benchmarks, fuzzing, deploy tests
+#   bash scripts/install-deps.sh --build    what compiling the geoslice binary needs (the image's build stage)
+#   bash scripts/install-deps.sh --runtime  what running the binary needs (the image's runtime stage):
+#                                           shared libraries, Mesa's EGL/OSMesa/llvmpipe, curl for health checks
+#   add --list to print the packages instead of installing them.
+# tests/deploy/runtime_deps_test.sh checks that every shared library the built binary
+# loads comes from a package on the runtime list. Run as root (or with sudo available).
 set -euo pipefail
 
-packages=(
+build=(
   # toolchain
-  build-essential cmake ninja-build pkg-config git ca-certificates
-  clang libclang-rt-14-dev            # libFuzzer targets and sanitizers under clang
+  build-essential cmake ninja-build pkg-config ccache ca-certificates
   # headless GL: EGL (device + surfaceless), OSMesa, GL headers
-  libegl-dev libgl-dev libopengl-dev libgles-dev libosmesa6-dev libegl-mesa0 libgl1-mesa-dri
+  libegl-dev libgl-dev libopengl-dev libgles-dev libosmesa6-dev
   # maths and geometry
   libglm-dev libeigen3-dev libembree-dev libmeshoptimizer-dev
   # model formats
   libtinygltf-dev libdraco-dev libpugixml-dev nlohmann-json3-dev libstb-dev
   # images
-  libopenimageio-dev libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev libwebp-dev zlib1g-dev libzstd-dev
-  # geodesy (GeographicLib) and PROJ as the test oracle (cs2cs)
-  libgeographiclib-dev proj-bin
+  libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev libwebp-dev zlib1g-dev libzstd-dev
+  # geodesy (GeographicLib)
+  libgeographiclib-dev
   # service and CLI
-  libboost-dev libspdlog-dev libfmt-dev libcli11-dev curl   # Boost.Beast/Asio: the HTTP server
-  libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libboost-dev libspdlog-dev libfmt-dev libcli11-dev   # Boost.Beast/Asio: the HTTP server
+  libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks (configure needs it)
 )
+# Everything else a developer or CI machine needs on top of the build list.
+dev=(
+  git curl
+  clang libclang-rt-14-dev            # libFuzzer targets and sanitizers under clang
+  libegl-mesa0 libgl1-mesa-dri        # llvmpipe for the GL tests
+  proj-bin                            # PROJ's cs2cs as the CRS test oracle
+  libgtest-dev libgmock-dev libbenchmark-dev
+  # deploy tests (tests/deploy, deploy/test-image.sh): containers, load balancer, load
+  podman buildah crun fuse-overlayfs debootstrap nginx-light wrk python3-yaml
+)
+runtime=(
+  libc6 libgcc-s1 libstdc++6 zlib1g
+  libssl3 libbrotli1 libcpp-httplib0.11 libspdlog1.10 libfmt9
+  libembree3-3 libtbb12 libmeshoptimizer2d libdraco7 libpugixml1v5 libgeographiclib23
+  libturbojpeg0 libpng16-16 libwebp7 libzstd1
+  # GL through glvnd: Mesa's EGL (device + surfaceless) and llvmpipe, OSMesa (dlopen)
+  libegl1 libglvnd0 libegl-mesa0 libgl1-mesa-dri libosmesa6
+  curl                                # HEALTHCHECK
+)
+
+role=all list=0
+for a in "$@"; do
+  case "$a" in
+    --build) role=build ;;
+    --runtime) role=runtime ;;
+    --list) list=1 ;;
+    -h|--help) sed -n 2,12p "$0"; exit 0 ;;
+    *) echo "install-deps: unknown option '$a' (--build, --runtime, --list)" >&2; exit 2 ;;
+  esac
+done
+case "$role" in
+  build) packages=("${build[@]}") ;;
+  runtime) packages=("${runtime[@]}") ;;
+  all) packages=("${build[@]}" "${dev[@]}") ;;
+esac
+if [ "$list" -eq 1 ]; then
+  printf '%s\n' "${packages[@]}"
+  exit 0
+fi
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages present"
+  echo "install-deps: all ${#packages[@]} packages present ($role)"
   exit 0
 fi
 SUDO=""

@@ -1,0 +1,186 @@
+#!/usr/bin/env python3
+"""Checks deploy/kubernetes/*.yaml (CTest label deploy).
+
+1. Schema: every object against the Kubernetes 1.27 OpenAPI schemas bundled offline by the
+   npm package kubernetes-models (validate_k8s.cjs), when `npm ci` has installed it into
+   tests/deploy/node_modules (.ci/run does); otherwise says it was skipped. Those schemas
+   do not reject unknown fields, hence 2.
+2. Fields this deployment depends on, with python3-yaml: probes on the right paths and
+   port, resources, IfNotPresent, workers = CPU request, the port env = containerPort, the
+   claim defined and ReadOnlyMany, mounted read-only by replicas and written by the bake
+   Job, selectors of the Service, PodDisruptionBudget, HPA and ServiceMonitor matching the
+   pods, topology spread, non-root read-only pods, a grace period longer than preStop +
+   the render deadline, and the GPU variant's EGL settings.
+"""
+import glob
+import json
+import os
+import shutil
+import subprocess
+import sys
+import unittest
+
+import yaml
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+K8S = os.path.join(REPO, "deploy", "kubernetes")
+DEADLINE_S = 10  # server/config.hpp deadlineMs default
+
+
+def load():
+    docs = []
+    for f in sorted(glob.glob(os.path.join(K8S, "*.yaml"))):
+        with open(f) as fh:
+            docs += [d for d in yaml.safe_load_all(fh) if d]
+    return docs
+
+
+def find(docs, kind, name=None):
+    out = [d for d in docs if d["kind"] == kind and (name is None or d["metadata"]["name"] == name)]
+    if not out:
+        raise AssertionError(f"no {kind} {name or ''} in deploy/kubernetes")
+    return out[0] if name else out
+
+
+def matches(selector, labels):
+    return all(labels.get(k) == v for k, v in selector.items())
+
+
+def env_of(container):
+    return {e["name"]: e.get("value") for e in container.get("env", [])}
+
+
+def cpu_cores(q):
+    q = str(q)
+    return float(q[:-1]) / 1000 if q.endswith("m") else float(q)
+
+
+class Manifests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.docs = load()
+
+    def test_schema(self):
+        node = shutil.which("node")
+        if not node or not os.path.isdir(os.path.join(HERE, "node_modules", "kubernetes-models")):
+            print("kubernetes_test: schema validation skipped (no node or tests/deploy/node_modules: "
+                  "npm ci --prefix tests/deploy); field checks still run")
+            return
+        r = subprocess.run([node, os.path.join(HERE, "validate_k8s.cjs")], input=json.dumps(self.docs),
+                           capture_output=True, text=True, timeout=120)
+        print(r.stdout, end="")
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertEqual(r.stdout.count("\nvalid ") + r.stdout.startswith("valid "), len(self.docs))
+
+    def test_schema_rejects_a_bad_object(self):
+        # The validator must be able to fail: a string where an integer belongs.
+        node = shutil.which("node")
+        if not node or not os.path.isdir(os.path.join(HERE, "node_modules", "kubernetes-models")):
+            return
+        bad = json.loads(json.dumps(find(self.docs, "Deployment", "geoslice")))
+        bad["spec"]["replicas"] = "three"
+        r = subprocess.run([node, os.path.join(HERE, "validate_k8s.cjs")], input=json.dumps([bad]),
+                           capture_output=True, text=True, timeout=120)
+        self.assertEqual(r.returncode, 1, r.stdout)
+        self.assertIn("replicas", r.stdout)
+
+    def pod_templates(self):
+        for d in self.docs:
+            if d["kind"] in ("Deployment", "Job"):
+                yield d, d["spec"]["template"]
+
+    def test_every_container_is_local_first_non_root_read_only(self):
+        for d, t in self.pod_templates():
+            spec = t["spec"]
+            self.assertTrue(spec["securityContext"]["runAsNonRoot"], d["metadata"]["name"])
+            self.assertNotEqual(spec["securityContext"]["runAsUser"], 0)
+            for c in spec["containers"]:
+                self.assertEqual(c.get("imagePullPolicy"), "IfNotPresent", d["metadata"]["name"])
+                self.assertTrue(c["securityContext"]["readOnlyRootFilesystem"])
+                self.assertFalse(c["securityContext"]["allowPrivilegeEscalation"])
+                self.assertIn("memory", c["resources"]["requests"])
+                self.assertIn("cpu", c["resources"]["requests"])
+                self.assertIn("memory", c["resources"]["limits"])
+                mounts = {m["mountPath"] for m in c.get("volumeMounts", [])}
+                self.assertIn("/tmp", mounts, "a writable /tmp on a read-only root")
+
+    def check_server(self, dep):
+        spec = dep["spec"]["template"]["spec"]
+        labels = dep["spec"]["template"]["metadata"]["labels"]
+        self.assertTrue(matches(dep["spec"]["selector"]["matchLabels"], labels))
+        (c,) = spec["containers"]
+        env = env_of(c)
+        port = c["ports"][0]
+        self.assertEqual(env.get("GEOSLICE_PORT"), str(port["containerPort"]), "the server listens on containerPort")
+        self.assertEqual(int(env["GEOSLICE_WORKERS"]), int(cpu_cores(c["resources"]["requests"]["cpu"])),
+                         "render workers = the CPU request")
+        for probe, path in (("startupProbe", "/healthz"), ("readinessProbe", "/readyz"), ("livenessProbe", "/healthz")):
+            p = c[probe]["httpGet"]
+            self.assertEqual(p["path"], path, probe)
+            self.assertIn(p["port"], (port["containerPort"], port.get("name")), probe)
+        sleep = c["lifecycle"]["preStop"]["exec"]["command"]
+        self.assertEqual(sleep[0], "sleep")
+        self.assertGreater(spec["terminationGracePeriodSeconds"], int(sleep[1]) + DEADLINE_S + 1)
+        claims = {v["name"]: v["persistentVolumeClaim"] for v in spec["volumes"] if "persistentVolumeClaim" in v}
+        models = [m for m in c["volumeMounts"] if m["name"] in claims]
+        self.assertTrue(models and all(m.get("readOnly") for m in models), "models mounted read-only")
+        for m in models:
+            self.assertTrue(claims[m["name"]].get("readOnly"))
+            find(self.docs, "PersistentVolumeClaim", claims[m["name"]]["claimName"])
+            self.assertIn(m["mountPath"].rstrip("/") + "/baked", " ".join(c["args"]), "serves the baked packages")
+        return c, labels
+
+    def test_cpu_deployment(self):
+        dep = find(self.docs, "Deployment", "geoslice")
+        c, labels = self.check_server(dep)
+        spread = dep["spec"]["template"]["spec"]["topologySpreadConstraints"]
+        self.assertIn("kubernetes.io/hostname", [s["topologyKey"] for s in spread])
+        for s in spread:
+            self.assertTrue(matches(s["labelSelector"]["matchLabels"], labels))
+        svc = find(self.docs, "Service", "geoslice")
+        self.assertTrue(matches(svc["spec"]["selector"], labels))
+        self.assertIn(svc["spec"]["ports"][0]["targetPort"], (c["ports"][0]["containerPort"], c["ports"][0]["name"]))
+        pdb = find(self.docs, "PodDisruptionBudget", "geoslice")
+        self.assertTrue(matches(pdb["spec"]["selector"]["matchLabels"], labels))
+        self.assertLess(pdb["spec"]["minAvailable"], dep["spec"]["replicas"], "a node can still be drained")
+        hpa = find(self.docs, "HorizontalPodAutoscaler", "geoslice")
+        self.assertEqual(hpa["spec"]["scaleTargetRef"]["name"], "geoslice")
+        self.assertEqual(hpa["spec"]["scaleTargetRef"]["kind"], "Deployment")
+        self.assertIn("cpu", [m["resource"]["name"] for m in hpa["spec"]["metrics"] if m["type"] == "Resource"])
+        self.assertGreaterEqual(hpa["spec"]["minReplicas"], pdb["spec"]["minAvailable"] + 1)
+        mon = find(self.docs, "ServiceMonitor", "geoslice")
+        self.assertTrue(matches(mon["spec"]["selector"]["matchLabels"], svc["metadata"]["labels"]))
+        self.assertIn(mon["spec"]["endpoints"][0]["port"], [p["name"] for p in svc["spec"]["ports"]])
+
+    def test_models_claim_and_bake_job(self):
+        pvc = find(self.docs, "PersistentVolumeClaim", "geoslice-models")
+        self.assertIn("ReadOnlyMany", pvc["spec"]["accessModes"])
+        job = find(self.docs, "Job", "geoslice-bake")
+        spec = job["spec"]["template"]["spec"]
+        vols = {v["name"]: v for v in spec["volumes"]}
+        (c,) = spec["containers"]
+        written = [m for m in c["volumeMounts"]
+                   if vols[m["name"]].get("persistentVolumeClaim", {}).get("claimName") == "geoslice-models"]
+        self.assertTrue(written and not written[0].get("readOnly"), "the Job writes the claim")
+        script = " ".join(c.get("command", []) + c.get("args", []))
+        self.assertIn("geoslice bake", script)
+        self.assertIn(written[0]["mountPath"] + "/baked", script)
+
+    def test_gpu_variant(self):
+        dep = find(self.docs, "Deployment", "geoslice-gpu")
+        c, _ = self.check_server(dep)
+        self.assertEqual(str(c["resources"]["limits"]["nvidia.com/gpu"]), "1")
+        caps = env_of(c)["NVIDIA_DRIVER_CAPABILITIES"].split(",")
+        self.assertIn("graphics", caps, "without graphics the toolkit does not mount libEGL_nvidia")
+        self.assertIn("egl-device", c["args"])
+        vendor = env_of(c).get("__EGL_VENDOR_LIBRARY_FILENAMES")
+        self.assertTrue(vendor)
+        self.assertTrue(os.path.exists(os.path.join(REPO, "deploy", "egl", os.path.basename(vendor))),
+                        "the vendor file the pod names is the one the image carries")
+        with open(os.path.join(REPO, "deploy", "Dockerfile")) as f:
+            self.assertIn(vendor, f.read())
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)

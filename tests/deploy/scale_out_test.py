@@ -1,0 +1,214 @@
+#!/usr/bin/env python3
+"""Three geoslice replicas behind Debian's nginx on 127.0.0.1 (CTest label deploy).
+
+Uses deploy/scale_out.py (the launcher) and deploy/nginx/geoslice.conf (the config under
+test). Loads are bounded (a few hundred small requests, 4 client threads) and go to
+127.0.0.1 only. Exit 77 (CTest skip) when nginx is not installed.
+    python3 tests/deploy/scale_out_test.py --binary build/cli/geoslice
+"""
+import argparse
+import json
+import os
+import shutil
+import signal
+import socket
+import sys
+import tempfile
+import threading
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "deploy"))
+from scale_out import Balancer, Replica, free_port, http_get, upstream_tries  # noqa: E402
+
+BINARY = None
+NGINX = shutil.which("nginx") or ("/usr/sbin/nginx" if os.path.exists("/usr/sbin/nginx") else None)
+PLANE = "0,1,0,-3388846"
+
+
+def new_section(i, salt=0):
+    """A section image no one asked for before: a plane at a new northing (the demo model
+    spans 3386846..3390846 m; i < 6000, salt < 50)."""
+    return f"/v1/models/demo/section.jpg?plane=0,1,0,-{3387000 + 0.5 * i + 0.01 * salt:.2f}&size=256x128"
+
+
+def run_load(port, paths, threads=4, on_progress=None):
+    """GET every path once through 127.0.0.1:port from `threads` keep-alive clients;
+    returns [(path, status or exception text)] in completion order."""
+    import http.client
+
+    results, lock, it = [], threading.Lock(), iter(paths)
+
+    def client():
+        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+        while True:
+            with lock:
+                path = next(it, None)
+            if path is None:
+                break
+            try:
+                conn.request("GET", path)
+                r = conn.getresponse()
+                r.read()
+                out = r.status
+                if r.getheader("Connection", "").lower() == "close":
+                    conn.close()
+            except Exception as e:  # a lost request: reported, never retried here
+                out = f"{type(e).__name__}: {e}"
+                conn.close()
+            with lock:
+                results.append((path, out))
+                n = len(results)
+            if on_progress:
+                on_progress(n)
+        conn.close()
+
+    ts = [threading.Thread(target=client) for _ in range(threads)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    return results
+
+
+class ScaleOut(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="geoslice-scale-")
+        cls.serve_args = ["--workers", "1", "--http-threads", "16"]
+        cls.replicas = [Replica(BINARY, free_port(), cls.dir, cls.serve_args).start() for _ in range(3)]
+        cls.lb = Balancer(free_port(), cls.dir, NGINX)
+        try:
+            for r in cls.replicas:
+                r.wait_ready()
+            cls.lb.configure([r.port for r in cls.replicas])
+            cls.lb.start()
+        except Exception:
+            cls.tearDownClass()
+            raise
+
+    @classmethod
+    def tearDownClass(cls):
+        try:
+            cls.lb.stop()
+        finally:
+            for r in cls.replicas:
+                r.kill(signal.SIGTERM)
+            shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def sid(self, port, plane=PLANE):
+        status, _, body = http_get(port, "/v1/models/demo/sections", method="POST",
+                                   body=json.dumps({"plane": plane}))
+        self.assertIn(status, (200, 201), body)
+        return json.loads(body)["sid"]
+
+    def test_a_section_id_from_one_replica_serves_tiles_on_the_others(self):
+        a, b, c = self.replicas
+        sid = self.sid(a.port)
+        self.assertEqual([self.sid(r.port) for r in (b, c)], [sid, sid], "the id is canonical on every replica")
+        for tile in ("0/0/0.png", "2/1/1.png", "3/4/2.webp"):
+            answers = [http_get(r.port, f"/v1/sections/{sid}/tiles/{tile}") for r in (b, c, a)]
+            for status, headers, body in answers:
+                self.assertEqual(status, 200, body[:200])
+            self.assertEqual(len({body for _, _, body in answers}), 1, tile)
+            self.assertEqual(len({h["etag"] for _, h, _ in answers}), 1, tile)
+
+    def test_identical_requests_give_identical_bytes_and_etags(self):
+        sid = self.sid(self.replicas[0].port)
+        paths = [
+            f"/v1/models/demo/section.jpg?plane={PLANE}&size=512x256",
+            f"/v1/models/demo/section.png?plane={PLANE}&size=400x200&vx=2",
+            f"/v1/models/demo/section.geojson?plane={PLANE}",
+            f"/v1/sections/{sid}/tiles/1/0/0.png",
+            f"/v1/models/demo/query?plane={PLANE}&size=512x256&px=250&py=150",
+            "/v1/models/demo/borehole?x=35504000&y=3388000",
+        ]
+        for path in paths:
+            answers = [http_get(r.port, path) for r in self.replicas]
+            answers += [http_get(self.lb.port, path), http_get(self.lb.port, path)]  # a miss, then a hit
+            for status, _, body in answers:
+                self.assertEqual(status, 200, (path, body[:200]))
+            self.assertEqual(len({body for _, _, body in answers}), 1, path)
+            self.assertEqual(len({h.get("etag") for _, h, _ in answers}), 1, path)
+            if "/section." in path and not path.split("?")[0].endswith("geojson") or "/tiles/" in path:
+                self.assertEqual(answers[-1][1].get("x-cache-status"), "HIT", path)
+
+    def test_killing_a_replica_under_load_loses_no_request(self):
+        victim = self.replicas[2]
+        n = 240
+        killed_at = {}
+
+        def progress(done):
+            if done == n // 4 and not killed_at:
+                killed_at["t"] = time.time()
+                victim.kill(signal.SIGKILL)
+
+        before = len(self.lb.access_log())
+        results = run_load(self.lb.port, [new_section(i, 1) for i in range(n)], threads=4,
+                           on_progress=progress)
+        try:
+            self.assertTrue(killed_at, "the replica was killed during the load")
+            lost = [(p, s) for p, s in results if s != 200]
+            self.assertEqual(len(results), n)
+            self.assertEqual(lost, [], f"{len(lost)} of {n} requests failed")
+            after = self.lb.access_log()[before:]
+            served = [upstream_tries(ln)[-1][0] for ln in after if "section.jpg" in ln]
+            tail = served[len(served) // 2:]  # well after the kill
+            for r in self.replicas[:2]:
+                self.assertIn(f"127.0.0.1:{r.port}", tail, "the surviving replicas keep serving")
+            self.assertNotIn(f"127.0.0.1:{victim.port}", tail)
+            retried = sum(len(upstream_tries(ln)) > 1 for ln in after)
+            print(f"replica killed under load: {n} of {n} answered 200, {retried} retried on another replica")
+        finally:
+            victim.start().wait_ready()
+
+    def test_a_replica_that_is_not_ready_gets_no_traffic(self):
+        # A 4th replica that loads a big model is in the upstream list before it is ready
+        # (as after a restart): it answers 503, nginx retries elsewhere and sets it aside
+        # for fail_timeout, so no client sees it.
+        slow = Replica(BINARY, free_port(), self.dir, self.serve_args + ["--demo-triangles", "6000000"]).start()
+        ports = [r.port for r in self.replicas] + [slow.port]
+        try:
+            t0 = time.monotonic()
+            while not self._listening(slow):
+                self.assertLess(time.monotonic() - t0, 30, "the slow replica never listened")
+                time.sleep(0.05)
+            self.lb.reload(ports, fail_timeout_s=5)
+            before = len(self.lb.access_log())
+            t0 = time.monotonic()
+            results = run_load(self.lb.port, [new_section(i, 2) for i in range(60)], threads=4)
+            elapsed = time.monotonic() - t0
+            still_unready = not slow.ready()
+            self.assertTrue(still_unready, "inconclusive: the slow replica became ready during the load")
+            self.assertEqual([(p, s) for p, s in results if s != 200], [])
+            after = self.lb.access_log()[before:]
+            tries = [(a, st) for ln in after for a, st in upstream_tries(ln) if a == f"127.0.0.1:{slow.port}"]
+            for a, st in tries:
+                self.assertEqual(st, "503", "it answered nothing but 503 (retried)")
+            self.assertLessEqual(len(tries), 1 + int(elapsed / 5) + 1,
+                                 f"probed {len(tries)} times in {elapsed:.1f} s with fail_timeout 5 s")
+            print(f"not-ready replica: {len(tries)} probe(s) answered 503 and retried elsewhere in "
+                  f"{elapsed:.1f} s; 60 of 60 requests answered 200")
+        finally:
+            slow.kill(signal.SIGKILL)
+            self.lb.reload([r.port for r in self.replicas])
+
+    @staticmethod
+    def _listening(r):
+        try:
+            with socket.create_connection(("127.0.0.1", r.port), timeout=1):
+                return True
+        except OSError:
+            return False
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--binary", required=True)
+    a, rest = ap.parse_known_args()
+    BINARY = os.path.abspath(a.binary)
+    if NGINX is None:
+        print("scale_out_test: SKIP: nginx is not installed (bash scripts/install-deps.sh)")
+        sys.exit(77)
+    unittest.main(argv=[sys.argv[0]] + rest, verbosity=2)
