@@ -40,7 +40,7 @@ dev=(
 )
 runtime=(
   libc6 libgcc-s1 libstdc++6 zlib1g
-  libssl3 libbrotli1 libcpp-httplib0.11 libspdlog1.10 libfmt9
+  libspdlog1.10 libfmt9
   libembree3-3 libtbb12 libmeshoptimizer2d libdraco7 libpugixml1v5 libgeographiclib23
   libturbojpeg0 libpng16-16 libwebp7 libzstd1
   # GL through glvnd: Mesa's EGL (device + surfaceless) and llvmpipe, OSMesa (dlopen)
