@@ -15,6 +15,8 @@ const S = {
 const perf = { marks: [] };  // bench/web_bench.mjs reads these
 window.geoslice = { S, perf };
 const mark = (name, extra) => perf.marks.push({ name, t: performance.now(), ...extra });
+// Marks taken at the next animation frame: the change is on screen.
+const markPainted = (name, t0, extra) => requestAnimationFrame(() => mark(name, { ms: performance.now() - t0, ...extra }));
 
 // ---- network ---------------------------------------------------------------------------
 let busyCount = 0;
@@ -522,7 +524,7 @@ function setSection(sec, view = null) {
                                         bounds: gridBounds(sec.grid), tileSize: 256 });
   let first = true;
   sec.layer.on('tilepainted', () => {
-    if (first) { first = false; mark('firstTile', { ms: performance.now() - sec.t0 }); }
+    if (first) { first = false; markPainted('firstTile', sec.t0); }
   });
   showView('section');
   sectionMap.setMaxZoom(sec.maxNative);
@@ -587,7 +589,7 @@ async function runQuery(url, where, show) {
   if (id !== S.queryId || gen !== S.gen) return;  // a newer question or another picture
   show?.();
   renderAnswer(j, where);
-  mark('answer', { ms: performance.now() - t0, record: j.record?.id ?? null });
+  markPainted('answer', t0, { record: j.record?.id ?? null });
 }
 function queryMap(where, map, sec, latlng) {
   const p = gridPixel(map, sec, latlng);
@@ -783,7 +785,7 @@ async function pump3d() {
         S.shown3d = w;
         clearAnswerIf(['3d', 'profile']);
         drawProfileOverlay();
-        mark('frame3d', { ms: performance.now() - w.t0, small: w.small });
+        markPainted('frame3d', w.t0, { small: w.small });
         if (/3D/.test($('status').textContent) || $('status').dataset.src === '3d') setStatus('');
       } else {
         const e = img.status === 'rejected' ? img.reason : prof.reason;
