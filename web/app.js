@@ -1093,7 +1093,7 @@ async function main() {
   };
   for (const v of ['plan', 'section', '3d']) $(`tab-${v}`).onclick = () => showView(v);
   for (const n of ['answer', 'legend', 'borehole']) $(`st-${n}`).onclick = () => showSheet(n);
-  tabKeys($('tabs'), ['plan', 'section', '3d'], showView);
+  tabKeys(document.querySelector('#tabs .tablist'), ['plan', 'section', '3d'], showView);
   tabKeys(document.querySelector('.sheettabs'), ['answer', 'legend', 'borehole'], showSheet);
   setup3d();
   setMode('line');

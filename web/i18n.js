@@ -91,6 +91,7 @@ export function setLanguage(l, save = false) {
   if (sw) sw.lang = lang === 'zh' ? 'en' : 'zh-CN';
   for (const e of document.querySelectorAll('[data-i18n-label]')) e.setAttribute('aria-label', t(e.dataset.i18nLabel));
   for (const e of document.querySelectorAll('[data-i18n-title]')) e.title = t(e.dataset.i18nTitle);
+  for (const e of document.querySelectorAll('[data-i18n-alt]')) e.alt = t(e.dataset.i18nAlt);
 }
 export const language = () => lang;
 
