@@ -136,7 +136,7 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
     } else if (ext == ".obj") {
         model = parseObj(data, path);
     } else if (ext == ".xml" || ext == ".geo3dml" || ext == ".gml") {
-        model = parseGeo3dml(data, path);
+        model = parseGeo3dml(data, path, baseDir);
     } else {
         return makeError(ErrorCode::Unsupported,
                          path + ": unknown model format (expected .glb, .gltf, .obj, .ts, .vtu, or Geo3DML .xml)");

@@ -39,7 +39,9 @@ Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::s
                         const std::string& baseDir = "");
 Result<Model> parseObj(std::string_view text, const std::string& source);
 Result<Model> parseTsurf(std::string_view text, const std::string& source);
-Result<Model> parseGeo3dml(std::string_view text, const std::string& source);
+// baseDir: the file's folder, against which a Geo3DProject's xi:include hrefs are resolved
+// (only files inside it are read); empty: includes are listed in warnings, not followed.
+Result<Model> parseGeo3dml(std::string_view text, const std::string& source, const std::string& baseDir = "");
 // VTK XML UnstructuredGrid: one closed body per formation (see model/vtu_loader.cpp).
 Result<Model> parseVtu(std::string_view bytes, const std::string& source, const VtuOptions& options = {});
 

@@ -46,6 +46,7 @@
 #include <zlib.h>
 
 #include "model/loaders.hpp"
+#include "model/text_scan.hpp"
 #include "model/volume_mesh.hpp"
 
 namespace geoslice {
@@ -284,7 +285,8 @@ std::string VtuReader::where(pugi::xml_node n) const {
 Result<ArrayDecl> VtuReader::declare(pugi::xml_node node, std::string_view role) const {
     ArrayDecl a;
     a.node = node;
-    a.name = node.attribute("Name") ? node.attribute("Name").value() : std::string(role);
+    // Names go into part names and JSON: invalid UTF-8 becomes U+FFFD.
+    a.name = text::toUtf8(node.attribute("Name") ? std::string_view(node.attribute("Name").value()) : role);
     const char* type = node.attribute("type").value();
     auto t = scalarFromName(type);
     if (!t) return failArray(a, "type '" + shown(type) + "' is not a VTK scalar type (Int8..UInt64, Float32, Float64)");

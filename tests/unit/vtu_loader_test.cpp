@@ -200,7 +200,9 @@ TEST(VtuLoader, TruncatedFilesFailCleanlyOrLoadWhole) {
             }
         }
         // Only the raw / base64 appended forms can lose their closing tags and still be whole.
-        if (e.format != VtuEncoding::Format::Appended) EXPECT_EQ(loaded, 0u) << e.label();
+        if (e.format != VtuEncoding::Format::Appended) {
+            EXPECT_EQ(loaded, 0u) << e.label();
+        }
     }
 }
 
@@ -213,7 +215,9 @@ TEST(VtuLoader, CorruptBytesFailCleanly) {
                 std::string bad = file;
                 bad[i] = c;
                 auto m = parseVtu(bad, "bad.vtu");
-                if (!m) EXPECT_EQ(m.error().message.rfind("bad.vtu: ", 0), 0u);
+                if (!m) {
+                    EXPECT_EQ(m.error().message.rfind("bad.vtu: ", 0), 0u);
+                }
             }
         }
     }

@@ -1,0 +1,157 @@
+// bench_load [--tets N] [--dir DIR] [--keep]: load time and peak memory of real-format
+// volume models, generated here:
+//  - a tetrahedral layered model (tests/common/tet_model.hpp, Kuhn tetrahedra with a
+//    pinched-out lens) of about N tetrahedra (default 1,000,000) written as .vtu with
+//    appended zlib-compressed data and as ascii (tests/common/vtu_writer.hpp);
+// Each case is loaded with loadModel() in a forked child; `load_peak_rss_mib` is that
+// child's peak resident memory when the load (and a second validate) is done. Phases:
+// `load_s` is loadModel end to end (read + parse + boundary shells + validate);
+// `validate_s` and `boundaries_s` are those steps timed again on their own in the child
+// (validate() on the loaded model; regionBoundaries on the same cells, generated again after
+// the model is freed), and `parse_s` = load_s - validate_s - boundaries_s is what remains
+// (reading, decoding, cell conversion, model assembly). Prints one JSON document.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_util.hpp"
+#include "model/loaders.hpp"
+#include "model/validate.hpp"
+#include "model/volume_mesh.hpp"
+#include "tests/common/tet_model.hpp"
+#include "tests/common/vtu_writer.hpp"
+
+using namespace geoslice;
+
+namespace {
+
+// Runs f() in a forked child that prints one JSON object; adds the child's peak RSS.
+template <class F>
+nlohmann::ordered_json inChild(const std::string& label, F&& f) {
+    std::fflush(stdout);
+    int fds[2];
+    if (pipe(fds) != 0) return {{"case", label}, {"error", "pipe failed"}};
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        const std::string line = f().dump();
+        if (write(fds[1], line.data(), line.size()) < 0) _exit(1);
+        _exit(0);
+    }
+    close(fds[1]);
+    std::string buf;
+    char tmp[4096];
+    ssize_t n;
+    while ((n = read(fds[0], tmp, sizeof tmp)) > 0) buf.append(tmp, static_cast<std::size_t>(n));
+    close(fds[0]);
+    int status = 0;
+    rusage ru{};
+    wait4(pid, &status, 0, &ru);
+    auto j = nlohmann::ordered_json::parse(buf, nullptr, false);
+    if (j.is_discarded()) j = {{"case", label}, {"error", "child failed"}};
+    j["peak_rss_mib"] = double(ru.ru_maxrss) / 1024.0;
+    return j;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::size_t tets = 1000000;
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / ("bench_load_" + std::to_string(getpid()));
+    bool keep = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--tets" && i + 1 < argc) tets = std::stoul(argv[++i]);
+        else if (a == "--dir" && i + 1 < argc) dir = argv[++i];
+        else if (a == "--keep") keep = true;
+        else {
+            std::fprintf(stderr, "usage: bench_load [--tets N] [--dir DIR] [--keep]\n");
+            return 2;
+        }
+    }
+    std::filesystem::create_directories(dir);
+    nlohmann::ordered_json results = nlohmann::ordered_json::array();
+
+    // (a) .vtu: nx = ny = 1.04 nz cubes of six tetrahedra each. The files are written by a
+    // child of their own, so that the loading children start from a small parent.
+    test::TetModelOptions to;
+    to.nz = std::max(3, static_cast<int>(std::lround(std::cbrt(double(tets) / 6.0 / (1.04 * 1.04)))));
+    to.nx = to.ny = std::max(6, static_cast<int>(std::lround(std::sqrt(double(tets) / 6.0 / to.nz))));
+    to.origin = glm::dvec3(35500000.0, 3388000.0, -1000.0);
+    struct VtuCase {
+        std::string name, file;
+        testing::VtuEncoding encoding;
+    };
+    std::vector<VtuCase> cases(2);
+    cases[0].name = "vtu appended zlib";
+    cases[0].file = (dir / "appended_zlib.vtu").string();
+    cases[0].encoding.format = testing::VtuEncoding::Format::Appended;
+    cases[0].encoding.zlib = true;
+    cases[0].encoding.header64 = true;
+    cases[1].name = "vtu ascii";
+    cases[1].file = (dir / "ascii.vtu").string();
+    auto written = inChild("write .vtu files", [&] {
+        const test::TetModel tm = test::tetLayeredModel(to);
+        testing::VtuGrid grid;
+        grid.points = tm.mesh.positions;
+        testing::VtuGrid::Array formation{"formation", "Int32", 1, {}};
+        grid.types.assign(tm.mesh.cellCount(), 10);
+        grid.connectivity.assign(tm.mesh.cellVertices.begin(), tm.mesh.cellVertices.end());
+        for (std::size_t c = 0; c < tm.mesh.cellCount(); ++c) {
+            grid.offsets.push_back(tm.mesh.cellOffsets[c + 1]);
+            formation.values.push_back(tm.mesh.cellRegions[c] + 1);
+        }
+        grid.cellData.push_back(std::move(formation));
+        nlohmann::ordered_json j{{"case", "write .vtu files"}};
+        for (const VtuCase& c : cases) {
+            const double t0 = bench::nowSeconds();
+            std::ofstream(c.file, std::ios::binary) << testing::writeVtu(grid, c.encoding);
+            j[c.name + " write_s"] = bench::nowSeconds() - t0;
+        }
+        return j;
+    });
+    results.push_back(written);
+    for (const VtuCase& c : cases) {
+        results.push_back(inChild(c.name, [&] {
+            const double t0 = bench::nowSeconds();
+            auto m = loadModel(c.file);
+            const double t1 = bench::nowSeconds();
+            if (!m) return nlohmann::ordered_json{{"case", c.name}, {"error", m.error().message}};
+            validate(m.value());
+            const double t2 = bench::nowSeconds();
+            const double loadPeak = bench::peakRssMiB();
+            nlohmann::ordered_json j{{"case", c.name},
+                                     {"file_mib", double(std::filesystem::file_size(c.file)) / 1048576.0},
+                                     {"bodies", m->bodies.size()},
+                                     {"boundary_triangles", m->triangleCount()},
+                                     {"errors", m->validation.hasErrors()},
+                                     {"load_s", t1 - t0},
+                                     {"validate_s", t2 - t1}};
+            m = makeError(ErrorCode::Internal, "freed");
+            // Boundary shells alone, on the same cells.
+            const test::TetModel tm = test::tetLayeredModel(to);
+            const double t3 = bench::nowSeconds();
+            auto shells = regionBoundaries(tm.mesh, tm.regionCount());
+            const double t4 = bench::nowSeconds();
+            j["tetrahedra"] = tm.mesh.cellCount();
+            j["points"] = tm.mesh.positions.size();
+            j["boundaries_s"] = shells ? t4 - t3 : -1.0;
+            j["parse_s"] = j["load_s"].get<double>() - j["validate_s"].get<double>() - (t4 - t3);
+            j["load_peak_rss_mib"] = loadPeak;
+            return j;
+        }));
+    }
+
+    if (!keep) std::filesystem::remove_all(dir);
+    std::printf("%s\n", nlohmann::ordered_json({{"benchmark", "load"}, {"results", results}}).dump(2).c_str());
+    return 0;
+}
