@@ -70,9 +70,12 @@ int main(int argc, char** argv) {
     bool keep = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--tets" && i + 1 < argc) tets = std::stoul(argv[++i]);
-        else if (a == "--dir" && i + 1 < argc) dir = argv[++i];
-        else if (a == "--keep") keep = true;
+        if (a == "--tets" && i + 1 < argc)
+            tets = std::stoul(argv[++i]);
+        else if (a == "--dir" && i + 1 < argc)
+            dir = argv[++i];
+        else if (a == "--keep")
+            keep = true;
         else {
             std::fprintf(stderr, "usage: bench_load [--tets N] [--dir DIR] [--keep]\n");
             return 2;

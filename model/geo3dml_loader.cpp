@@ -509,14 +509,14 @@ private:
     Error nothingToLoad(pugi::xml_node root, const std::string& modelName) const;
     std::optional<Error> parseDocument(std::string_view text, pugi::xml_document& doc, std::string& storage);
 
-    std::string source_;       // the file being read (an included file while it is read)
+    std::string source_;  // the file being read (an included file while it is read)
     std::string baseDir_;
-    std::string converted_;    // " (after GB18030 -> UTF-8 conversion)" when it applies
+    std::string converted_;  // " (after GB18030 -> UTF-8 conversion)" when it applies
     std::vector<std::pair<std::string, std::string>> warnings_;  // (part, message)
     std::string currentModelName_;  // of the Geo3DModel being read, to tell apart equal feature names
-    std::string declaredCrs_;  // from Metadata, e.g. "EPSG:4526"
-    std::string srsName_;      // first srsName on a geometry
-    std::string modelType_;    // Geo3DModel/Type: 3DModel, Section, Drill, ...
+    std::string declaredCrs_;       // from Metadata, e.g. "EPSG:4526"
+    std::string srsName_;           // first srsName on a geometry
+    std::string modelType_;         // Geo3DModel/Type: 3DModel, Section, Drill, ...
     Census census_;
     std::vector<std::string> includes_;  // xi:include hrefs of a project
     std::size_t featuresWithoutGeometry_ = 0;
@@ -665,12 +665,14 @@ std::optional<Error> Reader::readInclude(std::string_view href, Model& model) {
         warn("", "an xi:include without an href is skipped");
         return std::nullopt;
     }
-    bool outside = rel.is_absolute() || rel.has_root_name() || rel.has_root_directory() || h.find(':') != std::string::npos ||
-                   h.front() == '\\';
+    bool outside = rel.is_absolute() || rel.has_root_name() || rel.has_root_directory() ||
+                   h.find(':') != std::string::npos || h.front() == '\\';
     for (const fs::path& part : rel)
         if (part == "..") outside = true;
     if (outside) {
-        warn("", shownHref + " refused: includes must name a file inside the project's folder (no absolute paths, URLs or '..')");
+        warn("",
+             shownHref +
+                 " refused: includes must name a file inside the project's folder (no absolute paths, URLs or '..')");
         return std::nullopt;
     }
     std::error_code ec;
@@ -701,8 +703,7 @@ std::optional<Error> Reader::readInclude(std::string_view href, Model& model) {
         else if (name == "Geo3DMap") {
             std::string& maps = model.notes["geo3dml_maps_not_read"];
             maps += (maps.empty() ? "" : ", ") + quoted(href, 200);
-        }
-        else
+        } else
             warn("", shownHref + " is a <" + quoted(root.name()) + ">, not a Geo3DModel: not read");
     }
     source_ = projectSource;
@@ -790,8 +791,7 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
         return error ? Walk::Stop : Walk::Skip;
     });
     if (error) return error;
-    for (const std::string& problem : volumeProblems)
-        warn(featureName, problem + "; this volume is skipped");
+    for (const std::string& problem : volumeProblems) warn(featureName, problem + "; this volume is skipped");
 
     const bool isVolume = volume.cellCount() > 0;
     if (isVolume) {
@@ -825,7 +825,8 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
         return false;
     };
     if (taken(featureName)) {
-        std::string unique = featureName + " (" + (currentModelName_.empty() ? std::string("model") : currentModelName_) + ")";
+        std::string unique =
+            featureName + " (" + (currentModelName_.empty() ? std::string("model") : currentModelName_) + ")";
         for (int k = 2; taken(unique); ++k) unique = featureName + " #" + std::to_string(k);
         featureName = unique;
     }
@@ -1031,7 +1032,8 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
         for (const auto& c : {std::array{0, 0, 0}, std::array{1, 0, 0}, std::array{1, 1, 0}, std::array{0, 1, 0},
                               std::array{0, 0, 1}, std::array{1, 0, 1}, std::array{1, 1, 1}, std::array{0, 1, 1}})
             vm.positions.push_back(corner(c[0], c[1], c[2]));
-        vm.addCell(VolumeMesh::CellType::Hexahedron, {base, base + 1, base + 2, base + 3, base + 4, base + 5, base + 6, base + 7}, 0);
+        vm.addCell(VolumeMesh::CellType::Hexahedron,
+                   {base, base + 1, base + 2, base + 3, base + 4, base + 5, base + 6, base + 7}, 0);
         return {};
     }
 
@@ -1065,7 +1067,8 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
             if (ids.size() != n)
                 return std::string(item) + " " + std::to_string(index) + " has " + std::to_string(ids.size()) +
                        " vertices, not " + std::to_string(n);
-            if (std::string p = resolve(ids, cell); !p.empty()) return std::string(item) + " " + std::to_string(index) + ": " + p;
+            if (std::string p = resolve(ids, cell); !p.empty())
+                return std::string(item) + " " + std::to_string(index) + ": " + p;
             cells.emplace_back(type, cell);
         }
         return {};
@@ -1077,7 +1080,8 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
         problem = cellList("Cuboids", "Cuboid", VolumeMesh::CellType::Hexahedron, 8);  // VTK hexahedron order
     } else if (kind == "GeoTriangularPrismVolume") {
         std::size_t index = 0;
-        for (pugi::xml_node c = childNamed(childNamed(volume, "Prisms"), "Prism"); c && problem.empty(); c = c.next_sibling(), ++index) {
+        for (pugi::xml_node c = childNamed(childNamed(volume, "Prisms"), "Prism"); c && problem.empty();
+             c = c.next_sibling(), ++index) {
             if (!isNamed(c, "Prism")) continue;
             std::vector<std::uint32_t> bottom, top;
             std::vector<std::uint64_t> b, t;
@@ -1097,22 +1101,26 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
         std::vector<std::vector<std::uint32_t>> faces;
         std::unordered_map<std::uint64_t, std::size_t> faceByIndexNo;
         std::size_t index = 0;
-        for (pugi::xml_node f = childNamed(childNamed(volume, "Faces"), "Face"); f && problem.empty(); f = f.next_sibling(), ++index) {
+        for (pugi::xml_node f = childNamed(childNamed(volume, "Faces"), "Face"); f && problem.empty();
+             f = f.next_sibling(), ++index) {
             if (!isNamed(f, "Face")) continue;
             problem = readIndices(childNamed(f, "VertexList"), ids);
-            if (problem.empty() && ids.size() != 3 && ids.size() != 4) problem = "has " + std::to_string(ids.size()) + " vertices";
+            if (problem.empty() && ids.size() != 3 && ids.size() != 4)
+                problem = "has " + std::to_string(ids.size()) + " vertices";
             if (problem.empty()) problem = resolve(ids, cell);
             if (!problem.empty()) {
                 problem = "Face " + std::to_string(index) + ": " + problem;
                 break;
             }
             std::uint64_t no = faces.size();
-            if (auto parsed = parseInt(trim(attributeNamed(f, "IndexNo").value())); parsed && *parsed >= 0) no = std::uint64_t(*parsed);
+            if (auto parsed = parseInt(trim(attributeNamed(f, "IndexNo").value())); parsed && *parsed >= 0)
+                no = std::uint64_t(*parsed);
             faceByIndexNo.emplace(no, faces.size());
             faces.push_back(cell);
         }
         index = 0;
-        for (pugi::xml_node c = childNamed(childNamed(volume, "Cells"), "Cell"); c && problem.empty(); c = c.next_sibling(), ++index) {
+        for (pugi::xml_node c = childNamed(childNamed(volume, "Cells"), "Cell"); c && problem.empty();
+             c = c.next_sibling(), ++index) {
             if (!isNamed(c, "Cell")) continue;
             problem = readIndices(childNamed(c, "FaceList"), ids);
             std::vector<std::vector<std::uint32_t>> cellFaces;
@@ -1120,7 +1128,8 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
                 if (!problem.empty()) break;
                 const auto it = faceByIndexNo.find(id);
                 if (it == faceByIndexNo.end())
-                    problem = "face " + std::to_string(id) + " is not in Faces (it has " + std::to_string(faces.size()) + ")";
+                    problem =
+                        "face " + std::to_string(id) + " is not in Faces (it has " + std::to_string(faces.size()) + ")";
                 else
                     cellFaces.push_back(faces[it->second]);
             }
@@ -1130,10 +1139,12 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
             }
             const auto prism = prismFromFaces(cellFaces);
             if (!prism) {
-                problem = "Cell " + std::to_string(index) + ": its faces do not bound a hexahedron or a triangular prism";
+                problem =
+                    "Cell " + std::to_string(index) + ": its faces do not bound a hexahedron or a triangular prism";
                 break;
             }
-            cells.push_back({prism->size() == 8 ? VolumeMesh::CellType::Hexahedron : VolumeMesh::CellType::Wedge, *prism});
+            cells.push_back(
+                {prism->size() == 8 ? VolumeMesh::CellType::Hexahedron : VolumeMesh::CellType::Wedge, *prism});
         }
     }
     if (!problem.empty()) return problem + " (at " + at + ")";
@@ -1451,9 +1462,7 @@ std::string normaliseCrsText(std::string_view text) {
 void Reader::applyCrs(Model& model) const {
     const std::string declared = declaredCrs_.empty() ? srsName_ : declaredCrs_;
     if (trim(declared).empty()) return;
-    const auto note = [&](const char* key, const std::string& value) {
-        model.notes.emplace(key, quoted(value, 400));
-    };
+    const auto note = [&](const char* key, const std::string& value) { model.notes.emplace(key, quoted(value, 400)); };
     const Result<Crs> crs = Crs::parse(normaliseCrsText(declared));
     if (!crs) {
         note("declared_crs", declared);

@@ -42,8 +42,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include <pugixml.hpp>
 #include <zlib.h>
+#include <pugixml.hpp>
 
 #include "model/loaders.hpp"
 #include "model/text_scan.hpp"
@@ -63,11 +63,11 @@ enum class Scalar { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Fl
 
 std::optional<Scalar> scalarFromName(std::string_view s) {
     static const std::pair<std::string_view, Scalar> kNames[] = {
-        {"Int8", Scalar::Int8},       {"UInt8", Scalar::UInt8},     {"Int16", Scalar::Int16},
-        {"UInt16", Scalar::UInt16},   {"Int32", Scalar::Int32},     {"UInt32", Scalar::UInt32},
-        {"Int64", Scalar::Int64},     {"UInt64", Scalar::UInt64},   {"Float32", Scalar::Float32},
-        {"Float64", Scalar::Float64}, {"Char", Scalar::Int8},       {"UChar", Scalar::UInt8},
-        {"Int", Scalar::Int32},       {"Float", Scalar::Float32},   {"Double", Scalar::Float64},
+        {"Int8", Scalar::Int8},       {"UInt8", Scalar::UInt8},   {"Int16", Scalar::Int16},
+        {"UInt16", Scalar::UInt16},   {"Int32", Scalar::Int32},   {"UInt32", Scalar::UInt32},
+        {"Int64", Scalar::Int64},     {"UInt64", Scalar::UInt64}, {"Float32", Scalar::Float32},
+        {"Float64", Scalar::Float64}, {"Char", Scalar::Int8},     {"UChar", Scalar::UInt8},
+        {"Int", Scalar::Int32},       {"Float", Scalar::Float32}, {"Double", Scalar::Float64},
     };
     for (const auto& [name, type] : kNames)
         if (name == s) return type;
@@ -77,15 +77,19 @@ std::optional<Scalar> scalarFromName(std::string_view s) {
 std::size_t scalarSize(Scalar t) {
     switch (t) {
         case Scalar::Int8:
-        case Scalar::UInt8: return 1;
+        case Scalar::UInt8:
+            return 1;
         case Scalar::Int16:
-        case Scalar::UInt16: return 2;
+        case Scalar::UInt16:
+            return 2;
         case Scalar::Int32:
         case Scalar::UInt32:
-        case Scalar::Float32: return 4;
+        case Scalar::Float32:
+            return 4;
         case Scalar::Int64:
         case Scalar::UInt64:
-        case Scalar::Float64: return 8;
+        case Scalar::Float64:
+            return 8;
     }
     return 0;
 }
@@ -258,8 +262,8 @@ private:
     std::string_view bytes_;
     const std::string& source_;
     const VtuOptions& options_;
-    std::string xmlText_;          // the XML part (the file, or its part before raw appended data)
-    std::size_t xmlDocOffset_ = 0; // byte offset of xmlText_ in the file (always 0)
+    std::string xmlText_;           // the XML part (the file, or its part before raw appended data)
+    std::size_t xmlDocOffset_ = 0;  // byte offset of xmlText_ in the file (always 0)
     bool bigEndian_ = false;
     bool header64_ = false;
     bool zlib_ = false;
@@ -346,7 +350,8 @@ Status VtuReader::payload(const ArrayDecl& a, std::uint64_t bytes, std::vector<s
         return true;
     };
     auto truncated = [&](const std::string& what) {
-        return failArray(a, what + (src.error().empty() ? std::string(" (data truncated)") : ": " + std::string(src.error())));
+        return failArray(
+            a, what + (src.error().empty() ? std::string(" (data truncated)") : ": " + std::string(src.error())));
     };
 
     if (!zlib_) {
@@ -371,7 +376,8 @@ Status VtuReader::payload(const ArrayDecl& a, std::uint64_t bytes, std::vector<s
         return truncated("incomplete compression header");
     auto headerBytes = mulChecked(blocks, hsize);
     if (!headerBytes || *headerBytes > src.available())
-        return failArray(a, "compression header declares " + std::to_string(blocks) + " blocks, more than the data holds");
+        return failArray(a,
+                         "compression header declares " + std::to_string(blocks) + " blocks, more than the data holds");
     std::vector<std::uint64_t> csize(static_cast<std::size_t>(blocks));
     std::uint64_t ctotal = 0;
     for (auto& c : csize) {
@@ -382,8 +388,8 @@ Status VtuReader::payload(const ArrayDecl& a, std::uint64_t bytes, std::vector<s
                                     std::to_string(src.available()) + " present");
     }
     if (blocks > 0 && (blockSize == 0 || lastSize > blockSize))
-        return failArray(a, "compression header has block size " + std::to_string(blockSize) +
-                                " and last block size " + std::to_string(lastSize));
+        return failArray(a, "compression header has block size " + std::to_string(blockSize) + " and last block size " +
+                                std::to_string(lastSize));
     std::uint64_t total = 0;
     if (blocks > 0) {
         auto full = mulChecked(blocks - 1, blockSize);
@@ -426,13 +432,20 @@ T convertScalar(const std::uint8_t* p, Scalar type, bool swap) {
         return static_cast<T>(v);
     };
     switch (type) {
-        case Scalar::Int8: return as(std::int8_t{});
-        case Scalar::UInt8: return as(std::uint8_t{});
-        case Scalar::Int16: return as(std::int16_t{});
-        case Scalar::UInt16: return as(std::uint16_t{});
-        case Scalar::Int32: return as(std::int32_t{});
-        case Scalar::UInt32: return as(std::uint32_t{});
-        case Scalar::Int64: return as(std::int64_t{});
+        case Scalar::Int8:
+            return as(std::int8_t{});
+        case Scalar::UInt8:
+            return as(std::uint8_t{});
+        case Scalar::Int16:
+            return as(std::int16_t{});
+        case Scalar::UInt16:
+            return as(std::uint16_t{});
+        case Scalar::Int32:
+            return as(std::int32_t{});
+        case Scalar::UInt32:
+            return as(std::uint32_t{});
+        case Scalar::Int64:
+            return as(std::int64_t{});
         case Scalar::UInt64: {
             std::uint64_t v;
             std::memcpy(&v, b, 8);
@@ -441,8 +454,10 @@ T convertScalar(const std::uint8_t* p, Scalar type, bool swap) {
             else
                 return static_cast<T>(v);
         }
-        case Scalar::Float32: return as(float{});
-        case Scalar::Float64: return as(double{});
+        case Scalar::Float32:
+            return as(float{});
+        case Scalar::Float64:
+            return as(double{});
     }
     return T{};
 }
@@ -471,13 +486,15 @@ Status VtuReader::read(const ArrayDecl& a, std::uint64_t count, std::vector<T>& 
             if (!tok.empty() && tok.front() == '+') tok.remove_prefix(1);
             auto [q, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
             if (ec != std::errc() || q != tok.data() + tok.size())
-                return failArray(a, "value " + std::to_string(out.size() + 1) + " '" + shown({p, std::size_t(tokEnd - p)}) +
-                                        "' is not " + (std::is_integral_v<T> ? "an integer" : "a number"));
+                return failArray(a, "value " + std::to_string(out.size() + 1) + " '" +
+                                        shown({p, std::size_t(tokEnd - p)}) + "' is not " +
+                                        (std::is_integral_v<T> ? "an integer" : "a number"));
             out.push_back(v);
             p = tokEnd;
         }
         if (out.size() != count)
-            return failArray(a, std::to_string(out.size()) + " values, the declared counts need " + std::to_string(count));
+            return failArray(a,
+                             std::to_string(out.size()) + " values, the declared counts need " + std::to_string(count));
         return {};
     }
     const std::size_t size = scalarSize(a.type);
@@ -514,10 +531,13 @@ Status VtuReader::readPiece(pugi::xml_node piece) {
     // Points.
     if (nPoints > 0) {
         pugi::xml_node pa = piece.child("Points").child("DataArray");
-        if (!pa) return fail("<Piece> (" + where(piece) + ") has " + std::to_string(nPoints) + " points but no <Points><DataArray>");
+        if (!pa)
+            return fail("<Piece> (" + where(piece) + ") has " + std::to_string(nPoints) +
+                        " points but no <Points><DataArray>");
         auto decl = declare(pa, "Points");
         if (!decl) return decl.error();
-        if (decl->components != 3) return failArray(*decl, "points need 3 components, not " + std::to_string(decl->components));
+        if (decl->components != 3)
+            return failArray(*decl, "points need 3 components, not " + std::to_string(decl->components));
         std::vector<double> xyz;
         if (Status s = read(*decl, nPoints * 3, xyz); !s) return s;
         for (std::size_t i = 0; i < xyz.size(); i += 3) {
@@ -536,9 +556,12 @@ Status VtuReader::readPiece(pugi::xml_node piece) {
             const std::string_view name = da.attribute("Name").value();
             auto decl = declare(da, name);
             if (!decl) return decl.error();
-            if (name == "connectivity") conn = *decl, haveConn = true;
-            else if (name == "offsets") offs = *decl, haveOffs = true;
-            else if (name == "types") types = *decl, haveTypes = true;
+            if (name == "connectivity")
+                conn = *decl, haveConn = true;
+            else if (name == "offsets")
+                offs = *decl, haveOffs = true;
+            else if (name == "types")
+                types = *decl, haveTypes = true;
         }
         if (!haveConn || !haveOffs || !haveTypes)
             return fail("<Piece> (" + where(piece) + ") has " + std::to_string(nCells) +
@@ -554,19 +577,22 @@ Status VtuReader::readPiece(pugi::xml_node piece) {
             prev = o[i];
         }
         // Connectivity values take >= 1 byte each in any encoding (1/1040 compressed).
-        if (std::uint64_t(prev) > bound) return failArray(offs, "last offset " + std::to_string(prev) + " is larger than the file can hold");
+        if (std::uint64_t(prev) > bound)
+            return failArray(offs, "last offset " + std::to_string(prev) + " is larger than the file can hold");
         if (Status s = read(conn, std::uint64_t(prev), c); !s) return s;
         const std::int64_t connBase = static_cast<std::int64_t>(connectivity_.size());
         for (std::size_t i = 0; i < t.size(); ++i) {
             if (t[i] < 0 || t[i] > 255)
-                return failArray(types, "cell " + std::to_string(i) + " has type " + std::to_string(t[i]) + ", not a VTK cell type");
+                return failArray(
+                    types, "cell " + std::to_string(i) + " has type " + std::to_string(t[i]) + ", not a VTK cell type");
             types_.push_back(static_cast<std::uint8_t>(t[i]));
             offsets_.push_back(connBase + o[i]);
         }
         for (std::size_t i = 0; i < c.size(); ++i) {
             if (c[i] < 0 || std::uint64_t(c[i]) >= nPoints)
                 return failArray(conn, "value " + std::to_string(i) + " (" + std::to_string(c[i]) +
-                                           ") is not a point index of this piece (it has " + std::to_string(nPoints) + " points)");
+                                           ") is not a point index of this piece (it has " + std::to_string(nPoints) +
+                                           " points)");
             connectivity_.push_back(c[i] + static_cast<std::int64_t>(base));
         }
     }
@@ -587,7 +613,8 @@ Status VtuReader::readPiece(pugi::xml_node piece) {
             // Later pieces: append to the array of the same name (same components).
             auto it = std::find_if(into.begin(), into.end(), [&](const CellArray& c) { return c.name == decl->name; });
             if (it == into.end() || it->components != decl->components)
-                return failArray(*decl, "is not in the first piece with the same components; pieces must carry the same arrays");
+                return failArray(
+                    *decl, "is not in the first piece with the same components; pieces must carry the same arrays");
             it->values.insert(it->values.end(), v.begin(), v.end());
         }
         return {};
@@ -609,7 +636,8 @@ Result<Model> VtuReader::run() {
     const std::size_t appendedTag = bytes_.find("<AppendedData");
     if (appendedTag != std::string_view::npos) {
         const std::size_t gt = bytes_.find('>', appendedTag);
-        if (gt == std::string_view::npos) return fail("byte " + std::to_string(appendedTag) + ": <AppendedData> tag is not closed");
+        if (gt == std::string_view::npos)
+            return fail("byte " + std::to_string(appendedTag) + ": <AppendedData> tag is not closed");
         std::size_t underscore = gt + 1;
         while (underscore < bytes_.size() && isSpace(bytes_[underscore])) ++underscore;
         if (underscore >= bytes_.size() || bytes_[underscore] != '_')
@@ -623,30 +651,40 @@ Result<Model> VtuReader::run() {
     }
     pugi::xml_document doc;
     const pugi::xml_parse_result parsed = doc.load_buffer(xmlText_.data(), xmlText_.size());
-    if (!parsed) return fail("byte " + std::to_string(parsed.offset) + ": not well-formed XML: " + parsed.description());
+    if (!parsed)
+        return fail("byte " + std::to_string(parsed.offset) + ": not well-formed XML: " + parsed.description());
     const pugi::xml_node root = doc.document_element();
-    if (std::string_view(root.name()) != "VTKFile") return fail("root element is <" + shown(root.name()) + ">, not <VTKFile>");
+    if (std::string_view(root.name()) != "VTKFile")
+        return fail("root element is <" + shown(root.name()) + ">, not <VTKFile>");
     const std::string_view type = root.attribute("type").value();
     if (type != "UnstructuredGrid")
         return fail("VTKFile type '" + shown(type) + "' is not UnstructuredGrid (only .vtu volume grids are read)",
                     ErrorCode::Unsupported);
     const std::string_view byteOrder = root.attribute("byte_order").value();
-    if (byteOrder == "BigEndian") bigEndian_ = true;
+    if (byteOrder == "BigEndian")
+        bigEndian_ = true;
     else if (!byteOrder.empty() && byteOrder != "LittleEndian")
         return fail("byte_order '" + shown(byteOrder) + "' is not LittleEndian or BigEndian");
     const std::string_view header = root.attribute("header_type").value();
-    if (header == "UInt64") header64_ = true;
-    else if (!header.empty() && header != "UInt32") return fail("header_type '" + shown(header) + "' is not UInt32 or UInt64");
+    if (header == "UInt64")
+        header64_ = true;
+    else if (!header.empty() && header != "UInt32")
+        return fail("header_type '" + shown(header) + "' is not UInt32 or UInt64");
     const std::string_view compressor = root.attribute("compressor").value();
-    if (compressor == "vtkZLibDataCompressor") zlib_ = true;
+    if (compressor == "vtkZLibDataCompressor")
+        zlib_ = true;
     else if (!compressor.empty())
-        return fail("compressor '" + shown(compressor) + "' is not supported (only vtkZLibDataCompressor; re-save the file with zlib or without compression)",
-                    ErrorCode::Unsupported);
+        return fail(
+            "compressor '" + shown(compressor) +
+                "' is not supported (only vtkZLibDataCompressor; re-save the file with zlib or without compression)",
+            ErrorCode::Unsupported);
     if (haveAppended_) {
         pugi::xml_node ad = root.child("AppendedData");
         const std::string_view enc = ad.attribute("encoding").value();
-        if (enc == "base64") appendedBase64_ = true;
-        else if (enc != "raw") return fail("<AppendedData> encoding '" + shown(enc) + "' is not raw or base64");
+        if (enc == "base64")
+            appendedBase64_ = true;
+        else if (enc != "raw")
+            return fail("<AppendedData> encoding '" + shown(enc) + "' is not raw or base64");
     }
 
     const pugi::xml_node grid = root.child("UnstructuredGrid");
@@ -676,15 +714,33 @@ Result<Model> VtuReader::run() {
         const std::int64_t* order = nullptr;
         static const std::int64_t kVoxelToHex[8] = {0, 1, 3, 2, 4, 5, 7, 6};
         switch (t) {
-            case 10: ct = VolumeMesh::CellType::Tetra, corners = 4; break;
-            case 11: ct = VolumeMesh::CellType::Hexahedron, corners = 8, order = kVoxelToHex; break;
-            case 12: ct = VolumeMesh::CellType::Hexahedron, corners = 8; break;
-            case 13: ct = VolumeMesh::CellType::Wedge, corners = 6; break;
-            case 14: ct = VolumeMesh::CellType::Pyramid, corners = 5; break;
-            case 24: ct = VolumeMesh::CellType::Tetra, corners = 4; break;        // quadratic: 10 nodes
-            case 25: ct = VolumeMesh::CellType::Hexahedron, corners = 8; break;   // 20
-            case 26: ct = VolumeMesh::CellType::Wedge, corners = 6; break;        // 15
-            case 27: ct = VolumeMesh::CellType::Pyramid, corners = 5; break;      // 13
+            case 10:
+                ct = VolumeMesh::CellType::Tetra, corners = 4;
+                break;
+            case 11:
+                ct = VolumeMesh::CellType::Hexahedron, corners = 8, order = kVoxelToHex;
+                break;
+            case 12:
+                ct = VolumeMesh::CellType::Hexahedron, corners = 8;
+                break;
+            case 13:
+                ct = VolumeMesh::CellType::Wedge, corners = 6;
+                break;
+            case 14:
+                ct = VolumeMesh::CellType::Pyramid, corners = 5;
+                break;
+            case 24:
+                ct = VolumeMesh::CellType::Tetra, corners = 4;
+                break;  // quadratic: 10 nodes
+            case 25:
+                ct = VolumeMesh::CellType::Hexahedron, corners = 8;
+                break;  // 20
+            case 26:
+                ct = VolumeMesh::CellType::Wedge, corners = 6;
+                break;  // 15
+            case 27:
+                ct = VolumeMesh::CellType::Pyramid, corners = 5;
+                break;  // 13
             default:
                 if (t >= 1 && t <= 9) {
                     ++census.lowerDimensional;
@@ -725,7 +781,8 @@ Result<Model> VtuReader::run() {
             if (a.name == options_.regionArray) region = &a;
         if (!region) {
             std::string names;
-            for (const auto& a : cellArrays_) names += (names.empty() ? "" : ", ") + std::string("'") + shown(a.name) + "'";
+            for (const auto& a : cellArrays_)
+                names += (names.empty() ? "" : ", ") + std::string("'") + shown(a.name) + "'";
             return fail("no cell-data array named '" + shown(options_.regionArray) + "' (the file has " +
                             (names.empty() ? std::string("none") : names) + ")",
                         ErrorCode::NotFound);
@@ -765,7 +822,8 @@ Result<Model> VtuReader::run() {
         std::sort(values.begin(), values.end());
         values.erase(std::unique(values.begin(), values.end()), values.end());
         for (std::size_t i = 0; i < keptCells.size(); ++i)
-            vm.cellRegions[i] = static_cast<std::int32_t>(std::lower_bound(values.begin(), values.end(), cellValue[i]) - values.begin());
+            vm.cellRegions[i] = static_cast<std::int32_t>(std::lower_bound(values.begin(), values.end(), cellValue[i]) -
+                                                          values.begin());
     } else {
         values = {1};
     }
@@ -786,10 +844,11 @@ Result<Model> VtuReader::run() {
         model.notes["vtu_record_ids"] = "formation values are not all in [1, " + std::to_string(kMaxDirectRecordId) +
                                         "]: record ids are their ranks 1.." + std::to_string(values.size());
     if (census.lowerDimensional)
-        model.notes["vtu_skipped_cells"] = std::to_string(census.lowerDimensional) + " point, line and face cells skipped";
+        model.notes["vtu_skipped_cells"] =
+            std::to_string(census.lowerDimensional) + " point, line and face cells skipped";
     if (census.quadratic)
-        model.notes["vtu_quadratic_cells"] = std::to_string(census.quadratic) +
-                                             " quadratic cells taken as linear (mid-edge nodes ignored)";
+        model.notes["vtu_quadratic_cells"] =
+            std::to_string(census.quadratic) + " quadratic cells taken as linear (mid-edge nodes ignored)";
 
     // Position -> input point, for point data on boundary vertices (regionBoundaries
     // renumbers each region's vertices; equal positions carry the first point's values).
@@ -820,7 +879,8 @@ Result<Model> VtuReader::run() {
         if (!pointFields.empty()) {
             for (const CellArray* a : pointFields)
                 for (std::size_t k = 0; k < a->components; ++k)
-                    mesh.propertyNames.push_back(a->components == 1 ? a->name : a->name + "[" + std::to_string(k) + "]");
+                    mesh.propertyNames.push_back(a->components == 1 ? a->name
+                                                                    : a->name + "[" + std::to_string(k) + "]");
             mesh.propertyValues.reserve(mesh.positions.size() * mesh.propertyNames.size());
             for (const glm::dvec3& p : mesh.positions) {
                 auto it = pointOf.find(std::string_view(reinterpret_cast<const char*>(&p), sizeof(glm::dvec3)));
@@ -841,12 +901,16 @@ Result<Model> VtuReader::run() {
         for (std::size_t i = 0; i < keptCells.size(); ++i) {
             const std::size_t r = static_cast<std::size_t>(vm.cellRegions[i]);
             const double x = a.values[keptCells[i]];
-            if (std::isnan(first[r])) first[r] = x;
-            else if (first[r] != x) constant[r] = 0;
+            if (std::isnan(first[r]))
+                first[r] = x;
+            else if (first[r] != x)
+                constant[r] = 0;
         }
         for (auto& part : model.bodies) {
-            const std::size_t r = direct ? static_cast<std::size_t>(std::lower_bound(values.begin(), values.end(), std::int64_t(part.record)) - values.begin())
-                                         : static_cast<std::size_t>(part.record - 1);
+            const std::size_t r =
+                direct ? static_cast<std::size_t>(
+                             std::lower_bound(values.begin(), values.end(), std::int64_t(part.record)) - values.begin())
+                       : static_cast<std::size_t>(part.record - 1);
             if (!constant[r] || !std::isfinite(first[r])) continue;
             if (AttributeRecord* rec = model.attributes.find(part.record)) rec->extra[a.name] = first[r];
         }

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
 #include <zlib.h>
+#include <glm/glm.hpp>
 
 namespace geoslice::testing {
 
@@ -25,8 +25,8 @@ struct VtuGrid {
         std::vector<double> values;
     };
     std::vector<glm::dvec3> points;
-    std::vector<std::uint8_t> types;           // VTK cell types
-    std::vector<std::int64_t> offsets;         // end offset of each cell in connectivity
+    std::vector<std::uint8_t> types;    // VTK cell types
+    std::vector<std::int64_t> offsets;  // end offset of each cell in connectivity
     std::vector<std::int64_t> connectivity;
     std::vector<Array> cellData, pointData;
 
@@ -50,7 +50,10 @@ struct VtuEncoding {
     std::size_t blockSize = 32768;    // zlib: uncompressed bytes per block
 
     std::string label() const {
-        std::string s = format == Format::Ascii ? "ascii" : format == Format::Binary ? "binary" : appendedBase64 ? "appended-base64" : "appended-raw";
+        std::string s = format == Format::Ascii    ? "ascii"
+                        : format == Format::Binary ? "binary"
+                        : appendedBase64           ? "appended-base64"
+                                                   : "appended-raw";
         if (zlib) s += "-zlib";
         if (header64) s += "-h64";
         if (bigEndian) s += "-be";
@@ -84,21 +87,33 @@ void putScalar(std::vector<std::uint8_t>& out, T v, bool bigEndian) {
 }
 
 inline void putTyped(std::vector<std::uint8_t>& out, const std::string& type, double v, bool be) {
-    if (type == "Int8") putScalar(out, static_cast<std::int8_t>(v), be);
-    else if (type == "UInt8") putScalar(out, static_cast<std::uint8_t>(v), be);
-    else if (type == "Int16") putScalar(out, static_cast<std::int16_t>(v), be);
-    else if (type == "UInt16") putScalar(out, static_cast<std::uint16_t>(v), be);
-    else if (type == "Int32") putScalar(out, static_cast<std::int32_t>(v), be);
-    else if (type == "UInt32") putScalar(out, static_cast<std::uint32_t>(v), be);
-    else if (type == "Int64") putScalar(out, static_cast<std::int64_t>(v), be);
-    else if (type == "UInt64") putScalar(out, static_cast<std::uint64_t>(v), be);
-    else if (type == "Float32") putScalar(out, static_cast<float>(v), be);
-    else putScalar(out, v, be);
+    if (type == "Int8")
+        putScalar(out, static_cast<std::int8_t>(v), be);
+    else if (type == "UInt8")
+        putScalar(out, static_cast<std::uint8_t>(v), be);
+    else if (type == "Int16")
+        putScalar(out, static_cast<std::int16_t>(v), be);
+    else if (type == "UInt16")
+        putScalar(out, static_cast<std::uint16_t>(v), be);
+    else if (type == "Int32")
+        putScalar(out, static_cast<std::int32_t>(v), be);
+    else if (type == "UInt32")
+        putScalar(out, static_cast<std::uint32_t>(v), be);
+    else if (type == "Int64")
+        putScalar(out, static_cast<std::int64_t>(v), be);
+    else if (type == "UInt64")
+        putScalar(out, static_cast<std::uint64_t>(v), be);
+    else if (type == "Float32")
+        putScalar(out, static_cast<float>(v), be);
+    else
+        putScalar(out, v, be);
 }
 
 inline void putHeader(std::vector<std::uint8_t>& out, std::uint64_t v, const VtuEncoding& e) {
-    if (e.header64) putScalar(out, v, e.bigEndian);
-    else putScalar(out, static_cast<std::uint32_t>(v), e.bigEndian);
+    if (e.header64)
+        putScalar(out, v, e.bigEndian);
+    else
+        putScalar(out, static_cast<std::uint32_t>(v), e.bigEndian);
 }
 
 // The encoded text of one binary array (inline or appended base64) or its raw bytes.
@@ -132,15 +147,19 @@ inline Encoded encode(const std::vector<std::uint8_t>& data, const VtuEncoding& 
     }
     out.raw = header;
     out.raw.insert(out.raw.end(), body.begin(), body.end());
-    if (e.zlib || e.separateHeader) out.text = base64(header) + base64(body);  // as VTK writes compressed data
-    else out.text = base64(out.raw);
+    if (e.zlib || e.separateHeader)
+        out.text = base64(header) + base64(body);  // as VTK writes compressed data
+    else
+        out.text = base64(out.raw);
     return out;
 }
 
 inline std::string asciiValue(const std::string& type, double v) {
     char buf[40];
-    if (type == "Float32" || type == "Float64") std::snprintf(buf, sizeof buf, "%.17g", v);
-    else std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(v));
+    if (type == "Float32" || type == "Float64")
+        std::snprintf(buf, sizeof buf, "%.17g", v);
+    else
+        std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(v));
     return buf;
 }
 
@@ -189,24 +208,32 @@ inline std::string writeVtu(const VtuGrid& g, const VtuEncoding& e) {
     auto dataBlock = [&](const char* tag, const std::vector<VtuGrid::Array>& arrays) {
         xml += std::string("      <") + tag + ">\n";
         for (const auto& a : arrays)
-            array(a.name, a.type, a.components, [&](std::size_t i) { return a.values[i]; }, a.values.size());
+            array(
+                a.name, a.type, a.components, [&](std::size_t i) { return a.values[i]; }, a.values.size());
         xml += std::string("      </") + tag + ">\n";
     };
     dataBlock("PointData", g.pointData);
     dataBlock("CellData", g.cellData);
     xml += "      <Points>\n";
-    array("Points", e.pointType, 3, [&](std::size_t i) { return g.points[i / 3][int(i % 3)]; }, g.points.size() * 3);
+    array(
+        "Points", e.pointType, 3, [&](std::size_t i) { return g.points[i / 3][int(i % 3)]; }, g.points.size() * 3);
     xml += "      </Points>\n      <Cells>\n";
-    array("connectivity", e.indexType, 1, [&](std::size_t i) { return double(g.connectivity[i]); }, g.connectivity.size());
-    array("offsets", e.indexType, 1, [&](std::size_t i) { return double(g.offsets[i]); }, g.offsets.size());
-    array("types", "UInt8", 1, [&](std::size_t i) { return double(g.types[i]); }, g.types.size());
+    array(
+        "connectivity", e.indexType, 1, [&](std::size_t i) { return double(g.connectivity[i]); },
+        g.connectivity.size());
+    array(
+        "offsets", e.indexType, 1, [&](std::size_t i) { return double(g.offsets[i]); }, g.offsets.size());
+    array(
+        "types", "UInt8", 1, [&](std::size_t i) { return double(g.types[i]); }, g.types.size());
     xml += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
     if (e.format == VtuEncoding::Format::Appended) {
         xml += "  <AppendedData encoding=\"";
         xml += e.appendedBase64 ? "base64" : "raw";
         xml += "\">\n   _";
-        if (e.appendedBase64) xml += appendedText;
-        else xml.append(reinterpret_cast<const char*>(appendedRaw.data()), appendedRaw.size());
+        if (e.appendedBase64)
+            xml += appendedText;
+        else
+            xml.append(reinterpret_cast<const char*>(appendedRaw.data()), appendedRaw.size());
         xml += "\n  </AppendedData>\n";
     }
     xml += "</VTKFile>\n";

@@ -175,7 +175,7 @@ TEST(Geo3dmlLoader, Volume2ClosedTinBodyWithCountsFromXml) {
     ASSERT_TRUE(r.ok()) << r.error().message;
     const Model& m = r.value();
     EXPECT_EQ(m.name, u8s(u8"体数据示例模型-2"));
-    EXPECT_TRUE(m.crs.isLocal());  // this sample declares no CRS
+    EXPECT_TRUE(m.crs.isLocal());    // this sample declares no CRS
     ASSERT_EQ(m.bodies.size(), 4u);  // 地层A (TIN), 地层B and 地层C (truncated grids), 地层D (prisms)
     EXPECT_TRUE(m.surfaces.empty());
 

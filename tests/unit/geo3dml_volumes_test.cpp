@@ -51,10 +51,13 @@ Expected expectedParts(const std::string& xml) {
         const std::string name = g.name();
         const std::string local = name.substr(name.find(':') == std::string::npos ? 0 : name.find(':') + 1);
         const bool hasVertex = !g.select_nodes(".//*[local-name()='Vertex']").empty();
-        if (local == "GeoTin" && !g.select_nodes(".//*[local-name()='Triangle']").empty()) ++e.bodies;
-        else if (local == "RectifiedGrid") ++e.bodies;
-        else if ((local == "GeoTetrahedronVolume" || local == "GeoCuboidVolume" || local == "GeoTriangularPrismVolume" ||
-                  local == "GeoTruncatedRegularGrid") && hasVertex)
+        if (local == "GeoTin" && !g.select_nodes(".//*[local-name()='Triangle']").empty())
+            ++e.bodies;
+        else if (local == "RectifiedGrid")
+            ++e.bodies;
+        else if ((local == "GeoTetrahedronVolume" || local == "GeoCuboidVolume" ||
+                  local == "GeoTriangularPrismVolume" || local == "GeoTruncatedRegularGrid") &&
+                 hasVertex)
             ++e.bodies;
     }
     return e;
@@ -134,7 +137,8 @@ TEST(Geo3dmlVolumes, VolumesEqualTheCellsOfTheFile) {
     // 地层C: a gml:RectifiedGrid: |det(offset vectors)| x cells between the limits.
     const Part* c = bodyNamed(m.value(), u8s(u8"地层C"));
     ASSERT_TRUE(c);
-    const double grid = 4.8 * 10 * 6.8 * (7 * 6 * 4);  // offsets (4.8 4.8 2) (0 10 0) (0 0 6.8); limits -1..6, -1..5, -1..3
+    const double grid =
+        4.8 * 10 * 6.8 * (7 * 6 * 4);  // offsets (4.8 4.8 2) (0 10 0) (0 0 6.8); limits -1..6, -1..5, -1..3
     EXPECT_NEAR(signedVolume(c->mesh), grid, 1e-9 * grid);
 
     // model_Volume_2 地层B: 4 x 2 x 2 hexahedra given by faces; x 250..450, y 0..100, from
@@ -177,13 +181,15 @@ TEST(Geo3dmlVolumes, GeoModelRootInAnyNamespace) {
     auto reference = parseGeo3dml(xml, "v1.xml");
     ASSERT_TRUE(reference) << reference.error().message;
     auto replaceAll = [](std::string s, const std::string& from, const std::string& to) {
-        for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
+        for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+            s.replace(at, from.size(), to);
         return s;
     };
     const std::vector<std::string> variants = {
         replaceAll(xml, "geo3dml:Geo3DModel", "geo3dml:GeoModel"),
         replaceAll(replaceAll(xml, "geo3dml:Geo3DModel", "GeoModel"), "https://www.iheg", "http://www.iheg"),
-        replaceAll(replaceAll(xml, "geo3dml:Geo3DModel", "GeoModel"), " xmlns=\"https://www.iheg.cgs.gov.cn/Standard/geo3dml\"", ""),
+        replaceAll(replaceAll(xml, "geo3dml:Geo3DModel", "GeoModel"),
+                   " xmlns=\"https://www.iheg.cgs.gov.cn/Standard/geo3dml\"", ""),
     };
     for (const std::string& v : variants) {
         auto m = parseGeo3dml(v, "geomodel.xml");
@@ -242,9 +248,9 @@ TEST(Geo3dmlVolumes, IncludesOutsideTheFolderAreRefused) {
     ASSERT_TRUE(m) << m.error().message;
     EXPECT_EQ(m->bodies.size(), 3u);  // sub/v1.xml only
     const std::string& w = m->notes.at("geo3dml_warnings");
-    for (const char* refused : {"'../outside.xml' refused", "'sub/../../outside.xml' refused", "'/etc/passwd' refused",
-                                "'http://example.com/m.xml' refused", "'link.xml' refused: it leads outside",
-                                "'gone.xml' is missing"})
+    for (const char* refused :
+         {"'../outside.xml' refused", "'sub/../../outside.xml' refused", "'/etc/passwd' refused",
+          "'http://example.com/m.xml' refused", "'link.xml' refused: it leads outside", "'gone.xml' is missing"})
         EXPECT_NE(w.find(refused), std::string::npos) << refused << " in " << w;
     fs::remove_all(root);
 }

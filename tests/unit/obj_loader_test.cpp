@@ -163,11 +163,11 @@ TEST(ObjLoader, ObjectAndGroupNames) {
     // The rule (model/obj_loader.cpp): the group names the part, then the object, then the file.
     std::string text =
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-        "f 1 2 3\n"                     // before any o/g: "names"
-        "o Orebody 1\nf 1 2 4\n"        // "Orebody 1"
-        "g upper\nf 1 3 4\n"            // "upper"
-        "g\nf 2 3 4\n"                  // group closed: back to "Orebody 1"
-        "o Fault\ng upper\nf 3 2 1\n"   // "upper" again: group names are global
+        "f 1 2 3\n"                             // before any o/g: "names"
+        "o Orebody 1\nf 1 2 4\n"                // "Orebody 1"
+        "g upper\nf 1 3 4\n"                    // "upper"
+        "g\nf 2 3 4\n"                          // group closed: back to "Orebody 1"
+        "o Fault\ng upper\nf 3 2 1\n"           // "upper" again: group names are global
         "o Sandstone\ng Sandstone\nf 1 4 2\n";  // Leapfrog's o + g: "Sandstone", not "Sandstone/Sandstone"
     auto r = parseObj(text, "dir.v2/names.obj");
     ASSERT_TRUE(r.ok()) << r.error().message;

@@ -32,7 +32,8 @@ VtuGrid twoCubes(const std::string& rockType = "Int32") {
         for (int j = 0; j < 2; ++j)
             for (int i = 0; i < 3; ++i) g.points.push_back({double(i), double(j), double(k)});
     auto id = [](int i, int j, int k) { return std::int64_t(i + 3 * (j + 2 * k)); };
-    g.addCell(12, {id(0, 0, 0), id(1, 0, 0), id(1, 1, 0), id(0, 1, 0), id(0, 0, 1), id(1, 0, 1), id(1, 1, 1), id(0, 1, 1)});
+    g.addCell(12,
+              {id(0, 0, 0), id(1, 0, 0), id(1, 1, 0), id(0, 1, 0), id(0, 0, 1), id(1, 0, 1), id(1, 1, 1), id(0, 1, 1)});
     // Kuhn's six tetrahedra of the cube [1,2]x[0,1]x[0,1]: paths 000 -> 111 along the axes.
     const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
     for (const auto& p : perms) {
@@ -181,7 +182,8 @@ TEST(VtuLoader, SkipsFacesRefusesPolyhedraReadsVoxelsAndQuadratics) {
     auto bad = parseVtu(testing::writeVtu(p, VtuEncoding{}), "cubes.vtu");
     ASSERT_FALSE(bad);
     EXPECT_EQ(bad.error().code, ErrorCode::Unsupported);
-    EXPECT_NE(bad.error().message.find("cell 1 has VTK type 42 (polyhedron)"), std::string::npos) << bad.error().message;
+    EXPECT_NE(bad.error().message.find("cell 1 has VTK type 42 (polyhedron)"), std::string::npos)
+        << bad.error().message;
 }
 
 // Every error names the file; loading never crashes on a damaged file, and what loads
