@@ -760,6 +760,8 @@ Result<Model> VtuReader::run() {
         vm.cellTypes.push_back(ct);
         for (std::size_t k = 0; k < corners; ++k)
             vm.cellVertices.push_back(static_cast<std::uint32_t>(v[order ? order[k] : std::int64_t(k)]));
+        if (vm.cellVertices.size() >= std::numeric_limits<std::uint32_t>::max())
+            return fail("more cell vertices than 32-bit offsets can address");
         vm.cellOffsets.push_back(static_cast<std::uint32_t>(vm.cellVertices.size()));
         keptCells.push_back(static_cast<std::uint32_t>(c));
         begin = end;
