@@ -361,6 +361,17 @@ async function loadPlan() {
 }
 
 function renderLegend() {
+  // The section view's compact legend: colour, name, lithology and age of each unit.
+  const mini = $('legendMini');
+  mini.replaceChildren();
+  for (const r of S.model.legend || []) {
+    const li = document.createElement('li');
+    li.dataset.record = r.id;
+    li.innerHTML = '<span class="sw"></span><span></span>';
+    li.firstChild.style.background = r.colour;
+    li.lastChild.textContent = [r.name, r.lithology, r.age].filter(Boolean).join(' · ');
+    mini.append(li);
+  }
   const ul = $('legend');
   ul.replaceChildren();
   for (const r of S.model.legend || []) {
@@ -564,7 +575,7 @@ function clearAnswer(message = null) {
   if (marker) { marker.remove(); marker = null; }
   $('qmark3d').setAttribute('hidden', '');
   for (const d of document.querySelectorAll('.qdot')) d.remove();
-  for (const li of document.querySelectorAll('#legend li.hit')) li.classList.remove('hit');
+  for (const li of document.querySelectorAll('#legend li.hit, #legendMini li.hit')) li.classList.remove('hit');
   const box = $('answer');
   box.replaceChildren();
   const p = document.createElement('p');
@@ -611,8 +622,7 @@ function renderAnswer(j, where) {
     sw.className = 'sw';
     sw.style.background = r.colour || '#ccc';
     h.append(sw, document.createTextNode(r.name || `#${r.id}`));
-    const li = document.querySelector(`#legend li[data-record="${r.id}"]`);
-    if (li) li.classList.add('hit');
+    for (const li of document.querySelectorAll(`#legend li[data-record="${r.id}"], #legendMini li[data-record="${r.id}"]`)) li.classList.add('hit');
   } else h.textContent = t('noGeology');
   box.append(h);
   const dl = document.createElement('dl');
@@ -1135,6 +1145,7 @@ async function main() {
 // Test and benchmark hooks (tests/web, bench/web_bench.mjs): read-only views of the state
 // plus the same entry points the controls use.
 Object.assign(window.geoslice, {
+  V,
   setPoints: (pts) => { S.points = pts.map((p) => [p[0], p[1]]); drawPlanLine(); },
   cut: () => cut(),
   openSection,

@@ -247,6 +247,18 @@ const tests = {
         for (const s of ['Easting', 'Northing', 'Longitude', 'Latitude', 'Elevation', 'Distance along section', 'lithology']) check(text.includes(s), `answer lacks ${s}`);
         check(await page.locator('#answer').getAttribute('aria-live') === 'polite', 'answer is announced');
         check(await page.locator('#legend li.hit').count() === 1, 'legend entry highlighted');
+        check(await page.locator('#legendMini li.hit').count() === 1, 'on-screen legend entry highlighted');
+        // The page's own Gauss-Kruger inverse (it draws the lon/lat graticule) against the
+        // server's GeographicLib answer. Tolerance 1e-7 degrees (about 1 cm): far below a
+        // pixel of the plan; the n^4 Krüger series is good to well under a millimetre.
+        const d = await page.evaluate((w) => {
+          const gk = window.geoslice.V.gaussKruger(w.crs);
+          const [lon, lat] = window.geoslice.V.gkToLonLat(gk, w.x, w.y);
+          const [x, y] = window.geoslice.V.lonLatToGk(gk, w.geodetic.lon, w.geodetic.lat);
+          return [Math.abs(lon - w.geodetic.lon), Math.abs(lat - w.geodetic.lat), Math.hypot(x - w.x, y - w.y)];
+        }, ans.world);
+        console.log(`graticule Gauss-Kruger vs GeographicLib: |dlon| ${d[0].toExponential(1)} deg, |dlat| ${d[1].toExponential(1)} deg, round trip ${d[2].toExponential(1)} m`);
+        check(d[0] < 1e-7 && d[1] < 1e-7 && d[2] < 0.01, `graticule projection vs GeographicLib: ${d}`);
         await shot(page, 'phone-answer');
       }
     }
