@@ -393,6 +393,8 @@ function drawPlanLine() {
   planLine = L.layerGroup().addTo(planMap);
   if (!S.plan) return;
   const g = S.plan.grid, ll = (p) => [latOf(g, p[1]), lngOf(g, p[0])];
+  const [bmin, bmax] = [S.model.bounds.min, S.model.bounds.max];
+  L.rectangle([ll(bmin), ll(bmax)], { color: '#333', weight: 1.5, fill: false, dashArray: '2 4', interactive: false }).addTo(planLine);
   const pts = S.mode === 'line' ? S.points : [];
   if (pts.length) L.polyline(pts.map(ll), { color: '#e00', weight: 3 }).addTo(planLine);
   pts.forEach((p, i) => L.marker(ll(p), { icon: L.divIcon({ className: 'pt-label', html: V.letter(i), iconSize: null }),
@@ -1078,6 +1080,15 @@ async function main() {
   });
   planMap.on('click', (e) => { if (!planSwallow()) planClick(e); });
   sectionMap.on('click', (e) => { if (!secSwallow() && S.section) queryMap('section', sectionMap, S.section, e.latlng); });
+  // Keyboard: arrows pan (Leaflet), +/- zoom, Enter acts at the centre of the map as a tap would.
+  for (const [map, act] of [[planMap, (ll) => planClick({ latlng: ll })],
+                            [sectionMap, (ll) => S.section && queryMap('section', sectionMap, S.section, ll)]]) {
+    map.getContainer().addEventListener('keydown', (e) => {
+      if (e.key === 'Enter' && e.target === map.getContainer()) { e.preventDefault(); act(map.getCenter()); }
+    });
+  }
+  planMap.getContainer().setAttribute('aria-label', 'plan map');
+  sectionMap.getContainer().setAttribute('aria-label', 'section map');
   planMap.on('move zoom resize', drawPlanOverlay);
   sectionMap.on('move zoom resize', drawSectionOverlay);
   sectionMap.on('moveend', permalinkSoon);

@@ -264,6 +264,10 @@ const tests = {
     }
     console.log(`colour check: ${agree} taps named the colour under them (of ${tried} answered)`);
     check(agree >= 5, `only ${agree} taps checked`);
+    // Keyboard: Enter on the focused section map asks about its centre.
+    await page.locator('#sectionMap').focus();
+    await page.keyboard.press('Enter');
+    await page.waitForFunction(() => window.geoslice.S.answer && document.querySelector('#sectionMap .qmark'), null, { timeout: 10000 });
     // Long-press on the section: a virtual borehole as a strip log.
     await longPress(page, m.x + m.width * 0.5, m.y + m.height * 0.5);
     await page.waitForFunction(() => document.querySelector('#bhLog'), null, { timeout: 10000 });
@@ -346,6 +350,20 @@ const tests = {
     await settle(page);
     const off1 = Number(await page.locator('#plOffset').inputValue());
     check(off1 !== off0, `dragging the move handle moved the plane (${off0} -> ${off1})`);
+    // Pinch (two touch points moving apart) zooms the camera in.
+    const dist0 = await state(page, () => window.geoslice.S.three.dist);
+    const vb = await box(page, '#view3d');
+    const [px, py] = [vb.x + vb.width * 0.5, vb.y + vb.height * 0.85];
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x: px - 20, y: py, id: 1 }, { x: px + 20, y: py, id: 2 }] });
+    for (let i = 1; i <= 5; ++i) {
+      await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: px - 20 - 12 * i, y: py, id: 1 }, { x: px + 20 + 12 * i, y: py, id: 2 }] });
+      await page.waitForTimeout(50);
+    }
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+    const dist1 = await state(page, () => window.geoslice.S.three.dist);
+    check(dist1 < dist0 * 0.8, `pinch zoomed in: ${dist0} -> ${dist1}`);
+    await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+    await settle(page);
     const vw = (await box(page, '#view3d')).width;
     check(sizes.some((w) => w <= Math.ceil(vw / 3) + 1), `small frames while dragging: ${sizes}`);
     check(sizes.length && sizes[sizes.length - 1] >= vw, `full frame on release: ${sizes}`);
