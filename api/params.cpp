@@ -1,5 +1,6 @@
 #include "api/params.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -112,6 +113,21 @@ Result<bool> parseBool(std::string_view name, std::string_view text) {
     if (text == "1" || text == "true" || text == "yes") return true;
     if (text == "0" || text == "false" || text == "no") return false;
     return bad(name, text, "is not true/false or 1/0");
+}
+
+Status checkKnownParams(const Params& params, const std::vector<std::string_view>& known) {
+    std::string unknown;
+    int count = 0;
+    for (const auto& [name, value] : params) {
+        if (std::find(known.begin(), known.end(), std::string_view(name)) != known.end()) continue;
+        if (count++ < 8) unknown += (unknown.empty() ? "" : ", ") + api::quoted(name);
+    }
+    if (count == 0) return {};
+    std::string list;
+    for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+    return makeError(ErrorCode::InvalidArgument,
+                     std::string(count == 1 ? "unknown parameter " : "unknown parameters ") + unknown +
+                         (count > 8 ? " and more" : "") + "; known: " + list);
 }
 
 std::string formatNumber(double value) {

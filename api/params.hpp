@@ -39,6 +39,10 @@ Result<Rgba8> parseBackground(std::string_view name, std::string_view text);
 // "1", "true", "yes", "0", "false", "no".
 Result<bool> parseBool(std::string_view name, std::string_view text);
 
+// InvalidArgument naming every parameter of `params` that is not in `known`, so that a
+// misspelt parameter is an error instead of silently ignored.
+Status checkKnownParams(const Params& params, const std::vector<std::string_view>& known);
+
 // Shortest text that reads back to the same double (std::to_chars); -0 prints as 0.
 std::string formatNumber(double value);
 

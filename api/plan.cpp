@@ -84,6 +84,20 @@ std::string ViewPlan::canonical() const {
     return s;
 }
 
+const std::vector<std::string_view>& sectionParamNames() {
+    static const std::vector<std::string_view> names{"plane", "line", "elevation", "coords", "vx", "bg"};
+    return names;
+}
+
+const std::vector<std::string_view>& viewParamNames() {
+    static const std::vector<std::string_view> names = [] {
+        std::vector<std::string_view> n = sectionParamNames();
+        for (std::string_view v : {"view", "frame", "size", "eye", "target", "up", "fov"}) n.push_back(v);
+        return n;
+    }();
+    return names;
+}
+
 Result<SectionDef> parseSectionDef(const Params& params, const std::string& model, const Crs& crs) {
     SectionDef def;
     def.model = model;
@@ -106,15 +120,17 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
         // A normal that is already unit to rounding is kept bit for bit, so that the
         // canonical text is a fixed point: parsing it again gives the same text (stateless
         // section ids decode to the key they were made from; found by fuzz_request).
-        const double len = std::sqrt(v.value()[0] * v.value()[0] + v.value()[1] * v.value()[1] +
-                                     v.value()[2] * v.value()[2]);
+        const double len =
+            std::sqrt(v.value()[0] * v.value()[0] + v.value()[1] * v.value()[1] + v.value()[2] * v.value()[2]);
         if (std::abs(len - 1.0) <= 1e-15) {
             def.plane.normal = {v.value()[0], v.value()[1], v.value()[2]};
             def.plane.d = v.value()[3];
         }
+        if (auto s = checkCoordinate("parameter 'plane': offset d / |(a, b, c)|", def.plane.d); !s) return s.error();
     } else if (elevation) {
         auto z = parseNumber("elevation", *elevation);
         if (!z) return z.error();
+        if (auto s = checkCoordinate("parameter 'elevation'", z.value()); !s) return s.error();
         def.geometry = Geometry::Elevation;
         def.elevation = z.value();
         def.plane = horizontalPlane(z.value());
@@ -146,6 +162,11 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
                 if (!xy) return makeError(xy.error().code, "parameter 'line': " + xy.error().message);
                 p = xy.value();
             }
+            for (int k = 0; k < 2; ++k)
+                if (auto s = checkCoordinate(
+                        "parameter 'line': vertex " + std::to_string(def.line.size()) + (k == 0 ? " x" : " y"), p[k]);
+                    !s)
+                    return s.error();
             if (!def.line.empty() && glm::length(p - def.line.back()) < 1e-6)
                 return makeError(ErrorCode::InvalidArgument, "parameter 'line': vertices " +
                                                                  std::to_string(def.line.size() - 1) + " and " +
@@ -174,7 +195,7 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
     if (!def) return def.error();
     plan.section = std::move(def.value());
     if (const auto size = param(params, "size")) {
-        auto s = parseSize("size", *size, kMaxSide, kMaxPixels);
+        auto s = parseSize("size", *size, kMaxImageSide, static_cast<long long>(kMaxImagePixels));
         if (!s) return s.error();
         plan.width = s.value().width;
         plan.height = s.value().height;
@@ -189,6 +210,10 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
             if (!(r.u1 > r.u0) || !(r.v1 > r.v0))
                 return makeError(ErrorCode::InvalidArgument,
                                  "parameter 'frame': '" + std::string(*frame) + "' needs u0 < u1 and v0 < v1");
+            // The pixel size too, before any work (model/view_limits.hpp).
+            if (auto s = checkFrame(r, plan.width, plan.height); !s)
+                return makeError(s.error().code, "parameter 'frame' (with 'size' " + std::to_string(plan.width) + "x" +
+                                                     std::to_string(plan.height) + "): " + s.error().message);
             plan.frame = r;
         }
     } else if (*view == "perspective") {
@@ -210,15 +235,24 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
             cam.eye = eye.value();
             cam.target = target.value();
             cam.up = up.value();
-            if (glm::length(cam.target - cam.eye) < 1e-6)
-                return makeError(ErrorCode::InvalidArgument, "perspective view: 'eye' and 'target' coincide");
-            if (glm::length(glm::cross(cam.up, cam.target - cam.eye)) < 1e-9 * glm::length(cam.target - cam.eye))
+            for (int k = 0; k < 3; ++k) {
+                const char* axis[3] = {" x", " y", " z"};
+                if (auto s = checkCoordinate(std::string("parameter 'eye'") + axis[k], cam.eye[k]); !s)
+                    return s.error();
+                if (auto s = checkCoordinate(std::string("parameter 'target'") + axis[k], cam.target[k]); !s)
+                    return s.error();
+                if (auto s = checkCoordinate(std::string("parameter 'up'") + axis[k], cam.up[k]); !s) return s.error();
+            }
+            if (!(glm::length(cam.target - cam.eye) >= kMinCameraDistanceMetres))
                 return makeError(ErrorCode::InvalidArgument,
-                                 "perspective view: 'up' is zero or parallel to the view direction");
+                                 "perspective view: parameters 'eye' and 'target' are closer than 1 mm");
+            if (!(glm::length(glm::cross(glm::normalize(cam.up), glm::normalize(cam.target - cam.eye))) >= 1e-6))
+                return makeError(ErrorCode::InvalidArgument,
+                                 "perspective view: parameter 'up' is zero or parallel to the view direction");
             if (const auto fov = param(params, "fov")) {
                 auto f = parseNumber("fov", *fov);
                 if (!f) return f.error();
-                if (!(f.value() >= 1.0 && f.value() <= 170.0))
+                if (!(f.value() >= kMinFovDeg && f.value() <= kMaxFovDeg))
                     return makeError(ErrorCode::OutOfRange,
                                      "parameter 'fov': " + std::string(*fov) + " is outside 1..170 degrees");
                 cam.fovDeg = f.value();
@@ -305,12 +339,21 @@ Result<SectionDef> decodeSectionId(std::string_view sid, const std::function<con
         const std::size_t eq = item.find('=');
         if (eq == std::string_view::npos || eq == 0)
             return makeError(ErrorCode::InvalidArgument, "section id does not decode to a section definition");
-        params.emplace(std::string(item.substr(0, eq)), std::string(item.substr(eq + 1)));
+        if (!params.emplace(std::string(item.substr(0, eq)), std::string(item.substr(eq + 1))).second)
+            return makeError(ErrorCode::InvalidArgument,
+                             "section id: parameter '" + std::string(item.substr(0, std::min<std::size_t>(eq, 64))) +
+                                 "' is given more than once");
         if (amp == std::string_view::npos) break;
         rest.remove_prefix(amp + 1);
     }
     const auto model = param(params, "model");
     if (!model) return makeError(ErrorCode::InvalidArgument, "section id names no model");
+    {
+        std::vector<std::string_view> known = sectionParamNames();
+        known.push_back("model");
+        if (auto s = checkKnownParams(params, known); !s)
+            return makeError(s.error().code, "section id: " + s.error().message);
+    }
     const Crs* crs = crsOf(std::string(*model));
     if (!crs)
         return makeError(ErrorCode::NotFound,

@@ -31,13 +31,12 @@
 #include "model/crs.hpp"
 #include "model/model.hpp"
 #include "model/result.hpp"
+#include "model/view_limits.hpp"
 #include "section/plane.hpp"
 #include "section/raster.hpp"
 
 namespace geoslice::api {
 
-constexpr int kMaxSide = 8192;
-constexpr long long kMaxPixels = 1LL << 26;
 constexpr std::size_t kMaxLineVertices = 256;
 
 enum class Geometry { Plane, Line, Elevation };
@@ -71,6 +70,11 @@ struct ViewPlan {
 
     std::string canonical() const;  // the section's canonical text plus the view's fields
 };
+
+// The parameter names parseSectionDef and parseViewPlan read (routes add their own, e.g.
+// px/py or quality, and reject the rest with checkKnownParams).
+const std::vector<std::string_view>& sectionParamNames();
+const std::vector<std::string_view>& viewParamNames();
 
 // Parses the section fields of `params`. `crs` converts lon/lat lines (error when local).
 Result<SectionDef> parseSectionDef(const Params& params, const std::string& model, const Crs& crs);

@@ -11,6 +11,8 @@ const char* errorCodeName(ErrorCode code) {
         case ErrorCode::Unsupported: return "unsupported";
         case ErrorCode::OutOfRange: return "out_of_range";
         case ErrorCode::Internal: return "internal";
+        case ErrorCode::Unavailable: return "unavailable";
+        case ErrorCode::DeadlineExceeded: return "deadline_exceeded";
     }
     return "internal";
 }

@@ -18,6 +18,8 @@ enum class ErrorCode {
     Unsupported,      // a valid input that geoslice does not handle (yet)
     OutOfRange,       // a number outside what the operation accepts
     Internal,         // a dependency failed in a way we cannot attribute to the input
+    Unavailable,      // no capacity now (queue full, memory budget spent): retry later
+    DeadlineExceeded, // the work did not finish in time, or its caller is gone (cancelled)
 };
 
 const char* errorCodeName(ErrorCode code);

@@ -211,8 +211,8 @@ void SliceRenderer::releaseTarget() {
 
 Status SliceRenderer::checkSize(int width, int height) const {
     const GlContextInfo& info = context_.info();
-    int limitW = kMaxImageSize, limitH = kMaxImageSize;
-    std::string why = "geoslice's limit " + std::to_string(kMaxImageSize);
+    int limitW = kMaxImageSide, limitH = kMaxImageSide;
+    std::string why = "geoslice's limit " + std::to_string(kMaxImageSide);
     auto tighten = [&](int w, int h, const std::string& name) {
         if (w > 0 && w < limitW) limitW = w, why = name;
         if (h > 0 && h < limitH) limitH = h, why = name;
@@ -464,7 +464,9 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     Batch full;
     std::vector<Batch> pushed(kShiftBuckets + 1);
     std::vector<std::uint8_t> handled;  // per cluster of the part being drawn: in a group
+    auto cancelled = [&] { return request.cancel && request.cancel->load(std::memory_order_relaxed); };
     auto draw = [&](const GpuModel::DrawPart& p, float shiftSign, bool offsetBase) {
+        if (cancelled()) return;
         bool anySimplified = false;
         auto addSimplified = [&](std::size_t first, GLsizei count, float error) {
             // Bucket k holds pushes in (2^(k-9), 2^(k-8)] metres; bucket 0 everything below.
@@ -595,6 +597,8 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         if (auto s = drawTraces(request, model, planesLocalD, viewProj, image.traceSegments); !s) return s.error();
     gl.Finish();
     image.drawMs = msSince(t0);
+    if (cancelled())
+        return makeError(ErrorCode::DeadlineExceeded, "cancelled: the deadline passed or the client went away");
 
     const auto tAa = std::chrono::steady_clock::now();
     if (samples > 1) resolveMultisample(request.width, request.height);

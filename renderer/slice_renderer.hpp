@@ -34,12 +34,14 @@
 // vertex array, and disables depth, stencil, cull, polygon offset and clip distances.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <variant>
 #include <vector>
 
 #include "model/attributes.hpp"
 #include "model/result.hpp"
+#include "model/view_limits.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/gl_program.hpp"
 #include "renderer/gpu_model.hpp"
@@ -69,7 +71,7 @@ enum class PlaneCombine {
 };
 
 constexpr int kMaxPlanes = 6;
-constexpr int kMaxImageSize = 8192;  // per side; the device may allow less
+// Image sides: kMaxImageSide (model/view_limits.hpp); the device may allow less.
 
 struct SliceRequest {
     std::vector<WorldPlane> planes;  // world (a,b,c,d); normalised by render(); up to kMaxPlanes
@@ -106,6 +108,10 @@ struct SliceRequest {
     // (issue 4 item 8, shaders/slice.frag). false: one record per part, as without a bake
     // (same geometry: the bake's mesh).
     bool bakedIds = true;
+    // Cancellation (any thread may set it): read before every part's draw call, every
+    // pass and the read-back; when set, the draw calls left are skipped and render()
+    // returns DeadlineExceeded. A single draw call already submitted is not interrupted.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct SliceImage {
@@ -138,13 +144,16 @@ public:
     SliceRenderer(const SliceRenderer&) = delete;
     SliceRenderer& operator=(const SliceRenderer&) = delete;
 
-    // OutOfRange when a side is < 1 or beyond min(kMaxImageSize, GL_MAX_RENDERBUFFER_SIZE,
+    // OutOfRange when a side is < 1 or beyond min(kMaxImageSide, GL_MAX_RENDERBUFFER_SIZE,
     // GL_MAX_VIEWPORT_DIMS); the message names the limit that applies.
     Status checkSize(int width, int height) const;
     Result<SliceImage> render(const GpuModel& model, const SliceRequest& request);
     // Draws a small image with every program variant, so that the driver's shader JIT
     // (llvmpipe compiles on first draw) is not paid by the first real request.
     Status warmUp(const GpuModel& model);
+    // Deletes the render targets sized for the last image (render() makes them again):
+    // a worker calls it after a large image so as not to keep its memory. Context current.
+    void releaseTarget();
 
     // Program variants: index 0 clip-distance, 1 discard.
     static constexpr int kProgramCount = 2;
@@ -167,7 +176,6 @@ private:
                                      bool unionMode, const std::vector<glm::dvec4>& planesLocal,
                                      SliceImage& image) const;
     void runFxaa(int width, int height);
-    void releaseTarget();
 
     struct Uniforms {
         GLint viewProj = -1, planes = -1, planeCount = -1, unionMode = -1, faceRole = -1, record = -1, colour = -1,

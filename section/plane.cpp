@@ -1,7 +1,10 @@
 #include "section/plane.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+
+#include "model/view_limits.hpp"
 
 namespace geoslice {
 
@@ -12,14 +15,20 @@ Result<Plane> makePlane(double a, double b, double c, double d) {
         if (!std::isfinite(values[i]))
             return makeError(ErrorCode::InvalidArgument,
                              std::string("plane component ") + names[i] + " is not a finite number");
-    const double len = std::sqrt(a * a + b * b + c * c);
-    if (!(len > 1e-12))
-        return makeError(ErrorCode::InvalidArgument, "plane normal (a, b, c) = (" + std::to_string(a) + ", " +
-                                                         std::to_string(b) + ", " + std::to_string(c) +
-                                                         ") has zero length");
+    // Scaled by the largest component first, so that neither 1e308 nor 1e-300 overflows
+    // or underflows the length.
+    const double scale = std::max({std::abs(a), std::abs(b), std::abs(c)});
+    if (!(scale > 0.0))
+        return makeError(ErrorCode::InvalidArgument, "plane normal (a, b, c) = (" + limitNumber(a) + ", " +
+                                                         limitNumber(b) + ", " + limitNumber(c) + ") has zero length");
+    const glm::dvec3 n(a / scale, b / scale, c / scale);
+    const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
     Plane p;
-    p.normal = glm::dvec3(a, b, c) / len;
-    p.d = d / len;
+    p.normal = n / len;
+    p.d = d / scale / len;
+    if (!std::isfinite(p.d))
+        return makeError(ErrorCode::OutOfRange, "plane offset d / |(a, b, c)| = " + limitNumber(d) + " / " +
+                                                    limitNumber(scale) + " is not a finite number");
     return p;
 }
 

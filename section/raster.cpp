@@ -42,7 +42,10 @@ struct ScanScratch {
     std::vector<double> xs;
 };
 
-void fillRegionIds(const FillRegion& region, const ToPixel& toPx, int W, int H, std::uint32_t* ids, ScanScratch& s) {
+bool isSet(const std::atomic<bool>* cancel) { return cancel && cancel->load(std::memory_order_relaxed); }
+
+void fillRegionIds(const FillRegion& region, const ToPixel& toPx, int W, int H, std::uint32_t* ids, ScanScratch& s,
+                   const std::atomic<bool>* cancel) {
     s.px.clear();
     for (const auto& e : region.edges) {
         glm::dvec2 a = toPx(e[0]), b = toPx(e[1]);
@@ -72,6 +75,7 @@ void fillRegionIds(const FillRegion& region, const ToPixel& toPx, int W, int H, 
         for (int j = j0; j < j1; ++j) s.xs[fill[static_cast<std::size_t>(j)]++] = e[0].x + (j + 0.5 - e[0].y) * dxdy;
     }
     for (int j = 0; j < H; ++j) {
+        if ((j & 63) == 0 && isSet(cancel)) return;
         double* x = s.xs.data() + s.rowStart[static_cast<std::size_t>(j)];
         const std::size_t n = s.rowStart[static_cast<std::size_t>(j) + 1] - s.rowStart[static_cast<std::size_t>(j)];
         if (n == 0) continue;
@@ -112,7 +116,15 @@ struct ColourRaster {
             std::swap(a, b);
             dir = -1.0f;
         }
-        if (a.y == b.y || b.y <= 0.0 || a.y >= H) return;
+        if (!(a.y < b.y) || b.y <= 0.0 || a.y >= H) return;  // also NaN
+        // Clip to rows 0..H in double, from the canonical endpoints (so shared edges still
+        // split identically): the float pieces then hold image-sized numbers only.
+        if (a.y < 0.0 || b.y > H) {
+            const glm::dvec2 a0 = a, d = b - a;
+            if (a.y < 0.0) a = {a0.x + d.x * ((0.0 - a0.y) / d.y), 0.0};
+            if (b.y > H) b = {a0.x + d.x * ((H - a0.y) / d.y), double(H)};
+            if (!(a.y < b.y)) return;
+        }
         const double fw = W;
         double ts[4] = {0.0, 1.0, 1.0, 1.0};
         int n = 1;
@@ -243,7 +255,7 @@ struct ColourRaster {
         return v;
     }
 
-    void run(const Rgba8& background, std::uint8_t* rgba) {
+    void run(const Rgba8& background, std::uint8_t* rgba, const std::atomic<bool>* cancel) {
         rowStart.assign(static_cast<std::size_t>(H) + 1, 0);
         auto firstRow = [&](const Piece& p) { return std::max(0, static_cast<int>(std::floor(p.y0))); };
         for (const Piece& p : pieces) ++rowStart[static_cast<std::size_t>(std::min(firstRow(p), H - 1)) + 1];
@@ -259,6 +271,7 @@ struct ColourRaster {
         const Float4 bg = premultiplied(background);
         std::vector<std::uint32_t> active;
         for (int y = 0; y < H; ++y) {
+            if (isSet(cancel)) return;
             for (std::uint32_t k = rowStart[static_cast<std::size_t>(y)]; k < rowStart[static_cast<std::size_t>(y) + 1];
                  ++k)
                 active.push_back(order[k]);
@@ -281,9 +294,33 @@ struct ColourRaster {
 // ---- traces: anti-aliased lines over the colour image ------------------------------------
 
 void drawLine(const FillLine& line, const ToPixel& toPx, float width, int W, int H, std::vector<std::uint8_t>& cov,
-              std::vector<std::uint32_t>& touched) {
+              std::vector<std::uint32_t>& touched, const std::atomic<bool>* cancel) {
     const double hw = 0.5 * width;
     auto segment = [&](glm::dvec2 p, glm::dvec2 q) {
+        // Clip to the image grown by the line's reach (Liang-Barsky): pixels of the image
+        // see the same distances, and every loop below is bounded by the image size, not
+        // by the segment's length in pixels (which a tiny frame makes astronomical).
+        {
+            const double pad = hw + 2.0;
+            const double lo[2] = {-pad, -pad}, hi[2] = {W + pad, H + pad};
+            double t0 = 0.0, t1 = 1.0;
+            const glm::dvec2 dd = q - p;
+            for (int k = 0; k < 2; ++k) {
+                if (!std::isfinite(p[k]) || !std::isfinite(q[k])) return;
+                if (dd[k] == 0.0) {
+                    if (p[k] < lo[k] || p[k] > hi[k]) return;
+                    continue;
+                }
+                double ta = (lo[k] - p[k]) / dd[k], tb = (hi[k] - p[k]) / dd[k];
+                if (ta > tb) std::swap(ta, tb);
+                t0 = std::max(t0, ta);
+                t1 = std::min(t1, tb);
+            }
+            if (!(t0 <= t1)) return;
+            const glm::dvec2 p0 = p + t0 * dd, q0 = p + t1 * dd;
+            p = p0;
+            q = q0;
+        }
         const glm::dvec2 d = q - p;
         const double len2 = glm::dot(d, d);
         const bool xMajor = std::abs(d.x) >= std::abs(d.y);
@@ -307,21 +344,29 @@ void drawLine(const FillLine& line, const ToPixel& toPx, float width, int W, int
         const double lo = std::max(std::min(p[a], q[a]) - reach, 0.0),
                      hi = std::min(std::max(p[a], q[a]) + reach, double(lim));
         const double slope = d[a] != 0.0 ? d[b] / d[a] : 0.0;
+        if (!(hi > lo)) return;
         for (int m = static_cast<int>(std::floor(lo)); m < static_cast<int>(std::ceil(hi)); ++m) {
             double t = m + 0.5;
             t = std::clamp(t, std::min(p[a], q[a]), std::max(p[a], q[a]));
             const double centre = p[b] + (t - p[a]) * slope;
             const double span = reach * std::sqrt(1.0 + slope * slope);
-            for (int n = static_cast<int>(std::floor(centre - span)); n <= static_cast<int>(std::ceil(centre + span));
-                 ++n)
-                xMajor ? plot(m, n) : plot(n, m);
+            const int limMinor = xMajor ? H : W;
+            const int n0 = static_cast<int>(std::clamp(std::floor(centre - span), -1.0, double(limMinor)));
+            const int n1 = static_cast<int>(std::clamp(std::ceil(centre + span), -1.0, double(limMinor)));
+            for (int n = n0; n <= n1; ++n) xMajor ? plot(m, n) : plot(n, m);
         }
     };
     const auto& pts = line.points;
     if (line.pairs) {
-        for (std::size_t i = 0; i + 1 < pts.size(); i += 2) segment(toPx(pts[i]), toPx(pts[i + 1]));
+        for (std::size_t i = 0; i + 1 < pts.size(); i += 2) {
+            if ((i & 255) == 0 && isSet(cancel)) return;
+            segment(toPx(pts[i]), toPx(pts[i + 1]));
+        }
     } else {
-        for (std::size_t i = 0; i + 1 < pts.size(); ++i) segment(toPx(pts[i]), toPx(pts[i + 1]));
+        for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+            if ((i & 255) == 0 && isSet(cancel)) return;
+            segment(toPx(pts[i]), toPx(pts[i + 1]));
+        }
         if (line.closed && pts.size() > 2) segment(toPx(pts.back()), toPx(pts.front()));
     }
 }
@@ -353,16 +398,17 @@ double msSince(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 Status checkFrame(const FrameRect& rect, int width, int height) {
-    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide ||
-        std::size_t(width) * std::size_t(height) > kMaxImagePixels)
-        return makeError(ErrorCode::OutOfRange, "image size " + std::to_string(width) + "x" + std::to_string(height) +
-                                                    " is outside 1..16384 per side or above 67108864 pixels");
-    if (!std::isfinite(rect.u0) || !std::isfinite(rect.u1) || !std::isfinite(rect.v0) || !std::isfinite(rect.v1))
-        return makeError(ErrorCode::InvalidArgument, "frame rectangle has a non-finite coordinate");
+    if (Status s = checkImageSize("image size", width, height); !s) return s;
+    const double c[4] = {rect.u0, rect.u1, rect.v0, rect.v1};
+    const char* names[4] = {"u0", "u1", "v0", "v1"};
+    for (int i = 0; i < 4; ++i)
+        if (Status s = checkCoordinate(std::string("frame ") + names[i], c[i]); !s) return s;
     if (!(rect.u1 > rect.u0) || !(rect.v1 > rect.v0))
-        return makeError(ErrorCode::InvalidArgument, "frame rectangle is empty: u " + std::to_string(rect.u0) + ".." +
-                                                         std::to_string(rect.u1) + ", v " + std::to_string(rect.v0) +
-                                                         ".." + std::to_string(rect.v1));
+        return makeError(ErrorCode::InvalidArgument, "frame rectangle is empty: u " + limitNumber(rect.u0) + ".." +
+                                                         limitNumber(rect.u1) + ", v " + limitNumber(rect.v0) + ".." +
+                                                         limitNumber(rect.v1) + " (needs u0 < u1 and v0 < v1)");
+    if (Status s = checkPixelSize("frame u0..u1", rect.u0, rect.u1, width); !s) return s;
+    if (Status s = checkPixelSize("frame v0..v1", rect.v0, rect.v1, height); !s) return s;
     return {};
 }
 
@@ -380,7 +426,10 @@ Status rasterize(const FillRegion* regions, std::size_t regionCount, const FillL
         std::stable_sort(order.begin(), order.end(),
                          [&](std::uint32_t a, std::uint32_t b) { return regions[a].depth < regions[b].depth; });
         ScanScratch scratch;
-        for (std::uint32_t r : order) fillRegionIds(regions[r], toPx, W, H, out.ids.data(), scratch);
+        for (std::uint32_t r : order) {
+            fillRegionIds(regions[r], toPx, W, H, out.ids.data(), scratch, options.cancel);
+            if (Status s = checkCancel(options.cancel); !s) return s;
+        }
     } else {
         out.ids.clear();
     }
@@ -393,13 +442,15 @@ Status rasterize(const FillRegion* regions, std::size_t regionCount, const FillL
             for (const auto& e : regions[r].edges) cr.addEdge(toPx(e[0]), toPx(e[1]), c);
         }
         out.rgba.resize(pixels * 4);
-        cr.run(options.background, out.rgba.data());
+        cr.run(options.background, out.rgba.data(), options.cancel);
+        if (Status s = checkCancel(options.cancel); !s) return s;
         if (options.traces && lineCount > 0) {
             std::vector<std::uint8_t> cov(pixels, 0);
             std::vector<std::uint32_t> touched;
             const float w = std::clamp(options.traceWidthPx, 1.0f, 4.0f);
             for (std::size_t l = 0; l < lineCount; ++l) {
-                drawLine(lines[l], toPx, w, W, H, cov, touched);
+                if (Status s = checkCancel(options.cancel); !s) return s;
+                drawLine(lines[l], toPx, w, W, H, cov, touched, options.cancel);
                 blendLine(lines[l].colour, cov, touched, out.rgba.data());
             }
         }
@@ -495,6 +546,7 @@ Result<SectionImage> renderTile(const SectionIndex& index, const Plane& plane, c
     strip.v1 = rect.v1;
     CutStats cs;
     cutWithBvh(index, &strip, cut, 1, &cs);
+    if (Status s = checkCancel(options.cancel); !s) return s.error();
     auto t2 = std::chrono::steady_clock::now();
 
     // Regions from raw segments: a body's own (interior on the left) plus its directly

@@ -25,10 +25,12 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
 #include "model/result.hpp"
+#include "model/view_limits.hpp"
 #include "section/contours.hpp"
 #include "section/section_index.hpp"
 
@@ -71,7 +73,18 @@ struct RasterOptions {
     bool ids = true;
     bool traces = true;
     float traceWidthPx = 1.5f;  // 1..4
+    // Cancellation: read (relaxed) at least once per image row and per region, so a fill
+    // stops within a few milliseconds of it turning true and returns DeadlineExceeded.
+    // Any thread may set it; nullptr = never cancelled.
+    const std::atomic<bool>* cancel = nullptr;
 };
+
+// DeadlineExceeded "cancelled" when `cancel` is set (for callers between stages of work).
+inline Status checkCancel(const std::atomic<bool>* cancel) {
+    if (cancel && cancel->load(std::memory_order_relaxed))
+        return makeError(ErrorCode::DeadlineExceeded, "cancelled: the deadline passed or the client went away");
+    return {};
+}
 
 // Raster input: a region with edges oriented so that its inside has winding +1
 // (counter-clockwise outers, clockwise holes); any orientation is fine for the ID buffer.
@@ -88,11 +101,10 @@ struct FillLine {
     bool pairs = false;              // independent segments (p0, p1), (p2, p3)... instead of a polyline
 };
 
-constexpr int kMaxImageSide = 16384;
-constexpr std::size_t kMaxImagePixels = std::size_t(1) << 26;
-
-// Checks a frame: size 1..kMaxImageSide per side and at most kMaxImagePixels, a finite
-// rectangle with u1 > u0 and v1 > v0. Errors: OutOfRange / InvalidArgument naming the value.
+// Checks a frame against model/view_limits.hpp before any work: size 1..kMaxImageSide
+// per side and at most kMaxImagePixels, a finite rectangle within kMaxCoordinateMetres
+// with u1 > u0 and v1 > v0, and pixels of at least kMinPixelMetres (and kMinPixelUlps
+// double steps) along both axes. Errors: OutOfRange / InvalidArgument naming the value.
 Status checkFrame(const FrameRect& rect, int width, int height);
 
 // The core fill. `out` is resized; buffers not requested by options are left empty.

@@ -66,8 +66,8 @@ TEST(Limits, SizesBeyondTheDeviceFailClearly) {
     auto renderer = SliceRenderer::create(*ctx);
     ASSERT_TRUE(renderer.ok());
     EXPECT_TRUE((*renderer)->checkSize(1, 1).ok());
-    EXPECT_TRUE((*renderer)->checkSize(kMaxImageSize, 16).ok());
-    for (auto [w, h] : {std::pair{kMaxImageSize + 1, 16}, std::pair{16, 100000}, std::pair{0, 16}, std::pair{16, -3}}) {
+    EXPECT_TRUE((*renderer)->checkSize(kMaxImageSide, 16).ok());
+    for (auto [w, h] : {std::pair{kMaxImageSide + 1, 16}, std::pair{16, 100000}, std::pair{0, 16}, std::pair{16, -3}}) {
         Status s = (*renderer)->checkSize(w, h);
         ASSERT_FALSE(s.ok()) << w << "x" << h;
         EXPECT_EQ(s.error().code, ErrorCode::OutOfRange);
@@ -79,7 +79,7 @@ TEST(Limits, SizesBeyondTheDeviceFailClearly) {
     auto gpu = GpuModel::upload(*ctx, m);
     ASSERT_TRUE(gpu.ok());
     SliceRequest req;
-    req.width = kMaxImageSize + 1;
+    req.width = kMaxImageSide + 1;
     req.height = 8;
     auto img = (*renderer)->render(**gpu, req);
     ASSERT_FALSE(img.ok());

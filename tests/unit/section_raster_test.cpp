@@ -2,6 +2,7 @@
 // tiles, bad sizes, and the ID buffer against the Embree oracle on random planes.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -123,6 +124,44 @@ TEST(SectionRaster, BadSizesAndRectanglesAreErrors) {
     EXPECT_FALSE(rasterizeSection(*idx, s.value(), FrameRect{0, 0, 0, 1}, 10, 10).ok());
     EXPECT_FALSE(rasterizeSection(*idx, s.value(), FrameRect{0, 0, NAN, 1}, 10, 10).ok());
     EXPECT_FALSE(renderTile(*idx, Plane{{0, 0, 1}, -100}, r, 10, 10).ok());
+}
+
+// Issue 11 item 1: a frame a billionth of a metre wide overflowed the pixel scale (NaN
+// into integer casts) or spun in the trace drawing. Such frames are refused by their pixel
+// size (model/view_limits.hpp), and a trace whose ends lie 1e14 pixels outside the image
+// is drawn in time bounded by the image size.
+TEST(SectionRaster, TinyFramesAreRefusedAndTracesAreBoundedByPixels) {
+    Model m = modelOf({makePart("box", PartKind::Body, 1, boxMesh({0, 0, 0}, {10, 10, 10}))});
+    auto idx = indexFor(m);
+    auto s = computeSection(*idx, horizontalPlane(5));
+    ASSERT_TRUE(s.ok());
+    for (const FrameRect& r :
+         {FrameRect{0, 0, 1e-300, 1e-300}, FrameRect{0, 0, 1e-100, 1e-100}, FrameRect{-100, 1e-7, 100, 2e-7},
+          FrameRect{0, 0, 1e-9, 1}, FrameRect{-2e8, 0, 0, 1}, FrameRect{1e7, 0, 1e7 + 1e-4, 1}}) {
+        auto img = rasterizeSection(*idx, s.value(), r, 256, 128);
+        ASSERT_FALSE(img.ok()) << r.u0 << " " << r.u1;
+        EXPECT_EQ(img.error().code, ErrorCode::OutOfRange);
+        EXPECT_NE(img.error().message.find("frame"), std::string::npos) << img.error().message;
+    }
+    // Pixels of 1.5e-6 m: a diagonal trace from (-1e8, -1e8) to (1e8, 1e8) m crosses the image.
+    FillLine line;
+    line.colour = Rgba8{255, 0, 0, 255};
+    line.points = {{-1e8, -1e8}, {1e8, 1e8}};
+    PixelFrame frame;
+    frame.section = s->frame;
+    frame.rect = FrameRect{0.0, 0.0, 256 * 1.5e-6, 128 * 1.5e-6};
+    frame.width = 256;
+    frame.height = 128;
+    SectionImage out;
+    RasterOptions ro;
+    const auto t0 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(rasterize(nullptr, 0, &line, 1, frame, ro, out).ok());
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_LT(ms, 1000.0);  // was minutes (a loop from INT_MIN); bounded by 256 x 128 pixels now
+    // The line v = u passes through pixel centres (i + 0.5, 127.5 - i): red there.
+    std::size_t red = 0;
+    for (int i = 0; i < 128; ++i) red += out.rgba[4 * (std::size_t(127 - i) * 256 + std::size_t(i))] > 200;
+    EXPECT_EQ(red, 128u);
 }
 
 TEST(SectionRaster, IdBufferEqualsTheOracle) {

@@ -1,0 +1,76 @@
+// What one view (an image, a tile, a 3D view) may ask for, in one place. Every entry
+// point (HTTP parameters, the CLI, the section engine and the renderer) checks a view
+// against these before any work, and every raster loop is bounded by the pixel counts
+// they allow, never by a ratio of user numbers. Pure constants and functions, any thread.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+#include "model/result.hpp"
+
+namespace geoslice {
+
+// Image size, pixels: each side 1..kMaxImageSide, at most kMaxImagePixels in all.
+constexpr int kMaxImageSide = 8192;
+constexpr std::size_t kMaxImagePixels = std::size_t(1) << 26;
+// The smallest pixel along either frame axis, metres. A pixel must also span at least
+// kMinPixelUlps steps of a double at the frame's coordinates, so that every pixel centre
+// has its own coordinate (a frame 1e-300 m wide overflows the pixel scale to infinity).
+constexpr double kMinPixelMetres = 1e-6;
+constexpr double kMinPixelUlps = 64.0;
+// The largest |coordinate| of a frame (plane u/v, chainage, elevation), a camera point, a
+// plane offset, an elevation or a line vertex, metres: beyond any real model (Gauss-Kruger
+// eastings with a zone prefix reach 4.6e7 m).
+constexpr double kMaxCoordinateMetres = 1e8;
+// Perspective cameras: eye-to-target distance and vertical field of view.
+constexpr double kMinCameraDistanceMetres = 1e-3;
+constexpr double kMinFovDeg = 1.0, kMaxFovDeg = 170.0;
+
+// A number as %.6g, for messages (std::to_string prints 1e-300 as 0.000000).
+inline std::string limitNumber(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+// OutOfRange naming `what` unless 1 <= width, height <= kMaxImageSide and
+// width x height <= kMaxImagePixels.
+inline Status checkImageSize(const std::string& what, long long width, long long height) {
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide ||
+        static_cast<unsigned long long>(width) * static_cast<unsigned long long>(height) > kMaxImagePixels)
+        return makeError(ErrorCode::OutOfRange, what + ": " + std::to_string(width) + "x" + std::to_string(height) +
+                                                    " is outside 1.." + std::to_string(kMaxImageSide) +
+                                                    " per side or above " + std::to_string(kMaxImagePixels) +
+                                                    " pixels");
+    return {};
+}
+
+// OutOfRange naming `what` unless `v` is finite and |v| <= kMaxCoordinateMetres.
+inline Status checkCoordinate(const std::string& what, double v) {
+    if (!std::isfinite(v) || std::abs(v) > kMaxCoordinateMetres)
+        return makeError(ErrorCode::OutOfRange,
+                         what + ": " + limitNumber(v) + " is not a finite coordinate within " + "+-1e8 m");
+    return {};
+}
+
+// OutOfRange naming `what` unless an axis from `lo` to `hi` metres over `pixels` pixels
+// gives pixels of at least kMinPixelMetres and kMinPixelUlps double steps (lo < hi, both
+// finite and within kMaxCoordinateMetres, are checked by the caller).
+inline Status checkPixelSize(const std::string& what, double lo, double hi, int pixels) {
+    const double pixel = (hi - lo) / double(pixels);
+    const double magnitude = std::max(std::abs(lo), std::abs(hi));
+    const double ulp = std::nextafter(magnitude, INFINITY) - magnitude;
+    if (!(pixel >= kMinPixelMetres) || !(pixel >= kMinPixelUlps * ulp))
+        return makeError(ErrorCode::OutOfRange,
+                         what + ": " + limitNumber(hi - lo) + " m over " + std::to_string(pixels) +
+                             " pixels gives pixels of " + limitNumber(pixel) +
+                             " m, below the smallest allowed pixel of 1e-6 m (or 64 steps of a double at this "
+                             "coordinate)");
+    return {};
+}
+
+}  // namespace geoslice
