@@ -225,7 +225,7 @@ Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir
         if (!entry.is_regular_file(e2)) continue;
         std::string ext = p.extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-        if (ext != ".glb" && ext != ".gltf" && ext != ".obj" && ext != ".ts" && ext != ".xml") continue;
+        if (ext != ".glb" && ext != ".gltf" && ext != ".obj" && ext != ".ts" && ext != ".xml" && ext != ".vtu") continue;
         const std::string stem = p.stem().string();
         if (stem.size() > 11 && stem.ends_with(".attributes")) continue;
         if (!isValidModelId(stem)) continue;

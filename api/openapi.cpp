@@ -71,6 +71,7 @@ J concat(J a, const J& b) {
 const std::vector<RouteSpec>& apiRoutes() {
     static const std::vector<RouteSpec> routes = {
         {"GET", "/"},
+        {"GET", "/web/{asset}"},
         {"GET", "/healthz"},
         {"GET", "/readyz"},
         {"GET", "/metrics"},
@@ -100,8 +101,14 @@ J openApiDocument(const std::string& serverVersion) {
     auto get = [&](const std::string& path, J operation) { paths[path]["get"] = std::move(operation); };
     auto post = [&](const std::string& path, J operation) { paths[path]["post"] = std::move(operation); };
 
-    get("/", op("the thin web client: a section as Leaflet tiles; a click queries the geology", J::array(),
-                J{{"description", "HTML"}, {"content", {{"text/html", J::object()}}}}));
+    get("/",
+        op("the thin web client: plan map, sections as tiles, 3D view with a draggable plane, pixel queries, boreholes",
+           J::array(), J{{"description", "HTML"}, {"content", {{"text/html", J::object()}}}}));
+    get("/web/{asset}",
+        op("the web client's scripts, styles and images (Leaflet from Debian's libjs-leaflet)",
+           J::array({pathParam("asset", "asset path, e.g. app.js or leaflet/leaflet.css")}),
+           J{{"description", "the asset; ETag, Cache-Control"},
+             {"content", {{"text/javascript", J::object()}, {"text/css", J::object()}, {"image/png", J::object()}}}}));
     get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok")));
     get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found)", J::array(),
                       jsonResponse("ready; 503 while loading")));

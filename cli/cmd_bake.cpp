@@ -26,6 +26,7 @@ struct BakeArgs {
     std::uint32_t maxChart = bake::ChartOptions{}.maxTriangles;
     double angle = bake::ChartOptions{}.maxDihedralDegrees;
     unsigned threads = 0;
+    LoadOptions load;
 };
 
 // Progress on stderr: a redrawn bar on a terminal; otherwise one line per stage and per 25 %.
@@ -56,7 +57,7 @@ private:
 };
 
 int runBake(const BakeArgs& a) {
-    auto model = loadModel(a.model);
+    auto model = loadModel(a.model, a.load);
     if (!model) {
         std::fprintf(stderr, "geoslice bake: %s\n", model.error().message.c_str());
         return 1;
@@ -137,7 +138,8 @@ void addBake(CLI::App& app, int& exitCode) {
     auto a = std::make_shared<BakeArgs>();
     CLI::App* cmd = app.add_subcommand(
         "bake", "Bake the attribute-indexed texture (charts, LSCM, packing, R32UI record ids) and write the package");
-    cmd->add_option("MODEL", a->model, "Model file (glTF/GLB, OBJ, TSurf, Geo3DML)")->required();
+    cmd->add_option("MODEL", a->model, "Model file (glTF/GLB, OBJ, TSurf, Geo3DML, .vtu)")->required();
+    addLoadOptions(cmd, a->load);
     cmd->add_option("--attributes", a->attributes, "Attribute table (.csv or .json) merged over the model's records");
     cmd->add_option("--field", a->field,
                     "Field from a block model CSV (x,y,z,dx,dy,dz,value: centres and sizes in world metres): texels "

@@ -36,12 +36,14 @@ void addBorehole(CLI::App& app, int& exitCode) {
         std::string model, from, dir;
         double x = NAN, y = NAN, length = INFINITY;
         bool json = false;
+        LoadOptions load;
     };
     auto o = std::make_shared<Opts>();
     CLI::App* cmd = app.add_subcommand(
         "borehole",
         "Virtual borehole: the intervals (depth, elevation, record, attributes) along a vertical hole or a ray");
     cmd->add_option("MODEL", o->model, "Model file")->required();
+    addLoadOptions(cmd, o->load);
     auto* xOpt = cmd->add_option("--x", o->x, "Easting of a vertical hole (world metres)");
     auto* yOpt = cmd->add_option("--y", o->y, "Northing of a vertical hole (world metres)");
     auto* fromOpt = cmd->add_option("--from", o->from, "Ray origin x,y,z (world metres) instead of --x/--y");
@@ -65,7 +67,7 @@ void addBorehole(CLI::App& app, int& exitCode) {
             if (!parse3(o->from, from)) return fail("--from \"" + o->from + "\" is not x,y,z (three numbers)", 2);
             if (!parse3(o->dir, dir)) return fail("--dir \"" + o->dir + "\" is not dx,dy,dz (three numbers)", 2);
         }
-        auto model = loadModel(o->model);
+        auto model = loadModel(o->model, o->load);
         if (!model) return fail(model.error().message, 1);
         if (model->validation.hasErrors())
             std::fprintf(stderr, "geoslice borehole: warning: %s has validation errors; open bodies are skipped\n",

@@ -33,13 +33,15 @@ bool parsePoint(const std::string& line, glm::dvec3& p) {
 void addClassify(CLI::App& app, int& exitCode) {
     auto path = std::make_shared<std::string>();
     auto threads = std::make_shared<unsigned>(0);
+    auto load = std::make_shared<LoadOptions>();
     CLI::App* cmd = app.add_subcommand(
         "classify", "Print the record id of the innermost body containing each point read from stdin ('x y z' per line, "
                     "world coordinates: easting northing elevation, metres); 0 = no body, * = unreadable line");
     cmd->add_option("MODEL", *path, "Model file")->required();
     cmd->add_option("--threads", *threads, "Worker threads (default: all cores)");
-    cmd->callback([path, threads, &exitCode] {
-        auto model = loadModel(*path);
+    addLoadOptions(cmd, *load);
+    cmd->callback([path, threads, load, &exitCode] {
+        auto model = loadModel(*path, *load);
         if (!model) {
             std::fprintf(stderr, "geoslice classify: %s\n", model.error().message.c_str());
             exitCode = 1;

@@ -116,13 +116,15 @@ void printText(const json& j) {
 void addInfo(CLI::App& app, int& exitCode) {
     auto files = std::make_shared<std::vector<std::string>>();
     auto asJson = std::make_shared<bool>(false);
+    auto load = std::make_shared<LoadOptions>();
     CLI::App* cmd = app.add_subcommand("info", "Describe and validate model files");
-    cmd->add_option("FILE", *files, "Model files (.glb .gltf .obj .ts Geo3DML .xml)")->required();
+    cmd->add_option("FILE", *files, "Model files (.glb .gltf .obj .ts .vtu Geo3DML .xml)")->required();
     cmd->add_flag("--json", *asJson, "One JSON document (an array when several files are given)");
-    cmd->callback([files, asJson, &exitCode] {
+    addLoadOptions(cmd, *load);
+    cmd->callback([files, asJson, load, &exitCode] {
         json all = json::array();
         for (const auto& f : *files) {
-            auto m = loadModel(f);
+            auto m = loadModel(f, *load);
             if (!m) {
                 std::fprintf(stderr, "geoslice info: %s\n", m.error().message.c_str());
                 all.push_back({{"file", f}, {"ok", false}, {"error", {{"code", errorCodeName(m.error().code)}, {"message", m.error().message}}}});

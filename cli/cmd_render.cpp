@@ -54,6 +54,7 @@ struct RenderArgs {
     bool unionMode = false, profile = false;
     double fov = 45.0;
     int device = -1;
+    LoadOptions load;
     int quality = -1;  // JPEG/WebP quality; -1 = the encoder's default
     bool lossless = false;
     double exaggeration = 1.0, pivot = 0.0;
@@ -122,7 +123,7 @@ int run(const RenderArgs& a) {
     if (!a.ids.empty() && !a.ids.ends_with(".pgm") && !a.ids.ends_with(".png"))
         return fail("--ids " + a.ids + ": expected a .png or .pgm path (16-bit record ids)");
 
-    auto model = loadModel(a.model);
+    auto model = loadModel(a.model, a.load);
     if (!model) return fail(model.error().message);
     const bool perspective = !a.eye.empty();
     if (perspective) {
@@ -198,6 +199,7 @@ void addRender(CLI::App& app, int& exitCode) {
     CLI::App* cmd = app.add_subcommand(
         "render", "Render a cut of a model on a headless GL context (JPEG/PNG/WebP colour, 16-bit PNG/PGM ids)");
     cmd->add_option("MODEL", a->model, "Model file")->required();
+    addLoadOptions(cmd, a->load);
     cmd->add_option("--plane", a->planes,
                     "Cut plane a,b,c,d in world coordinates (repeat up to 6); kept where ax+by+cz+d >= 0");
     cmd->add_flag("--union", a->unionMode, "Keep the union of the planes' positive sides (cut a box or wedge out)");

@@ -23,11 +23,13 @@ void addReserves(CLI::App& app, int& exitCode) {
     struct Opts {
         std::string model, plane;
         bool json = false;
+        LoadOptions load;
     };
     auto o = std::make_shared<Opts>();
     CLI::App* cmd = app.add_subcommand(
         "reserves", "Volume, tonnage and metal of every closed body, whole or on the kept side of a plane");
     cmd->add_option("MODEL", o->model, "Model file")->required();
+    addLoadOptions(cmd, o->load);
     cmd->add_option("--plane", o->plane, "Plane a,b,c,d (world metres): count only what lies where a*x+b*y+c*z+d >= 0");
     cmd->add_flag("--json", o->json, "Print JSON instead of a table");
     cmd->callback([o, &exitCode] {
@@ -41,7 +43,7 @@ void addReserves(CLI::App& app, int& exitCode) {
             if (!p) return fail(p.error().message, 2);
             plane = p.value();
         }
-        auto model = loadModel(o->model);
+        auto model = loadModel(o->model, o->load);
         if (!model) return fail(model.error().message, 1);
         const Model& m = model.value();
         auto r = computeReserves(m, plane);

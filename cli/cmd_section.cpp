@@ -104,11 +104,13 @@ void addSection(CLI::App& app, int& exitCode) {
         double elevation = NAN;
         bool areas = false;
         unsigned threads = 1;
+        LoadOptions load;
     };
     auto o = std::make_shared<Opts>();
     CLI::App* cmd = app.add_subcommand(
         "section", "Exact section of a model by a plane or along a map polyline (CPU): images, vectors and areas");
     cmd->add_option("MODEL", o->model, "Model file")->required();
+    addLoadOptions(cmd, o->load);
     auto* planeOpt = cmd->add_option("--plane", o->plane,
                                      "Plane a,b,c,d in world coordinates (x east, y north, z up, metres); "
                                      "points with a*x+b*y+c*z+d >= 0 are kept");
@@ -191,7 +193,7 @@ void addSection(CLI::App& app, int& exitCode) {
             return fail("--geojson-frame must be plane or world (got \"" + o->geojsonFrame + "\")", 2);
         if (o->threads < 1 || o->threads > 2) return fail("--threads must be 1 or 2", 2);
 
-        auto model = loadModel(o->model);
+        auto model = loadModel(o->model, o->load);
         if (!model) return fail(model.error().message, 1);
         if (model->validation.hasErrors())
             std::fprintf(stderr, "geoslice section: warning: %s has validation errors; contours may stay open\n",

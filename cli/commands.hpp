@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "model/loaders.hpp"
 #include "model/result.hpp"
 #include "section/plane.hpp"
 
@@ -21,6 +22,10 @@ void addBorehole(CLI::App& app, int& exitCode);
 void addReserves(CLI::App& app, int& exitCode);
 void addBake(CLI::App& app, int& exitCode);
 void addServe(CLI::App& app, int& exitCode);
+
+// Options that reach the model readers, for every command that loads a model file:
+// --region-array NAME (.vtu: the cell-data array that names each cell's formation).
+void addLoadOptions(CLI::App* cmd, LoadOptions& options);
 
 // A --plane value "a,b,c,d" (four finite numbers, (a, b, c) not zero) -> a unit plane.
 // Errors name the flag and the text.

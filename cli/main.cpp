@@ -18,6 +18,11 @@ Result<Plane> parsePlaneFlag(const std::string& text) {
     return p;
 }
 
+void addLoadOptions(CLI::App* cmd, LoadOptions& options) {
+    cmd->add_option("--region-array", options.vtu.regionArray,
+                    ".vtu: the cell-data array naming each cell's formation (default: the first integer array)");
+}
+
 }  // namespace geoslice::cli
 
 int main(int argc, char** argv) {

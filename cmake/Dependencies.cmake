@@ -12,7 +12,7 @@ find_package(fmt REQUIRED)
 find_package(zstd REQUIRED)  # libzstd-dev: the baked index texture's lossless encoding
 find_package(PNG REQUIRED)   # libpng-dev
 find_package(Boost 1.74 REQUIRED)  # libboost-dev: Beast/Asio (header-only), the HTTP transport
-find_package(ZLIB REQUIRED)  # zlib1g-dev: gzip of JSON answers
+find_package(ZLIB REQUIRED)  # zlib1g-dev: gzip of JSON answers, zlib-compressed VTK .vtu data
 
 # GeographicLib ships only a find-module on Debian.
 list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)

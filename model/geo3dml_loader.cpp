@@ -2,20 +2,34 @@
 // 3D geological models (schema and examples: WuZixing/Geo3DML, v1.0).
 //
 // What is read:
-//  - a Geo3DModel root, or every Geo3DModel inlined in a Geo3DProject;
+//  - a Geo3DModel root, or a GeoModel root (as some Chinese tools write it; same content),
+//    in any namespace (http or https URIs, or none);
+//  - a Geo3DProject: its inlined models, and the model files it xi:includes, resolved
+//    against the project file's folder (parseGeo3dml's baseDir). Includes that are absolute,
+//    URLs, contain '..' or lead outside the folder through a link are refused, and missing
+//    ones skipped, each with a warning naming it; included Geo3DMaps (styles) are not read;
 //  - each GeoFeature under FeatureClasses/FeatureClass/GeoFeatureClass/Features/Feature whose
 //    Geometry/Shape holds triangles: geo3dml:GeoTin (Vertices/Vertex "x y z" with IndexNo,
 //    Triangles/Triangle/VertexList of three IndexNo values), or gml:TriangulatedSurface /
-//    gml:Tin patches of gml:Triangle rings, also when wrapped (gml:Solid, Shell, MultiSurface).
+//    gml:Tin patches of gml:Triangle rings, also when wrapped (gml:Solid, Shell, MultiSurface);
+//  - volumes, as cells -> regionBoundaries() (model/volume_mesh.hpp) -> a closed body:
+//    GeoTetrahedronVolume (Tetrahedrons/Tetrahedron/VertexList of 4), GeoCuboidVolume
+//    (Cuboids/Cuboid/VertexList of 8, VTK hexahedron order), GeoTriangularPrismVolume
+//    (Prisms/Prism Bottom/TopTriangle), GeoTruncatedRegularGrid (Faces/Face/VertexList,
+//    Cells/Cell/FaceList of 6 quads or 2 triangles + 3 quads), and gml:RectifiedGrid (the
+//    parallelepiped its limits and offset vectors span). A volume whose cells cannot be
+//    built (indices of vertices or faces that are not in the file) is skipped with a
+//    warning naming the feature (validation issue and the note "geo3dml_warnings").
 //    All triangles of one feature form one Part; closed parts become bodies, open ones
-//    surfaces (finishLoadedModel decides finally, by closure);
+//    surfaces (finishLoadedModel decides finally, by closure). A feature name already taken
+//    by another model of a project gets " (<model name>)" appended;
 //  - the feature's Fields -> one AttributeRecord per part (see buildRecord);
 //  - Metadata/SpatialReferenceSystem/CoordinateReferenceSystem (Identifier "EPSG",
 //    Parameter "4526") or a geometry's srsName -> Model::crs;
 //  - Geo3DModel/Name (or Geo3DProject/Name) -> Model::name.
-// Skipped without error: grids, tetrahedral / cuboid / prism volumes, points and lines
-// (boreholes, sections) and coverages (ShapeProperty). A file with no triangles at all is an
-// Unsupported error that says what the file held.
+// Skipped without error: corner-point and other grids, points and lines (boreholes,
+// sections) and coverages (ShapeProperty). A file with nothing to load is an Unsupported
+// error that says what the file held.
 //
 // Elements and attributes are matched by local name, so namespace prefixes do not matter.
 // Coordinates are taken as world x east, y north, z up, metres, in the file's order, except
@@ -28,6 +42,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <optional>
@@ -45,6 +60,7 @@
 #include <pugixml.hpp>
 
 #include "model/loaders.hpp"
+#include "model/volume_mesh.hpp"
 
 namespace geoslice {
 namespace {
@@ -398,9 +414,63 @@ bool isClosed(const Mesh& mesh) {
     return true;
 }
 
+// A Vertices/Vertex list: positions in file order and how IndexNo values map to them.
+struct VertexTable {
+    std::vector<glm::dvec3> positions;
+    bool identity = true;  // IndexNo == position for every vertex
+    std::unordered_map<std::uint64_t, std::uint32_t> byIndexNo;
+    std::optional<std::uint32_t> find(std::uint64_t indexNo) const {
+        if (identity) {
+            if (indexNo < positions.size()) return static_cast<std::uint32_t>(indexNo);
+            return std::nullopt;
+        }
+        const auto it = byIndexNo.find(indexNo);
+        if (it == byIndexNo.end()) return std::nullopt;
+        return it->second;
+    }
+};
+
+// The 2k vertices of a prism-like cell (hexahedron: k = 4, wedge: k = 3) given by its
+// k + 2 faces, in VTK order: a k-gon face, then for each of its vertices the vertex it is
+// joined to by a side face. nullopt when the faces do not bound such a cell.
+std::optional<std::vector<std::uint32_t>> prismFromFaces(const std::vector<std::vector<std::uint32_t>>& faces) {
+    if (faces.size() != 5 && faces.size() != 6) return std::nullopt;
+    const std::size_t k = faces.size() - 2;
+    const std::vector<std::uint32_t>* bottom = nullptr;
+    for (const auto& f : faces)
+        if (f.size() == k) {
+            bottom = &f;
+            break;
+        }
+    if (!bottom) return std::nullopt;
+    auto inBottom = [&](std::uint32_t v) { return std::find(bottom->begin(), bottom->end(), v) != bottom->end(); };
+    std::vector<std::uint32_t> cell(*bottom);
+    for (std::size_t i = 0; i < k; ++i) {
+        const std::uint32_t b = (*bottom)[i];
+        std::optional<std::uint32_t> partner;
+        for (const auto& f : faces) {
+            if (&f == bottom || f.size() != 4) continue;
+            for (std::size_t j = 0; j < 4 && !partner; ++j) {
+                if (f[j] != b) continue;
+                for (const std::uint32_t n : {f[(j + 1) % 4], f[(j + 3) % 4]})
+                    if (!inBottom(n)) partner = n;
+            }
+            if (partner) break;
+        }
+        if (!partner) return std::nullopt;
+        cell.push_back(*partner);
+    }
+    std::vector<std::uint32_t> sorted(cell);
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return std::nullopt;
+    return cell;
+}
+
 class Reader {
 public:
-    explicit Reader(const std::string& source) : source_(source) {}
+    // baseDir: the folder of the file, for a project's xi:include; empty: includes are listed,
+    // not followed (input from memory).
+    Reader(const std::string& source, const std::string& baseDir) : source_(source), baseDir_(baseDir) {}
 
     Result<Model> run(std::string_view text);
 
@@ -420,6 +490,14 @@ private:
     std::optional<Error> readModelElement(pugi::xml_node modelNode, Model& model);
     std::optional<Error> readFeature(pugi::xml_node feature, std::string_view className, Model& model);
     std::optional<Error> appendGeoTin(pugi::xml_node tin, Mesh& mesh) const;
+    std::optional<Error> readVertices(pugi::xml_node owner, VertexTable& table) const;
+    // A Geo3DML volume (tetrahedra, cuboids, prisms, truncated grid) or gml:RectifiedGrid
+    // -> cells of vm. Returns what is wrong with it when it cannot be built (the feature is
+    // then skipped with a warning), else an empty string.
+    std::string appendVolume(pugi::xml_node volume, VolumeMesh& vm) const;
+    std::optional<Error> readProject(pugi::xml_node root, Model& model);
+    std::optional<Error> readInclude(std::string_view href, Model& model);
+    void warn(const std::string& part, const std::string& message) { warnings_.push_back({part, message}); }
     std::optional<Error> appendGmlTriangles(pugi::xml_node surface, Mesh& mesh) const;
     std::optional<Error> checkSrsDimension(pugi::xml_node n) const;
     std::optional<Error> checkDeclaredCount(pugi::xml_node n, std::string_view attr, std::size_t actual,
@@ -429,12 +507,16 @@ private:
                                         std::string_view className, bool closed) const;
     void applyCrs(Model& model) const;
     Error nothingToLoad(pugi::xml_node root, const std::string& modelName) const;
+    std::optional<Error> parseDocument(std::string_view text, pugi::xml_document& doc, std::string& storage);
 
-    const std::string& source_;
-    std::string converted_;    // " (after GB18030 -> UTF-8 conversion)" when it applies
-    std::string declaredCrs_;  // from Metadata, e.g. "EPSG:4526"
-    std::string srsName_;      // first srsName on a geometry
-    std::string modelType_;    // Geo3DModel/Type: 3DModel, Section, Drill, ...
+    std::string source_;  // the file being read (an included file while it is read)
+    std::string baseDir_;
+    std::string converted_;  // " (after GB18030 -> UTF-8 conversion)" when it applies
+    std::vector<std::pair<std::string, std::string>> warnings_;  // (part, message)
+    std::string currentModelName_;  // of the Geo3DModel being read, to tell apart equal feature names
+    std::string declaredCrs_;       // from Metadata, e.g. "EPSG:4526"
+    std::string srsName_;           // first srsName on a geometry
+    std::string modelType_;         // Geo3DModel/Type: 3DModel, Section, Drill, ...
     Census census_;
     std::vector<std::string> includes_;  // xi:include hrefs of a project
     std::size_t featuresWithoutGeometry_ = 0;
@@ -474,23 +556,21 @@ std::variant<std::string, std::size_t> gb18030ToUtf8(std::string_view in) {
     return out;
 }
 
-Result<Model> Reader::run(std::string_view text) {
+// Parses text (GB18030 converted first when declared) into doc; sets converted_.
+std::optional<Error> Reader::parseDocument(std::string_view text, pugi::xml_document& doc, std::string& storage) {
+    converted_.clear();
     if (trim(text).empty()) return fail({}, "empty input, not a Geo3DML document");
-
-    std::string convertedText;
     pugi::xml_encoding encoding = pugi::encoding_auto;
     if (declaresGbEncoding(text)) {
         auto conv = gb18030ToUtf8(text);
         if (std::holds_alternative<std::size_t>(conv))
             return fail({}, "byte " + std::to_string(std::get<std::size_t>(conv)) +
                                 ": not valid GB18030 text although the XML declaration says GB2312/GBK/GB18030");
-        convertedText = std::move(std::get<std::string>(conv));
-        text = convertedText;
+        storage = std::move(std::get<std::string>(conv));
+        text = storage;
         encoding = pugi::encoding_utf8;
         converted_ = " (of the text converted from GB18030 to UTF-8)";
     }
-
-    pugi::xml_document doc;
     const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size(), pugi::parse_default, encoding);
     if (!parsed) {
         std::string what = parsed.status == pugi::status_no_document_element
@@ -501,7 +581,17 @@ Result<Model> Reader::run(std::string_view text) {
     const pugi::xml_node root = doc.document_element();
     for (pugi::xml_node n = root.next_sibling(); n; n = n.next_sibling())
         if (n.type() == pugi::node_element) return fail(n, "a second root element; XML allows one");
+    return std::nullopt;
+}
 
+// Geo3DModel and GeoModel (the root some Chinese tools write) hold the same content.
+bool isModelRoot(std::string_view local) { return local == "Geo3DModel" || local == "GeoModel"; }
+
+Result<Model> Reader::run(std::string_view text) {
+    pugi::xml_document doc;
+    std::string storage;
+    if (auto err = parseDocument(text, doc, storage)) return std::move(*err);
+    const pugi::xml_node root = doc.document_element();
     const std::string_view rootName = localName(root.name());
     Model model;
     model.source = source_;
@@ -510,36 +600,115 @@ Result<Model> Reader::run(std::string_view text) {
         return fail(ErrorCode::Unsupported, root,
                     "a Geo3DMap holds display styles for layers of a model, no geometry; load the "
                     "Geo3DModel file its layers refer to");
-    if (rootName == "Geo3DModel") {
+    if (isModelRoot(rootName)) {
         if (auto err = readModelElement(root, model)) return std::move(*err);
     } else if (rootName == "Geo3DProject") {
-        std::string projectName;
-        if (auto err = readText(childNamed(root, "Name"), projectName)) return std::move(*err);
-        model.name = std::string(trim(projectName));
-        std::optional<Error> error;
-        walkElements(root, [&](pugi::xml_node n) {
-            const std::string_view name = localName(n.name());
-            if (name == "Geo3DModel") {
-                error = readModelElement(n, model);
-                return error ? Walk::Stop : Walk::Skip;
-            }
-            if (name == "include") {
-                includes_.push_back(quoted(attributeNamed(n, "href").value(), 200));
-                return Walk::Skip;
-            }
-            return Walk::Descend;
-        });
-        if (error) return std::move(*error);
+        if (auto err = readProject(root, model)) return std::move(*err);
     } else {
-        return fail(root,
-                    "root element is <" + quoted(root.name()) + ">, not Geo3DML (expected Geo3DModel or Geo3DProject)");
+        return fail(root, "root element is <" + quoted(root.name()) +
+                              ">, not Geo3DML (expected Geo3DModel, GeoModel or Geo3DProject)");
     }
 
     if (model.bodies.empty() && model.surfaces.empty()) return nothingToLoad(root, model.name);
 
     applyCrs(model);
     finishLoadedModel(model, /*classifyByClosure=*/true);
+    // Loader warnings (skipped volumes, missing or refused includes) as validation issues
+    // and a model note; validate() runs again later keeps the note.
+    std::string all;
+    for (const auto& [part, message] : warnings_) {
+        model.validation.issues.push_back({ValidationIssue::Severity::Warning, part, message});
+        all += (all.empty() ? "" : "; ") + (part.empty() ? message : part + ": " + message);
+    }
+    if (!all.empty()) model.notes["geo3dml_warnings"] = all;
     return model;
+}
+
+// A Geo3DProject: models inlined, or xi:include'd from files beside the project (resolved
+// against its folder; absolute paths, URLs and paths that leave the folder are refused,
+// missing files are warnings). Included maps (styles) and nested projects are not read.
+std::optional<Error> Reader::readProject(pugi::xml_node root, Model& model) {
+    std::string projectName;
+    if (auto err = readText(childNamed(root, "Name"), projectName)) return err;
+    model.name = std::string(trim(projectName));
+    std::optional<Error> error;
+    std::vector<std::string> hrefs;
+    walkElements(root, [&](pugi::xml_node n) {
+        const std::string_view name = localName(n.name());
+        if (isModelRoot(name)) {
+            error = readModelElement(n, model);
+            return error ? Walk::Stop : Walk::Skip;
+        }
+        if (name == "include") {
+            hrefs.emplace_back(attributeNamed(n, "href").value());
+            includes_.push_back(quoted(hrefs.back(), 200));
+            return Walk::Skip;
+        }
+        return Walk::Descend;
+    });
+    if (error) return error;
+    for (const std::string& href : hrefs)
+        if (auto err = readInclude(href, model)) return err;
+    return std::nullopt;
+}
+
+std::optional<Error> Reader::readInclude(std::string_view href, Model& model) {
+    const std::string shownHref = "xi:include '" + quoted(href, 200) + "'";
+    if (baseDir_.empty()) {
+        warn("", shownHref + " not followed: the project was read from memory, not from a file");
+        return std::nullopt;
+    }
+    namespace fs = std::filesystem;
+    const std::string h(trim(href));
+    const fs::path rel(h);
+    if (h.empty()) {
+        warn("", "an xi:include without an href is skipped");
+        return std::nullopt;
+    }
+    bool outside = rel.is_absolute() || rel.has_root_name() || rel.has_root_directory() ||
+                   h.find(':') != std::string::npos || h.front() == '\\';
+    for (const fs::path& part : rel)
+        if (part == "..") outside = true;
+    if (outside) {
+        warn("",
+             shownHref +
+                 " refused: includes must name a file inside the project's folder (no absolute paths, URLs or '..')");
+        return std::nullopt;
+    }
+    std::error_code ec;
+    const fs::path base = fs::weakly_canonical(fs::path(baseDir_), ec);
+    const fs::path target = fs::weakly_canonical(fs::path(baseDir_) / rel, ec);
+    if (!fs::exists(target, ec)) {
+        warn("", shownHref + " is missing (" + quoted((fs::path(baseDir_) / rel).string(), 300) + " does not exist)");
+        return std::nullopt;
+    }
+    const auto [baseEnd, targetIt] = std::mismatch(base.begin(), base.end(), target.begin(), target.end());
+    if (baseEnd != base.end()) {
+        warn("", shownHref + " refused: it leads outside the project's folder (through a link)");
+        return std::nullopt;
+    }
+    auto bytes = readFile(target.string(), std::size_t(1) << 30);
+    if (!bytes) return bytes.error();
+    // Read it as its own document, with messages naming it.
+    const std::string projectSource = source_, projectConverted = converted_;
+    source_ = target.string();
+    pugi::xml_document doc;
+    std::string storage;
+    std::optional<Error> err = parseDocument(bytes.value(), doc, storage);
+    if (!err) {
+        const pugi::xml_node root = doc.document_element();
+        const std::string_view name = localName(root.name());
+        if (isModelRoot(name))
+            err = readModelElement(root, model);
+        else if (name == "Geo3DMap") {
+            std::string& maps = model.notes["geo3dml_maps_not_read"];
+            maps += (maps.empty() ? "" : ", ") + quoted(href, 200);
+        } else
+            warn("", shownHref + " is a <" + quoted(root.name()) + ">, not a Geo3DModel: not read");
+    }
+    source_ = projectSource;
+    converted_ = projectConverted;
+    return err;
 }
 
 std::optional<Error> Reader::readText(pugi::xml_node n, std::string& out) const {
@@ -549,10 +718,11 @@ std::optional<Error> Reader::readText(pugi::xml_node n, std::string& out) const 
 }
 
 std::optional<Error> Reader::readModelElement(pugi::xml_node modelNode, Model& model) {
-    if (model.name.empty()) {
+    {
         std::string name;
         if (auto err = readText(childNamed(modelNode, "Name"), name)) return err;
-        model.name = std::string(trim(name));
+        currentModelName_ = std::string(trim(name));
+        if (model.name.empty()) model.name = currentModelName_;
     }
     if (modelType_.empty()) modelType_ = quoted(trim(textOf(childNamed(modelNode, "Type"))));
 
@@ -590,7 +760,15 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
         ++featuresWithoutGeometry_;
         return std::nullopt;
     }
+    std::string featureName;
+    if (auto err = readText(childNamed(feature, "name"), featureName)) return err;
+    featureName = std::string(trim(featureName));
+    if (featureName.empty()) featureName = quoted(attributeNamed(feature, "id").value(), 200);
+    if (featureName.empty()) featureName = "feature " + std::to_string(model.bodies.size() + model.surfaces.size() + 1);
+
     Mesh mesh;
+    VolumeMesh volume;
+    std::vector<std::string> volumeProblems;
     std::optional<Error> error;
     walkElements(shape, [&](pugi::xml_node n) {
         if (srsName_.empty()) {
@@ -601,17 +779,35 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
             error = appendGeoTin(n, mesh);
         } else if (name == "TriangulatedSurface" || name == "Tin") {
             error = appendGmlTriangles(n, mesh);
-        } else if (name.starts_with("Geo") || name == "RectifiedGrid" || name == "Grid" || name == "Point" ||
-                   name == "LineString") {
-            return Walk::Skip;  // a Geo3DML volume / grid, or a point or line: nothing to triangulate
+        } else if (name == "GeoTetrahedronVolume" || name == "GeoCuboidVolume" || name == "GeoTriangularPrismVolume" ||
+                   name == "GeoTruncatedRegularGrid" || name == "RectifiedGrid") {
+            std::string problem = appendVolume(n, volume);
+            if (!problem.empty()) volumeProblems.push_back(std::string(name) + ": " + problem);
+        } else if (name.starts_with("Geo") || name == "Grid" || name == "Point" || name == "LineString") {
+            return Walk::Skip;  // another Geo3DML volume / grid, or a point or line: nothing to triangulate
         } else {
             return Walk::Descend;  // gml:Solid, Shell, surfaceMember, MultiSurface... may wrap TINs
         }
         return error ? Walk::Stop : Walk::Skip;
     });
     if (error) return error;
+    for (const std::string& problem : volumeProblems) warn(featureName, problem + "; this volume is skipped");
+
+    const bool isVolume = volume.cellCount() > 0;
+    if (isVolume) {
+        auto shells = regionBoundaries(volume, 1);
+        if (!shells) {
+            warn(featureName, "its cells do not form a volume (" + shells.error().message + "); skipped");
+        } else {
+            const Mesh& b = shells.value()[0];
+            const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+            mesh.positions.insert(mesh.positions.end(), b.positions.begin(), b.positions.end());
+            for (const std::uint32_t i : b.indices) mesh.indices.push_back(base + i);
+        }
+    }
 
     if (mesh.indices.empty()) {
+        if (!volumeProblems.empty()) return std::nullopt;  // warned above
         const pugi::xml_node geometry = firstElementChild(shape);
         if (geometry)
             census_.add(localName(geometry.name()));
@@ -620,14 +816,23 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
         return std::nullopt;
     }
 
-    std::string featureName;
-    if (auto err = readText(childNamed(feature, "name"), featureName)) return err;
-    featureName = std::string(trim(featureName));
-    if (featureName.empty()) featureName = quoted(attributeNamed(feature, "id").value(), 200);
-    if (featureName.empty()) featureName = "feature " + std::to_string(model.bodies.size() + model.surfaces.size() + 1);
+    // Feature names repeat across the models of a project (地层C in two models): the later
+    // part gets its model's name appended.
+    auto taken = [&](const std::string& n) {
+        for (const auto* list : {&model.bodies, &model.surfaces})
+            for (const Part& p : *list)
+                if (p.name == n) return true;
+        return false;
+    };
+    if (taken(featureName)) {
+        std::string unique =
+            featureName + " (" + (currentModelName_.empty() ? std::string("model") : currentModelName_) + ")";
+        for (int k = 2; taken(unique); ++k) unique = featureName + " #" + std::to_string(k);
+        featureName = unique;
+    }
 
     // Provisional: finishLoadedModel classifies by closure again, after validation.
-    const bool closed = isClosed(mesh);
+    const bool closed = isVolume || isClosed(mesh);
     Result<AttributeRecord> record = buildRecord(feature, featureName, className, closed);
     if (!record) return record.error();
 
@@ -662,17 +867,12 @@ std::optional<Error> Reader::checkDeclaredCount(pugi::xml_node n, std::string_vi
 // Geo3DML's own TIN: Vertices/Vertex ("x y z", attribute IndexNo) and Triangles/Triangle/
 // VertexList (three IndexNo values; NeighborList is ignored). IndexNo is normally the
 // vertex's position; when it is not, a map from IndexNo to position is built.
-std::optional<Error> Reader::appendGeoTin(pugi::xml_node tin, Mesh& mesh) const {
-    if (auto err = checkSrsDimension(tin)) return err;
-    const std::size_t base = mesh.positions.size();
-    std::size_t count = 0;
-    bool identity = true;  // IndexNo == position for every vertex so far
-    std::unordered_map<std::uint64_t, std::uint32_t> byIndexNo;
-
-    for (pugi::xml_node v = childNamed(childNamed(tin, "Vertices"), "Vertex"); v; v = v.next_sibling()) {
+std::optional<Error> Reader::readVertices(pugi::xml_node owner, VertexTable& table) const {
+    for (pugi::xml_node v = childNamed(childNamed(owner, "Vertices"), "Vertex"); v; v = v.next_sibling()) {
         if (!isNamed(v, "Vertex")) continue;
         if (auto err = checkSrsDimension(v)) return err;
-        if (base + count >= std::numeric_limits<std::uint32_t>::max())
+        const std::size_t count = table.positions.size();
+        if (count >= std::numeric_limits<std::uint32_t>::max())
             return fail(ErrorCode::OutOfRange, v, "more vertices than 32-bit indices can address");
         std::array<double, 3> xyz{};
         std::size_t n = 0;
@@ -697,16 +897,30 @@ std::optional<Error> Reader::appendGeoTin(pugi::xml_node tin, Mesh& mesh) const 
             if (!parsed || *parsed < 0) return fail(v, "IndexNo=\"" + quoted(a.value()) + "\" is not a vertex index");
             indexNo = static_cast<std::uint64_t>(*parsed);
         }
-        if (identity && indexNo != count) {
-            identity = false;
-            byIndexNo.reserve(count + 1);
-            for (std::uint32_t k = 0; k < count; ++k) byIndexNo.emplace(k, k);
+        if (table.identity && indexNo != count) {
+            table.identity = false;
+            table.byIndexNo.reserve(count + 1);
+            for (std::uint32_t k = 0; k < count; ++k) table.byIndexNo.emplace(k, k);
         }
-        if (!identity && !byIndexNo.emplace(indexNo, static_cast<std::uint32_t>(count)).second)
+        if (!table.identity && !table.byIndexNo.emplace(indexNo, static_cast<std::uint32_t>(count)).second)
             return fail(v, "IndexNo " + std::to_string(indexNo) + " is used by two vertices");
-        mesh.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
-        ++count;
+        table.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
     }
+    return std::nullopt;
+}
+
+// Geo3DML's own TIN: Vertices/Vertex ("x y z", attribute IndexNo) and Triangles/Triangle/
+// VertexList (three IndexNo values; NeighborList is ignored). IndexNo is normally the
+// vertex's position; when it is not, a map from IndexNo to position is built.
+std::optional<Error> Reader::appendGeoTin(pugi::xml_node tin, Mesh& mesh) const {
+    if (auto err = checkSrsDimension(tin)) return err;
+    VertexTable table;
+    if (auto err = readVertices(tin, table)) return err;
+    if (mesh.positions.size() + table.positions.size() >= std::numeric_limits<std::uint32_t>::max())
+        return fail(ErrorCode::OutOfRange, tin, "more vertices than 32-bit indices can address");
+    const std::size_t base = mesh.positions.size();
+    const std::size_t count = table.positions.size();
+    mesh.positions.insert(mesh.positions.end(), table.positions.begin(), table.positions.end());
 
     for (pugi::xml_node t = childNamed(childNamed(tin, "Triangles"), "Triangle"); t; t = t.next_sibling()) {
         if (!isNamed(t, "Triangle")) continue;
@@ -731,23 +945,219 @@ std::optional<Error> Reader::appendGeoTin(pugi::xml_node tin, Mesh& mesh) const 
         if (auto err = checkDeclaredCount(list, "Length", n, "indices")) return err;
         if (n != 3) return fail(list, "a triangle with " + std::to_string(n) + " vertex indices; a TIN triangle has 3");
         for (const std::uint64_t indexNo : tri) {
-            std::uint32_t position = 0;
-            if (identity) {
-                if (indexNo >= count)
-                    return fail(list, "vertex index " + std::to_string(indexNo) + " is out of range (the TIN has " +
-                                          std::to_string(count) + " vertices)");
-                position = static_cast<std::uint32_t>(indexNo);
-            } else {
-                const auto it = byIndexNo.find(indexNo);
-                if (it == byIndexNo.end())
-                    return fail(list, "vertex index " + std::to_string(indexNo) +
-                                          " is out of range (no Vertex of the TIN has that IndexNo)");
-                position = it->second;
-            }
-            mesh.indices.push_back(static_cast<std::uint32_t>(base) + position);
+            const std::optional<std::uint32_t> position = table.find(indexNo);
+            if (!position)
+                return fail(list, "vertex index " + std::to_string(indexNo) + " is out of range " +
+                                      (table.identity ? "(the TIN has " + std::to_string(count) + " vertices)"
+                                                      : std::string("(no Vertex of the TIN has that IndexNo)")));
+            mesh.indices.push_back(static_cast<std::uint32_t>(base) + *position);
         }
     }
     return std::nullopt;
+}
+
+// Whole-number tokens of an index list (VertexList, FaceList, TopTriangle...); "" or what
+// is wrong.
+std::string readIndices(pugi::xml_node list, std::vector<std::uint64_t>& out) {
+    out.clear();
+    std::string problem;
+    forEachToken(textOf(list), [&](std::string_view token) {
+        const std::optional<std::int64_t> value = parseInt(token);
+        if (!value || *value < 0) {
+            problem = "'" + quoted(token) + "' is not an index";
+            return false;
+        }
+        out.push_back(static_cast<std::uint64_t>(*value));
+        return out.size() <= 64;  // no cell has more
+    });
+    return problem;
+}
+
+std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
+    const std::string_view kind = localName(volume.name());
+    const std::string at = elementPath(volume);
+    if (kind == "RectifiedGrid") {
+        // The volume its lattice spans: one parallelepiped from the low to the high limits.
+        std::array<std::int64_t, 3> low{}, high{};
+        std::size_t nl = 0, nh = 0;
+        const pugi::xml_node env = childNamed(childNamed(volume, "limits"), "GridEnvelope");
+        forEachToken(textOf(childNamed(env, "low")), [&](std::string_view t) {
+            auto v = parseInt(t);
+            if (!v || nl >= 3) return nl = 4, false;
+            low[nl++] = *v;
+            return true;
+        });
+        forEachToken(textOf(childNamed(env, "high")), [&](std::string_view t) {
+            auto v = parseInt(t);
+            if (!v || nh >= 3) return nh = 4, false;
+            high[nh++] = *v;
+            return true;
+        });
+        if (nl != 3 || nh != 3) return "its limits are not three low and three high whole numbers";
+        std::array<double, 3> origin{};
+        std::size_t no = 0;
+        const pugi::xml_node originNode = childNamed(volume, "origin");
+        pugi::xml_node point = childNamed(originNode, "Point");
+        pugi::xml_node pos = point ? (childNamed(point, "pos") ? childNamed(point, "pos") : point) : originNode;
+        forEachToken(textOf(pos), [&](std::string_view t) {
+            auto v = parseDouble(t);
+            if (!v || !std::isfinite(*v) || no >= 3) return no = 4, false;
+            origin[no++] = *v;
+            return true;
+        });
+        if (no != 3) return "its origin is not three finite numbers";
+        std::vector<glm::dvec3> axes;
+        for (pugi::xml_node o = childNamed(volume, "offsetVector"); o; o = o.next_sibling()) {
+            if (!isNamed(o, "offsetVector")) continue;
+            std::array<double, 3> v{};
+            std::size_t n = 0;
+            forEachToken(textOf(o), [&](std::string_view t) {
+                auto d = parseDouble(t);
+                if (!d || !std::isfinite(*d) || n >= 3) return n = 4, false;
+                v[n++] = *d;
+                return true;
+            });
+            if (n != 3) return "an offsetVector is not three finite numbers";
+            axes.emplace_back(v[0], v[1], v[2]);
+        }
+        if (axes.size() != 3) return "it has " + std::to_string(axes.size()) + " offset vectors, not 3";
+        for (int a = 0; a < 3; ++a)
+            if (high[a] <= low[a]) return "its limits are empty along axis " + std::to_string(a + 1);
+        const glm::dvec3 o(origin[0], origin[1], origin[2]);
+        auto corner = [&](int i, int j, int k) {
+            return o + double(i ? high[0] : low[0]) * axes[0] + double(j ? high[1] : low[1]) * axes[1] +
+                   double(k ? high[2] : low[2]) * axes[2];
+        };
+        const auto base = static_cast<std::uint32_t>(vm.positions.size());
+        for (const auto& c : {std::array{0, 0, 0}, std::array{1, 0, 0}, std::array{1, 1, 0}, std::array{0, 1, 0},
+                              std::array{0, 0, 1}, std::array{1, 0, 1}, std::array{1, 1, 1}, std::array{0, 1, 1}})
+            vm.positions.push_back(corner(c[0], c[1], c[2]));
+        vm.addCell(VolumeMesh::CellType::Hexahedron,
+                   {base, base + 1, base + 2, base + 3, base + 4, base + 5, base + 6, base + 7}, 0);
+        return {};
+    }
+
+    VertexTable table;
+    if (auto err = readVertices(volume, table)) return err->message.substr(source_.size() + 2);
+    if (vm.positions.size() + table.positions.size() >= std::numeric_limits<std::uint32_t>::max())
+        return "more vertices than 32-bit indices can address";
+    const auto base = static_cast<std::uint32_t>(vm.positions.size());
+    std::vector<std::uint64_t> ids;
+    // Resolves IndexNo values into vm indices; "" or what is wrong.
+    auto resolve = [&](const std::vector<std::uint64_t>& in, std::vector<std::uint32_t>& out) -> std::string {
+        out.clear();
+        for (const std::uint64_t id : in) {
+            const auto p = table.find(id);
+            if (!p)
+                return "vertex index " + std::to_string(id) + " is not a Vertex of the volume (it has " +
+                       std::to_string(table.positions.size()) + ")";
+            out.push_back(base + *p);
+        }
+        return {};
+    };
+    std::vector<std::uint32_t> cell;
+    std::vector<std::pair<VolumeMesh::CellType, std::vector<std::uint32_t>>> cells;
+    auto cellList = [&](std::string_view wrapper, std::string_view item, VolumeMesh::CellType type,
+                        std::size_t n) -> std::string {
+        std::size_t index = 0;
+        for (pugi::xml_node c = childNamed(childNamed(volume, wrapper), item); c; c = c.next_sibling(), ++index) {
+            if (!isNamed(c, item)) continue;
+            if (std::string p = readIndices(childNamed(c, "VertexList"), ids); !p.empty())
+                return std::string(item) + " " + std::to_string(index) + ": " + p;
+            if (ids.size() != n)
+                return std::string(item) + " " + std::to_string(index) + " has " + std::to_string(ids.size()) +
+                       " vertices, not " + std::to_string(n);
+            if (std::string p = resolve(ids, cell); !p.empty())
+                return std::string(item) + " " + std::to_string(index) + ": " + p;
+            cells.emplace_back(type, cell);
+        }
+        return {};
+    };
+    std::string problem;
+    if (kind == "GeoTetrahedronVolume") {
+        problem = cellList("Tetrahedrons", "Tetrahedron", VolumeMesh::CellType::Tetra, 4);
+    } else if (kind == "GeoCuboidVolume") {
+        problem = cellList("Cuboids", "Cuboid", VolumeMesh::CellType::Hexahedron, 8);  // VTK hexahedron order
+    } else if (kind == "GeoTriangularPrismVolume") {
+        std::size_t index = 0;
+        for (pugi::xml_node c = childNamed(childNamed(volume, "Prisms"), "Prism"); c && problem.empty();
+             c = c.next_sibling(), ++index) {
+            if (!isNamed(c, "Prism")) continue;
+            std::vector<std::uint32_t> bottom, top;
+            std::vector<std::uint64_t> b, t;
+            problem = readIndices(childNamed(c, "BottomTriangle"), b);
+            if (problem.empty()) problem = readIndices(childNamed(c, "TopTriangle"), t);
+            if (problem.empty() && (b.size() != 3 || t.size() != 3)) problem = "top and bottom are not triangles";
+            if (problem.empty()) problem = resolve(b, bottom);
+            if (problem.empty()) problem = resolve(t, top);
+            if (!problem.empty()) {
+                problem = "Prism " + std::to_string(index) + ": " + problem;
+                break;
+            }
+            // Wedge: the bottom triangle, then the top vertex above each of its vertices.
+            cells.push_back({VolumeMesh::CellType::Wedge, {bottom[0], bottom[1], bottom[2], top[0], top[1], top[2]}});
+        }
+    } else {  // GeoTruncatedRegularGrid: Faces by vertex, Cells by face
+        std::vector<std::vector<std::uint32_t>> faces;
+        std::unordered_map<std::uint64_t, std::size_t> faceByIndexNo;
+        std::size_t index = 0;
+        for (pugi::xml_node f = childNamed(childNamed(volume, "Faces"), "Face"); f && problem.empty();
+             f = f.next_sibling(), ++index) {
+            if (!isNamed(f, "Face")) continue;
+            problem = readIndices(childNamed(f, "VertexList"), ids);
+            if (problem.empty() && ids.size() != 3 && ids.size() != 4)
+                problem = "has " + std::to_string(ids.size()) + " vertices";
+            if (problem.empty()) problem = resolve(ids, cell);
+            if (!problem.empty()) {
+                problem = "Face " + std::to_string(index) + ": " + problem;
+                break;
+            }
+            std::uint64_t no = faces.size();
+            if (auto parsed = parseInt(trim(attributeNamed(f, "IndexNo").value())); parsed && *parsed >= 0)
+                no = std::uint64_t(*parsed);
+            faceByIndexNo.emplace(no, faces.size());
+            faces.push_back(cell);
+        }
+        index = 0;
+        for (pugi::xml_node c = childNamed(childNamed(volume, "Cells"), "Cell"); c && problem.empty();
+             c = c.next_sibling(), ++index) {
+            if (!isNamed(c, "Cell")) continue;
+            problem = readIndices(childNamed(c, "FaceList"), ids);
+            std::vector<std::vector<std::uint32_t>> cellFaces;
+            for (const std::uint64_t id : ids) {
+                if (!problem.empty()) break;
+                const auto it = faceByIndexNo.find(id);
+                if (it == faceByIndexNo.end())
+                    problem =
+                        "face " + std::to_string(id) + " is not in Faces (it has " + std::to_string(faces.size()) + ")";
+                else
+                    cellFaces.push_back(faces[it->second]);
+            }
+            if (!problem.empty()) {
+                problem = "Cell " + std::to_string(index) + ": " + problem;
+                break;
+            }
+            const auto prism = prismFromFaces(cellFaces);
+            if (!prism) {
+                problem =
+                    "Cell " + std::to_string(index) + ": its faces do not bound a hexahedron or a triangular prism";
+                break;
+            }
+            cells.push_back(
+                {prism->size() == 8 ? VolumeMesh::CellType::Hexahedron : VolumeMesh::CellType::Wedge, *prism});
+        }
+    }
+    if (!problem.empty()) return problem + " (at " + at + ")";
+    if (cells.empty()) return "it has no cells (at " + at + ")";
+    vm.positions.insert(vm.positions.end(), table.positions.begin(), table.positions.end());
+    for (const auto& [type, v] : cells) {
+        vm.cellTypes.push_back(type);
+        if (vm.cellOffsets.empty()) vm.cellOffsets.push_back(0);
+        vm.cellVertices.insert(vm.cellVertices.end(), v.begin(), v.end());
+        vm.cellOffsets.push_back(static_cast<std::uint32_t>(vm.cellVertices.size()));
+        vm.cellRegions.push_back(0);
+    }
+    return {};
 }
 
 // gml:TriangulatedSurface / gml:Tin: patches of gml:Triangle, each an exterior LinearRing of
@@ -1052,9 +1462,7 @@ std::string normaliseCrsText(std::string_view text) {
 void Reader::applyCrs(Model& model) const {
     const std::string declared = declaredCrs_.empty() ? srsName_ : declaredCrs_;
     if (trim(declared).empty()) return;
-    const auto note = [&](const char* key, const std::string& value) {
-        model.notes.emplace(key, quoted(value, 400));
-    };
+    const auto note = [&](const char* key, const std::string& value) { model.notes.emplace(key, quoted(value, 400)); };
     const Result<Crs> crs = Crs::parse(normaliseCrsText(declared));
     if (!crs) {
         note("declared_crs", declared);
@@ -1118,7 +1526,7 @@ Error Reader::nothingToLoad(pugi::xml_node root, const std::string& modelName) c
         msg += " contains only " + held;
     else
         msg += " contains no feature geometry";
-    if (!includes_.empty()) {
+    if (!includes_.empty() && baseDir_.empty()) {
         msg += "; its models are in separate files (xi:include";
         for (const std::string& href : includes_) msg += " " + href;
         msg += "): load those";
@@ -1131,8 +1539,8 @@ Error Reader::nothingToLoad(pugi::xml_node root, const std::string& modelName) c
 
 }  // namespace
 
-Result<Model> parseGeo3dml(std::string_view text, const std::string& source) {
-    Reader reader(source);
+Result<Model> parseGeo3dml(std::string_view text, const std::string& source, const std::string& baseDir) {
+    Reader reader(source, baseDir);
     return reader.run(text);
 }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <unordered_map>
 
 #include "model/validate.hpp"
@@ -17,12 +18,45 @@ std::string lowerExtension(const std::string& path) {
     return ext;
 }
 
-// Re-points parts at sidecar records of the same name; sidecar records replace same ids.
-void mergeSidecar(Model& model, const AttributeTable& side) {
+// Merges an attributes sidecar (`<stem>.attributes.json|csv`) into a loaded model:
+//  - every sidecar record is put into the table, replacing a record with the same id;
+//  - a part whose name equals a sidecar record's name points at that record;
+//  - otherwise a part whose record id is a sidecar record's id keeps pointing at it, and
+//    when the part was named after its old record (a loader default such as "rock 3" in a
+//    .vtu) it takes the sidecar record's name: that is how a sidecar names formations;
+//  - sidecar rows that match no part by name or id are listed in a warning (a validation
+//    issue, the model note "sidecar_unmatched", and a line on stderr), never dropped silently.
+void mergeSidecar(Model& model, const AttributeTable& side, const std::string& sidePath) {
+    std::unordered_map<RecordId, std::string> oldNames;
+    for (const auto& [id, rec] : model.attributes.records()) oldNames.emplace(id, rec.name);
     for (const auto& [id, rec] : side.records()) model.attributes.put(rec);
-    for (auto* list : {&model.bodies, &model.surfaces})
-        for (auto& part : *list)
-            if (const AttributeRecord* r = side.findByName(part.name)) part.record = r->id;
+    std::set<RecordId> matched;
+    for (auto* list : {&model.bodies, &model.surfaces}) {
+        for (auto& part : *list) {
+            if (const AttributeRecord* r = side.findByName(part.name)) {
+                part.record = r->id;
+                matched.insert(r->id);
+            } else if (const AttributeRecord* same = side.find(part.record)) {
+                if (auto it = oldNames.find(part.record); it != oldNames.end() && it->second == part.name)
+                    part.name = same->name;
+                matched.insert(same->id);
+            }
+        }
+    }
+    std::string list;
+    std::size_t unmatched = 0;
+    for (const auto& [id, rec] : side.records()) {
+        if (matched.count(id)) continue;
+        if (unmatched++ < 20) list += (list.empty() ? "" : ", ") + ("'" + rec.name + "' (id " + std::to_string(id) + ")");
+    }
+    if (unmatched == 0) return;
+    if (unmatched > 20) list += ", ... (" + std::to_string(unmatched - 20) + " more)";
+    const std::string message = "attributes sidecar " + sidePath + ": " + std::to_string(unmatched) + " of " +
+                                std::to_string(side.size()) + " rows match no part by name or id: " + list;
+    model.notes["sidecar_unmatched"] = message;
+    model.validation.issues.push_back({ValidationIssue::Severity::Warning, "", message});
+    std::fprintf(stderr, "geoslice: warning: %s: %s\n", model.source.empty() ? sidePath.c_str() : model.source.c_str(),
+                 message.c_str());
 }
 
 }  // namespace
@@ -83,7 +117,7 @@ void finishLoadedModel(Model& model, bool classifyByClosure) {
     validate(model);
 }
 
-Result<Model> loadModel(const std::string& path) {
+Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
     auto bytes = readFile(path);
     if (!bytes) return bytes.error();
     const std::string& data = bytes.value();
@@ -97,13 +131,15 @@ Result<Model> loadModel(const std::string& path) {
         model = parseGltf(reinterpret_cast<const std::uint8_t*>(data.data()), data.size(), path, baseDir);
     } else if (ext == ".ts" || ext == ".tsurf" || starts("GOCAD")) {
         model = parseTsurf(data, path);
+    } else if (ext == ".vtu" || std::string_view(data).substr(0, 512).find("<VTKFile") != std::string_view::npos) {
+        model = parseVtu(data, path, options.vtu);
     } else if (ext == ".obj") {
         model = parseObj(data, path);
     } else if (ext == ".xml" || ext == ".geo3dml" || ext == ".gml") {
-        model = parseGeo3dml(data, path);
+        model = parseGeo3dml(data, path, baseDir);
     } else {
         return makeError(ErrorCode::Unsupported,
-                         path + ": unknown model format (expected .glb, .gltf, .obj, .ts, or Geo3DML .xml)");
+                         path + ": unknown model format (expected .glb, .gltf, .obj, .ts, .vtu, or Geo3DML .xml)");
     }
     if (!model) return model;
 
@@ -114,7 +150,8 @@ Result<Model> loadModel(const std::string& path) {
         if (!std::filesystem::exists(side, ec)) continue;
         auto table = AttributeTable::load(side.string());
         if (!table) return table.error();
-        mergeSidecar(model.value(), table.value());
+        if (model->source.empty()) model->source = path;
+        mergeSidecar(model.value(), table.value(), side.string());
         break;
     }
     if (model->source.empty()) model->source = path;

@@ -17,17 +17,33 @@
 
 namespace geoslice {
 
-// Dispatches on extension (.glb .gltf .obj .ts .tsurf .xml .geo3dml) and, for unknown
+// Options of the .vtu reader (model/vtu_loader.cpp).
+struct VtuOptions {
+    // The cell-data array naming each cell's formation; empty: the first integer-typed
+    // one-component cell array (else the first whose values are whole numbers).
+    std::string regionArray;
+};
+
+// Options that reach the format readers (CLI flags such as --region-array).
+struct LoadOptions {
+    VtuOptions vtu;
+};
+
+// Dispatches on extension (.glb .gltf .obj .ts .tsurf .xml .geo3dml .vtu) and, for unknown
 // extensions, on content. A sidecar "<stem>.attributes.json" or ".csv" next to the file
 // is merged into the attribute table when present.
-Result<Model> loadModel(const std::string& path);
+Result<Model> loadModel(const std::string& path, const LoadOptions& options = {});
 
 // From bytes in memory; `source` names the input in error messages (fuzzers use these).
 Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::string& source,
                         const std::string& baseDir = "");
 Result<Model> parseObj(std::string_view text, const std::string& source);
 Result<Model> parseTsurf(std::string_view text, const std::string& source);
-Result<Model> parseGeo3dml(std::string_view text, const std::string& source);
+// baseDir: the file's folder, against which a Geo3DProject's xi:include hrefs are resolved
+// (only files inside it are read); empty: includes are listed in warnings, not followed.
+Result<Model> parseGeo3dml(std::string_view text, const std::string& source, const std::string& baseDir = "");
+// VTK XML UnstructuredGrid: one closed body per formation (see model/vtu_loader.cpp).
+Result<Model> parseVtu(std::string_view bytes, const std::string& source, const VtuOptions& options = {});
 
 // Reads a whole file; refuses files over maxBytes with an OutOfRange error.
 Result<std::string> readFile(const std::string& path, std::size_t maxBytes = std::size_t(4) << 30);

@@ -11,8 +11,12 @@
 //    polygons are fan-triangulated from their first corner (exact for convex polygons,
 //    which is what exporters write);
 //  - `o name` and `g name` start a new part: faces before any o/g go into a part named
-//    after the file stem, a `g` inside an `o` gives the part "o/g", and a name seen again
-//    appends to its earlier part (OBJ groups can be reopened);
+//    after the file stem; faces under a `g` go into the part named after the group, also
+//    inside an `o` (exporters such as Leapfrog write `o Name` then `g Name`: the part is
+//    "Name", not "Name/Name"; OBJ group names are global, so the same group under two
+//    objects is one part); faces under an `o` with no group (or after an empty `g`) go into
+//    the part named after the object; a name seen again appends to its earlier part (OBJ
+//    groups can be reopened);
 //  - texture coordinates, normals, materials, smoothing groups, lines, points and
 //    free-form geometry are ignored; unknown keywords are skipped if the line is text.
 // Vertices are global to the file; each part gets its own compacted vertex array (in
@@ -258,8 +262,8 @@ Status ObjParser::readCorner(std::string_view tok, std::uint32_t& out) {
 
 std::size_t ObjParser::currentPart() {
     if (part_ != std::string::npos) return part_;
-    std::string name =
-        object_.empty() ? (group_.empty() ? stem_ : group_) : (group_.empty() ? object_ : object_ + "/" + group_);
+    // The group names the part; then the object; then the file (see the rules at the top).
+    std::string name = !group_.empty() ? group_ : !object_.empty() ? object_ : stem_;
     auto [it, inserted] = partByName_.try_emplace(name, parts_.size());
     if (inserted) parts_.push_back(PartBuild{std::move(name), {}});
     part_ = it->second;

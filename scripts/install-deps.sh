@@ -27,6 +27,7 @@ build=(
   # service and CLI
   libboost-dev libspdlog-dev libfmt-dev libcli11-dev   # Boost.Beast/Asio: the HTTP server
   libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks (configure needs it)
+  libjs-leaflet                       # the web client embeds Debian's Leaflet (configure needs it)
 )
 # Everything else a developer or CI machine needs on top of the build list.
 dev=(
@@ -37,7 +38,12 @@ dev=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # deploy tests (tests/deploy, deploy/test-image.sh): containers, load balancer, load
   podman buildah crun fuse-overlayfs debootstrap nginx-light wrk python3-yaml
+  # web client tests (tests/web): the browser driven by playwright-core, CJK glyphs
+  chromium fonts-wqy-microhei
 )
+# tests/web need Node.js with npm; one already there (e.g. NodeSource's, which bundles npm)
+# is kept, since Debian's npm package conflicts with it.
+command -v npm >/dev/null 2>&1 || dev+=(nodejs npm)
 runtime=(
   libc6 libgcc-s1 libstdc++6 zlib1g
   libspdlog1.10 libfmt9

@@ -376,9 +376,26 @@ struct SectionServer::Impl {
     }
 
     void addRoutes() {
-        route("GET", "/", "/", [](const HttpRequest&, HttpResponse& res) {
-            res.set_content(std::string(webIndexHtml()), "text/html; charset=utf-8");
+        // The web client: index.html is revalidated on every load (no-cache + ETag); the
+        // other assets are fetched with ?v=<build id> by the page and cached for a day.
+        auto sendAsset = [](const HttpRequest& req, HttpResponse& res, const WebAsset* a, bool revalidate) {
+            if (!a) return problem(res, 404, "no web asset '" + req.path.substr(0, 120) + "'", req.path, "not_found");
+            res.set_header("ETag", std::string(a->etag));
+            res.set_header("Cache-Control", revalidate ? "no-cache" : "public, max-age=86400");
+            res.set_header("X-Content-Type-Options", "nosniff");
+            if (etagMatches(req.get_header_value("If-None-Match"), std::string(a->etag))) {
+                res.status = 304;
+                return;
+            }
+            res.set_content(std::string(a->body), std::string(a->contentType));
+        };
+        route("GET", "/", "/", [sendAsset](const HttpRequest& req, HttpResponse& res) {
+            sendAsset(req, res, findWebAsset("index.html"), true);
         });
+        route("GET", "/web/{asset}", "/web/([A-Za-z0-9._/-]+)",
+              [sendAsset](const HttpRequest& req, HttpResponse& res) {
+                  sendAsset(req, res, findWebAsset(req.matches[1]), false);
+              });
         route("GET", "/healthz", "/healthz", [this](const HttpRequest&, HttpResponse& res) {
             sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
         });

@@ -66,7 +66,10 @@ TEST(ServeCli, StartsAnswersAndStopsOnSigterm) {
     EXPECT_EQ(models->get_header_value("Access-Control-Allow-Origin"), "https://mine.example");  // from the file
     auto page = cl.Get("/");
     ASSERT_TRUE(page);
-    EXPECT_NE(page->body.find("L.CRS.Simple"), std::string::npos);
+    EXPECT_NE(page->body.find("/web/leaflet/leaflet.js"), std::string::npos);  // Leaflet from the binary
+    auto app = cl.Get("/web/app.js");
+    ASSERT_TRUE(app);
+    EXPECT_NE(app->body.find("L.CRS.Simple"), std::string::npos);
     kill(pid, SIGTERM);
     int status = 0;
     ASSERT_EQ(waitpid(pid, &status, 0), pid);

@@ -301,6 +301,7 @@ TEST_F(Server, OpenApiListsExactlyTheRoutes) {
         sub("{z}", "0");
         sub("{x}", "0");
         sub("{y}", "0");
+        sub("{asset}", "app.js");
         auto res = r.method == "GET" ? c.Get(path.c_str()) : c.Post(path.c_str(), "{}", "application/json");
         ASSERT_TRUE(res) << path;
         EXPECT_EQ(res->body.find("no route for"), std::string::npos) << r.method << " " << path;

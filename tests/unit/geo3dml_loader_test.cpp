@@ -175,8 +175,8 @@ TEST(Geo3dmlLoader, Volume2ClosedTinBodyWithCountsFromXml) {
     ASSERT_TRUE(r.ok()) << r.error().message;
     const Model& m = r.value();
     EXPECT_EQ(m.name, u8s(u8"体数据示例模型-2"));
-    EXPECT_TRUE(m.crs.isLocal());  // this sample declares no CRS
-    ASSERT_EQ(m.bodies.size(), 1u);
+    EXPECT_TRUE(m.crs.isLocal());    // this sample declares no CRS
+    ASSERT_EQ(m.bodies.size(), 4u);  // 地层A (TIN), 地层B and 地层C (truncated grids), 地层D (prisms)
     EXPECT_TRUE(m.surfaces.empty());
 
     const Part& body = m.bodies[0];
@@ -224,10 +224,10 @@ struct NonTinCase {
 
 TEST(Geo3dmlLoader, NonTinSamplesAreUnsupportedAndSayWhatTheyHold) {
     const std::vector<NonTinCase> cases = {
-        {"model_Volume_1.xml", {"no TIN triangles", "regular grid", "tetrahedral volume", "cuboid volume"}},
         {"model_drill.xml", {"no TIN triangles", "Drill", "point", "line string"}},
         {"model_section.xml", {"no TIN triangles", "Section", "line string"}},
         {"map_stratum.xml", {"Geo3DMap"}},
+        // From memory (no folder to resolve includes against): nothing is read.
         {"project.xml", {"Geo3DProject", "model_Volume_2.xml", "xi:include"}},
     };
     for (const NonTinCase& c : cases) {
@@ -524,12 +524,35 @@ TEST(Geo3dmlLoader, DeepNestingDoesNotOverflowTheStack) {
     expectError(parseGeo3dml(modelXml(shape), "deep.xml"), ErrorCode::Unsupported, "deep.xml", {"no TIN triangles"});
 }
 
-TEST(Geo3dmlLoader, FeaturesWithoutTrianglesAreSkippedNotFailed) {
-    // A tetrahedral volume beside a TIN: the TIN loads, the volume is skipped.
-    std::string xml = readSample("model_Volume_2.xml");
-    Result<Model> r = parseGeo3dml(xml, "model_Volume_2.xml");
+TEST(Geo3dmlLoader, VolumesThatCannotBeBuiltAreSkippedWithAWarning) {
+    // A tetrahedron naming a vertex that is not there, beside a TIN: the TIN loads, the
+    // volume is skipped and named in a warning.
+    const std::string volume =
+        "<GeoTetrahedronVolume><Vertices><Vertex IndexNo=\"0\">0 0 0</Vertex><Vertex IndexNo=\"1\">1 0 0</Vertex>"
+        "<Vertex IndexNo=\"2\">0 1 0</Vertex></Vertices><Tetrahedrons><Tetrahedron IndexNo=\"0\">"
+        "<VertexList>0 1 2 9</VertexList></Tetrahedron></Tetrahedrons></GeoTetrahedronVolume>";
+    std::string xml = modelXml(volume);
+    const std::string tinFeature = modelXml(tetraTin(500, 0, 0), "", "", "地层", "T2");
+    const auto begin = tinFeature.find("<Feature>"), end = tinFeature.find("</Feature>") + 10;
+    xml.insert(xml.find("</Features>"), tinFeature.substr(begin, end - begin));
+    Result<Model> r = parseGeo3dml(xml, "broken_volume.xml");
     ASSERT_TRUE(r.ok()) << r.error().message;
-    EXPECT_EQ(r->attributes.size(), 1u);  // only 地层A has geometry geoslice loads
+    ASSERT_EQ(r->bodies.size(), 1u);
+    EXPECT_EQ(r->bodies[0].name, "T2");
+    std::size_t warnings = 0;
+    for (const auto& issue : r->validation.issues) {
+        if (issue.severity != ValidationIssue::Severity::Warning) continue;
+        ++warnings;
+        EXPECT_EQ(issue.part, "T1");
+        EXPECT_NE(issue.message.find("Tetrahedron 0: vertex index 9 is not a Vertex of the volume (it has 3)"),
+                  std::string::npos)
+            << issue.message;
+        EXPECT_NE(issue.message.find("skipped"), std::string::npos) << issue.message;
+    }
+    EXPECT_EQ(warnings, 1u);
+    EXPECT_TRUE(r->notes.count("geo3dml_warnings"));
+    // The same volume alone: nothing to load, an error.
+    EXPECT_FALSE(parseGeo3dml(modelXml(volume), "broken_volume.xml").ok());
 }
 
 }  // namespace

@@ -1,10 +1,14 @@
 // Wavefront OBJ loader: parts from o/g, per-part compacted vertices, index forms, negative
 // indices, polygon fans, and errors that name the file and line. Coordinates are small
 // integers, exact in double: compared exactly.
-#include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "model/loaders.hpp"
 
@@ -156,20 +160,24 @@ TEST(ObjLoader, CornerFormsAndPolygonFans) {
 }
 
 TEST(ObjLoader, ObjectAndGroupNames) {
+    // The rule (model/obj_loader.cpp): the group names the part, then the object, then the file.
     std::string text =
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-        "f 1 2 3\n"                     // before any o/g: "names"
-        "o Orebody 1\nf 1 2 4\n"        // "Orebody 1"
-        "g upper\nf 1 3 4\n"            // "Orebody 1/upper"
-        "g\nf 2 3 4\n"                  // group closed: back to "Orebody 1"
-        "o Fault\ng upper\nf 3 2 1\n";  // "Fault/upper"
+        "f 1 2 3\n"                             // before any o/g: "names"
+        "o Orebody 1\nf 1 2 4\n"                // "Orebody 1"
+        "g upper\nf 1 3 4\n"                    // "upper"
+        "g\nf 2 3 4\n"                          // group closed: back to "Orebody 1"
+        "o Fault\ng upper\nf 3 2 1\n"           // "upper" again: group names are global
+        "o Sandstone\ng Sandstone\nf 1 4 2\n";  // Leapfrog's o + g: "Sandstone", not "Sandstone/Sandstone"
     auto r = parseObj(text, "dir.v2/names.obj");
     ASSERT_TRUE(r.ok()) << r.error().message;
     ASSERT_EQ(allParts(r.value()).size(), 4u);
     ASSERT_NE(findPart(r.value(), "names"), nullptr);
     ASSERT_NE(findPart(r.value(), "Orebody 1"), nullptr);
-    ASSERT_NE(findPart(r.value(), "Orebody 1/upper"), nullptr);
-    ASSERT_NE(findPart(r.value(), "Fault/upper"), nullptr);
+    ASSERT_NE(findPart(r.value(), "upper"), nullptr);
+    ASSERT_NE(findPart(r.value(), "Sandstone"), nullptr);
+    EXPECT_EQ(findPart(r.value(), "Sandstone/Sandstone"), nullptr);
+    EXPECT_EQ(findPart(r.value(), "upper")->mesh.triangleCount(), 2u);
     const Part* ore = findPart(r.value(), "Orebody 1");
     EXPECT_EQ(ore->mesh.triangleCount(), 2u);  // reopened: both faces in one part
     EXPECT_EQ(ore->mesh.vertexCount(), 4u);
@@ -222,6 +230,39 @@ TEST(ObjLoader, EmptyOrFacelessInputIsAnError) {
     ASSERT_FALSE(f.ok());
     EXPECT_NE(f.error().message.find("lines.obj"), std::string::npos);
     EXPECT_NE(f.error().message.find("no faces"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace geoslice
+
+namespace geoslice {
+namespace {
+
+// Sidecar rows that match no part (by name or by id) are listed in a warning, not dropped.
+TEST(ObjLoader, SidecarRowsThatMatchNoPartAreListed) {
+    const auto dir = std::filesystem::temp_directory_path() / ("geoslice_obj_sidecar_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    {
+        std::ofstream(dir / "m.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                        "g Ore\nf 1 2 3\ng Host\nf 1 2 4\n";
+        std::ofstream(dir / "m.attributes.csv") << "id,name,grade\n1,Ore,2.5\n7,Granite,\n9,Basalt,\n";
+    }
+    auto m = loadModel((dir / "m.obj").string());
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    const std::string& note = m->notes.at("sidecar_unmatched");
+    EXPECT_NE(note.find("m.attributes.csv: 2 of 3 rows match no part by name or id: 'Granite' (id 7), 'Basalt' (id 9)"),
+              std::string::npos)
+        << note;
+    bool warned = false;
+    for (const auto& issue : m->validation.issues)
+        warned |= issue.severity == ValidationIssue::Severity::Warning && issue.message == note;
+    EXPECT_TRUE(warned);
+    // A fully matched sidecar gives no warning.
+    std::ofstream(dir / "m.attributes.csv", std::ios::trunc) << "id,name\n1,Ore\n2,Host\n";
+    m = loadModel((dir / "m.obj").string());
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    EXPECT_EQ(m->notes.count("sidecar_unmatched"), 0u);
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

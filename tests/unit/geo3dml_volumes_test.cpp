@@ -1,0 +1,259 @@
+// Geo3DML volumes (tetrahedra, cuboids, truncated grids, rectified grids), the <GeoModel>
+// root and Geo3DProject includes, on the samples in tests/data/geo3dml (WuZixing/Geo3DML,
+// MIT). Counts and volumes are computed here from the XML with pugixml and plain double
+// arithmetic, independently of the loader. Volumes compare to 1e-9 relative: the samples'
+// coordinates are short decimals below 1000 m, so the divergence sum over the boundary
+// triangles rounds at about 1e-13 relative; 1e-9 is the issue's bar.
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <pugixml.hpp>
+
+#include "model/loaders.hpp"
+#include "model/validate.hpp"
+
+namespace geoslice {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kDataDir = fs::path(GEOSLICE_TEST_DATA_DIR) / "geo3dml";
+
+std::string readText(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::string u8s(const char8_t* s) { return std::string(reinterpret_cast<const char*>(s)); }
+
+// Expected parts of a Geo3DModel file, by this rule: a feature whose shape is a GeoTin with
+// triangles is a body (the samples' TINs are closed); a volume element (tetrahedra,
+// cuboids, prisms, truncated grid) with at least one Vertex, or a gml:RectifiedGrid, is a
+// body; points and lines are neither.
+struct Expected {
+    std::size_t bodies = 0, surfaces = 0;
+};
+Expected expectedParts(const std::string& xml) {
+    pugi::xml_document doc;
+    EXPECT_TRUE(doc.load_string(xml.c_str()));
+    Expected e;
+    for (const auto& x : doc.select_nodes("//*[local-name()='Shape']")) {
+        const pugi::xml_node g = x.node().first_child();
+        const std::string name = g.name();
+        const std::string local = name.substr(name.find(':') == std::string::npos ? 0 : name.find(':') + 1);
+        const bool hasVertex = !g.select_nodes(".//*[local-name()='Vertex']").empty();
+        if (local == "GeoTin" && !g.select_nodes(".//*[local-name()='Triangle']").empty())
+            ++e.bodies;
+        else if (local == "RectifiedGrid")
+            ++e.bodies;
+        else if ((local == "GeoTetrahedronVolume" || local == "GeoCuboidVolume" ||
+                  local == "GeoTriangularPrismVolume" || local == "GeoTruncatedRegularGrid") &&
+                 hasVertex)
+            ++e.bodies;
+    }
+    return e;
+}
+
+const Part* bodyNamed(const Model& m, const std::string& name) {
+    for (const auto& b : m.bodies)
+        if (b.name == name) return &b;
+    return nullptr;
+}
+
+std::vector<glm::dvec3> vertices(pugi::xml_node volume) {
+    std::vector<glm::dvec3> out;
+    for (const auto& v : volume.select_nodes(".//*[local-name()='Vertex']")) {
+        std::istringstream ss(v.node().text().get());
+        glm::dvec3 p;
+        ss >> p.x >> p.y >> p.z;
+        out.push_back(p);
+    }
+    return out;
+}
+
+TEST(Geo3dmlVolumes, EverySampleModelLoadsWithTheRightCounts) {
+    for (const char* file : {"model_Volume_1.xml", "model_Volume_2.xml"}) {
+        SCOPED_TRACE(file);
+        const std::string xml = readText(kDataDir / file);
+        const Expected e = expectedParts(xml);
+        auto m = loadModel((kDataDir / file).string());
+        ASSERT_TRUE(m) << m.error().message;
+        EXPECT_EQ(m->bodies.size(), e.bodies);
+        EXPECT_EQ(m->surfaces.size(), e.surfaces);
+        EXPECT_FALSE(m->validation.hasErrors());
+        for (const auto& b : m->bodies) EXPECT_TRUE(b.report.closed) << b.name;
+    }
+    EXPECT_EQ(expectedParts(readText(kDataDir / "model_Volume_1.xml")).bodies, 3u);
+    EXPECT_EQ(expectedParts(readText(kDataDir / "model_Volume_2.xml")).bodies, 4u);
+}
+
+TEST(Geo3dmlVolumes, VolumesEqualTheCellsOfTheFile) {
+    const std::string xml = readText(kDataDir / "model_Volume_1.xml");
+    pugi::xml_document doc;
+    ASSERT_TRUE(doc.load_string(xml.c_str()));
+    auto m = parseGeo3dml(xml, "model_Volume_1.xml");
+    ASSERT_TRUE(m) << m.error().message;
+    EXPECT_EQ(m->crs.epsg(), 4526);  // declared CRS kept
+
+    // 地层D: the sum of its tetrahedra.
+    const pugi::xml_node tets = doc.select_node("//*[local-name()='GeoTetrahedronVolume']").node();
+    const std::vector<glm::dvec3> tv = vertices(tets);
+    double tetSum = 0;
+    for (const auto& t : tets.select_nodes(".//*[local-name()='Tetrahedron']")) {
+        std::istringstream ss(t.node().first_child().text().get());
+        int a, b, c, d;
+        ss >> a >> b >> c >> d;
+        tetSum += std::abs(glm::dot(tv[b] - tv[a], glm::cross(tv[c] - tv[a], tv[d] - tv[a]))) / 6.0;
+    }
+    const Part* d = bodyNamed(m.value(), u8s(u8"地层D"));
+    ASSERT_TRUE(d);
+    EXPECT_NEAR(signedVolume(d->mesh), tetSum, 1e-9 * tetSum);
+
+    // 地层E: three axis-aligned cuboids: the products of their extents.
+    const pugi::xml_node cub = doc.select_node("//*[local-name()='GeoCuboidVolume']").node();
+    const std::vector<glm::dvec3> cv = vertices(cub);
+    double boxSum = 0;
+    for (const auto& c : cub.select_nodes(".//*[local-name()='Cuboid']")) {
+        std::istringstream ss(c.node().first_child().text().get());
+        glm::dvec3 lo(1e300), hi(-1e300);
+        int i;
+        while (ss >> i) lo = glm::min(lo, cv[i]), hi = glm::max(hi, cv[i]);
+        boxSum += (hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
+    }
+    EXPECT_EQ(boxSum, 1462500.0);  // 100x100x100 + 100x50x80 + 50x25x50
+    const Part* e = bodyNamed(m.value(), u8s(u8"地层E"));
+    ASSERT_TRUE(e);
+    EXPECT_NEAR(signedVolume(e->mesh), boxSum, 1e-9 * boxSum);
+
+    // 地层C: a gml:RectifiedGrid: |det(offset vectors)| x cells between the limits.
+    const Part* c = bodyNamed(m.value(), u8s(u8"地层C"));
+    ASSERT_TRUE(c);
+    const double grid =
+        4.8 * 10 * 6.8 * (7 * 6 * 4);  // offsets (4.8 4.8 2) (0 10 0) (0 0 6.8); limits -1..6, -1..5, -1..3
+    EXPECT_NEAR(signedVolume(c->mesh), grid, 1e-9 * grid);
+
+    // model_Volume_2 地层B: 4 x 2 x 2 hexahedra given by faces; x 250..450, y 0..100, from
+    // z = 10 up to z = 100 + y / 10: 200 * (90 * 100 + 0.1 * 100^2 / 2).
+    auto m2 = parseGeo3dml(readText(kDataDir / "model_Volume_2.xml"), "model_Volume_2.xml");
+    ASSERT_TRUE(m2) << m2.error().message;
+    const Part* b = bodyNamed(m2.value(), u8s(u8"地层B"));
+    ASSERT_TRUE(b);
+    EXPECT_NEAR(signedVolume(b->mesh), 1.9e6, 1e-9 * 1.9e6);
+
+    // model_Volume_2 地层D: prisms with vertical edges and planar ends, each of volume
+    // area(xy triangle) x (mean top z - mean bottom z); the file's two volume models name
+    // their features alike, and this one is the prism feature.
+    pugi::xml_document doc2;
+    const std::string xml2 = readText(kDataDir / "model_Volume_2.xml");
+    ASSERT_TRUE(doc2.load_string(xml2.c_str()));
+    const pugi::xml_node prisms = doc2.select_node("//*[local-name()='GeoTriangularPrismVolume']").node();
+    const std::vector<glm::dvec3> pv = vertices(prisms);
+    double prismSum = 0;
+    for (const auto& pr : prisms.select_nodes(".//*[local-name()='Prism']")) {
+        std::array<int, 3> bot{}, top{};
+        std::istringstream sb(pr.node().select_node("*[local-name()='BottomTriangle']").node().text().get());
+        std::istringstream st(pr.node().select_node("*[local-name()='TopTriangle']").node().text().get());
+        sb >> bot[0] >> bot[1] >> bot[2];
+        st >> top[0] >> top[1] >> top[2];
+        const glm::dvec3 a = pv[bot[0]], bb = pv[bot[1]], cc = pv[bot[2]];
+        const double area = std::abs((bb.x - a.x) * (cc.y - a.y) - (cc.x - a.x) * (bb.y - a.y)) / 2;
+        prismSum += area * ((pv[top[0]].z + pv[top[1]].z + pv[top[2]].z) - (a.z + bb.z + cc.z)) / 3;
+    }
+    const Part* d2 = bodyNamed(m2.value(), u8s(u8"地层D"));
+    ASSERT_TRUE(d2);
+    EXPECT_GT(prismSum, 0);
+    EXPECT_NEAR(signedVolume(d2->mesh), prismSum, 1e-9 * prismSum);
+}
+
+// <GeoModel> roots (as Chinese tools write them), with or without a namespace, with http or
+// https namespace URIs, load like <Geo3DModel>.
+TEST(Geo3dmlVolumes, GeoModelRootInAnyNamespace) {
+    const std::string xml = readText(kDataDir / "model_Volume_1.xml");
+    auto reference = parseGeo3dml(xml, "v1.xml");
+    ASSERT_TRUE(reference) << reference.error().message;
+    auto replaceAll = [](std::string s, const std::string& from, const std::string& to) {
+        for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+            s.replace(at, from.size(), to);
+        return s;
+    };
+    const std::vector<std::string> variants = {
+        replaceAll(xml, "geo3dml:Geo3DModel", "geo3dml:GeoModel"),
+        replaceAll(replaceAll(xml, "geo3dml:Geo3DModel", "GeoModel"), "https://www.iheg", "http://www.iheg"),
+        replaceAll(replaceAll(xml, "geo3dml:Geo3DModel", "GeoModel"),
+                   " xmlns=\"https://www.iheg.cgs.gov.cn/Standard/geo3dml\"", ""),
+    };
+    for (const std::string& v : variants) {
+        auto m = parseGeo3dml(v, "geomodel.xml");
+        ASSERT_TRUE(m) << m.error().message;
+        EXPECT_EQ(m->bodies.size(), reference->bodies.size());
+        EXPECT_EQ(m->name, reference->name);
+        EXPECT_EQ(m->crs.epsg(), 4526);
+    }
+}
+
+// project.xml as delivered: its four models are included from the same folder; two of its
+// three maps are missing (a warning names them), the third holds styles only.
+TEST(Geo3dmlVolumes, ProjectIncludesAsDelivered) {
+    auto m = loadModel((kDataDir / "project.xml").string());
+    ASSERT_TRUE(m) << m.error().message;
+    std::size_t bodies = 0, surfaces = 0;
+    for (const char* f : {"model_drill.xml", "model_section.xml", "model_Volume_1.xml", "model_Volume_2.xml"}) {
+        const Expected e = expectedParts(readText(kDataDir / f));
+        bodies += e.bodies;
+        surfaces += e.surfaces;
+    }
+    EXPECT_EQ(bodies, 7u);
+    EXPECT_EQ(m->bodies.size(), bodies);
+    EXPECT_EQ(m->surfaces.size(), surfaces);
+    EXPECT_EQ(m->name, u8s(u8"示例项目"));
+    EXPECT_EQ(m->crs.epsg(), 4526);
+    // 地层C and 地层D are in both volume models: the second of each is told apart.
+    // 地层C and 地层D are in both volume models: the second of each is told apart.
+    EXPECT_TRUE(bodyNamed(m.value(), u8s(u8"地层C")));
+    EXPECT_TRUE(bodyNamed(m.value(), u8s(u8"地层C (体数据示例模型-2)")));
+    EXPECT_TRUE(bodyNamed(m.value(), u8s(u8"地层D (体数据示例模型-2)")));
+    EXPECT_TRUE(bodyNamed(m.value(), u8s(u8"地层A")));
+    EXPECT_TRUE(bodyNamed(m.value(), u8s(u8"地层B")));
+    const std::string& warnings = m->notes.at("geo3dml_warnings");
+    EXPECT_NE(warnings.find("xi:include 'map_drill.xml' is missing"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("xi:include 'map_section.xml' is missing"), std::string::npos) << warnings;
+    EXPECT_EQ(m->notes.at("geo3dml_maps_not_read"), "map_stratum.xml");
+}
+
+// Includes outside the project's folder are refused (never read), missing ones are warnings.
+TEST(Geo3dmlVolumes, IncludesOutsideTheFolderAreRefused) {
+    const fs::path root = fs::temp_directory_path() / ("geoslice_g3d_" + std::to_string(::getpid()));
+    const fs::path dir = root / "project";
+    fs::create_directories(dir / "sub");
+    fs::copy_file(kDataDir / "model_Volume_1.xml", dir / "sub" / "v1.xml");
+    fs::copy_file(kDataDir / "model_Volume_2.xml", root / "outside.xml");
+    fs::create_symlink(root / "outside.xml", dir / "link.xml");
+    std::string includes;
+    for (const char* href : {"sub/v1.xml", "../outside.xml", "sub/../../outside.xml", "/etc/passwd",
+                             "http://example.com/m.xml", "link.xml", "gone.xml"})
+        includes += std::string("<Model><xi:include href=\"") + href + "\"/></Model>";
+    std::ofstream(dir / "p.xml") << "<Geo3DProject xmlns=\"http://www.iheg.cgs.gov.cn/Standard/geo3dml\" "
+                                    "xmlns:xi=\"http://www.w3.org/2001/XInclude\"><Name>p</Name><Models>"
+                                 << includes << "</Models></Geo3DProject>";
+    auto m = loadModel((dir / "p.xml").string());
+    ASSERT_TRUE(m) << m.error().message;
+    EXPECT_EQ(m->bodies.size(), 3u);  // sub/v1.xml only
+    const std::string& w = m->notes.at("geo3dml_warnings");
+    for (const char* refused :
+         {"'../outside.xml' refused", "'sub/../../outside.xml' refused", "'/etc/passwd' refused",
+          "'http://example.com/m.xml' refused", "'link.xml' refused: it leads outside", "'gone.xml' is missing"})
+        EXPECT_NE(w.find(refused), std::string::npos) << refused << " in " << w;
+    fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace geoslice

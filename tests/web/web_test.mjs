@@ -1,0 +1,539 @@
+// Browser tests of the geoslice web client against the real server (CTest label web).
+//   node tests/web/web_test.mjs BUILD/cli/geoslice OUT_DIR [filter]
+// Debian's chromium through playwright-core. Every request of every page is recorded: any
+// request to another origin fails the run. Screenshots of each state go to OUT_DIR.
+// Error paths that the real server cannot be made to produce on demand (a 502 from a
+// proxy, a refused connection, a 503 on a tile) are injected at the browser's network
+// layer with page.route; everything else talks to the real server.
+import fs from 'node:fs';
+import path from 'node:path';
+import { startServer, launch, axeSource, PHONE, PHONE_SMALL, PHONE_LANDSCAPE, DESKTOP } from './lib.mjs';
+
+const [binary, outDir, filter] = process.argv.slice(2);
+if (!binary || !outDir) {
+  console.error('usage: node web_test.mjs GEOSLICE_BINARY OUT_DIR [filter]');
+  process.exit(2);
+}
+fs.mkdirSync(outDir, { recursive: true });
+
+const server = await startServer(binary);
+const origin = server.url;
+const browser = await launch();
+const foreign = [];
+const failures = [];
+let passed = 0;
+
+function check(cond, what) {
+  if (!cond) throw new Error(what);
+}
+
+async function newPage(device, opts = {}) {
+  const ctx = await browser.newContext({ ...device, ...opts });
+  // Zero requests to any other origin: recorded here, and refused so that nothing waits.
+  await ctx.route((url) => !url.href.startsWith(origin), (route) => {
+    foreign.push(route.request().url());
+    return route.abort('blockedbyclient');
+  });
+  const page = await ctx.newPage();
+  page.errors = [];
+  page.on('pageerror', (e) => page.errors.push(e.message));
+  page.on('request', (r) => {
+    const u = r.url();
+    if (!u.startsWith(origin) && !u.startsWith('data:') && !u.startsWith('blob:')) foreign.push(u);
+  });
+  return page;
+}
+async function open(page, hash = '') {
+  await page.goto(`${origin}/${hash}`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 20000 });
+  await settle(page);
+}
+// Waits until no request of the page is in flight (the loading indicator is off).
+async function settle(page, ms = 15000) {
+  await page.waitForFunction(() => document.getElementById('busy').hidden, null, { timeout: ms });
+  await page.waitForTimeout(50);
+}
+const shot = (page, name) => page.screenshot({ path: path.join(outDir, `${name}.png`) });
+const state = (page, fn) => page.evaluate(fn);
+
+async function tap(page, x, y) {
+  const touch = page.context()._options?.hasTouch;
+  if (touch) await page.touchscreen.tap(x, y);
+  else await page.mouse.click(x, y);
+}
+async function longPress(page, x, y) {
+  const touch = page.context()._options?.hasTouch;
+  if (touch) {
+    const cdp = await page.context().newCDPSession(page);
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x, y }] });
+    await page.waitForTimeout(900);
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+  } else {
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    await page.waitForTimeout(900);
+    await page.mouse.up();
+  }
+}
+async function box(page, selector) {
+  const b = await page.locator(selector).first().boundingBox();
+  check(b, `${selector} has no box`);
+  return b;
+}
+// A point of the plan map in world coordinates -> page pixels.
+async function planPoint(page, x, y) {
+  return page.evaluate(([x, y]) => {
+    const { planMap } = window.geoslice.maps();
+    const g = window.geoslice.S.plan.grid;
+    const ll = [((y - g.origin.v) * 256) / g.size0, ((x - g.origin.u) * 256) / g.size0];
+    const p = planMap.latLngToContainerPoint(ll);
+    const r = planMap.getContainer().getBoundingClientRect();
+    return [r.left + p.x, r.top + p.y];
+  }, [x, y]);
+}
+async function bounds(page) {
+  return page.evaluate(() => window.geoslice.S.model.bounds);
+}
+
+// Every visible control: not covered (elementFromPoint at its centre is the control) and,
+// on touch layouts, at least 44 x 44 CSS pixels.
+async function controlsUncovered(page, touch) {
+  return page.evaluate((touch) => {
+    const sel = 'button, select, input, a[href], [role=tab], .leaflet-control a';
+    const bad = [];
+    for (const el of document.querySelectorAll(sel)) {
+      if (!el.checkVisibility?.() || el.closest('[hidden]')) continue;
+      el.scrollIntoView({ block: 'nearest', inline: 'nearest' });
+      const r = el.getBoundingClientRect();
+      if (r.width === 0 || r.height === 0) continue;
+      const name = `${el.tagName.toLowerCase()}#${el.id || ''}.${el.className || ''}[${(el.textContent || el.getAttribute('aria-label') || '').trim().slice(0, 20)}]`;
+      const cx = r.left + r.width / 2, cy = r.top + r.height / 2;
+      if (cx < 0 || cy < 0 || cx > innerWidth || cy > innerHeight) { bad.push(`${name} off screen`); continue; }
+      const hit = document.elementFromPoint(cx, cy);
+      const label = el.closest('label');
+      if (!(hit === el || el.contains(hit) || (label && label.contains(hit)))) bad.push(`${name} covered by ${hit?.tagName}#${hit?.id}.${hit?.className}`);
+      if (touch && (r.width < 43.5 || r.height < 43.5)) bad.push(`${name} is ${r.width.toFixed(0)}x${r.height.toFixed(0)}`);
+    }
+    return bad;
+  }, touch);
+}
+async function axe(page) {
+  await page.addScriptTag({ content: axeSource });
+  const r = await page.evaluate(async () => {
+    const res = await window.axe.run(document, { resultTypes: ['violations'] });
+    return res.violations.map((v) => ({ id: v.id, impact: v.impact, nodes: v.nodes.length, target: v.nodes[0]?.target }));
+  });
+  return r;
+}
+async function cutLine(page, fractions) {
+  const b = await bounds(page);
+  await page.locator('[data-mode="line"]').click();
+  await page.locator('#clear').click();
+  for (const [fx, fy] of fractions) {
+    const [x, y] = await planPoint(page, b.min[0] + fx * (b.max[0] - b.min[0]), b.min[1] + fy * (b.max[1] - b.min[1]));
+    await tap(page, x, y);
+  }
+  await page.locator('#cut').click();
+  await page.waitForFunction(() => window.geoslice.S.section && window.geoslice.perf.marks.some((m) => m.name === 'firstTile'), null, { timeout: 20000 });
+  await settle(page);
+}
+// The colour of the section image under page pixel (x, y): the 5x5 neighbourhood of the
+// tile pixel there, and whether it is uniform (away from anti-aliased edges).
+async function pixelUnder(page, x, y) {
+  return page.evaluate(([x, y]) => {
+    // Tiles take no pointer events: the loaded tile of the zoom on show under (x, y).
+    const sec = window.geoslice.S.section;
+    const z = Math.max(0, Math.min(sec.maxNative, Math.round(window.geoslice.maps().sectionMap.getZoom())));
+    const img = Object.values(sec.layer._tiles).map((t) => t.coords.z === z && t.el).find((e) => {
+      if (!e || !e.complete || !e.naturalWidth) return false;
+      const r = e.getBoundingClientRect();
+      return r.left <= x && x < r.right && r.top <= y && y < r.bottom;
+    });
+    if (!img) return null;
+    const r = img.getBoundingClientRect();
+    const ix = Math.floor(((x - r.left) / r.width) * img.naturalWidth), iy = Math.floor(((y - r.top) / r.height) * img.naturalHeight);
+    const c = document.createElement('canvas');
+    c.width = img.naturalWidth; c.height = img.naturalHeight;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(Math.max(0, ix - 2), Math.max(0, iy - 2), 5, 5).data;
+    let uniform = true;
+    for (let i = 4; i < d.length; i += 4) for (let k = 0; k < 4; ++k) if (d[i + k] !== d[k]) uniform = false;
+    const p = g.getImageData(ix, iy, 1, 1).data;
+    return { rgba: [...p], uniform };
+  }, [x, y]);
+}
+const hex = (h) => [1, 3, 5].map((i) => parseInt(h.slice(i, i + 2), 16));
+
+const tests = {
+  async offline_and_layout_phone() {
+    for (const [name, dev] of [['phone-390', PHONE], ['phone-360', PHONE_SMALL], ['phone-landscape', PHONE_LANDSCAPE], ['desktop', DESKTOP]]) {
+      const page = await newPage(dev, { locale: 'en-GB' });
+      await open(page);
+      const touch = !!dev.hasTouch;
+      await shot(page, `${name}-plan`);
+      let bad = await controlsUncovered(page, touch);
+      check(bad.length === 0, `${name} plan: ${bad.join('; ')}`);
+      await cutLine(page, [[0.15, 0.3], [0.5, 0.6], [0.85, 0.4]]);
+      await shot(page, `${name}-section`);
+      bad = await controlsUncovered(page, touch);
+      check(bad.length === 0, `${name} section: ${bad.join('; ')}`);
+      await page.locator('#tab-3d').click();
+      await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+      await settle(page);
+      await shot(page, `${name}-3d`);
+      bad = await controlsUncovered(page, touch);
+      check(bad.length === 0, `${name} 3d: ${bad.join('; ')}`);
+      check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
+      await page.context().close();
+    }
+  },
+
+  async accessibility_axe() {
+    const page = await newPage(PHONE);
+    await open(page);
+    const all = [];
+    all.push(...(await axe(page)).map((v) => ({ ...v, view: 'plan' })));
+    await cutLine(page, [[0.2, 0.5], [0.8, 0.5]]);
+    const [cx, cy] = await page.evaluate(() => { const r = document.getElementById('sectionMap').getBoundingClientRect(); return [r.left + r.width / 2, r.top + r.height / 2]; });
+    await tap(page, cx, cy);
+    await settle(page);
+    all.push(...(await axe(page)).map((v) => ({ ...v, view: 'section+answer' })));
+    await page.locator('#tab-3d').click();
+    await page.waitForFunction(() => window.geoslice.S.shown3d, null, { timeout: 30000 });
+    await settle(page);
+    all.push(...(await axe(page)).map((v) => ({ ...v, view: '3d' })));
+    await page.locator('#st-legend').click();
+    all.push(...(await axe(page)).map((v) => ({ ...v, view: 'legend' })));
+    fs.writeFileSync(path.join(outDir, 'axe.json'), JSON.stringify(all, null, 1));
+    const severe = all.filter((v) => v.impact === 'critical' || v.impact === 'serious');
+    console.log(`axe-core: ${all.length} violations in 4 states, ${severe.length} critical/serious` +
+                (all.length ? ` (${[...new Set(all.map((v) => `${v.id}:${v.impact}`))].join(', ')})` : ''));
+    check(severe.length === 0, `axe critical/serious: ${JSON.stringify(severe)}`);
+    await page.context().close();
+  },
+
+  async line_cut_query_colours_borehole() {
+    const page = await newPage(PHONE);
+    await open(page);
+    await cutLine(page, [[0.1, 0.2], [0.45, 0.7], [0.9, 0.5]]);
+    const sec = await state(page, () => ({ kind: window.geoslice.S.section.kind, ends: window.geoslice.S.section.ends.map((e) => e.label) }));
+    check(sec.kind === 'line' && sec.ends.join('') === 'ABC', `section ${JSON.stringify(sec)}`);
+    const overlay = await page.locator('#sectionOverlay').textContent();
+    for (const s of ['A', 'B', 'C', 'vx 2', 'Elevation (m)', 'Distance (m)']) check(overlay.includes(s), `overlay lacks '${s}': ${overlay}`);
+    check(await page.locator('#sectionOverlay .bend').count() === 1, 'one bend (B) marked');
+    // Taps: the answer names the legend colour under the pointer.
+    const m = await box(page, '#sectionMap');
+    let agree = 0, tried = 0;
+    const legend = await state(page, () => Object.fromEntries(window.geoslice.S.model.legend.map((r) => [r.id, r.colour])));
+    for (let i = 0; i < 24 && agree < 8; ++i) {
+      const x = m.x + m.width * (0.15 + 0.7 * ((i * 0.618) % 1)), y = m.y + m.height * (0.2 + 0.6 * ((i * 0.377) % 1));
+      const px = await pixelUnder(page, x, y);
+      if (!px || !px.uniform) continue;
+      await tap(page, x, y);
+      await page.waitForFunction(() => window.geoslice.S.answer, null, { timeout: 10000 });
+      const ans = await state(page, () => window.geoslice.S.answer.json);
+      ++tried;
+      if (px.rgba[3] === 0) { check(!ans.hit, `transparent pixel answered ${ans.record?.name}`); continue; }
+      check(ans.hit, `coloured pixel ${px.rgba} answered no geology`);
+      const c = hex(legend[ans.record.id]);
+      // PNG tiles carry the record colour exactly inside a body: 0 tolerance would do;
+      // 2 allows for the colour management of the canvas read-back.
+      check(c.every((v, k) => Math.abs(v - px.rgba[k]) <= 2), `tap (${x | 0},${y | 0}): pixel ${px.rgba} vs legend ${legend[ans.record.id]} of ${ans.record.name}`);
+      ++agree;
+      if (agree === 1) {
+        check(await page.locator('#sectionMap .qmark').count() === 1, 'marker at the queried point');
+        const text = await page.locator('#answer').textContent();
+        for (const s of ['Easting', 'Northing', 'Longitude', 'Latitude', 'Elevation', 'Distance along section', 'lithology']) check(text.includes(s), `answer lacks ${s}`);
+        check(await page.locator('#answer').getAttribute('aria-live') === 'polite', 'answer is announced');
+        check(await page.locator('#legend li.hit').count() === 1, 'legend entry highlighted');
+        check(await page.locator('#legendMini li.hit').count() === 1, 'on-screen legend entry highlighted');
+        // The page's own Gauss-Kruger inverse (it draws the lon/lat graticule) against the
+        // server's GeographicLib answer. Tolerance 1e-7 degrees (about 1 cm): far below a
+        // pixel of the plan; the n^4 Krüger series is good to well under a millimetre.
+        const d = await page.evaluate((w) => {
+          const gk = window.geoslice.V.gaussKruger(w.crs);
+          const [lon, lat] = window.geoslice.V.gkToLonLat(gk, w.x, w.y);
+          const [x, y] = window.geoslice.V.lonLatToGk(gk, w.geodetic.lon, w.geodetic.lat);
+          return [Math.abs(lon - w.geodetic.lon), Math.abs(lat - w.geodetic.lat), Math.hypot(x - w.x, y - w.y)];
+        }, ans.world);
+        console.log(`graticule Gauss-Kruger vs GeographicLib: |dlon| ${d[0].toExponential(1)} deg, |dlat| ${d[1].toExponential(1)} deg, round trip ${d[2].toExponential(1)} m`);
+        check(d[0] < 1e-7 && d[1] < 1e-7 && d[2] < 0.01, `graticule projection vs GeographicLib: ${d}`);
+        await shot(page, 'phone-answer');
+      }
+    }
+    console.log(`colour check: ${agree} taps named the colour under them (of ${tried} answered)`);
+    check(agree >= 5, `only ${agree} taps checked`);
+    // Keyboard: Enter on the focused section map asks about its centre.
+    await page.locator('#sectionMap').focus();
+    await page.keyboard.press('Enter');
+    await page.waitForFunction(() => window.geoslice.S.answer && document.querySelector('#sectionMap .qmark'), null, { timeout: 10000 });
+    // Long-press on the section: a virtual borehole as a strip log.
+    await longPress(page, m.x + m.width * 0.5, m.y + m.height * 0.5);
+    await page.waitForFunction(() => document.querySelector('#bhLog'), null, { timeout: 10000 });
+    const bh = await state(page, () => window.geoslice.S.bh);
+    check(bh.intervals.length > 0, 'borehole has intervals');
+    check(await page.locator('#bhLog rect').count() === bh.intervals.length, 'one strip per interval');
+    check((await page.locator('#bh').textContent()).includes('Faults crossed'), 'faults listed');
+    await shot(page, 'phone-borehole');
+    // Long-press on the plan.
+    await page.locator('#tab-plan').click();
+    const b = await bounds(page);
+    const [x, y] = await planPoint(page, 0.5 * (b.min[0] + b.max[0]), 0.5 * (b.min[1] + b.max[1]));
+    const before = bh;
+    await longPress(page, x, y);
+    await page.waitForFunction((o) => window.geoslice.S.bh && window.geoslice.S.bh.origin[0] !== o, before.origin[0], { timeout: 10000 });
+    const bh2 = await state(page, () => window.geoslice.S.bh);
+    check(Math.abs(bh2.origin[0] - 0.5 * (b.min[0] + b.max[0])) < 30, `plan borehole at ${bh2.origin}`);
+    await page.context().close();
+  },
+
+  async orientations_and_slice() {
+    const page = await newPage(DESKTOP);
+    await open(page);
+    const b = await bounds(page);
+    const mid = await planPoint(page, 0.5 * (b.min[0] + b.max[0]), 0.5 * (b.min[1] + b.max[1]));
+    for (const [mode, left, right] of [['ew', 'W', 'E'], ['ns', 'S', 'N']]) {
+      await page.locator('#tab-plan').click();
+      await page.locator(`[data-mode="${mode}"]`).click();
+      await tap(page, mid[0], mid[1]);
+      await page.locator('#cut').click();
+      await page.waitForFunction((l) => window.geoslice.S.section?.ends?.[0]?.label === l, left, { timeout: 15000 });
+      const ends = await state(page, () => window.geoslice.S.section.ends.map((e) => e.label));
+      check(ends.join('') === left + right, `${mode}: ends ${ends}`);
+      await settle(page);
+      await shot(page, `desktop-section-${mode}`);
+    }
+    await page.locator('#tab-plan').click();
+    await page.locator('[data-mode="az"]').click();
+    await page.locator('#azimuth').fill('30');
+    await tap(page, mid[0], mid[1]);
+    await page.locator('#cut').click();
+    await page.waitForFunction(() => window.geoslice.S.section?.ends?.[1]?.label === 'NE', null, { timeout: 15000 });
+    await page.locator('#tab-plan').click();
+    await page.locator('[data-mode="slice"]').click();
+    await page.locator('#sliceZ').fill('300');
+    await page.locator('#cut').click();
+    await page.waitForFunction(() => window.geoslice.S.section?.kind === 'elevation', null, { timeout: 15000 });
+    await settle(page);
+    await shot(page, 'desktop-slice');
+    // Export links point at the same section.
+    const href = await page.locator('#expSvg').getAttribute('href');
+    check(/section\.svg\?elevation=300/.test(href), `svg export ${href}`);
+    const svg = await page.evaluate((u) => fetch(u).then((r) => r.text()), href);
+    check(svg.startsWith('<?xml') || svg.startsWith('<svg'), 'SVG export is SVG');
+    const gj = await page.evaluate((u) => fetch(u).then((r) => r.json()), await page.locator('#expGeojson').getAttribute('href'));
+    check(gj.type === 'FeatureCollection' && gj.features.length > 0, 'GeoJSON export');
+    await page.context().close();
+  },
+
+  async three_d_plane_drag() {
+    const page = await newPage(PHONE);
+    await open(page);
+    await page.locator('#tab-3d').click();
+    await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+    await settle(page);
+    const sizes = [];
+    page.on('request', (r) => { const m = /view=perspective.*size=(\d+)x(\d+)/.exec(r.url()); if (m) sizes.push(+m[1]); });
+    const off0 = Number(await page.locator('#plOffset').inputValue());
+    const h = await box(page, '#moveHandle');
+    const cx = h.x + h.width / 2, cy = h.y + h.height / 2;
+    // Drag with touch (CDP), 8 steps.
+    const cdp = await page.context().newCDPSession(page);
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x: cx, y: cy }] });
+    for (let i = 1; i <= 8; ++i) {
+      await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: cx + 8 * i, y: cy + 4 * i }] });
+      await page.waitForTimeout(60);
+    }
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+    await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+    await settle(page);
+    const off1 = Number(await page.locator('#plOffset').inputValue());
+    check(off1 !== off0, `dragging the move handle moved the plane (${off0} -> ${off1})`);
+    // Pinch (two touch points moving apart) zooms the camera in.
+    const dist0 = await state(page, () => window.geoslice.S.three.dist);
+    const vb = await box(page, '#view3d');
+    const [px, py] = [vb.x + vb.width * 0.5, vb.y + vb.height * 0.85];
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x: px - 20, y: py, id: 1 }, { x: px + 20, y: py, id: 2 }] });
+    for (let i = 1; i <= 5; ++i) {
+      await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: px - 20 - 12 * i, y: py, id: 1 }, { x: px + 20 + 12 * i, y: py, id: 2 }] });
+      await page.waitForTimeout(50);
+    }
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+    const dist1 = await state(page, () => window.geoslice.S.three.dist);
+    check(dist1 < dist0 * 0.8, `pinch zoomed in: ${dist0} -> ${dist1}`);
+    await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+    await settle(page);
+    const vw = (await box(page, '#view3d')).width;
+    check(sizes.some((w) => w <= Math.ceil(vw / 3) + 1), `small frames while dragging: ${sizes}`);
+    check(sizes.length && sizes[sizes.length - 1] >= vw, `full frame on release: ${sizes}`);
+    const shown = await state(page, () => window.geoslice.S.shown3d.params);
+    const plane = await state(page, () => `plane=${window.geoslice.S.shown3d.profile.split('plane=')[1].split('&')[0]}`);
+    check(shown.includes(plane), 'the 3D image and the profile show the same plane');
+    await shot(page, 'phone-3d-dragged');
+    // Rotate with the keyboard.
+    await page.locator('#rotateHandle').focus();
+    await page.keyboard.press('ArrowRight');
+    await page.waitForFunction(() => Number(document.getElementById('plAz').value) === 95, null, { timeout: 5000 });
+    // Tap the 3D view and the profile: both answer.
+    const v = await box(page, '#view3d');
+    await tap(page, v.x + v.width * 0.5, v.y + v.height * 0.6);
+    await page.waitForFunction(() => window.geoslice.S.answer?.where === '3d', null, { timeout: 10000 });
+    const p = await box(page, '#profileImg');
+    await tap(page, p.x + p.width * 0.5, p.y + p.height * 0.6);
+    await page.waitForFunction(() => window.geoslice.S.answer?.where === 'profile', null, { timeout: 10000 });
+    await shot(page, 'phone-3d-answer');
+    await page.context().close();
+  },
+
+  async errors_never_lie() {
+    const page = await newPage(PHONE);
+    await open(page);
+    await cutLine(page, [[0.2, 0.4], [0.8, 0.6]]);
+    const before = await state(page, () => ({ def: window.geoslice.S.section.def, gen: window.geoslice.S.gen }));
+    // A cut the real server rejects (257 vertices; at most 256): nothing changes.
+    await page.evaluate(() => {
+      const b = window.geoslice.S.model.bounds, pts = [];
+      for (let i = 0; i < 257; ++i) pts.push([b.min[0] + (i / 256) * (b.max[0] - b.min[0]), 0.5 * (b.min[1] + b.max[1])]);
+      window.geoslice.setPoints(pts);
+    });
+    await page.locator('#tab-plan').click();
+    await page.locator('#cut').click();
+    await page.waitForFunction(() => /Cut rejected/.test(document.getElementById('status').textContent), null, { timeout: 10000 });
+    let after = await state(page, () => ({ def: window.geoslice.S.section.def, gen: window.geoslice.S.gen }));
+    check(JSON.stringify(after) === JSON.stringify(before), 'a rejected cut changed the section');
+    check(/more than 512 values/.test(await page.locator('#status').textContent()), 'the server\'s reason is shown');
+    await shot(page, 'error-cut-rejected');
+    // Client-side range check (vx outside 0.1..100): refused before any request.
+    await page.evaluate(() => window.geoslice.setPoints([[window.geoslice.S.model.bounds.min[0] + 100, window.geoslice.S.model.bounds.min[1] + 100], [window.geoslice.S.model.bounds.max[0] - 100, window.geoslice.S.model.bounds.max[1] - 100]]));
+    await page.locator('#vx').fill('500');
+    await page.locator('#cut').click();
+    check(/0\.1\.\.100/.test(await page.locator('#status').textContent()), 'vx range named');
+    after = await state(page, () => ({ def: window.geoslice.S.section.def, gen: window.geoslice.S.gen }));
+    check(JSON.stringify(after) === JSON.stringify(before), 'an invalid vx changed the section');
+    await page.locator('#vx').fill('2');
+    // Input ranges come from the model's bounds.
+    const b = await bounds(page);
+    check(Number(await page.locator('#sliceZ').getAttribute('min')) === Math.floor(b.min[2]), 'slice min from bounds');
+    check(Number(await page.locator('#sliceZ').getAttribute('max')) === Math.ceil(b.max[2]), 'slice max from bounds');
+
+    // Failed queries clear the old answer (502 from a proxy, connection refused).
+    await page.locator('#tab-section').click();
+    const m = await box(page, '#sectionMap');
+    await tap(page, m.x + m.width / 2, m.y + m.height / 2);
+    await page.waitForFunction(() => window.geoslice.S.answer, null, { timeout: 10000 });
+    for (const [kind, fail] of [['502', (r) => r.fulfill({ status: 502, contentType: 'text/plain', body: 'bad gateway' })],
+                                ['refused', (r) => r.abort('connectionrefused')]]) {
+      await page.route('**/query?**', fail);
+      await tap(page, m.x + m.width * 0.4, m.y + m.height * 0.55);
+      await page.waitForFunction(() => /Query failed/.test(document.getElementById('answer').textContent), null, { timeout: 10000 });
+      check(await state(page, () => window.geoslice.S.answer) === null, `${kind}: the old answer stays`);
+      check(await page.locator('#sectionMap .qmark').count() === 0, `${kind}: the old marker stays`);
+      await shot(page, `error-query-${kind}`);
+      await page.unroute('**/query?**');
+    }
+
+    // Tiles: 503 twice then served -> retried and painted; always 503 -> a visible message.
+    let n503 = 0;
+    await page.route('**/section.png?line=**frame=**', (r) => (n503++ < 2 ? r.fulfill({ status: 503, headers: { 'Retry-After': '0' }, body: '' }) : r.continue()));
+    await page.locator('#tab-plan').click();
+    await cutLine(page, [[0.3, 0.3], [0.7, 0.7]]);
+    check(n503 >= 2, 'tiles were refused');
+    check(await page.locator('#sectionMap img.tile-failed').count() === 0, 'refused tiles were retried and painted');
+    await page.unroute('**/section.png?line=**frame=**');
+    await page.route('**/section.png?line=**frame=**', (r) => r.fulfill({ status: 503, body: '' }));
+    await page.locator('#tab-plan').click();
+    await page.locator('[data-mode="line"]').click();
+    await page.locator('#clear').click();
+    const [x1, y1] = await planPoint(page, b.min[0] + 0.25 * (b.max[0] - b.min[0]), b.min[1] + 0.5 * (b.max[1] - b.min[1]));
+    const [x2, y2] = await planPoint(page, b.min[0] + 0.6 * (b.max[0] - b.min[0]), b.min[1] + 0.45 * (b.max[1] - b.min[1]));
+    await tap(page, x1, y1);
+    await tap(page, x2, y2);
+    await page.locator('#cut').click();
+    await page.waitForFunction(() => /retrying/.test(document.getElementById('status').textContent), null, { timeout: 10000 });
+    await page.waitForFunction(() => /could not be loaded/.test(document.getElementById('status').textContent), null, { timeout: 30000 });
+    check(await page.locator('#status button').isVisible(), 'a retry button');
+    await shot(page, 'error-tiles-503');
+    await page.unroute('**/section.png?line=**frame=**');
+    await page.locator('#status button').click();
+    await page.waitForFunction(() => document.querySelectorAll('#sectionMap img.tile-failed').length === 0 && !/could not/.test(document.getElementById('status').textContent), null, { timeout: 20000 });
+
+    // A model switch resets the view: no section, no answer, a new plan, queries to the new model.
+    await tap(page, m.x + m.width / 2, m.y + m.height / 2);
+    await page.waitForFunction(() => window.geoslice.S.answer, null, { timeout: 10000 });
+    const planBefore = await state(page, () => window.geoslice.S.plan.sid);
+    await page.locator('#model').selectOption('mine-b');
+    await page.waitForFunction((s) => window.geoslice.S.plan && window.geoslice.S.plan.sid !== s, planBefore, { timeout: 15000 });
+    const s2 = await state(page, () => ({ section: window.geoslice.S.section, answer: window.geoslice.S.answer, model: window.geoslice.S.model.id, points: window.geoslice.S.points.length }));
+    check(s2.section === null && s2.answer === null && s2.model === 'mine-b' && s2.points === 0, `after switch: ${JSON.stringify(s2)}`);
+    await page.locator('#tab-section').click();
+    check(await page.locator('#noSection').isVisible(), 'the section view says there is none');
+    await shot(page, 'model-switched');
+    const nb = await bounds(page);
+    check(nb.min[0] !== b.min[0], 'the new model has other bounds');
+    check(Number(await page.locator('#sliceZ').getAttribute('max')) === Math.ceil(nb.max[2]), 'ranges follow the new model');
+    await page.context().close();
+  },
+
+  async permalink_and_language() {
+    const page = await newPage(DESKTOP, { locale: 'zh-CN' });
+    await open(page);
+    check((await page.locator('#tab-plan').textContent()) === '平面', 'Chinese from Accept-Language');
+    check(await page.evaluate(() => document.documentElement.lang) === 'zh-CN', 'html lang zh-CN');
+    await cutLine(page, [[0.2, 0.3], [0.8, 0.7]]);
+    await shot(page, 'desktop-zh-section');
+    await page.locator('#lang').click();
+    check((await page.locator('#tab-plan').textContent()) === 'Plan', 'switched to English');
+    await page.waitForTimeout(300);
+    const link = await state(page, () => window.geoslice.permalink());
+    const def = await state(page, () => window.geoslice.S.section.def);
+    const page2 = await newPage(DESKTOP);
+    await page2.goto(link);
+    await page2.waitForSelector('body[data-ready="1"]', { timeout: 20000 });
+    await settle(page2);
+    const def2 = await state(page2, () => window.geoslice.S.section?.def);
+    check(JSON.stringify(def2) === JSON.stringify(def), `permalink restores the section: ${JSON.stringify(def2)} vs ${JSON.stringify(def)}`);
+    check(await state(page2, () => window.geoslice.S.view) === 'section', 'permalink restores the view');
+    check((await page2.locator('#tab-plan').textContent()) === 'Plan', 'permalink keeps the language');
+    await page.context().close();
+    await page2.context().close();
+  },
+
+  async assets_cached_and_typed() {
+    const r = await fetch(`${origin}/`);
+    check(r.headers.get('cache-control') === 'no-cache' && r.headers.get('etag'), 'index: no-cache + ETag');
+    const html = await r.text();
+    const v = /app\.js\?v=([0-9a-f]+)/.exec(html)?.[1];
+    check(v, 'asset URLs carry the build id');
+    for (const [p, type] of [['app.js', 'text/javascript'], ['app.css', 'text/css'], ['leaflet/leaflet.js', 'text/javascript'],
+                             ['leaflet/leaflet.css', 'text/css'], ['leaflet/images/layers.png', 'image/png']]) {
+      const a = await fetch(`${origin}/web/${p}?v=${v}`);
+      check(a.status === 200 && a.headers.get('content-type').startsWith(type), `${p}: ${a.status} ${a.headers.get('content-type')}`);
+      check(/max-age=\d+/.test(a.headers.get('cache-control')), `${p} cache-control`);
+      const again = await fetch(`${origin}/web/${p}`, { headers: { 'If-None-Match': a.headers.get('etag') } });
+      check(again.status === 304, `${p}: If-None-Match gives 304`);
+    }
+    check((await fetch(`${origin}/web/nothing.js`)).status === 404, 'unknown asset 404');
+  },
+};
+
+for (const [name, fn] of Object.entries(tests)) {
+  if (filter && !name.includes(filter)) continue;
+  const t0 = Date.now();
+  try {
+    await fn();
+    ++passed;
+    console.log(`ok   ${name} (${Date.now() - t0} ms)`);
+  } catch (e) {
+    failures.push(name);
+    console.log(`FAIL ${name}: ${e.message}`);
+  }
+}
+await browser.close();
+server.stop();
+if (foreign.length) {
+  console.log(`FAIL requests to other origins: ${[...new Set(foreign)].join(', ')}`);
+  failures.push('foreign requests');
+} else console.log('ok   zero requests to other origins');
+console.log(`${passed} passed, ${failures.length} failed; screenshots in ${outDir}`);
+process.exit(failures.length ? 1 : 0);

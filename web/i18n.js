@@ -1,0 +1,101 @@
+// geoslice web client: English and Simplified Chinese. The first of navigator.languages
+// (the browser's Accept-Language) that is Chinese picks zh; a saved choice or the
+// permalink's lang= wins. Elements carry data-i18n (text), data-i18n-label (aria-label)
+// or data-i18n-title (title).
+const STRINGS = {
+  en: {
+    title: 'geoslice', model: 'Model', language: 'Language', langSwitch: '中文', langSwitchLabel: 'Switch to Chinese',
+    tabPlan: 'Plan', tabSection: 'Section', tab3d: '3D', views: 'Views',
+    planElevation: 'Plan at elevation (m)', drawMode: 'Tap the plan to', modeQuery: 'Query', modeLine: 'Line A-B-C', modeNS: 'N-S', modeEW: 'E-W',
+    modeAz: 'Azimuth', modeSlice: 'Slice', azimuth: 'Azimuth (°)', sliceElevation: 'Slice elevation (m)',
+    vx: 'Vertical exaggeration', cut: 'Cut section', undo: 'Undo point', clear: 'Clear line',
+    hintLine: 'Tap the map to add points A, B, C…, then Cut. Query asks what lies under a tap; a long-press gives a borehole.',
+    hintPoint: 'Tap the map to place the section through that point.', hintSlice: 'Set the elevation, then Cut.',
+    points: (n) => `${n} point${n === 1 ? '' : 's'}`, through: (x, y) => `through ${x}, ${y}`,
+    noSection: 'No section yet: draw one on the plan.', sectionOf: 'Section',
+    plDip: 'Dip (°)', plAz: 'Strike azimuth (°)', plOffset: 'Offset from centre (m)', resetCam: 'Reset view',
+    moveHandle: 'Move the plane (drag, or arrow keys)', rotateHandle: 'Rotate the plane (drag, or arrow keys)',
+    view3d: '3D view of the model cut by the plane; drag to orbit, pinch or wheel to zoom, tap to query',
+    profile: 'Profile of the plane', profileAlt: 'Section along the current plane; tap to query',
+    answer: 'Answer', legend: 'Legend', borehole: 'Borehole', copy: 'Copy', copied: 'Copied',
+    tapHint: 'Tap a section, the plan or the 3D view to ask what lies there.',
+    noGeology: 'No geology at this point', unit: 'Unit', body: 'Body', world: 'World point', crs: 'CRS',
+    easting: 'Easting', northing: 'Northing', zone: 'Zone', lon: 'Longitude', lat: 'Latitude', elevation: 'Elevation',
+    distance: 'Distance along section', distanceEye: 'Distance from the eye', source: 'Source', pixel: 'Pixel',
+    attributes: 'Attributes', lithology: 'Lithology', age: 'Age', colour: 'Colour', name: 'Name',
+    loading: 'Loading…', failedCut: (m) => `Cut rejected: ${m}`, failedQuery: (m) => `Query failed: ${m}`,
+    failedModel: (m) => `Could not load the model: ${m}`, failedBorehole: (m) => `Borehole failed: ${m}`,
+    failed3d: (m) => `3D view failed: ${m}`, tilesFailed: (n) => `${n} tile(s) could not be loaded after retries.`,
+    retry: 'Retry', retrying: (n) => `Server busy, retrying ${n} tile(s)…`,
+    bhHint: 'Long-press the plan or a section for a virtual borehole.', collar: 'Collar', depth: 'Depth from collar (m)',
+    faults: 'Faults crossed', none: 'none', bhAt: (x, y) => `Borehole at ${x}, ${y}`,
+    export: 'Export', exportPng: 'PNG', exportSvg: 'SVG', exportGeojson: 'GeoJSON', exportPdf: 'PDF',
+    permalink: 'Copy link', linkCopied: 'Link copied', scale: 'Scale', metres: 'm', vxShown: (k) => `vx ${k}×`,
+    elevAxis: 'Elevation (m)', distAxis: 'Distance (m)', eastAxis: 'Easting (m)', northAxis: 'Northing (m)',
+    noModels: 'The server has no models.', zoomIn: 'Zoom in', zoomOut: 'Zoom out', bend: 'bend',
+  },
+  zh: {
+    title: 'geoslice', model: '模型', language: '语言', langSwitch: 'English', langSwitchLabel: '切换到英文',
+    tabPlan: '平面', tabSection: '剖面', tab3d: '三维', views: '视图',
+    planElevation: '平面图高程（米）', drawMode: '点击平面图以', modeQuery: '查询', modeLine: '折线 A-B-C', modeNS: '南北', modeEW: '东西',
+    modeAz: '方位角', modeSlice: '水平切片', azimuth: '方位角（°）', sliceElevation: '切片高程（米）',
+    vx: '垂向放大倍数', cut: '生成剖面', undo: '撤销一点', clear: '清除折线',
+    hintLine: '点击地图依次添加 A、B、C… 点，然后生成剖面。选“查询”后点击即查询；长按生成钻孔。',
+    hintPoint: '点击地图，剖面将通过该点。', hintSlice: '设置高程，然后生成剖面。',
+    points: (n) => `${n} 个点`, through: (x, y) => `通过 ${x}, ${y}`,
+    noSection: '尚无剖面：请在平面图上绘制。', sectionOf: '剖面',
+    plDip: '倾角（°）', plAz: '走向方位角（°）', plOffset: '距中心偏移（米）', resetCam: '重置视图',
+    moveHandle: '移动剖切面（拖动或方向键）', rotateHandle: '旋转剖切面（拖动或方向键）',
+    view3d: '被剖切面切开的模型三维视图；拖动旋转，双指或滚轮缩放，点击查询',
+    profile: '剖切面剖面图', profileAlt: '当前剖切面的剖面；点击查询',
+    answer: '查询结果', legend: '图例', borehole: '钻孔', copy: '复制', copied: '已复制',
+    tapHint: '点击剖面、平面图或三维视图，查询该处地质。',
+    noGeology: '此处无地质体', unit: '地层单元', body: '地质体', world: '世界坐标', crs: '坐标系',
+    easting: '东坐标', northing: '北坐标', zone: '带号', lon: '经度', lat: '纬度', elevation: '高程',
+    distance: '沿剖面距离', distanceEye: '距视点距离', source: '来源', pixel: '像素',
+    attributes: '属性', lithology: '岩性', age: '时代', colour: '颜色', name: '名称',
+    loading: '加载中…', failedCut: (m) => `剖面被拒绝：${m}`, failedQuery: (m) => `查询失败：${m}`,
+    failedModel: (m) => `无法加载模型：${m}`, failedBorehole: (m) => `钻孔失败：${m}`,
+    failed3d: (m) => `三维视图失败：${m}`, tilesFailed: (n) => `${n} 个瓦片多次重试后仍无法加载。`,
+    retry: '重试', retrying: (n) => `服务器繁忙，正在重试 ${n} 个瓦片…`,
+    bhHint: '在平面图或剖面上长按，生成虚拟钻孔。', collar: '孔口', depth: '孔深（米，自孔口）',
+    faults: '穿过的断层', none: '无', bhAt: (x, y) => `钻孔位于 ${x}, ${y}`,
+    export: '导出', exportPng: 'PNG', exportSvg: 'SVG', exportGeojson: 'GeoJSON', exportPdf: 'PDF',
+    permalink: '复制链接', linkCopied: '链接已复制', scale: '比例尺', metres: '米', vxShown: (k) => `垂向放大 ${k}×`,
+    elevAxis: '高程（米）', distAxis: '距离（米）', eastAxis: '东坐标（米）', northAxis: '北坐标（米）',
+    noModels: '服务器上没有模型。', zoomIn: '放大', zoomOut: '缩小', bend: '拐点',
+  },
+};
+
+let lang = 'en';
+
+export function initialLanguage(hashLang) {
+  if (hashLang && STRINGS[hashLang]) return hashLang;
+  try {
+    const saved = localStorage.getItem('geoslice.lang');
+    if (saved && STRINGS[saved]) return saved;
+  } catch (_) { /* storage may be disabled */ }
+  for (const l of navigator.languages || [navigator.language || 'en']) {
+    if (/^zh\b/i.test(l)) return 'zh';
+    if (/^en\b/i.test(l)) return 'en';
+  }
+  return 'en';
+}
+
+export function setLanguage(l, save = false) {
+  lang = STRINGS[l] ? l : 'en';
+  if (save) try { localStorage.setItem('geoslice.lang', lang); } catch (_) { /* ignore */ }
+  document.documentElement.lang = lang === 'zh' ? 'zh-CN' : 'en';
+  for (const e of document.querySelectorAll('[data-i18n]')) e.textContent = t(e.dataset.i18n);
+  const sw = document.getElementById('lang');
+  if (sw) sw.lang = lang === 'zh' ? 'en' : 'zh-CN';
+  for (const e of document.querySelectorAll('[data-i18n-label]')) e.setAttribute('aria-label', t(e.dataset.i18nLabel));
+  for (const e of document.querySelectorAll('[data-i18n-title]')) e.title = t(e.dataset.i18nTitle);
+  for (const e of document.querySelectorAll('[data-i18n-alt]')) e.alt = t(e.dataset.i18nAlt);
+}
+export const language = () => lang;
+
+export function t(key, ...args) {
+  const s = STRINGS[lang][key] ?? STRINGS.en[key] ?? key;
+  return typeof s === 'function' ? s(...args) : s;
+}
