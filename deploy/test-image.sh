@@ -15,7 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 image=${1:-geoslice:latest}
-binary=${GEOSLICE_BINARY:-build/cli/geoslice}
+binary=${GEOSLICE_BINARY:-${GEOSLICE_BUILD_DIR:-build}/cli/geoslice}
 source deploy/engine.sh
 engine_init
 t_start=$(date +%s)
@@ -64,7 +64,7 @@ for l in title version revision created; do
     ctr image inspect --format "{{index .Config.Labels \"org.opencontainers.image.$l\"}}" "$image" | grep -q . ||
         fail "label org.opencontainers.image.$l missing"
 done
-inside=$(ctr run --rm "${ctr_run_args[@]}" --entrypoint sh "$image" -c \
+inside=$(ctr run --rm "${ctr_run_args[@]}" "${health_args[@]}" --entrypoint sh "$image" -c \
     'for c in cc gcc g++ c++ clang ld cmake; do command -v $c; done; ls /usr/include 2>/dev/null | head -3;
      ldd /usr/local/bin/geoslice | grep "not found"; true')
 [ -z "$inside" ] || fail "runtime image has build tools, headers or unresolved libraries: $inside"
