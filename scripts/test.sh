@@ -6,6 +6,8 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 # tests/web: playwright-core and axe-core at the versions in tests/web/package-lock.json.
 (cd tests/web && npm ci --no-audit --no-fund --loglevel=error)
+# tests/deploy: the offline Kubernetes schemas (kubernetes-models) in tests/deploy/package-lock.json.
+(cd tests/deploy && npm ci --no-audit --no-fund --loglevel=error)
 build=${GEOSLICE_BUILD_DIR:-build}
 jobs=$(nproc)
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DGEOSLICE_WERROR=ON "$@"

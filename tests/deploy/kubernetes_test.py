@@ -3,7 +3,7 @@
 
 1. Schema: every object against the Kubernetes 1.27 OpenAPI schemas bundled offline by the
    npm package kubernetes-models (validate_k8s.cjs), when `npm ci` has installed it into
-   tests/deploy/node_modules (.ci/run does); otherwise says it was skipped. Those schemas
+   tests/deploy/node_modules (scripts/test.sh does); otherwise says it was skipped. Those schemas
    do not reject unknown fields, hence 2.
 2. Fields this deployment depends on, with python3-yaml: probes on the right paths and
    port, resources, IfNotPresent, workers = CPU request, the port env = containerPort, the
