@@ -282,8 +282,9 @@ struct Connection : std::enable_shared_from_this<Connection> {
     Clock::time_point headerDeadline;
     std::shared_ptr<std::atomic<bool>> cancel;  // of the request being handled
     std::size_t served = 0;
-    bool watching = false;          // a read that notices the peer leaving during a request
-    bool resumeAfterWatch = false;  // the answer is out: read the next request when the watch ends
+    bool watching = false;  // a read that notices the peer leaving during a request
+    // The answer is out: what to do once the watch read has ended (one read at a time).
+    enum class AfterWatch { Nothing, NextRequest, LingerClose } afterWatch = AfterWatch::Nothing;
     bool peerGone = false;
     std::size_t lingered = 0;
 
@@ -463,18 +464,14 @@ struct Connection : std::enable_shared_from_this<Connection> {
         watching = false;
         const Phase p = currentPhase();
         if (p == Phase::Closed) return;
+        const AfterWatch then = std::exchange(afterWatch, AfterWatch::Nothing);
+        if (!ec) buffer.commit(n);
+        if (then == AfterWatch::NextRequest)
+            return ec && ec != net::error::operation_aborted ? closeNow() : nextRequest();
+        if (then == AfterWatch::LingerClose) return lingerClose();
         if (!ec) {
-            buffer.commit(n);
-            if (resumeAfterWatch) {
-                resumeAfterWatch = false;
-                return nextRequest();
-            }
             if (p == Phase::Handling) watch();
             return;
-        }
-        if (ec == net::error::operation_aborted && resumeAfterWatch) {
-            resumeAfterWatch = false;
-            return nextRequest();
         }
         if (ec == net::error::operation_aborted) return;
         // The peer closed or reset the connection.
@@ -500,14 +497,14 @@ struct Connection : std::enable_shared_from_this<Connection> {
             if (ec == beast::error::timeout) owner.counters.sendTimeouts++;
             return closeNow();
         }
-        if (!keepAlive || peerGone || owner.stopping) return lingerClose();
-        if (watching) {
-            resumeAfterWatch = true;
+        const bool close = !keepAlive || peerGone || owner.stopping;
+        if (watching) {  // finish the watch read first: never two reads at once
+            afterWatch = close ? AfterWatch::LingerClose : AfterWatch::NextRequest;
             beast::error_code ignored;
             stream.socket().cancel(ignored);
             return;
         }
-        nextRequest();
+        close ? lingerClose() : nextRequest();
     }
 
     // Answers a request the transport refuses, then closes.
