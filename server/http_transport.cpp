@@ -119,16 +119,30 @@ void parseTarget(std::string_view target, std::string& path, std::multimap<std::
 }
 
 bool acceptsGzip(std::string_view acceptEncoding) {
-    // Beast parses the list and its parameters ("gzip;q=0.5, br").
-    for (const auto& [coding, paramList] : http::ext_list(acceptEncoding)) {
+    // "gzip;q=0.5, br" (RFC 9110 12.5.3). Not Beast's http::ext_list: fuzz_http found it
+    // reading past the end of a malformed list (",1,0,*;q;Q") in Boost 1.74.
+    auto trim = [](std::string_view v) {
+        while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
+        while (!v.empty() && (v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
+        return v;
+    };
+    while (!acceptEncoding.empty()) {
+        const auto comma = acceptEncoding.find(',');
+        std::string_view item = acceptEncoding.substr(0, comma);
+        acceptEncoding = comma == std::string_view::npos ? std::string_view() : acceptEncoding.substr(comma + 1);
+        const auto semi = item.find(';');
+        const std::string_view coding = trim(item.substr(0, semi));
         if (!equalsNoCase(coding, "gzip") && coding != "*") continue;
-        bool refused = false;
-        for (const auto& [name, value] : paramList)
-            if (equalsNoCase(name, "q")) {
-                const std::string v(value);
-                refused = std::strtod(v.c_str(), nullptr) <= 0.0;
-            }
-        return !refused;
+        double q = 1.0;
+        for (std::string_view params = semi == std::string_view::npos ? std::string_view() : item.substr(semi + 1);
+             !params.empty();) {
+            const auto next = params.find(';');
+            const std::string_view param = trim(params.substr(0, next));
+            params = next == std::string_view::npos ? std::string_view() : params.substr(next + 1);
+            if (param.size() > 2 && (param[0] == 'q' || param[0] == 'Q') && param[1] == '=')
+                q = std::strtod(std::string(param.substr(2)).c_str(), nullptr);
+        }
+        return q > 0.0;
     }
     return false;
 }

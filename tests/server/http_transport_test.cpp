@@ -46,6 +46,8 @@ TEST(HttpTarget, AcceptEncodingAndCompressibleTypes) {
     EXPECT_FALSE(acceptsGzip("gzip;q=0"));
     EXPECT_FALSE(acceptsGzip("identity, br"));
     EXPECT_FALSE(acceptsGzip(""));
+    EXPECT_TRUE(acceptsGzip(" deflate ;q=1 , gzip ; level=1 ; Q=0.1"));
+    EXPECT_TRUE(acceptsGzip(",1,0,*;q;Q"));  // malformed parameters are ignored (found by fuzz_http)
     EXPECT_TRUE(compressibleType("application/json"));
     EXPECT_TRUE(compressibleType("application/problem+json"));
     EXPECT_TRUE(compressibleType("text/html; charset=utf-8"));
