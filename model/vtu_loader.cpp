@@ -149,6 +149,7 @@ public:
         return take(out.data() + start, static_cast<std::size_t>(n));
     }
     bool take(std::uint8_t* dst, std::size_t n) {
+        if (n == 0) return true;  // dst may be null (an empty array)
         if (!base64_) {
             if (n > text_.size() - pos_) return false;
             std::memcpy(dst, text_.data() + pos_, n);
