@@ -83,6 +83,8 @@ const std::vector<RouteSpec>& apiRoutes() {
         {"GET", "/v1/models/{id}/query"},
         {"POST", "/v1/models/{id}/query"},
         {"GET", "/v1/models/{id}/borehole"},
+        {"GET", "/v1/models/{id}/reserves"},
+        {"GET", "/v1/models/{id}/reserves.csv"},
         {"POST", "/v1/models/{id}/sections"},
         {"GET", "/v1/sections/{sid}"},
         {"GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}"},
@@ -151,6 +153,27 @@ J openApiDocument(const std::string& serverVersion) {
                      queryParam("lon", "number", "or longitude, degrees (CGCS2000)"),
                      queryParam("lat", "number", "and latitude, degrees (CGCS2000)")}),
            jsonResponse("the borehole")));
+    {
+        const char* what =
+            "reserves: gross and net (nested bodies subtracted) volume m^3, density, tonnage t, grade and metal of "
+            "every closed body, whole or on the kept side of a plane, and totals; the same document as `geoslice "
+            "reserves --json` (api/reserves.hpp). A plane that misses the model keeps all of it or none of it, "
+            "whichever side it lies on (volumes 0, not an error).";
+        const J plane = queryParam("plane", "string",
+                                   "a,b,c,d: count only the kept side a*x+b*y+c*z+d >= 0 (world m); default: the "
+                                   "whole model");
+        get("/v1/models/{id}/reserves",
+            op(what,
+               J::array(
+                   {id, plane, queryParam("format", "string", "json (default) or csv (the same as reserves.csv)")}),
+               J{{"description", "the reserves; ETag and Cache-Control set"},
+                 {"content", {{"application/json", J::object()}, {"text/csv", J::object()}}}}));
+        get("/v1/models/{id}/reserves.csv",
+            op(what, J::array({id, plane}),
+               J{{"description",
+                  "CSV with a header row: one row per body, then a '(total)' row; empty cells where JSON has null"},
+                 {"content", {{"text/csv", J::object()}}}}));
+    }
     post("/v1/models/{id}/sections",
          J{{"summary",
             "define a section for tiles: {\"plane\": \"a,b,c,d\" | \"elevation\": z, \"vx\": k, \"bg\": c}. "

@@ -1,23 +1,16 @@
 // geoslice reserves MODEL [--plane a,b,c,d] [--json]: volume (m³, gross and net of nested
 // bodies), tonnage (t) and metal of every closed body, whole or on the kept side of a plane
-// (section/reserves.hpp says how and in which units).
+// (section/reserves.hpp says how and in which units; api/reserves.hpp lays out the JSON,
+// which GET /v1/models/{id}/reserves serves too).
 #include <cstdio>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
+#include "api/reserves.hpp"
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
 #include "section/reserves.hpp"
 
 namespace geoslice::cli {
-namespace {
-
-using json = nlohmann::ordered_json;
-
-json optional(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
-
-}  // namespace
 
 void addReserves(CLI::App& app, int& exitCode) {
     struct Opts {
@@ -51,34 +44,8 @@ void addReserves(CLI::App& app, int& exitCode) {
         if (r->skippedOpenBodies)
             std::fprintf(stderr, "geoslice reserves: warning: %zu bodies are not closed shells and have no volume\n",
                          r->skippedOpenBodies);
-        auto name = [&](RecordId id) {
-            const AttributeRecord* rec = m.attributes.find(id);
-            return rec ? rec->name : std::string();
-        };
         if (o->json) {
-            json bodies = json::array();
-            for (const BodyReserves& b : r->bodies)
-                bodies.push_back({{"body", m.bodies[b.body].name},
-                                  {"record", b.record},
-                                  {"record_name", name(b.record)},
-                                  {"gross_volume_m3", b.grossVolume},
-                                  {"net_volume_m3", b.netVolume},
-                                  {"density_t_per_m3", optional(b.density)},
-                                  {"tonnage_t", optional(b.tonnage)},
-                                  {"grade", optional(b.grade)},
-                                  {"grade_unit", b.gradeUnit},
-                                  {"metal", optional(b.metal)},
-                                  {"metal_unit", b.metalUnit}});
-            json j = {{"model", o->model},
-                      {"plane",
-                       r->plane ? json::array({r->plane->normal.x, r->plane->normal.y, r->plane->normal.z, r->plane->d})
-                                : json(nullptr)},
-                      {"method",
-                       "divergence theorem over each closed shell; net = gross minus directly nested "
-                       "bodies; with a plane, the shell clipped to the kept side (reference point on "
-                       "the plane, so the cap adds zero)"},
-                      {"bodies", bodies}};
-            std::printf("%s\n", j.dump(2).c_str());
+            std::printf("%s\n", api::reservesJson(m, r.value(), o->model).dump(2).c_str());
             return;
         }
         if (r->plane)

@@ -12,6 +12,7 @@
 #include "api/legend.hpp"
 #include "api/openapi.hpp"
 #include "api/plan.hpp"
+#include "api/reserves.hpp"
 #include "api/view.hpp"
 #include "renderer/image_encode.hpp"
 #include "server/gl_worker.hpp"
@@ -465,6 +466,10 @@ struct SectionServer::Impl {
                   if (!j) return problem(res, j.error(), req.path);
                   sendJson(res, j.value());
               });
+        route("GET", "/v1/models/{id}/reserves", "/v1/models/([^/]+)/reserves",
+              [this](const HttpRequest& req, HttpResponse& res) { reserves(req, res, false); });
+        route("GET", "/v1/models/{id}/reserves.csv", "/v1/models/([^/]+)/reserves\\.csv",
+              [this](const HttpRequest& req, HttpResponse& res) { reserves(req, res, true); });
         route("POST", "/v1/models/{id}/sections", "/v1/models/([^/]+)/sections",
               [this](const HttpRequest& req, HttpResponse& res) { defineSection(req, res); });
         route("GET", "/v1/sections/{sid}", "/v1/sections/([A-Za-z0-9_-]+)",
@@ -577,6 +582,44 @@ struct SectionServer::Impl {
                 e->body = std::move(text.value());
                 e->contentType = svg ? "image/svg+xml" : "application/geo+json";
                 e->etag = etag;
+                return std::shared_ptr<const Encoded>(std::move(e));
+            },
+            res, answered, req.path);
+        if (answered) return;
+        if (!result) return problem(res, result.error(), req.path);
+        sendEncoded(req, res, *result.value());
+    }
+
+    // Reserves (api/reserves.hpp, the same document as `geoslice reserves --json`): computed
+    // on a render worker like every other model-sized job, cached by model version + the
+    // canonical plane + format.
+    void reserves(const HttpRequest& req, HttpResponse& res, bool csvPath) {
+        auto m = model(req.matches[1], res, req.path);
+        if (!m) return;
+        auto params = toParams(req);
+        if (!params) return problem(res, params.error(), req.path);
+        auto rr = api::parseReservesRequest(params.value(), csvPath);
+        if (!rr) return problem(res, rr.error(), req.path);
+        const std::string key = m->version + "|reserves|" + rr.value().canonical();
+        const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
+        if (auto hit = images.get(key)) {
+            metrics.count("geoslice_cache_total", "cache=\"reserves\",result=\"hit\"");
+            return sendEncoded(req, res, *hit);
+        }
+        metrics.count("geoslice_cache_total", "cache=\"reserves\",result=\"miss\"");
+        bool answered = false;
+        auto result = renderCoalesced(
+            key,
+            [this, m, r = rr.value(), etag](WorkerState&) -> Result<std::shared_ptr<const Encoded>> {
+                const auto t0 = Clock::now();
+                auto figures = computeReserves(m->model, r.plane);
+                if (!figures) return figures.error();
+                auto e = std::make_shared<Encoded>();
+                e->body = r.csv ? api::reservesCsv(m->model, figures.value())
+                                : api::reservesJson(m->model, figures.value(), m->id).dump();
+                e->contentType = r.csv ? "text/csv; charset=utf-8; header=present" : "application/json";
+                e->etag = etag;
+                metrics.render("reserves", std::chrono::duration<double>(Clock::now() - t0).count());
                 return std::shared_ptr<const Encoded>(std::move(e));
             },
             res, answered, req.path);

@@ -1,0 +1,50 @@
+// Reserves as documents: the one JSON form (`geoslice reserves --json` and
+// GET /v1/models/{id}/reserves) and its CSV twin, and the HTTP parameters of the route.
+// The figures come from section/reserves.hpp (computeReserves); this file only lays them out.
+//
+// JSON: {"model", "plane": [a,b,c,d] (unit normal) | null, "method", "bodies": [...],
+//        "totals": {...}, "skipped_open_bodies"}; one body per closed body, Model::bodies
+//        order, with body (part name), record, record_name, lithology, gross_volume_m3,
+//        net_volume_m3, density_t_per_m3, tonnage_t, grade, grade_unit, metal, metal_unit
+//        (null where the attribute record has no density or grade).
+// totals: bodies; net_volume_m3 (the sum of net volumes: nested bodies are counted once,
+//        gross volumes are not summed because a lens would count twice); tonnage_t (the sum
+//        over bodies with a density, null when none has one); bodies_with_tonnage; metal:
+//        [{unit, amount}] one entry per metal unit (units are never added across).
+// CSV (RFC 4180, header row, '\n' line ends): one row per body with the body fields above,
+//        numbers as the shortest text that reads back to the same double, empty where JSON has
+//        null; then one row whose body is "(total)" with the totals (record empty; metal only
+//        when every body with metal has the same unit).
+// Pure functions, any thread.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api/params.hpp"
+#include "model/model.hpp"
+#include "section/reserves.hpp"
+
+namespace geoslice::api {
+
+// The JSON document; `modelLabel` is what the caller named the model by (the CLI: the file
+// as given; HTTP: the model id).
+nlohmann::ordered_json reservesJson(const Model& model, const Reserves& reserves, const std::string& modelLabel);
+// The CSV document.
+std::string reservesCsv(const Model& model, const Reserves& reserves);
+
+// GET /v1/models/{id}/reserves parameters: `plane=a,b,c,d` (optional; parsed and checked
+// exactly as a section's plane, errors name 'plane') and `format=json|csv` (optional; the
+// path reserves.csv means csv, and format=json there is a conflict). Any other parameter
+// is an InvalidArgument naming it.
+struct ReservesRequest {
+    std::optional<Plane> plane;
+    bool csv = false;
+    // Cache key part: "whole" or the normalised plane's four numbers, then the format.
+    std::string canonical() const;
+};
+Result<ReservesRequest> parseReservesRequest(const Params& params, bool csvPath);
+
+}  // namespace geoslice::api
