@@ -52,7 +52,7 @@ std::string run(const std::string& cmd) {
     return out;
 }
 
-class Reserves : public ::testing::Test {
+class ServerReserves : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         spdlog::set_level(spdlog::level::warn);
@@ -161,14 +161,14 @@ std::string num(double v) {
     return s.str();
 }
 
-TEST_F(Reserves, WholeModelIsExact) {
+TEST_F(ServerReserves, WholeModelIsExact) {
     const json j = getJson("/v1/models/box/reserves");
     EXPECT_EQ(j["model"], "box");
     EXPECT_TRUE(j["plane"].is_null());
     expectFigures(j, 1.0, "whole");
 }
 
-TEST_F(Reserves, AxisPlanesThroughTheCentreKeepExactlyHalf) {
+TEST_F(ServerReserves, AxisPlanesThroughTheCentreKeepExactlyHalf) {
     const glm::dvec3 c = 0.5 * (kLo + kHi);
     for (const std::string& plane : {"1,0,0," + num(-c.x), "-1,0,0," + num(c.x), "0,1,0," + num(-c.y),
                                      "0,0,-1," + num(c.z), "0,0,2," + num(-2.0 * c.z)}) {
@@ -178,13 +178,13 @@ TEST_F(Reserves, AxisPlanesThroughTheCentreKeepExactlyHalf) {
     }
 }
 
-TEST_F(Reserves, APlaneThatMissesTheModelKeepsAllOrNothing) {
+TEST_F(ServerReserves, APlaneThatMissesTheModelKeepsAllOrNothing) {
     // Everything on the kept side: the whole model; everything on the other side: zeros (200).
     expectFigures(getJson("/v1/models/box/reserves?plane=0,0,1," + num(-(kLo.z - kMargin.z - 1000.0))), 1.0, "all");
     expectFigures(getJson("/v1/models/box/reserves?plane=0,0,1," + num(-(kHi.z + kMargin.z + 1000.0))), 0.0, "none");
 }
 
-TEST_F(Reserves, JsonEqualsTheCli) {
+TEST_F(ServerReserves, JsonEqualsTheCli) {
     const std::string glb = (dir_ / "box.glb").string();
     const std::string plane = "1,0,0," + num(-(kLo.x + 25.0));
     for (const std::string& p : {std::string(), plane}) {
@@ -230,7 +230,7 @@ std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
     return rows;
 }
 
-TEST_F(Reserves, CsvHasTheHeaderBodiesAndTotals) {
+TEST_F(ServerReserves, CsvHasTheHeaderBodiesAndTotals) {
     const glm::dvec3 c = 0.5 * (kLo + kHi);
     for (const std::string& path : {"/v1/models/box/reserves.csv?plane=1,0,0," + num(-c.x),
                                     "/v1/models/box/reserves?format=csv&plane=1,0,0," + num(-c.x)}) {
@@ -263,7 +263,7 @@ TEST_F(Reserves, CsvHasTheHeaderBodiesAndTotals) {
     }
 }
 
-TEST_F(Reserves, BadParametersAreProblemsNamingThem) {
+TEST_F(ServerReserves, BadParametersAreProblemsNamingThem) {
     expectProblem("/v1/models/box/reserves?plane=1,2,3", 400, "'plane'");
     expectProblem("/v1/models/box/reserves?plane=0,0,0,1", 400, "'plane'");
     expectProblem("/v1/models/box/reserves?plane=a,b,c,d", 400, "'plane'");
@@ -276,7 +276,7 @@ TEST_F(Reserves, BadParametersAreProblemsNamingThem) {
     expectProblem("/v1/models/nosuch/reserves", 404, "nosuch");
 }
 
-TEST_F(Reserves, RepeatsAreCachedWithAnETag) {
+TEST_F(ServerReserves, RepeatsAreCachedWithAnETag) {
     auto a = get("/v1/models/box/reserves?plane=0,1,0,-3380010");
     auto b = get("/v1/models/box/reserves?plane=0,2,0,-6760020");  // the same plane, scaled
     ASSERT_TRUE(a && b);
