@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
+#include <string_view>
 
 #include "api/plan.hpp"
 #include "model/loaders.hpp"
@@ -225,7 +227,11 @@ Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir
         if (!entry.is_regular_file(e2)) continue;
         std::string ext = p.extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-        if (ext != ".glb" && ext != ".gltf" && ext != ".obj" && ext != ".ts" && ext != ".xml" && ext != ".vtu") continue;
+        // GOCAD Model3d (.ml), TSolid (.so) and groups (.gp) hold bodies; Voxet/SGrid/PLine
+        // alone hold nothing a section draws yet.
+        static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts", ".ml", ".so", ".gp", ".xml",
+                                                          ".vtu"};
+        if (std::find(std::begin(kModelExts), std::end(kModelExts), ext) == std::end(kModelExts)) continue;
         const std::string stem = p.stem().string();
         if (stem.size() > 11 && stem.ends_with(".attributes")) continue;
         if (!isValidModelId(stem)) continue;

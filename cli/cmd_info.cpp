@@ -1,6 +1,9 @@
 // geoslice info [--json] FILE...: parts, triangles, bounds (world and lon/lat), CRS and the
 // validation report. Exits 1 when a file fails to load or has validation errors.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
@@ -12,20 +15,31 @@ using json = nlohmann::ordered_json;
 
 const char* severityName(ValidationIssue::Severity s) {
     switch (s) {
-        case ValidationIssue::Severity::Note: return "note";
-        case ValidationIssue::Severity::Warning: return "warning";
-        case ValidationIssue::Severity::Error: return "error";
+        case ValidationIssue::Severity::Note:
+            return "note";
+        case ValidationIssue::Severity::Warning:
+            return "warning";
+        case ValidationIssue::Severity::Error:
+            return "error";
     }
     return "error";
 }
 
 json partJson(const Model& m, const Part& p) {
     const MeshReport& r = p.report;
-    json j = {{"name", p.name}, {"record", p.record}, {"triangles", r.triangles}, {"vertices", r.vertices},
-              {"closed", r.closed}, {"consistently_oriented", r.consistentlyOriented}, {"components", r.components},
-              {"boundary_edges", r.boundaryEdges}, {"non_manifold_edges", r.nonManifoldEdges},
-              {"inconsistent_edges", r.inconsistentEdges}, {"degenerate_triangles", r.degenerateTriangles},
-              {"duplicate_triangles", r.duplicateTriangles}, {"non_finite_vertices", r.nonFiniteVertices}};
+    json j = {{"name", p.name},
+              {"record", p.record},
+              {"triangles", r.triangles},
+              {"vertices", r.vertices},
+              {"closed", r.closed},
+              {"consistently_oriented", r.consistentlyOriented},
+              {"components", r.components},
+              {"boundary_edges", r.boundaryEdges},
+              {"non_manifold_edges", r.nonManifoldEdges},
+              {"inconsistent_edges", r.inconsistentEdges},
+              {"degenerate_triangles", r.degenerateTriangles},
+              {"duplicate_triangles", r.duplicateTriangles},
+              {"non_finite_vertices", r.nonFiniteVertices}};
     if (p.kind == PartKind::Body) {
         j["volume_m3"] = r.signedVolume;
         j["flipped"] = r.flipped;
@@ -65,6 +79,54 @@ json modelJson(const std::string& file, const Model& m) {
     for (const auto& p : m.bodies) j["bodies"].push_back(partJson(m, p));
     j["surfaces"] = json::array();
     for (const auto& p : m.surfaces) j["surfaces"].push_back(partJson(m, p));
+    j["grids"] = json::array();
+    for (const Grid& g : m.grids) {
+        json gj = {{"name", g.name},
+                   {"type", g.type},
+                   {"dims", {g.dims[0], g.dims[1], g.dims[2]}},
+                   {"samples", g.sampleCount()},
+                   {"cell_centred", g.cellCentred}};
+        if (g.points.empty()) {
+            gj["origin"] = {g.origin.x, g.origin.y, g.origin.z};
+            gj["steps"] = json::array();
+            for (const auto& s : g.step) gj["steps"].push_back({s.x, s.y, s.z});
+        } else {
+            gj["points"] = g.points.size();
+        }
+        Aabb gb = g.bounds();
+        if (gb.valid())
+            gj["bounds"] = {{"min", {gb.min.x, gb.min.y, gb.min.z}}, {"max", {gb.max.x, gb.max.y, gb.max.z}}};
+        gj["properties"] = json::array();
+        for (const GridProperty& p : g.properties) {
+            std::size_t noData = 0;
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            for (float v : p.values) {
+                if (std::isnan(v)) {
+                    ++noData;
+                    continue;
+                }
+                lo = std::min(lo, double(v));
+                hi = std::max(hi, double(v));
+            }
+            json pj = {{"name", p.name}, {"unit", p.unit}, {"values", p.values.size()}, {"no_data_samples", noData}};
+            pj["no_data_value"] = p.noDataValue ? json(*p.noDataValue) : json(nullptr);
+            if (lo <= hi) pj["range"] = {lo, hi};
+            gj["properties"].push_back(std::move(pj));
+        }
+        j["grids"].push_back(std::move(gj));
+    }
+    j["lines"] = json::array();
+    for (const Polyline& l : m.lines) {
+        double length = 0.0;
+        for (std::size_t s = 0; s + 1 < l.segments.size(); s += 2)
+            length += glm::distance(l.points[l.segments[s]], l.points[l.segments[s + 1]]);
+        j["lines"].push_back({{"name", l.name},
+                              {"record", l.record},
+                              {"points", l.points.size()},
+                              {"segments", l.segments.size() / 2},
+                              {"length_m", length},
+                              {"properties", l.propertyNames}});
+    }
     j["attributes"] = m.attributes.toJson()["records"];
     j["notes"] = m.notes;
     j["issues"] = json::array();
@@ -79,10 +141,12 @@ void printText(const json& j) {
     if (j["crs"]["id"] == "local")
         std::printf("  CRS        %s\n", j["crs"]["name"].get<std::string>().c_str());
     else
-        std::printf("  CRS        %s (%s)\n", j["crs"]["id"].get<std::string>().c_str(), j["crs"]["name"].get<std::string>().c_str());
-    for (const auto& [k, v] : j["notes"].items()) std::printf("  note       %s: %s\n", k.c_str(), v.get<std::string>().c_str());
-    std::printf("  parts      %zu bodies, %zu surfaces, %zu triangles\n", j["bodies"].size(), j["surfaces"].size(),
-                j["triangles"].get<std::size_t>());
+        std::printf("  CRS        %s (%s)\n", j["crs"]["id"].get<std::string>().c_str(),
+                    j["crs"]["name"].get<std::string>().c_str());
+    for (const auto& [k, v] : j["notes"].items())
+        std::printf("  note       %s: %s\n", k.c_str(), v.get<std::string>().c_str());
+    std::printf("  parts      %zu bodies, %zu surfaces, %zu triangles, %zu grids, %zu lines\n", j["bodies"].size(),
+                j["surfaces"].size(), j["triangles"].get<std::size_t>(), j["grids"].size(), j["lines"].size());
     const auto& mn = j["bounds"]["min"];
     const auto& mx = j["bounds"]["max"];
     std::printf("  bounds     x %.3f .. %.3f  y %.3f .. %.3f  z %.3f .. %.3f (m, easting/northing/elevation)\n",
@@ -95,18 +159,47 @@ void printText(const json& j) {
     for (const char* list : {"bodies", "surfaces"}) {
         for (const auto& p : j[list]) {
             std::printf("  %-8s %-48s record %-4u %9zu tri  %s", list[0] == 'b' ? "body" : "surface",
-                        p["name"].get<std::string>().c_str(), p["record"].get<unsigned>(), p["triangles"].get<std::size_t>(),
-                        p["closed"].get<bool>() ? "closed" : "open");
-            if (p.contains("volume_m3")) std::printf("  %.4g m3  depth %d", p["volume_m3"].get<double>(), p["nesting_depth"].get<int>());
+                        p["name"].get<std::string>().c_str(), p["record"].get<unsigned>(),
+                        p["triangles"].get<std::size_t>(), p["closed"].get<bool>() ? "closed" : "open");
+            if (p.contains("volume_m3"))
+                std::printf("  %.4g m3  depth %d", p["volume_m3"].get<double>(), p["nesting_depth"].get<int>());
             std::printf("\n");
         }
     }
+    for (const auto& g : j["grids"]) {
+        std::printf("  grid     %-48s %s %zu x %zu x %zu%s", g["name"].get<std::string>().c_str(),
+                    g["type"].get<std::string>().c_str(), g["dims"][0].get<std::size_t>(),
+                    g["dims"][1].get<std::size_t>(), g["dims"][2].get<std::size_t>(),
+                    g["cell_centred"].get<bool>() ? " (cell-centred properties)" : "");
+        if (g.contains("origin")) {
+            const auto& o = g["origin"];
+            std::printf("  origin %.3f %.3f %.3f  steps", o[0].get<double>(), o[1].get<double>(), o[2].get<double>());
+            for (const auto& s : g["steps"])
+                std::printf(" (%.4g %.4g %.4g)", s[0].get<double>(), s[1].get<double>(), s[2].get<double>());
+        } else {
+            std::printf("  %zu points", g["points"].get<std::size_t>());
+        }
+        std::printf("\n");
+        for (const auto& p : g["properties"]) {
+            std::printf("    property %-32s %zu values, %zu no-data", p["name"].get<std::string>().c_str(),
+                        p["values"].get<std::size_t>(), p["no_data_samples"].get<std::size_t>());
+            if (!p["no_data_value"].is_null()) std::printf(" (no-data value %g)", p["no_data_value"].get<double>());
+            if (p.contains("range"))
+                std::printf(", range %g .. %g", p["range"][0].get<double>(), p["range"][1].get<double>());
+            std::printf("\n");
+        }
+    }
+    for (const auto& l : j["lines"])
+        std::printf("  line     %-48s record %-4u %zu points, %zu segments, %.3f m\n",
+                    l["name"].get<std::string>().c_str(), l["record"].get<unsigned>(), l["points"].get<std::size_t>(),
+                    l["segments"].get<std::size_t>(), l["length_m"].get<double>());
     std::size_t errors = 0, warnings = 0;
     for (const auto& i : j["issues"]) {
         std::string sev = i["severity"];
         errors += sev == "error";
         warnings += sev == "warning";
-        std::printf("  %-8s %s: %s\n", sev.c_str(), i["part"].get<std::string>().c_str(), i["message"].get<std::string>().c_str());
+        std::printf("  %-8s %s: %s\n", sev.c_str(), i["part"].get<std::string>().c_str(),
+                    i["message"].get<std::string>().c_str());
     }
     std::printf("  validation %zu errors, %zu warnings\n", errors, warnings);
 }
@@ -118,7 +211,8 @@ void addInfo(CLI::App& app, int& exitCode) {
     auto asJson = std::make_shared<bool>(false);
     auto load = std::make_shared<LoadOptions>();
     CLI::App* cmd = app.add_subcommand("info", "Describe and validate model files");
-    cmd->add_option("FILE", *files, "Model files (.glb .gltf .obj .ts .vtu Geo3DML .xml)")->required();
+    cmd->add_option("FILE", *files, "Model files (.glb .gltf .obj .vtu, GOCAD .ts .ml .so .vo .sg .pl .gp, Geo3DML .xml)")
+        ->required();
     cmd->add_flag("--json", *asJson, "One JSON document (an array when several files are given)");
     addLoadOptions(cmd, *load);
     cmd->callback([files, asJson, load, &exitCode] {
@@ -127,7 +221,9 @@ void addInfo(CLI::App& app, int& exitCode) {
             auto m = loadModel(f, *load);
             if (!m) {
                 std::fprintf(stderr, "geoslice info: %s\n", m.error().message.c_str());
-                all.push_back({{"file", f}, {"ok", false}, {"error", {{"code", errorCodeName(m.error().code)}, {"message", m.error().message}}}});
+                all.push_back({{"file", f},
+                               {"ok", false},
+                               {"error", {{"code", errorCodeName(m.error().code)}, {"message", m.error().message}}}});
                 exitCode = 1;
                 continue;
             }

@@ -129,8 +129,9 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
     auto starts = [&](std::string_view magic) { return data.compare(0, magic.size(), magic) == 0; };
     if (ext == ".glb" || ext == ".gltf" || starts("glTF")) {
         model = parseGltf(reinterpret_cast<const std::uint8_t*>(data.data()), data.size(), path, baseDir);
-    } else if (ext == ".ts" || ext == ".tsurf" || starts("GOCAD")) {
-        model = parseTsurf(data, path);
+    } else if (ext == ".ts" || ext == ".tsurf" || ext == ".ml" || ext == ".so" || ext == ".vo" || ext == ".sg" ||
+               ext == ".pl" || ext == ".gp" || starts("GOCAD")) {
+        model = parseGocad(data, path, baseDir);
     } else if (ext == ".vtu" || std::string_view(data).substr(0, 512).find("<VTKFile") != std::string_view::npos) {
         model = parseVtu(data, path, options.vtu);
     } else if (ext == ".obj") {
@@ -139,7 +140,8 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
         model = parseGeo3dml(data, path, baseDir);
     } else {
         return makeError(ErrorCode::Unsupported,
-                         path + ": unknown model format (expected .glb, .gltf, .obj, .ts, .vtu, or Geo3DML .xml)");
+                         path + ": unknown model format (expected .glb, .gltf, .obj, .vtu, GOCAD .ts .ml .so .vo .sg .pl "
+                                ".gp, or Geo3DML .xml)");
     }
     if (!model) return model;
 

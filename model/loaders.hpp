@@ -29,7 +29,8 @@ struct LoadOptions {
     VtuOptions vtu;
 };
 
-// Dispatches on extension (.glb .gltf .obj .ts .tsurf .xml .geo3dml .vtu) and, for unknown
+// Dispatches on extension (.glb .gltf .obj .xml .geo3dml .vtu; GOCAD .ts .tsurf .ml .so .vo
+// .sg .pl .gp) and, for unknown
 // extensions, on content. A sidecar "<stem>.attributes.json" or ".csv" next to the file
 // is merged into the attribute table when present.
 Result<Model> loadModel(const std::string& path, const LoadOptions& options = {});
@@ -38,7 +39,12 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options = {}
 Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::string& source,
                         const std::string& baseDir = "");
 Result<Model> parseObj(std::string_view text, const std::string& source);
+// GOCAD TSurf: the first object must be a TSurf (later objects of any type are read too).
 Result<Model> parseTsurf(std::string_view text, const std::string& source);
+// Any GOCAD ASCII input: TSurf, Model3d, TSolid, LightTSolid, Voxet, SGrid, PLine and
+// groups of them (model/gocad_reader.hpp). Voxet/SGrid data files are read from `baseDir`;
+// with an empty baseDir (bytes from memory) they cannot be read and are an error.
+Result<Model> parseGocad(std::string_view text, const std::string& source, const std::string& baseDir = "");
 // baseDir: the file's folder, against which a Geo3DProject's xi:include hrefs are resolved
 // (only files inside it are read); empty: includes are listed in warnings, not followed.
 Result<Model> parseGeo3dml(std::string_view text, const std::string& source, const std::string& baseDir = "");

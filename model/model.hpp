@@ -56,9 +56,9 @@ struct Mesh {
 // Validation findings for one part (see model/validate.hpp).
 struct MeshReport {
     std::size_t triangles = 0, vertices = 0;
-    std::size_t boundaryEdges = 0;     // edges used by one triangle
-    std::size_t nonManifoldEdges = 0;  // edges used by more than two triangles
-    std::size_t inconsistentEdges = 0; // manifold edges whose two triangles disagree in orientation
+    std::size_t boundaryEdges = 0;        // edges used by one triangle
+    std::size_t nonManifoldEdges = 0;     // edges used by more than two triangles
+    std::size_t inconsistentEdges = 0;    // manifold edges whose two triangles disagree in orientation
     std::size_t degenerateTriangles = 0;  // repeated index or zero area
     std::size_t duplicateTriangles = 0;   // same three vertices as an earlier triangle
     std::size_t nonFiniteVertices = 0;    // NaN or Inf coordinates
@@ -94,15 +94,55 @@ struct Part {
     MeshReport report;  // filled by validate()
 };
 
+// A line object (GOCAD PLine: well paths, fault traces, contours): connected chains of
+// points in world coordinates, kept and described; sections do not use them yet.
+struct Polyline {
+    std::string name;
+    RecordId record = kNoRecord;
+    std::vector<glm::dvec3> points;       // world, metres
+    std::vector<std::uint32_t> segments;  // 2 per segment, indices into points
+    // Optional per-point properties (PVRTX columns): values[p * names.size() + k].
+    std::vector<std::string> propertyNames;
+    std::vector<float> propertyValues;
+};
+
+// One property of a Grid: a value per grid sample (i fastest, then j, then k).
+struct GridProperty {
+    std::string name;
+    std::string unit;                   // as written, may be empty
+    std::optional<double> noDataValue;  // samples equal to it were stored as NaN
+    std::vector<float> values;          // NaN = no data
+};
+
+// A structured grid (GOCAD Voxet: regular; SGrid: curvilinear), kept and described;
+// sections do not use grids yet. Sample (i, j, k) of a regular grid is at
+// origin + i * step[0] + j * step[1] + k * step[2] (world, metres; steps need not be
+// orthogonal). A curvilinear grid gives every sample's position in `points` instead.
+struct Grid {
+    std::string name;
+    std::string type;                                                          // "Voxet" or "SGrid"
+    std::size_t dims[3] = {0, 0, 0};                                           // samples along u, v, w
+    glm::dvec3 origin{0.0};                                                    // sample (0,0,0), world
+    glm::dvec3 step[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};  // regular grids
+    std::vector<glm::dvec3> points;  // curvilinear grids: dims[0]*dims[1]*dims[2] points
+    bool cellCentred = false;        // properties per cell (dims-1 per axis) instead of per point
+    std::vector<GridProperty> properties;
+
+    std::size_t sampleCount() const { return dims[0] * dims[1] * dims[2]; }
+    Aabb bounds() const;
+};
+
 struct Model {
     std::string name;
-    std::string source;          // file it came from, for messages
-    std::vector<Part> bodies;    // closed shells
-    std::vector<Part> surfaces;  // open sheets
+    std::string source;           // file it came from, for messages
+    std::vector<Part> bodies;     // closed shells
+    std::vector<Part> surfaces;   // open sheets
+    std::vector<Grid> grids;      // structured grids (Voxet, SGrid): kept, not sectioned yet
+    std::vector<Polyline> lines;  // well paths and lines (PLine): kept, not sectioned yet
     AttributeTable attributes;
-    Crs crs;                     // Crs::local() when the model has no CRS
-    glm::dvec3 origin{0.0};      // world point that local coordinates are relative to
-    ValidationReport validation; // from the last validate()
+    Crs crs;                      // Crs::local() when the model has no CRS
+    glm::dvec3 origin{0.0};       // world point that local coordinates are relative to
+    ValidationReport validation;  // from the last validate()
     // Loader notes about the whole model (provenance, declared CRS, axis order, warnings),
     // key -> text; kept out of the attribute records, which describe geology.
     std::map<std::string, std::string> notes;
