@@ -491,6 +491,7 @@ private:
     std::optional<Error> readFeature(pugi::xml_node feature, std::string_view className, Model& model);
     std::optional<Error> appendGeoTin(pugi::xml_node tin, Mesh& mesh) const;
     std::optional<Error> readVertices(pugi::xml_node owner, VertexTable& table) const;
+    std::optional<Error> appendLineString(pugi::xml_node ls, Polyline& line) const;
     // A Geo3DML volume (tetrahedra, cuboids, prisms, truncated grid) or gml:RectifiedGrid
     // -> cells of vm. Returns what is wrong with it when it cannot be built (the feature is
     // then skipped with a warning), else an empty string.
@@ -609,7 +610,7 @@ Result<Model> Reader::run(std::string_view text) {
                               ">, not Geo3DML (expected Geo3DModel, GeoModel or Geo3DProject)");
     }
 
-    if (model.bodies.empty() && model.surfaces.empty()) return nothingToLoad(root, model.name);
+    if (model.bodies.empty() && model.surfaces.empty() && model.lines.empty()) return nothingToLoad(root, model.name);
 
     applyCrs(model);
     finishLoadedModel(model, /*classifyByClosure=*/true);
@@ -767,6 +768,7 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
     if (featureName.empty()) featureName = "feature " + std::to_string(model.bodies.size() + model.surfaces.size() + 1);
 
     Mesh mesh;
+    Polyline line;
     VolumeMesh volume;
     std::vector<std::string> volumeProblems;
     std::optional<Error> error;
@@ -783,7 +785,9 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
                    name == "GeoTruncatedRegularGrid" || name == "RectifiedGrid") {
             std::string problem = appendVolume(n, volume);
             if (!problem.empty()) volumeProblems.push_back(std::string(name) + ": " + problem);
-        } else if (name.starts_with("Geo") || name == "Grid" || name == "Point" || name == "LineString") {
+        } else if (name == "LineString") {
+            error = appendLineString(n, line);
+        } else if (name.starts_with("Geo") || name == "Grid" || name == "Point") {
             return Walk::Skip;  // another Geo3DML volume / grid, or a point or line: nothing to triangulate
         } else {
             return Walk::Descend;  // gml:Solid, Shell, surfaceMember, MultiSurface... may wrap TINs
@@ -806,6 +810,15 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
         }
     }
 
+    if (mesh.indices.empty() && !line.segments.empty()) {
+        // A line feature (borehole interval, section boundary): kept as a model line.
+        Result<AttributeRecord> record = buildRecord(feature, featureName, className, false);
+        if (!record) return record.error();
+        line.name = featureName;
+        line.record = model.attributes.add(std::move(record.value()));
+        model.lines.push_back(std::move(line));
+        return std::nullopt;
+    }
     if (mesh.indices.empty()) {
         if (!volumeProblems.empty()) return std::nullopt;  // warned above
         const pugi::xml_node geometry = firstElementChild(shape);
@@ -861,6 +874,52 @@ std::optional<Error> Reader::checkDeclaredCount(pugi::xml_node n, std::string_vi
     if (static_cast<std::uint64_t>(*declared) != actual)
         return fail(n, std::string(attr) + "=" + std::to_string(*declared) + " but it holds " + std::to_string(actual) +
                            " " + std::string(what));
+    return std::nullopt;
+}
+
+// gml:LineString: a posList (or gml:pos children) of 3D positions -> appended to `line` as
+// a chain of segments. Borehole intervals and section boundary lines are written so.
+std::optional<Error> Reader::appendLineString(pugi::xml_node ls, Polyline& line) const {
+    if (auto err = checkSrsDimension(ls)) return err;
+    std::vector<double> coords;
+    std::optional<Error> error;
+    const auto take = [&](pugi::xml_node at, std::string_view text) {
+        forEachToken(text, [&](std::string_view token) {
+            const std::optional<double> value = parseDouble(token);
+            if (!value)
+                error = fail(at, "'" + quoted(token) + "' is not a number");
+            else if (!std::isfinite(*value))
+                error = fail(at, "coordinate '" + quoted(token) + "' is NaN or infinite");
+            else
+                coords.push_back(*value);
+            return !error;
+        });
+    };
+    if (const pugi::xml_node posList = childNamed(ls, "posList")) {
+        if (auto err = checkSrsDimension(posList)) return err;
+        take(posList, textOf(posList));
+        if (error) return error;
+        if (coords.size() % 3 != 0)
+            return fail(posList, "the posList holds " + std::to_string(coords.size()) +
+                                     " numbers, not a multiple of 3 (x y z per position)");
+        if (auto err = checkDeclaredCount(posList, "count", coords.size() / 3, "positions")) return err;
+    } else {
+        for (pugi::xml_node pos = childNamed(ls, "pos"); pos && !error; pos = pos.next_sibling()) {
+            if (!isNamed(pos, "pos")) continue;
+            const std::size_t before = coords.size();
+            take(pos, textOf(pos));
+            if (!error && coords.size() - before != 3)
+                return fail(pos, "a gml:pos has " + std::to_string(coords.size() - before) + " coordinates; expected 3 (x y z)");
+        }
+        if (error) return error;
+    }
+    const std::size_t n = coords.size() / 3;
+    if (n < 2) return fail(ls, "a gml:LineString with " + std::to_string(n) + " positions; a line needs 2");
+    if (line.points.size() + n >= std::numeric_limits<std::uint32_t>::max())
+        return fail(ErrorCode::OutOfRange, ls, "more points than 32-bit indices can address");
+    const auto base = static_cast<std::uint32_t>(line.points.size());
+    for (std::size_t i = 0; i < n; ++i) line.points.emplace_back(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
+    for (std::uint32_t i = 0; i + 1 < n; ++i) line.segments.insert(line.segments.end(), {base + i, base + i + 1});
     return std::nullopt;
 }
 

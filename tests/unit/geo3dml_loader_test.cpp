@@ -224,8 +224,6 @@ struct NonTinCase {
 
 TEST(Geo3dmlLoader, NonTinSamplesAreUnsupportedAndSayWhatTheyHold) {
     const std::vector<NonTinCase> cases = {
-        {"model_drill.xml", {"no TIN triangles", "Drill", "point", "line string"}},
-        {"model_section.xml", {"no TIN triangles", "Section", "line string"}},
         {"map_stratum.xml", {"Geo3DMap"}},
         // From memory (no folder to resolve includes against): nothing is read.
         {"project.xml", {"Geo3DProject", "model_Volume_2.xml", "xi:include"}},

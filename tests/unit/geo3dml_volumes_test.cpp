@@ -200,6 +200,43 @@ TEST(Geo3dmlVolumes, GeoModelRootInAnyNamespace) {
     }
 }
 
+// Borehole intervals and section boundaries (gml:LineString) load as model lines, one per
+// feature; the borehole's marker points are not lines.
+TEST(Geo3dmlVolumes, LineFilesLoadAsLines) {
+    for (const char* file : {"model_drill.xml", "model_section.xml"}) {
+        SCOPED_TRACE(file);
+        const std::string xml = readText(kDataDir / file);
+        pugi::xml_document doc;
+        ASSERT_TRUE(doc.load_string(xml.c_str()));
+        std::size_t expectedLines = 0, expectedPoints = 0;
+        for (const auto& x : doc.select_nodes("//*[local-name()='GeoFeature']"))
+            if (!x.node().select_nodes("*[local-name()='Geometry']/*[local-name()='Shape']//*[local-name()='LineString']").empty())
+                ++expectedLines;
+        // Lines of feature shapes; the section's coverage domains (ShapeProperty) are not geometry.
+        for (const auto& x : doc.select_nodes("//*[local-name()='Shape']//*[local-name()='LineString']"))
+            for (const auto& pl : x.node().select_nodes(".//*[local-name()='posList']")) {
+                std::istringstream ss(pl.node().text().get());
+                double v;
+                std::size_t n = 0;
+                while (ss >> v) ++n;
+                expectedPoints += n / 3;
+            }
+        auto m = loadModel((kDataDir / file).string());
+        ASSERT_TRUE(m) << m.error().message;
+        EXPECT_TRUE(m->bodies.empty());
+        EXPECT_TRUE(m->surfaces.empty());
+        EXPECT_EQ(m->lines.size(), expectedLines);
+        std::size_t points = 0;
+        for (const auto& l : m->lines) {
+            points += l.points.size();
+            EXPECT_EQ(l.segments.size(), 2 * (l.points.size() - 1)) << l.name;
+            EXPECT_TRUE(m->attributes.find(l.record)) << l.name;
+        }
+        EXPECT_EQ(points, expectedPoints);
+        EXPECT_GT(expectedLines, 0u);
+    }
+}
+
 // project.xml as delivered: its four models are included from the same folder; two of its
 // three maps are missing (a warning names them), the third holds styles only.
 TEST(Geo3dmlVolumes, ProjectIncludesAsDelivered) {
