@@ -141,7 +141,7 @@ J openApiDocument(const std::string& serverVersion) {
     post("/v1/models/{id}/query",
          J{{"summary",
             "batch pixel query: {\"view\": {<view parameters as strings>}, \"pixels\": [[px, py], ...]} "
-            "(at most 10000 pixels)"},
+            "(at most 5000 pixels, 8 MiB of answer)"},
            {"parameters", J::array({id})},
            {"requestBody", {{"content", {{"application/json", J::object()}}}}},
            {"responses", errors()}});

@@ -245,7 +245,7 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
             }
             if (!(glm::length(cam.target - cam.eye) >= kMinCameraDistanceMetres))
                 return makeError(ErrorCode::InvalidArgument,
-                                 "perspective view: parameters 'eye' and 'target' are closer than 1 mm");
+                                 "perspective view: parameters 'eye' and 'target' coincide (closer than 1 mm)");
             if (!(glm::length(glm::cross(glm::normalize(cam.up), glm::normalize(cam.target - cam.eye))) >= 1e-6))
                 return makeError(ErrorCode::InvalidArgument,
                                  "perspective view: parameter 'up' is zero or parallel to the view direction");

@@ -79,7 +79,11 @@ Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& p
                                                plan.section.exaggeration);
     } else {
         auto plane = checkSectionPlane(*model.index, sectionPlane(plan.section));
-        if (!plane) return plane.error();
+        if (!plane)
+            return makeError(plane.error().code,
+                             std::string(plan.section.geometry == Geometry::Elevation ? "parameter 'elevation': "
+                                                                                      : "parameter 'plane': ") +
+                                 plane.error().message);
         m.rect = plan.frame ? *plan.frame
                             : defaultFrame(plane.value(), model.index->bounds, model.model.origin, plan.width,
                                            plan.height, plan.section.exaggeration);
@@ -92,7 +96,7 @@ Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& p
     return m;
 }
 
-Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan) {
+Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan, const std::atomic<bool>* cancel) {
     if (plan.view != ViewKind::Profile)
         return makeError(ErrorCode::InvalidArgument, "renderProfile: the plan is not a profile view");
     const auto t0 = std::chrono::steady_clock::now();
@@ -100,10 +104,12 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan)
     if (!mapping) return mapping.error();
     RasterOptions ro;
     ro.background = plan.section.background;
+    ro.cancel = cancel;
     ViewImage v;
     if (plan.section.geometry == Geometry::Line) {
         auto section = computePolylineSection(*model.index, plan.section.line);
         if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
+        if (auto c = checkCancel(cancel); !c) return c.error();
         auto image =
             rasterizePolylineSection(*model.index, section.value(), mapping.value().rect, plan.width, plan.height, ro);
         if (!image) return image.error();
@@ -114,6 +120,7 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan)
     } else {
         auto section = computeSection(*model.index, sectionPlane(plan.section));
         if (!section) return section.error();
+        if (auto c = checkCancel(cancel); !c) return c.error();
         auto image = rasterizeSection(*model.index, section.value(), mapping.value().rect, plan.width, plan.height, ro);
         if (!image) return image.error();
         v.width = plan.width;
@@ -126,7 +133,8 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan)
     return v;
 }
 
-Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world) {
+Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world,
+                                 const std::atomic<bool>* cancel) {
     if (plan.view != ViewKind::Profile)
         return makeError(ErrorCode::Unsupported, "vector output (GeoJSON, SVG) exists for profile views only");
     auto mapping = profileMapping(model, plan);
@@ -134,6 +142,7 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     RasterOptions ro;
     ro.background = plan.section.background;
     auto emit = [&](const VectorSource& source) -> Result<std::string> {
+        if (auto c = checkCancel(cancel); !c) return c.error();
         if (svg) return toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro);
         return toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane).dump();
     };
@@ -203,12 +212,13 @@ Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def) {
 }
 
 Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef& def, const TileGrid& grid, int z,
-                                    long long x, long long y) {
+                                    long long x, long long y, const std::atomic<bool>* cancel) {
     auto rect = grid.tileRect(z, x, y);
     if (!rect) return rect.error();
     const auto t0 = std::chrono::steady_clock::now();
     RasterOptions ro;
     ro.background = def.background;
+    ro.cancel = cancel;
     auto image = renderTile(*model.index, sectionPlane(def), rect.value(), grid.tileSize, grid.tileSize, ro);
     if (!image) return image.error();
     ViewImage v = fromSectionImage(std::move(image.value()));
@@ -293,9 +303,10 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
 Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
                                 const ViewImage* cached) {
     if (px < 0 || py < 0 || px >= plan.width || py >= plan.height)
-        return makeError(ErrorCode::OutOfRange, "pixel (" + std::to_string(px) + ", " + std::to_string(py) +
-                                                    ") is outside the " + std::to_string(plan.width) + "x" +
-                                                    std::to_string(plan.height) + " image");
+        return makeError(ErrorCode::OutOfRange, "parameters 'px', 'py': pixel (" + std::to_string(px) + ", " +
+                                                    std::to_string(py) + ") is outside the " +
+                                                    std::to_string(plan.width) + "x" + std::to_string(plan.height) +
+                                                    " image");
     if (plan.view == ViewKind::Perspective) return answerPerspective(model, plan, px, py, cached);
     std::optional<PixelMapping> fresh;
     const PixelMapping* mapping = cached && cached->mapping ? &*cached->mapping : nullptr;

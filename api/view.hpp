@@ -6,6 +6,7 @@
 // Pure functions of (model, plan), any thread (the model is immutable).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -46,13 +47,16 @@ struct ViewImage {
 };
 
 // A profile view (plane, elevation or polyline section) with the exact engine. A plane that
-// misses the model gives an empty (background) image, not an error.
-Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan);
+// misses the model gives an empty (background) image, not an error. `cancel` (may be
+// null) is read at least once per image row: when set, DeadlineExceeded within milliseconds.
+Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
+                                const std::atomic<bool>* cancel = nullptr);
 
 // A profile view's vector form: GeoJSON (coordinates in the section's 2D frame, or world
 // x, y, z when `world`) or SVG (the pixel frame of the same view, so it overlays the
 // image). Returns the document text.
-Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world);
+Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world,
+                                 const std::atomic<bool>* cancel = nullptr);
 
 // The tile grid of a section (documented in the OpenAPI text): zoom 0 is one tile of
 // `tileSize` pixels covering a square of `size0` metres along u (size0 / exaggeration
@@ -72,7 +76,7 @@ struct TileGrid {
 };
 Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def);
 Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef& def, const TileGrid& grid, int z,
-                                    long long x, long long y);
+                                    long long x, long long y, const std::atomic<bool>* cancel = nullptr);
 
 // A pixel query: the record at the centre of pixel (px, py) of the plan's view, the world
 // point, and its place in the section. From the cached ID buffer of the identical view

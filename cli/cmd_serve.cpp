@@ -22,6 +22,8 @@ struct ServeArgs {
     std::string configFile, host, models, bakeDir, gl, lod, cors, logLevel;
     int port = -1, deadlineMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
+    long long memoryBudgetMiB = -1;
+    bool readyzPaths = false;
     long long maxConnections = -1, headerTimeoutMs = -1, bodyTimeoutMs = -1, keepAliveMs = -1, keepAliveRequests = -1,
               sendTimeoutMs = -1;
     bool reusePort = false;
@@ -58,6 +60,8 @@ int runServe(const ServeArgs& a) {
     if (a.sendTimeoutMs > 0) config.sendTimeoutMs = int(a.sendTimeoutMs);
     if (a.reusePort) config.reusePort = true;
     if (a.cacheMiB >= 0) config.cacheMiB = std::size_t(a.cacheMiB);
+    if (a.memoryBudgetMiB >= 0) config.memoryBudgetMiB = std::size_t(a.memoryBudgetMiB);
+    if (a.readyzPaths) config.readyzPaths = true;
     if (a.demoTriangles > 0) config.demoTriangles = std::size_t(a.demoTriangles);
     if (a.maxBody > 0) config.maxBodyBytes = std::size_t(a.maxBody);
     if (auto s = server::checkConfig(config); !s) {
@@ -114,6 +118,11 @@ void addServe(CLI::App& app, int& exitCode) {
                     "Deadline for the client to take an answer, ms per 8 MiB (default 10000)");
     cmd->add_flag("--reuse-port", a->reusePort, "SO_REUSEPORT: share the port with other processes (default: refused)");
     cmd->add_option("--cache-mib", a->cacheMiB, "Cache budget for images and ID buffers, MiB (default 512)");
+    cmd->add_option(
+        "--memory-budget-mib", a->memoryBudgetMiB,
+        "Estimated memory of renders under way, MiB; beyond it 503 + Retry-After (default 4096; 0 = no limit)");
+    cmd->add_flag("--readyz-paths", a->readyzPaths,
+                  "Show absolute file paths in /readyz model errors (default: names only)");
     cmd->add_option("--deadline-ms", a->deadlineMs, "Per-request render deadline, ms (default 10000)");
     cmd->add_option("--max-body", a->maxBody, "Largest request body, bytes (default 1 MiB)");
     cmd->add_option("--cors", a->cors, "Access-Control-Allow-Origin value (default *; 'none' = off)");

@@ -29,6 +29,10 @@ constexpr double kMaxCoordinateMetres = 1e8;
 // Perspective cameras: eye-to-target distance and vertical field of view.
 constexpr double kMinCameraDistanceMetres = 1e-3;
 constexpr double kMinFovDeg = 1.0, kMaxFovDeg = 170.0;
+// Batch pixel queries (POST /query): pixels per batch and bytes of answer (a pixel's
+// answer is about 1.1 kB of JSON).
+constexpr std::size_t kMaxBatchPixels = 5000;
+constexpr std::size_t kMaxBatchAnswerBytes = std::size_t(8) << 20;
 
 // A number as %.6g, for messages (std::to_string prints 1e-300 as 0.000000).
 inline std::string limitNumber(double v) {

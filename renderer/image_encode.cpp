@@ -82,6 +82,7 @@ Result<std::vector<std::uint8_t>> encodeJpeg(const std::uint8_t* rgba, int width
 struct PngWriteState {
     std::vector<std::uint8_t>* bytes = nullptr;
     char message[256] = {};
+    bool cancelled = false;
 };
 
 void pngWrite(png_structp png, png_bytep data, png_size_t length) {
@@ -122,7 +123,15 @@ bool pngEncodeRaw(const std::uint8_t* rows, std::size_t stride, int width, int h
     png_set_filter(png, PNG_FILTER_TYPE_BASE, o.pngFilter == PngFilter::Sub ? PNG_FILTER_SUB : PNG_FILTER_NONE);
     png_set_compression_buffer_size(png, 1 << 17);
     png_write_info(png, info);
-    for (int y = 0; y < height; ++y) png_write_row(png, const_cast<png_bytep>(rows + std::size_t(y) * stride));
+    for (int y = 0; y < height; ++y) {
+        if ((y & 15) == 0 && o.cancel && o.cancel->load(std::memory_order_relaxed)) {
+            st.cancelled = true;
+            std::snprintf(st.message, sizeof st.message, "cancelled");
+            png_destroy_write_struct(&png, &info);
+            return false;
+        }
+        png_write_row(png, const_cast<png_bytep>(rows + std::size_t(y) * stride));
+    }
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
     return true;
@@ -145,6 +154,7 @@ Result<std::vector<std::uint8_t>> encodePng(const std::uint8_t* rgba, int width,
     const bool ok = o.keepAlpha
                         ? pngEncodeRaw(rgba, std::size_t(width) * 4, width, height, 8, PNG_COLOR_TYPE_RGB_ALPHA, o, st)
                         : pngEncodeRaw(rgb.data(), std::size_t(width) * 3, width, height, 8, PNG_COLOR_TYPE_RGB, o, st);
+    if (st.cancelled) return makeError(ErrorCode::DeadlineExceeded, "cancelled while encoding PNG");
     if (!ok) return makeError(ErrorCode::Internal, std::string("PNG encoding failed: ") + st.message);
     return bytes;
 }
@@ -204,8 +214,16 @@ Result<std::vector<std::uint8_t>> encodeWebp(const std::uint8_t* rgba, int width
     if (!imported) return makeError(ErrorCode::Internal, "WebP: cannot import " + sizeText(width, height) + " pixels");
     pic.writer = WebPMemoryWrite;
     pic.custom_ptr = &writer;
-    if (!WebPEncode(&config, &pic))
+    pic.user_data = const_cast<std::atomic<bool>*>(o.cancel);
+    pic.progress_hook = [](int, const WebPPicture* p) -> int {
+        const auto* cancel = static_cast<const std::atomic<bool>*>(p->user_data);
+        return cancel && cancel->load(std::memory_order_relaxed) ? 0 : 1;  // 0 aborts
+    };
+    if (!WebPEncode(&config, &pic)) {
+        if (pic.error_code == VP8_ENC_ERROR_USER_ABORT)
+            return makeError(ErrorCode::DeadlineExceeded, "cancelled while encoding WebP");
         return makeError(ErrorCode::Internal, std::string("WebP encoding failed: ") + webpErrorText(pic.error_code));
+    }
     return std::vector<std::uint8_t>(writer.mem, writer.mem + writer.size);
 }
 

@@ -3,6 +3,7 @@
 // Pure functions, any thread, no GL.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -27,6 +28,11 @@ struct EncodeOptions {
     bool webpLossless = false;
     bool keepAlpha = true;                    // PNG/WebP: keep alpha; JPEG always flattens on `matte`
     std::uint8_t matte[3] = {255, 255, 255};  // JPEG: background under transparent pixels
+    // Cancellation (any thread may set it): PNG reads it every 16 rows, WebP in its
+    // progress hook (each percent of the colour pass; libwebp's alpha pass and TurboJPEG's
+    // single call report nothing and run to their end); when set, encoding stops with
+    // DeadlineExceeded. nullptr = never.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 // "jpg"/"jpeg"/"png"/"webp" (case-insensitive, with or without a leading dot) -> format.

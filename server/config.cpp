@@ -62,6 +62,10 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.demoTriangles, 2000, 20000000);
     else if (key == "logLevel")
         c.logLevel = value;
+    else if (key == "memoryBudgetMiB")
+        return number(c.memoryBudgetMiB, 0, 1LL << 30);
+    else if (key == "readyzPaths")
+        return number(c.readyzPaths, 0, 1);
     else
         return makeError(ErrorCode::InvalidArgument, source + ": unknown setting '" + key + "'");
     return {};
@@ -113,6 +117,8 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_DEADLINE_MS", "deadlineMs"},
         {"GEOSLICE_MAX_BODY", "maxBodyBytes"},
         {"GEOSLICE_CORS", "cors"},
+        {"GEOSLICE_MEMORY_BUDGET_MIB", "memoryBudgetMiB"},
+        {"GEOSLICE_READYZ_PATHS", "readyzPaths"},
         {"GEOSLICE_DEMO_TRIANGLES", "demoTriangles"},
         {"GEOSLICE_LOG_LEVEL", "logLevel"},
     };

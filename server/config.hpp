@@ -22,6 +22,9 @@
 //   cors              GEOSLICE_CORS            --cors          * ("" = no CORS headers)
 //   demoTriangles     GEOSLICE_DEMO_TRIANGLES  --demo-triangles 200000
 //   logLevel          GEOSLICE_LOG_LEVEL       --log-level     info
+//   memoryBudgetMiB   GEOSLICE_MEMORY_BUDGET_MIB --memory-budget-mib 4096 (estimated memory of queued and running
+//                                                renders; beyond it 503 + Retry-After; 0 = no limit)
+//   readyzPaths       GEOSLICE_READYZ_PATHS    --readyz-paths  0 (1: /readyz shows absolute file paths in model errors)
 #pragma once
 
 #include <cstddef>
@@ -39,7 +42,7 @@ struct ServerConfig {
     std::string bakeDir;  // bake raw models on first load into bakeDir/<id>/ (reused while unchanged)
     std::string gl = "auto";
     std::string lod = "off";  // "auto": faster 3D views on llvmpipe, not exact behind cut faces
-    unsigned workers = 0;  // 0 = hardware concurrency
+    unsigned workers = 0;     // 0 = hardware concurrency
     std::size_t queue = 64;
     unsigned httpThreads = 128;
     std::size_t maxConnections = 10000;
@@ -55,6 +58,8 @@ struct ServerConfig {
     std::string cors = "*";
     std::size_t demoTriangles = 200000;
     std::string logLevel = "info";
+    std::size_t memoryBudgetMiB = 4096;  // render admission by estimated memory; 0 = off
+    bool readyzPaths = false;            // /readyz shows file-system paths (else only file names)
 };
 
 // Applies a JSON object's known keys (unknown keys are an error naming them).

@@ -26,7 +26,8 @@ Result<std::unique_ptr<GlWorker>> GlWorker::create(GlBackend backend, bool lod) 
     return w;
 }
 
-Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan) {
+Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan,
+                                                   const std::atomic<bool>* cancel) {
     const auto t0 = std::chrono::steady_clock::now();
     if (auto s = context->makeCurrent(); !s) return s.error();
     const std::string key = model.id + "@" + model.version;
@@ -68,6 +69,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     req.background = plan.section.background;
     req.readColour = true;
     req.readIds = true;
+    req.cancel = cancel;
     auto image = renderer->render(*it->second, req);
     if (!image) return image.error();
     api::ViewImage v;
@@ -77,6 +79,10 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     v.ids = std::move(image.value().ids);
     v.renderMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return v;
+}
+
+void GlWorker::trim() {
+    if (context->makeCurrent().ok()) renderer->releaseTarget();
 }
 
 }  // namespace geoslice::server

@@ -3,6 +3,7 @@
 // Perspective views are drawn here; profile views and tiles never need GL.
 #pragma once
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <string>
@@ -29,7 +30,13 @@ struct GlWorker {
 
     // A perspective view of the plan's section (the half-space a.x + b.y + c.z + d >= 0 kept,
     // cut faces filled) with per-body record ids. Uploads the model on first use.
-    Result<api::ViewImage> renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan);
+    // `cancel` (may be null): see SliceRequest::cancel.
+    Result<api::ViewImage> renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan,
+                                             const std::atomic<bool>* cancel = nullptr);
+    // Frees the render targets and read-back buffers sized for the last image (the next
+    // render makes them again): called after a large render so the worker does not keep
+    // gigabytes for the rest of its life.
+    void trim();
 };
 
 }  // namespace geoslice::server

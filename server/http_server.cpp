@@ -1,8 +1,11 @@
 #include "server/http_server.hpp"
 
+#include <malloc.h>
+
 #include <chrono>
 #include <condition_variable>
 #include <csignal>
+#include <cstdlib>
 #include <mutex>
 #include <regex>
 
@@ -28,6 +31,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Json = nlohmann::ordered_json;
 constexpr const char* kVersion = "0.2.0";
+constexpr int kShutdownGraceMs = 2000;  // in-flight renders may finish within this after SIGTERM
 
 // An encoded image or JSON body, as cached and served.
 struct Encoded {
@@ -102,9 +106,63 @@ void problem(HttpResponse& res, int status, const std::string& detail, const std
     res.set_content(j.dump(), "application/problem+json");
 }
 
+// An error as an answer: its status, and Retry-After when the server lacks capacity now.
 void problem(HttpResponse& res, const Error& e, const std::string& instance) {
+    if (e.code == ErrorCode::Unavailable) res.set_header("Retry-After", "1");
     problem(res, httpStatus(e.code), e.message, instance, errorCodeName(e.code));
 }
+
+// A POST body must be JSON (application/json or a +json type): 415 otherwise.
+bool requireJsonBody(const HttpRequest& req, HttpResponse& res) {
+    std::string type = req.get_header_value("Content-Type");
+    type = type.substr(0, type.find(';'));
+    while (!type.empty() && type.back() == ' ') type.pop_back();
+    for (char& c : type) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (type == "application/json" || (type.size() > 5 && type.compare(type.size() - 5, 5, "+json") == 0)) return true;
+    problem(res, 415,
+            "header 'Content-Type': '" + type.substr(0, 80) + "' is not application/json; the body must be JSON",
+            req.path, "unsupported_media_type");
+    return false;
+}
+
+// Absolute file-system paths in a message, cut to their last component ("/srv/models/a.glb"
+// -> ".../a.glb"), for answers that anyone may read (/readyz).
+std::string redactPaths(const std::string& s) {
+    std::string out;
+    std::size_t i = 0;
+    while (i < s.size()) {
+        const bool starts = s[i] == '/' && (i == 0 || s[i - 1] == ' ' || s[i - 1] == '\'' || s[i - 1] == '"' ||
+                                            s[i - 1] == '(' || s[i - 1] == '=');
+        if (!starts) {
+            out += s[i++];
+            continue;
+        }
+        std::size_t end = i;
+        while (end < s.size() && s[end] != ' ' && s[end] != '\'' && s[end] != '"' && s[end] != ')' && s[end] != ':' &&
+               s[end] != ',')
+            ++end;
+        const std::string path = s.substr(i, end - i);
+        const std::size_t slash = path.find_last_of('/');
+        out += ".../" + path.substr(slash + 1);
+        i = end;
+    }
+    return out;
+}
+
+// Estimated peak memory of one render, for admission by memory (issue 11 item 4). Per
+// pixel: the colour image and ID buffer kept until encoded (8), the fill's coverage and
+// trace buffers (5), the encoder's working copies (WebP: YUVA planes and an ARGB copy, up
+// to 12; PNG and JPEG less), and headroom for the allocator (7) = 32; GL views add their
+// render targets (RGBA8, R32UI, depth-stencil: 12) and FXAA/read-back copies (8) = 52.
+// An 8192^2 WebP was measured at about 2.1 GB (issue 11): 32 B/px gives 2.1 GiB.
+constexpr std::size_t kExactBytesPerPixel = 32, kGlBytesPerPixel = 52;
+constexpr std::size_t kVectorBytes = std::size_t(32) << 20;      // GeoJSON/SVG of one section
+constexpr std::size_t kQueryAnswerBytes = 4096;                  // one pixel's answer and scratch
+constexpr std::size_t kTrimAfterBytes = std::size_t(256) << 20;  // trim the heap after larger renders
+std::size_t renderBytes(int width, int height, bool gl) {
+    return std::size_t(width) * std::size_t(height) * (gl ? kGlBytesPerPixel : kExactBytesPerPixel);
+}
+std::string mib(std::size_t bytes) { return std::to_string((bytes + (std::size_t(1) << 20) - 1) >> 20); }
 
 void sendJson(HttpResponse& res, const Json& j, int status = 200) {
     res.status = status;
@@ -236,65 +294,110 @@ struct SectionServer::Impl {
         res.set_content(e.body, e.contentType);
     }
 
-    // Runs `render` on a worker (coalesced by `key`), waits up to the deadline.
-    using RenderFn = std::function<Result<std::shared_ptr<const Encoded>>(WorkerState&)>;
-    Result<std::shared_ptr<const Encoded>> renderCoalesced(const std::string& key, RenderFn render, HttpResponse& res,
-                                                           bool& answered, const std::string& instance) {
-        answered = false;
-        bool leader = false;
-        auto future = coalescer.join(key, leader);
-        if (leader) {
-            const bool queued = pool->submit([this, key, render = std::move(render)](WorkerState& w) {
+    // Runs `render` on a worker (coalesced by `key`) and waits until it is done, the
+    // deadline passes or the client goes away (req.cancelled, set by the transport); the
+    // render is cancelled when the last request waiting for it leaves. Typed errors:
+    // Unavailable (queue full, memory budget spent: 503 + Retry-After), DeadlineExceeded
+    // (504), OutOfRange (larger than the whole memory budget), or the render's own.
+    // `gl`: the render uses the worker's GL context (only then is it rebuilt after an overrun).
+    using Rendered = Result<std::shared_ptr<const Encoded>>;
+    using RenderFn = std::function<Rendered(WorkerState&, const std::atomic<bool>& cancel)>;
+    Rendered renderCoalesced(const std::string& key, RenderFn render, std::size_t memoryBytes, bool gl,
+                             const HttpRequest& req, bool cache = true) {
+        const auto deadline = Clock::now() + std::chrono::milliseconds(config.deadlineMs);
+        auto ticket = coalescer.join(key);
+        if (ticket.leader) {
+            RenderJob job;
+            job.cancel = ticket.cancel;
+            job.deadline = deadline;
+            job.memoryBytes = memoryBytes;
+            job.run = [this, key, id = ticket.id, gl, cache, memoryBytes, render = std::move(render)](
+                          WorkerState& w, const std::atomic<bool>& cancel) {
                 const auto t0 = Clock::now();
-                Result<std::shared_ptr<const Encoded>> r = makeError(ErrorCode::Internal, "render threw");
+                Rendered r = makeError(ErrorCode::Internal, "render threw");
                 try {
-                    r = render(w);
+                    r = render(w, cancel);
                 } catch (const std::exception& e) {
                     r = makeError(ErrorCode::Internal, std::string("render failed: ") + e.what());
                 }
                 const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
                 if (ms > config.deadlineMs) {
-                    spdlog::warn("event=render_overrun key_hash={} ms={:.1f} deadline_ms={} gl_rebuilt={}",
-                                 api::hex64(api::fnv1a64(key)), ms, config.deadlineMs, bool(w.gl));
+                    spdlog::warn("event=render_overrun key_hash={} ms={:.1f} deadline_ms={} cancelled={} gl_rebuilt={}",
+                                 api::hex64(api::fnv1a64(key)), ms, config.deadlineMs, cancel.load(), gl && w.gl);
                     metrics.count("geoslice_render_overruns_total", "");
-                    w.gl.reset();  // a context that overran is rebuilt by the next GL job
+                    if (gl) w.gl.reset();  // a GL context that overran is rebuilt by the next GL job
                 }
-                if (r) images.put(key, r.value());
-                coalescer.finish(key, std::make_shared<const Result<std::shared_ptr<const Encoded>>>(std::move(r)));
-            });
-            if (!queued) {
-                coalescer.finish(key, std::make_shared<const Result<std::shared_ptr<const Encoded>>>(
-                                          makeError(ErrorCode::Internal, "queue full")));
-                metrics.count("geoslice_queue_rejections_total", "");
-                res.set_header("Retry-After", "1");
-                problem(res, 503,
-                        "the render queue is full (" + std::to_string(pool->capacity()) + " jobs); retry shortly",
-                        instance);
-                answered = true;
-                return makeError(ErrorCode::Internal, "queue full");
+                if (memoryBytes >= kTrimAfterBytes) {
+                    // Give the buffers of a large image back (the GL worker kept 1.47 GB after
+                    // an 8192^2 view): render targets, then the heap's free pages.
+                    if (gl && w.gl) w.gl->trim();
+                    malloc_trim(0);
+                }
+                if (r && cache) images.put(key, r.value());
+                coalescer.finish(key, id, std::make_shared<const Rendered>(std::move(r)));
+            };
+            job.drop = [this, key, id = ticket.id](const Error& e) {
+                metrics.count("geoslice_renders_dropped_total", "");
+                coalescer.finish(key, id, std::make_shared<const Rendered>(e));
+            };
+            Error refused;
+            switch (pool->submit(std::move(job))) {
+                case Admission::Queued:
+                    break;
+                case Admission::QueueFull:
+                    metrics.count("geoslice_queue_rejections_total", "reason=\"queue\"");
+                    refused = makeError(
+                        ErrorCode::Unavailable,
+                        "the render queue is full (" + std::to_string(pool->capacity()) + " jobs); retry shortly");
+                    break;
+                case Admission::OverMemory:
+                    metrics.count("geoslice_queue_rejections_total", "reason=\"memory\"");
+                    refused = makeError(ErrorCode::Unavailable, "this render needs about " + mib(memoryBytes) +
+                                                                    " MiB and the memory budget (" +
+                                                                    mib(pool->memoryBudget()) +
+                                                                    " MiB) is taken by renders under way; retry "
+                                                                    "shortly");
+                    break;
+                case Admission::TooLarge:
+                    metrics.count("geoslice_queue_rejections_total", "reason=\"too_large\"");
+                    refused = makeError(ErrorCode::OutOfRange,
+                                        "parameter 'size': this render needs about " + mib(memoryBytes) +
+                                            " MiB, more than the server's whole memory budget of " +
+                                            mib(pool->memoryBudget()) + " MiB; ask for fewer pixels");
+                    break;
+                case Admission::Stopping:
+                    refused = makeError(ErrorCode::Unavailable, "the server is shutting down");
+                    break;
+            }
+            if (!refused.message.empty()) {
+                coalescer.leave(key, ticket.id);
+                coalescer.finish(key, ticket.id, std::make_shared<const Rendered>(refused));
+                return refused;
             }
         }
-        if (future.wait_for(std::chrono::milliseconds(config.deadlineMs)) != std::future_status::ready) {
-            metrics.count("geoslice_deadline_exceeded_total", "");
-            problem(res, 504,
-                    "the render did not finish within the deadline of " + std::to_string(config.deadlineMs) +
-                        " ms; it goes on and its result will be cached",
-                    instance);
-            answered = true;
-            return makeError(ErrorCode::Internal, "deadline");
+        // Wait in slices, so that a client that goes away is noticed within them.
+        while (ticket.future.wait_for(std::chrono::milliseconds(10)) != std::future_status::ready) {
+            if (req.isCancelled()) {
+                coalescer.leave(key, ticket.id);
+                metrics.count("geoslice_requests_abandoned_total", "");
+                return makeError(ErrorCode::DeadlineExceeded, "the client went away; its render was cancelled");
+            }
+            if (Clock::now() >= deadline) {
+                coalescer.leave(key, ticket.id);
+                metrics.count("geoslice_deadline_exceeded_total", "");
+                return makeError(ErrorCode::DeadlineExceeded,
+                                 "the render did not finish within the deadline of " +
+                                     std::to_string(config.deadlineMs) +
+                                     " ms; it is cancelled unless another request still waits for it");
+            }
         }
-        const auto shared = future.get();
-        if (!*shared && shared->error().message == "queue full") {
-            res.set_header("Retry-After", "1");
-            problem(res, 503, "the render queue is full; retry shortly", instance);
-            answered = true;
-        }
-        return *shared;
+        return *ticket.future.get();
     }
 
     Result<std::shared_ptr<const Encoded>> encode(const api::ViewImage& v, ImageFormat format, int quality,
-                                                  const std::string& etag) {
+                                                  const std::string& etag, const std::atomic<bool>* cancel = nullptr) {
         EncodeOptions eo;
+        eo.cancel = cancel;
         if (quality > 0) {
             eo.jpegQuality = quality;
             eo.webpQuality = quality;
@@ -314,6 +417,28 @@ struct SectionServer::Impl {
         v.rgba.shrink_to_fit();
         ids->view = std::move(v);
         idBuffers.put(key, std::move(ids));
+    }
+
+    // Everything about a view that can be wrong, checked without rendering: for profile
+    // views the plane against the model and the frame's pixel size (api::profileMapping),
+    // for perspective views that GL is on. Errors name the parameter.
+    Status validateView(const api::CatalogModel& m, const api::ViewPlan& plan) {
+        if (plan.view == api::ViewKind::Perspective) {
+            if (!glBackend)
+                return makeError(ErrorCode::Unsupported,
+                                 "parameter 'view': perspective views need GL, which is disabled on this server (--gl "
+                                 "none)");
+            return {};
+        }
+        auto mapping = api::profileMapping(m, plan);
+        if (!mapping) return mapping.error();
+        return {};
+    }
+
+    static std::vector<std::string_view> withNames(std::vector<std::string_view> names,
+                                                   std::initializer_list<std::string_view> more) {
+        names.insert(names.end(), more.begin(), more.end());
+        return names;
     }
 
     // ---- routes ------------------------------------------------------------------
@@ -370,7 +495,11 @@ struct SectionServer::Impl {
                 problem(res, 404, "no route for " + req.method + " " + req.path, req.path, "not_found");
             }
         }
-        if (!cors.empty()) {
+        res.set_header("X-Content-Type-Options", "nosniff");
+        // Operational routes are for the operator's probes and scrapers, not for browsers
+        // on other origins: no CORS there.
+        const bool operational = req.path == "/metrics" || req.path == "/readyz";
+        if (!cors.empty() && !operational) {
             res.set_header("Access-Control-Allow-Origin", cors);
             res.set_header("Access-Control-Expose-Headers", "ETag, Retry-After");
         }
@@ -393,10 +522,9 @@ struct SectionServer::Impl {
         route("GET", "/", "/", [sendAsset](const HttpRequest& req, HttpResponse& res) {
             sendAsset(req, res, findWebAsset("index.html"), true);
         });
-        route("GET", "/web/{asset}", "/web/([A-Za-z0-9._/-]+)",
-              [sendAsset](const HttpRequest& req, HttpResponse& res) {
-                  sendAsset(req, res, findWebAsset(req.matches[1]), false);
-              });
+        route("GET", "/web/{asset}", "/web/([A-Za-z0-9._/-]+)", [sendAsset](const HttpRequest& req, HttpResponse& res) {
+            sendAsset(req, res, findWebAsset(req.matches[1]), false);
+        });
         route("GET", "/healthz", "/healthz", [this](const HttpRequest&, HttpResponse& res) {
             sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
         });
@@ -410,11 +538,28 @@ struct SectionServer::Impl {
                 std::lock_guard lock(failedMutex);
                 failures = failed;
             }
-            Json j{{"ready", modelsReady && glOk},
+            if (!config.readyzPaths)
+                for (auto& f : failures)
+                    if (f.contains("error") && f["error"].is_string())
+                        f["error"] = redactPaths(f["error"].get<std::string>());
+            // Renders: overruns are counted; when every worker is running past its deadline
+            // the server cannot take work and says so.
+            const PoolStats ps = pool->stats();
+            const bool workersOk = ps.overrunningNow < pool->workers();
+            Json renders{{"queued", ps.queued},
+                         {"busy", ps.busy},
+                         {"overruns", ps.overruns},
+                         {"overrunningNow", ps.overrunningNow},
+                         {"dropped", ps.dropped},
+                         {"cancelledWhileRunning", ps.cancelledRunning},
+                         {"memoryBudgetMiB", pool->memoryBudget() >> 20},
+                         {"memoryReservedMiB", ps.reservedBytes >> 20}};
+            Json j{{"ready", modelsReady && glOk && workersOk},
                    {"models", {{"loaded", catalog.size()}, {"done", bool(loaded)}, {"failed", failures}}},
                    {"gl", {{"enabled", bool(glBackend)}, {"ready", bool(glReady)}, {"device", glInfo}}},
-                   {"workers", pool->workers()}};
-            sendJson(res, j, modelsReady && glOk ? 200 : 503);
+                   {"workers", pool->workers()},
+                   {"renders", std::move(renders)}};
+            sendJson(res, j, modelsReady && glOk && workersOk ? 200 : 503);
         });
         route("GET", "/metrics", "/metrics", [this](const HttpRequest&, HttpResponse& res) {
             res.set_content(metrics.text(), "text/plain; version=0.0.4");
@@ -462,6 +607,8 @@ struct SectionServer::Impl {
                   if (!m) return;
                   auto params = toParams(req);
                   if (!params) return problem(res, params.error(), req.path);
+                  if (auto s = api::checkKnownParams(params.value(), {"x", "y", "lon", "lat"}); !s)
+                      return problem(res, s.error(), req.path);
                   auto j = api::boreholeAt(*m, params.value());
                   if (!j) return problem(res, j.error(), req.path);
                   sendJson(res, j.value());
@@ -501,10 +648,15 @@ struct SectionServer::Impl {
                            req.path, "not_found");
         auto params = toParams(req);
         if (!params) return problem(res, params.error(), req.path);
+        if (auto s = api::checkKnownParams(params.value(), withNames(api::viewParamNames(), {"quality"})); !s)
+            return problem(res, s.error(), req.path);
         auto plan = api::parseViewPlan(params.value(), m->id, m->model.crs);
         if (!plan) return problem(res, plan.error(), req.path);
         auto quality = qualityParam(params.value());
         if (!quality) return problem(res, quality.error(), req.path);
+        // The whole view is validated (plane against the model, frame, pixel size) before
+        // any cache or ETag is consulted: If-None-Match never answers a bad request.
+        if (auto s = validateView(*m, plan.value()); !s) return problem(res, s.error(), req.path);
         const std::string viewKey = m->version + "|" + plan.value().canonical();
         const std::string key = viewKey + "|" + extension(format.value()) + "|q=" + std::to_string(quality.value());
         const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
@@ -520,14 +672,11 @@ struct SectionServer::Impl {
             return sendEncoded(req, res, *hit);
         }
         metrics.count("geoslice_cache_total", "cache=\"image\",result=\"miss\"");
-        if (plan.value().view == api::ViewKind::Perspective && !glBackend)
-            return problem(res, 422, "perspective views need GL, which is disabled on this server (--gl none)",
-                           req.path, "unsupported");
-        bool answered = false;
+        const bool perspective = plan.value().view == api::ViewKind::Perspective;
         auto result = renderCoalesced(
             key,
-            [this, m, plan = plan.value(), format = format.value(), q = quality.value(), etag,
-             viewKey](WorkerState& w) -> Result<std::shared_ptr<const Encoded>> {
+            [this, m, plan = plan.value(), format = format.value(), q = quality.value(), etag, viewKey](
+                WorkerState& w, const std::atomic<bool>& cancel) -> Rendered {
                 Result<api::ViewImage> view = makeError(ErrorCode::Internal, "no view");
                 if (plan.view == api::ViewKind::Perspective) {
                     if (!w.gl) {
@@ -535,18 +684,18 @@ struct SectionServer::Impl {
                         if (!gl) return gl.error();
                         w.gl = std::move(gl.value());
                     }
-                    view = w.gl->renderPerspective(*m, plan);
+                    view = w.gl->renderPerspective(*m, plan, &cancel);
                 } else {
-                    view = api::renderProfile(*m, plan);
+                    view = api::renderProfile(*m, plan, &cancel);
                 }
                 if (!view) return view.error();
+                if (auto c = checkCancel(&cancel); !c) return c.error();
                 metrics.render(plan.view == api::ViewKind::Perspective ? "gl" : "section", view.value().renderMs / 1e3);
-                auto e = encode(view.value(), format, q, etag);
+                auto e = encode(view.value(), format, q, etag, &cancel);
                 if (e) keepIds(viewKey, std::move(view.value()));
                 return e;
             },
-            res, answered, req.path);
-        if (answered) return;
+            renderBytes(plan.value().width, plan.value().height, perspective), perspective, req);
         if (!result) return problem(res, result.error(), req.path);
         sendEncoded(req, res, *result.value());
     }
@@ -554,6 +703,8 @@ struct SectionServer::Impl {
     void sectionVector(const HttpRequest& req, HttpResponse& res, const api::CatalogModel& m, bool svg) {
         auto params = toParams(req);
         if (!params) return problem(res, params.error(), req.path);
+        if (auto s = api::checkKnownParams(params.value(), withNames(api::viewParamNames(), {"space"})); !s)
+            return problem(res, s.error(), req.path);
         bool world = false;
         if (const auto space = api::param(params.value(), "space")) {
             if (*space != "plane" && *space != "world")
@@ -563,6 +714,7 @@ struct SectionServer::Impl {
         }
         auto plan = api::parseViewPlan(params.value(), m.id, m.model.crs);
         if (!plan) return problem(res, plan.error(), req.path);
+        if (auto s = validateView(m, plan.value()); !s) return problem(res, s.error(), req.path);
         const std::string key = m.version + "|" + plan.value().canonical() +
                                 (svg     ? "|svg"
                                  : world ? "|geojson-world"
@@ -570,12 +722,12 @@ struct SectionServer::Impl {
         const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
         if (auto hit = images.get(key)) return sendEncoded(req, res, *hit);
         auto mp = catalog.find(m.id);
-        bool answered = false;
         auto result = renderCoalesced(
             key,
-            [this, mp, plan = plan.value(), svg, world, etag](WorkerState&) -> Result<std::shared_ptr<const Encoded>> {
+            [this, mp, plan = plan.value(), svg, world, etag](WorkerState&,
+                                                              const std::atomic<bool>& cancel) -> Rendered {
                 const auto t0 = Clock::now();
-                auto text = api::renderVector(*mp, plan, svg, world);
+                auto text = api::renderVector(*mp, plan, svg, world, &cancel);
                 if (!text) return text.error();
                 metrics.render(svg ? "svg" : "geojson", std::chrono::duration<double>(Clock::now() - t0).count());
                 auto e = std::make_shared<Encoded>();
@@ -584,8 +736,7 @@ struct SectionServer::Impl {
                 e->etag = etag;
                 return std::shared_ptr<const Encoded>(std::move(e));
             },
-            res, answered, req.path);
-        if (answered) return;
+            kVectorBytes, false, req);
         if (!result) return problem(res, result.error(), req.path);
         sendEncoded(req, res, *result.value());
     }
@@ -607,10 +758,9 @@ struct SectionServer::Impl {
             return sendEncoded(req, res, *hit);
         }
         metrics.count("geoslice_cache_total", "cache=\"reserves\",result=\"miss\"");
-        bool answered = false;
         auto result = renderCoalesced(
             key,
-            [this, m, r = rr.value(), etag](WorkerState&) -> Result<std::shared_ptr<const Encoded>> {
+            [this, m, r = rr.value(), etag](WorkerState&, const std::atomic<bool>&) -> Rendered {
                 const auto t0 = Clock::now();
                 auto figures = computeReserves(m->model, r.plane);
                 if (!figures) return figures.error();
@@ -622,8 +772,7 @@ struct SectionServer::Impl {
                 metrics.render("reserves", std::chrono::duration<double>(Clock::now() - t0).count());
                 return std::shared_ptr<const Encoded>(std::move(e));
             },
-            res, answered, req.path);
-        if (answered) return;
+            kVectorBytes, false, req);
         if (!result) return problem(res, result.error(), req.path);
         sendEncoded(req, res, *result.value());
     }
@@ -647,6 +796,8 @@ struct SectionServer::Impl {
         if (!m) return;
         auto params = toParams(req);
         if (!params) return problem(res, params.error(), req.path);
+        if (auto s = api::checkKnownParams(params.value(), withNames(api::viewParamNames(), {"px", "py"})); !s)
+            return problem(res, s.error(), req.path);
         auto plan = api::parseViewPlan(params.value(), m->id, m->model.crs);
         if (!plan) return problem(res, plan.error(), req.path);
         auto j = answerQuery(*m, params.value(), plan.value());
@@ -655,51 +806,92 @@ struct SectionServer::Impl {
         res.set_content(j.value(), "application/json");
     }
 
+    // POST /query: a batch of pixels of one view, answered on a render worker like a
+    // render (queue, deadline, cancellation, memory admission), at most kMaxBatchPixels
+    // pixels and kMaxBatchAnswerBytes of answer.
     void queryPost(const HttpRequest& req, HttpResponse& res) {
         auto m = model(req.matches[1], res, req.path);
         if (!m) return;
+        if (!requireJsonBody(req, res)) return;
         const nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
         if (body.is_discarded() || !body.is_object())
             return problem(res, 400, "the body is not a JSON object", req.path, "parse_error");
+        for (const auto& [k, v] : body.items())
+            if (k != "view" && k != "pixels")
+                return problem(res, 400, "unknown field '" + k.substr(0, 64) + "' in the body; known: view, pixels",
+                               req.path, "invalid_argument");
         if (!body.contains("view") || !body.contains("pixels") || !body["pixels"].is_array())
             return problem(res, 400,
                            "the body needs 'view' (an object of view parameters) and 'pixels' ([[px, py], ...])",
                            req.path, "invalid_argument");
-        if (body["pixels"].size() > 10000)
-            return problem(res, 400, "at most 10000 pixels per batch, got " + std::to_string(body["pixels"].size()),
+        if (body["pixels"].size() > kMaxBatchPixels)
+            return problem(res, 400,
+                           "field 'pixels': at most " + std::to_string(kMaxBatchPixels) + " pixels per batch, got " +
+                               std::to_string(body["pixels"].size()),
                            req.path, "out_of_range");
         auto params = jsonToParams(body["view"], "'view'");
         if (!params) return problem(res, params.error(), req.path);
+        if (auto s = api::checkKnownParams(params.value(), api::viewParamNames()); !s)
+            return problem(res, makeError(s.error().code, "field 'view': " + s.error().message), req.path);
         auto plan = api::parseViewPlan(params.value(), m->id, m->model.crs);
         if (!plan) return problem(res, plan.error(), req.path);
-        auto cached = idBuffers.get(m->version + "|" + plan.value().canonical());
-        std::string results = "{\"results\":[";
-        std::size_t i = 0;
+        if (auto s = validateView(*m, plan.value()); !s) return problem(res, s.error(), req.path);
+        std::vector<std::pair<long long, long long>> pixels;
+        pixels.reserve(body["pixels"].size());
         for (const auto& p : body["pixels"]) {
             if (!p.is_array() || p.size() != 2 || !p[0].is_number_integer() || !p[1].is_number_integer())
-                return problem(res, 400, "pixels[" + std::to_string(i) + "] is not [px, py] with whole numbers",
-                               req.path, "invalid_argument");
-            auto a = api::answerPixel(*m, plan.value(), p[0].get<long long>(), p[1].get<long long>(),
-                                      cached ? &cached->view : nullptr);
-            if (!a)
-                return problem(res, 400, "pixels[" + std::to_string(i) + "]: " + a.error().message, req.path,
-                               errorCodeName(a.error().code));
-            if (i) results += ',';
-            api::writeQueryAnswer(*m, a.value(), results);
-            ++i;
+                return problem(
+                    res, 400,
+                    "field 'pixels': pixels[" + std::to_string(pixels.size()) + "] is not [px, py] with whole numbers",
+                    req.path, "invalid_argument");
+            pixels.emplace_back(p[0].get<long long>(), p[1].get<long long>());
         }
-        results += "]}";
+        // Keyed by the request itself: identical concurrent batches share one answer.
+        const std::string key =
+            m->version + "|query|" + plan.value().canonical() + "|" + api::hex64(api::fnv1a64(body["pixels"].dump()));
+        auto result = renderCoalesced(
+            key,
+            [this, m, plan = plan.value(), pixels = std::move(pixels)](WorkerState&,
+                                                                       const std::atomic<bool>& cancel) -> Rendered {
+                auto cached = idBuffers.get(m->version + "|" + plan.canonical());
+                auto e = std::make_shared<Encoded>();
+                std::string& out = e->body;
+                out = "{\"results\":[";
+                for (std::size_t i = 0; i < pixels.size(); ++i) {
+                    if ((i & 63) == 0)
+                        if (auto c = checkCancel(&cancel); !c) return c.error();
+                    auto a =
+                        api::answerPixel(*m, plan, pixels[i].first, pixels[i].second, cached ? &cached->view : nullptr);
+                    if (!a)
+                        return makeError(a.error().code,
+                                         "field 'pixels': pixels[" + std::to_string(i) + "]: " + a.error().message);
+                    if (i) out += ',';
+                    api::writeQueryAnswer(*m, a.value(), out);
+                    if (out.size() > kMaxBatchAnswerBytes)
+                        return makeError(ErrorCode::OutOfRange,
+                                         "field 'pixels': the answer passed " + mib(kMaxBatchAnswerBytes) +
+                                             " MiB after " + std::to_string(i + 1) + " pixels; ask for fewer pixels");
+                }
+                out += "]}";
+                e->contentType = "application/json";
+                return std::shared_ptr<const Encoded>(std::move(e));
+            },
+            body["pixels"].size() * kQueryAnswerBytes, false, req, false);
+        if (!result) return problem(res, result.error(), req.path);
         res.status = 200;
-        res.set_content(results, "application/json");
+        res.set_content(result.value()->body, "application/json");
     }
 
     void defineSection(const HttpRequest& req, HttpResponse& res) {
         auto m = model(req.matches[1], res, req.path);
         if (!m) return;
+        if (!requireJsonBody(req, res)) return;
         const nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
         if (body.is_discarded()) return problem(res, 400, "the body is not valid JSON", req.path, "parse_error");
         auto params = jsonToParams(body, "the section definition");
         if (!params) return problem(res, params.error(), req.path);
+        if (auto s = api::checkKnownParams(params.value(), api::sectionParamNames()); !s)
+            return problem(res, s.error(), req.path);
         auto def = api::parseSectionDef(params.value(), m->id, m->model.crs);
         if (!def) return problem(res, def.error(), req.path);
         auto grid = api::tileGrid(*m, def.value());
@@ -727,6 +919,8 @@ struct SectionServer::Impl {
     }
 
     void describeSection(const HttpRequest& req, HttpResponse& res) {
+        if (auto p = toParams(req); !p || !api::checkKnownParams(p.value(), {}).ok())
+            return problem(res, 400, "this route takes no query parameters", req.path, "invalid_argument");
         auto s = section(req.matches[1]);
         if (!s) return problem(res, s.error(), req.path);
         auto grid = api::tileGrid(*s.value().first, s.value().second);
@@ -746,10 +940,17 @@ struct SectionServer::Impl {
         auto x = api::parseInteger("x", std::string(req.matches[3]), -(1LL << 40), 1LL << 40);
         auto y = api::parseInteger("y", std::string(req.matches[4]), -(1LL << 40), 1LL << 40);
         if (!z || !x || !y) return problem(res, 404, "tile coordinates are out of range", req.path, "not_found");
+        if (auto p = toParams(req); !p || !api::checkKnownParams(p.value(), {}).ok())
+            return problem(res, 400, "tiles take no query parameters", req.path, "invalid_argument");
         const std::string sid = req.matches[1];
         auto s = section(sid);
         if (!s) return problem(res, s.error(), req.path);
         const auto& [m, def] = s.value();
+        // Validated before any cache or ETag is consulted.
+        auto grid = api::tileGrid(*m, def);
+        if (!grid) return problem(res, grid.error(), req.path);
+        if (auto rect = grid.value().tileRect(int(z.value()), x.value(), y.value()); !rect)
+            return problem(res, rect.error(), req.path);
         const std::string key = m->version + "|tile|" + def.canonical() + "|" + std::to_string(z.value()) + "/" +
                                 std::to_string(x.value()) + "/" + std::to_string(y.value()) + "|" +
                                 extension(format.value());
@@ -765,22 +966,16 @@ struct SectionServer::Impl {
             return sendEncoded(req, res, *hit);
         }
         metrics.count("geoslice_cache_total", "cache=\"tile\",result=\"miss\"");
-        auto grid = api::tileGrid(*m, def);
-        if (!grid) return problem(res, grid.error(), req.path);
-        if (auto rect = grid.value().tileRect(int(z.value()), x.value(), y.value()); !rect)
-            return problem(res, rect.error(), req.path);
-        bool answered = false;
         auto result = renderCoalesced(
             key,
             [this, m = m, def = def, g = grid.value(), z = int(z.value()), x = x.value(), y = y.value(),
-             format = format.value(), etag](WorkerState&) -> Result<std::shared_ptr<const Encoded>> {
-                auto view = api::renderSectionTile(*m, def, g, z, x, y);
+             format = format.value(), etag](WorkerState&, const std::atomic<bool>& cancel) -> Rendered {
+                auto view = api::renderSectionTile(*m, def, g, z, x, y, &cancel);
                 if (!view) return view.error();
                 metrics.render("tile", view.value().renderMs / 1e3);
-                return encode(view.value(), format, 0, etag);
+                return encode(view.value(), format, 0, etag, &cancel);
             },
-            res, answered, req.path);
-        if (answered) return;
+            renderBytes(grid.value().tileSize, grid.value().tileSize, false), false, req);
         if (!result) return problem(res, result.error(), req.path);
         sendEncoded(req, res, *result.value());
     }
@@ -838,7 +1033,8 @@ struct SectionServer::Impl {
         if (!glBackend) return;
         // Create one worker's context now, so /readyz can report the device and the first
         // perspective request does not pay for it.
-        pool->submit([this](WorkerState& w) {
+        RenderJob job;
+        job.run = [this](WorkerState& w, const std::atomic<bool>&) {
             auto gl = GlWorker::create(*glBackend, config.lod == "auto");
             if (!gl) {
                 glInfo = "failed: " + gl.error().message;
@@ -849,7 +1045,8 @@ struct SectionServer::Impl {
             spdlog::info("event=gl_ready device=\"{}\"", glInfo);
             w.gl = std::move(gl.value());
             glReady = true;
-        });
+        };
+        if (pool->submit(std::move(job)) != Admission::Queued) glInfo = "failed: the render queue refused the probe";
     }
 };
 
@@ -865,11 +1062,19 @@ Result<int> SectionServer::start() {
     Impl& im = *impl_;
     if (config_.gl != "none") im.glBackend = parseGlBackend(config_.gl);
     const unsigned workers = config_.workers ? config_.workers : std::max(1u, std::thread::hardware_concurrency());
-    im.pool = std::make_unique<RenderPool>(workers, config_.queue);
+    im.pool = std::make_unique<RenderPool>(workers, config_.queue, config_.memoryBudgetMiB << 20);
 
     im.addRoutes();
 
     im.metrics.gauge("geoslice_queue_depth", "Render jobs waiting.", [&im] { return double(im.pool->queueDepth()); });
+    im.metrics.gauge("geoslice_renders_overrun", "Render jobs that ran past their deadline (total).",
+                     [&im] { return double(im.pool->stats().overruns); });
+    im.metrics.gauge("geoslice_renders_overrunning", "Render workers running past their deadline now.",
+                     [&im] { return double(im.pool->stats().overrunningNow); });
+    im.metrics.gauge("geoslice_renders_dropped", "Queued renders dropped: cancelled or past their deadline (total).",
+                     [&im] { return double(im.pool->stats().dropped); });
+    im.metrics.gauge("geoslice_render_memory_reserved_bytes", "Estimated memory of queued and running renders.",
+                     [&im] { return double(im.pool->stats().reservedBytes); });
     im.metrics.gauge("geoslice_workers_busy", "Render workers busy.", [&im] { return double(im.pool->busyWorkers()); });
     im.metrics.gauge("geoslice_requests_in_flight", "HTTP requests being handled.",
                      [&im] { return double(im.inFlight.load()); });
@@ -954,13 +1159,25 @@ void SectionServer::stop() {
     if (im.stopped) return;
     im.draining = true;
     spdlog::info("event=shutdown_begin in_flight={}", im.inFlight.load());
-    // Let in-flight requests finish (bounded by the deadline plus a margin).
-    const auto until = Clock::now() + std::chrono::milliseconds(config_.deadlineMs + 1000);
+    // In-flight requests get a grace period to finish (kShutdownGraceMs, or the deadline
+    // if shorter); then queued renders are dropped and running ones cancelled (they stop
+    // within milliseconds), so SIGTERM ends within the grace period plus a second even
+    // when a render would run for minutes.
+    const auto until = Clock::now() + std::chrono::milliseconds(std::min(config_.deadlineMs, kShutdownGraceMs));
     while (im.inFlight > 0 && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!im.pool->stop(std::chrono::milliseconds(1000))) {
+        // A render is inside a codec call that cannot be cancelled (libwebp's alpha pass on
+        // a huge image): end the process now rather than overrun the grace period.
+        spdlog::warn("event=shutdown_forced reason=\"a render did not stop within 1 s of its cancellation\"");
+        spdlog::default_logger()->flush();
+        std::_Exit(0);
+    }
+    const auto after = Clock::now() + std::chrono::milliseconds(1000);
+    while (im.inFlight > 0 && Clock::now() < after) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     // Answers being written get a second; connections that wait for a request close now.
     if (im.http) im.http->stop(1000);
     if (im.loader.joinable()) im.loader.join();
-    im.pool.reset();  // runs what is queued, joins the workers (and destroys their GL contexts)
+    im.pool.reset();  // destroys the workers' GL contexts
     im.stopped = true;
     spdlog::info("event=shutdown_done");
 }
