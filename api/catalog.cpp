@@ -167,8 +167,7 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
         if (!bakeDir.empty()) {
             const std::string dir = (fs::path(bakeDir) / id).string();
             const std::string stamp = (fs::path(dir) / "source.version").string();
-            auto previous = readFile(stamp, 64);
-            if (!previous || previous.value() != m->version) {
+            auto bakeInto = [&]() -> Status {
                 auto baked = bake::bakeModel(m->model);
                 if (!baked) return makeError(baked.error().code, "baking model '" + id + "': " + baked.error().message);
                 if (auto s = bake::writePackage(m->model, baked.value(), dir); !s) return s.error();
@@ -176,9 +175,31 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
                 if (!f) return makeError(ErrorCode::IoError, "cannot write " + stamp);
                 std::fwrite(m->version.data(), 1, m->version.size(), f);
                 std::fclose(f);
-            }
+                return {};
+            };
+            auto previous = readFile(stamp, 64);
+            if (!previous || previous.value() != m->version)
+                if (auto s = bakeInto(); !s) return s.error();
             auto pkg = openPackage(dir);
-            if (!pkg) return pkg.error();
+            if (!pkg) {
+                // The stamp matches but the package fails its checks (a corrupt or truncated
+                // file): the source is intact, so keep the package aside (never deleted
+                // silently) and bake again (issue 11 item 6).
+                const std::string why = pkg.error().message;
+                std::string aside;
+                for (int n = 1; n < 1000; ++n) {
+                    aside = dir + ".corrupt-" + std::to_string(n);
+                    if (!fs::exists(aside, ec)) break;
+                }
+                fs::rename(dir, aside, ec);
+                if (ec)
+                    return makeError(ErrorCode::IoError, "package " + dir + " fails its checks (" + why +
+                                                             ") and cannot be moved aside: " + ec.message());
+                if (auto s = bakeInto(); !s) return s.error();
+                pkg = openPackage(dir);
+                if (!pkg) return pkg.error();
+                m->rebakedFrom = aside + " (" + why + ")";
+            }
             m->package = std::move(pkg.value());
         }
     }
@@ -229,8 +250,8 @@ Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
         // GOCAD Model3d (.ml), TSolid (.so) and groups (.gp) hold bodies; Voxet/SGrid/PLine
         // alone hold nothing a section draws yet.
-        static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts", ".ml", ".so", ".gp", ".xml",
-                                                          ".vtu"};
+        static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts", ".ml",
+                                                          ".so",  ".gp",   ".xml", ".vtu"};
         if (std::find(std::begin(kModelExts), std::end(kModelExts), ext) == std::end(kModelExts)) continue;
         const std::string stem = p.stem().string();
         if (stem.size() > 11 && stem.ends_with(".attributes")) continue;

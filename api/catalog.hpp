@@ -40,6 +40,9 @@ struct CatalogModel {
     // load; null for a raw model.
     std::shared_ptr<const bake::Package> package;
     double loadMs = 0.0;
+    // Set when the bake dir held a package that failed its checks (checksums, format) while
+    // its source was intact: the package was moved aside to this path and baked again.
+    std::string rebakedFrom;
     // Serialised attribute record per record id, and the first body's name per record,
     // made once at load so that a query answer is a few appends.
     std::unordered_map<RecordId, std::string> recordJson;

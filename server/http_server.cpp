@@ -1011,6 +1011,8 @@ struct SectionServer::Impl {
                     if (m) {
                         spdlog::info("event=model_loaded id={} triangles={} ms={:.0f} version={}", id,
                                      m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version);
+                        if (!m.value()->rebakedFrom.empty())
+                            spdlog::warn("event=package_rebaked id={} moved_aside=\"{}\"", id, m.value()->rebakedFrom);
                         catalog.add(m.value());
                     } else {
                         ok = false;
