@@ -209,6 +209,10 @@ struct BakedPart {
     PartKind kind = PartKind::Body;
     RecordId record = kNoRecord;
     std::vector<glm::vec3> positions;  // local frame (world - origin), metres
+    // What float32 lost: local = double(positions[i]) + double(positionsLo[i]) to ~1e-7 of
+    // the float step, so vertices a fraction of a millimetre apart stay apart 100 km from
+    // the origin (writePackage stores them where float32 alone would merge vertices).
+    std::vector<glm::vec3> positionsLo;
     std::vector<glm::vec2> uvs;        // page + u, v (see the header comment)
     std::vector<std::uint32_t> indices;
 };

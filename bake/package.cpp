@@ -10,12 +10,14 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 
 #include "model/gltf_io.hpp"
+#include "model/loaders.hpp"
 
 namespace geoslice::bake {
 namespace {
@@ -98,7 +100,24 @@ AttributeTable mergedAttributes(const Model& model, const BakedModel& baked) {
     return table;
 }
 
-Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedModel& baked, bool features) {
+// Would float32 alone merge vertices of this part that are distinct in double (hi + lo)?
+bool floatMergesVertices(const BakedPart& part) {
+    if (part.positionsLo.size() != part.positions.size()) return false;
+    std::vector<std::uint32_t> order(part.positions.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+    auto key = [&](std::uint32_t i) {
+        const glm::vec3& p = part.positions[i];
+        return std::array<float, 3>{p.x, p.y, p.z};
+    };
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+    for (std::size_t k = 1; k < order.size(); ++k)
+        if (key(order[k]) == key(order[k - 1]) && part.positionsLo[order[k]] != part.positionsLo[order[k - 1]])
+            return true;
+    return false;
+}
+
+Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedModel& baked, bool features,
+                                             bool residuals) {
     const AttributeTable table = mergedAttributes(model, baked);
     if (features && baked.pages != 1)
         return makeError(ErrorCode::Unsupported, "EXT_mesh_features export needs a one-page bake (this one has " +
@@ -148,6 +167,19 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
             {{"bufferView", iv}, {"componentType", kUint}, {"count", part.indices.size()}, {"type", "SCALAR"}});
         const std::size_t a = accessors.size() - 3;
         json prim = {{"attributes", {{"POSITION", a}, {"TEXCOORD_0", a + 1}}}, {"indices", a + 2}, {"mode", 4}};
+        if (residuals && floatMergesVertices(part)) {
+            // What float32 lost, for readers that want double (model/gltf_io reads it): an
+            // application-specific attribute (glTF 2.0 3.7.2.1: names start with '_').
+            std::vector<float> residual(part.positionsLo.size() * 3);
+            for (std::size_t i = 0; i < part.positionsLo.size(); ++i) {
+                const glm::vec3 g(part.positionsLo[i].x, part.positionsLo[i].z, -part.positionsLo[i].y);
+                std::memcpy(&residual[3 * i], &g, sizeof g);
+            }
+            const std::size_t lv = addView(residual.data(), residual.size() * 4, 34962);
+            accessors.push_back({{"bufferView", lv}, {"componentType", kFloat}, {"count", part.positionsLo.size()},
+                                 {"type", "VEC3"}});
+            prim["attributes"][kPositionResidualAttribute] = accessors.size() - 1;
+        }
         if (features)
             prim["extensions"]["EXT_mesh_features"] = {
                 {"featureIds", json::array({{{"featureCount", rows.size()},
@@ -361,13 +393,14 @@ std::size_t Package::residentBytes() const {
     return n;
 }
 
-Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel) {
+Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel,
+                    bool positionResiduals) {
     if (baked.texels.size() != std::size_t(baked.pages) * baked.width * baked.height)
         return makeError(ErrorCode::InvalidArgument, "baked texture size does not match its pages x height x width");
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) return makeError(ErrorCode::IoError, "cannot create directory " + dir + ": " + ec.message());
-    auto mesh = encodeMesh(model, baked, false);
+    auto mesh = encodeMesh(model, baked, false, positionResiduals);
     if (!mesh) return mesh.error();
 
     const std::size_t rawBytes = baked.texels.size() * 4;
@@ -433,7 +466,7 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
 }
 
 Status writeFeatureGlb(const Model& model, const BakedModel& baked, const std::string& path) {
-    auto glb = encodeMesh(model, baked, true);
+    auto glb = encodeMesh(model, baked, true, true);
     if (!glb) return glb.error();
     return writeFile(fs::path(path), glb->data(), glb->size());
 }
@@ -598,6 +631,18 @@ Result<Package> loadPackage(const std::string& dir, const PackageReadOptions& op
     if (!pkg) return pkg.error();
     pkg->storage = files[1];
     return pkg;
+}
+
+Status verifyPackage(const std::string& dir) {
+    auto pkg = loadPackage(dir);
+    if (!pkg) return makeError(pkg.error().code, "the package would be refused: " + pkg.error().message);
+    auto model = loadModel((fs::path(dir) / kMeshFile).string());
+    if (!model) return makeError(model.error().code, "the package would be refused: " + model.error().message);
+    for (const auto& issue : model->validation.issues)
+        if (issue.severity == ValidationIssue::Severity::Error)
+            return makeError(ErrorCode::InvalidArgument, "the package would be refused: part \"" + issue.part +
+                                                             "\": " + issue.message);
+    return {};
 }
 
 }  // namespace geoslice::bake

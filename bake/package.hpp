@@ -43,14 +43,24 @@ constexpr const char* kManifestFile = "manifest.json";
 constexpr const char* kMeshFile = "mesh.glb";
 constexpr const char* kTextureFile = "ids.r32ui.zst";
 constexpr const char* kAttributesFile = "attributes.json";
+// mesh.glb primitive attribute (float VEC3, glTF axes) with position - float(position).
+constexpr const char* kPositionResidualAttribute = "_POSITION_LO";
 
 // XXH64 (Yann Collet's xxHash, 64-bit variant, as specified in xxhash's doc/xxhash_spec.md).
 std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed = 0);
 
 // Writes the package into `dir` (created if missing; files written under temporary names and
 // renamed, the manifest last, so a reader never sees a half-written package as complete).
-// zstdLevel: 1 (fast) .. 19.
-Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel = 3);
+// zstdLevel: 1 (fast) .. 19. positionResiduals: for each part whose float32 positions would
+// merge vertices that are distinct in double (vertices a fraction of a millimetre apart far
+// from the origin), also store what float32 lost (attribute kPositionResidualAttribute), so
+// that the model loader restores them; false only to test what happens without.
+Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel = 3,
+                    bool positionResiduals = true);
+
+// Loads a written package as the server does (checksums, mesh.glb through the model loader,
+// validation) and fails, naming the part and the finding, where the server would refuse it.
+Status verifyPackage(const std::string& dir);
 
 // The baked model as one glTF 2.0 binary for CesiumJS and other glTF tools: the package's
 // mesh plus EXT_mesh_features (a feature-ID texture: RGBA8 PNG, nearest sampling, channels

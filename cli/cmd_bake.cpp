@@ -122,6 +122,14 @@ int runBake(const BakeArgs& a) {
         }
     }
     progress("write", 1.0);
+    // The package must load as the server loads it: float32 positions can merge vertices a
+    // fraction of a millimetre apart, and a body that is not closed would be refused.
+    progress("check", 0.0);
+    if (auto s = bake::verifyPackage(a.out); !s) {
+        std::fprintf(stderr, "geoslice bake: %s: %s\n", a.out.c_str(), s.error().message.c_str());
+        return 1;
+    }
+    progress("check", 1.0);
     const auto& st = baked->stats;
     std::printf(
         "baked %zu triangles into %zu charts (%zu split after LSCM), %u page(s) of %ux%u at %.4g texels/m, "

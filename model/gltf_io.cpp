@@ -495,12 +495,24 @@ Status appendPrimitive(const tinygltf::Model& g, const tinygltf::Primitive& prim
             idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
             return makeError(ErrorCode::ParseError, where + ": indices must be unsigned byte, short or int");
     }
+    // geoslice's baked packages add what float32 lost where it would merge vertices
+    // (bake/package.hpp kPositionResidualAttribute): position = POSITION + _POSITION_LO, in double.
+    AccessorView lo;
+    if (auto loIt = prim.attributes.find("_POSITION_LO"); loIt != prim.attributes.end()) {
+        auto view = viewAccessor(g, loIt->second, where);
+        if (!view) return view.error();
+        lo = view.value();
+        if (lo.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || lo.components != 3 || lo.count != vertexCount)
+            return makeError(ErrorCode::ParseError,
+                             where + ": _POSITION_LO must be float VEC3 with one value per POSITION");
+    }
     if (auto s = spend(vertexCount, prim.indices >= 0 ? idx.count : vertexCount); !s) return s;
     mesh.positions.reserve(first + vertexCount);
     for (std::size_t i = 0; i < pos->count; ++i) {
-        float f[3];
+        float f[3], r[3] = {0.0f, 0.0f, 0.0f};
         std::memcpy(f, pos->base + i * pos->stride, sizeof f);
-        addVertex(f[0], f[1], f[2]);
+        if (lo.base) std::memcpy(r, lo.base + i * lo.stride, sizeof r);
+        addVertex(double(f[0]) + double(r[0]), double(f[1]) + double(r[1]), double(f[2]) + double(r[2]));
     }
     if (prim.indices < 0) return pushCorners(prim.mode, pos->count, [](std::size_t i) -> std::uint64_t { return i; });
     return pushCorners(prim.mode, idx.count, [&](std::size_t i) -> std::uint64_t {
@@ -721,6 +733,7 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
             const auto& gs = ex["geoslice"];
             if (gs.contains("kind") && gs["kind"].is_string()) {
                 part.kind = gs["kind"] == "surface" ? PartKind::Surface : PartKind::Body;
+                part.kindDeclared = true;
                 kindKnown = true;
             }
             if (gs.contains("record") && gs["record"].is_number_unsigned() &&

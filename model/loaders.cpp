@@ -86,6 +86,10 @@ void finishLoadedModel(Model& model, bool classifyByClosure) {
         model.bodies.clear();
         model.surfaces.clear();
         for (auto& p : all) {
+            if (p.kindDeclared) {
+                (p.kind == PartKind::Body ? model.bodies : model.surfaces).push_back(std::move(p));
+                continue;
+            }
             MeshReport r = analyseMesh(p.mesh, /*fixOrientation=*/false);
             bool closed = r.closed && r.consistentlyOriented && r.triangles >= 4 && r.nonFiniteVertices == 0;
             p.kind = closed ? PartKind::Body : PartKind::Surface;

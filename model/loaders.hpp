@@ -56,7 +56,9 @@ Result<std::string> readFile(const std::string& path, std::size_t maxBytes = std
 
 // Shared by all loaders, after parsing:
 //  - parts with record == 0 get a record named after the part (kind from the part kind);
-//  - when `classifyByClosure`, closed parts become bodies and open ones surfaces;
+//  - when `classifyByClosure`, parts whose kind is not declared (Part::kindDeclared) become
+//    bodies when closed (after splitting pinch-outs, see analyseMesh) and surfaces when open;
+//    declared parts keep their kind, so a declared body that is not closed is an error;
 //  - origin = rounded bounds centre; validate(model) runs (see model/validate.hpp).
 void finishLoadedModel(Model& model, bool classifyByClosure);
 

@@ -56,19 +56,25 @@ struct Mesh {
 // Validation findings for one part (see model/validate.hpp).
 struct MeshReport {
     std::size_t triangles = 0, vertices = 0;
-    std::size_t boundaryEdges = 0;        // edges used by one triangle
-    std::size_t nonManifoldEdges = 0;     // edges used by more than two triangles
-    std::size_t inconsistentEdges = 0;    // manifold edges whose two triangles disagree in orientation
+    std::size_t boundaryEdges = 0;     // edges used by one triangle
+    std::size_t nonManifoldEdges = 0;  // edges used by more than two triangles that could not be paired
+    std::size_t splitEdges = 0;        // edges used by 4, 6... triangles, paired by angle (pinch-outs)
+    std::size_t splitVertices = 0;     // welded vertices that are several vertices of the 2-manifold
+    std::size_t inconsistentEdges = 0; // manifold edges whose two triangles disagree in orientation
     std::size_t degenerateTriangles = 0;  // repeated index or zero area
     std::size_t duplicateTriangles = 0;   // same three vertices as an earlier triangle
     std::size_t nonFiniteVertices = 0;    // NaN or Inf coordinates
-    std::size_t components = 0;           // edge-connected shells
-    bool closed = false;                  // no boundary and no non-manifold edges
+    std::size_t components = 0;           // shells: triangles connected across (paired) edges
+    // No boundary and no unpaired non-manifold edges. For a body (validate()) this also
+    // means its mesh indices are that 2-manifold as they stand: vertices are welded by
+    // position and split per shell and per fan at pinch-outs.
+    bool closed = false;
     bool consistentlyOriented = false;
     double signedVolume = 0.0;  // m^3, after any flip; closed bodies only
     bool flipped = false;       // orientation was inward and has been flipped
     int nestingDepth = 0;       // number of other closed bodies that contain this one
     int parent = -1;            // index into Model::bodies of the innermost container, or -1
+    std::vector<glm::dvec3> problemEdges;  // world midpoints of a few boundary / non-manifold edges
 };
 
 // One finding of validate() (model/validate.hpp).
@@ -89,6 +95,10 @@ enum class PartKind { Body, Surface };
 struct Part {
     std::string name;
     PartKind kind = PartKind::Body;
+    // The file or format says what the part is (a TSolid region, a .vtu formation, glTF
+    // geoslice extras): finishLoadedModel() never reclassifies it by closure, so a declared
+    // volume that cannot be closed is a validation error, not a surface.
+    bool kindDeclared = false;
     RecordId record = kNoRecord;
     Mesh mesh;
     MeshReport report;  // filled by validate()

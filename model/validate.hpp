@@ -5,7 +5,14 @@
 // gets nestingDepth 1 and parent = the host).
 //
 // Topology is computed on vertices welded by exact position, so meshes that split
-// vertices (per-face normals in glTF/OBJ) are judged by their geometry.
+// vertices (per-face normals in glTF/OBJ) are judged by their geometry. A body that touches
+// itself along an edge or at a vertex (a pinch-out: every model built from tetrahedra or a
+// partition has them) is split there into closed, consistently oriented shells: around an
+// edge used by 4, 6... triangles, the triangles are paired by their angular order about the
+// edge (each pair bounds one wedge of solid), and a vertex whose triangles form several
+// fans becomes one vertex per fan. The split is physical: validate() rewrites each closed
+// body's vertices (welded, then duplicated per shell and fan), so every engine that follows
+// index topology (section contours, BVH, bake charts) sees the 2-manifold.
 #pragma once
 
 #include <string>
@@ -15,13 +22,16 @@
 
 namespace geoslice {
 
-// Fills a MeshReport. When `fixOrientation` and the mesh is a closed, consistently
-// oriented shell set with inward components, those components are flipped in place.
-MeshReport analyseMesh(Mesh& mesh, bool fixOrientation);
+// Fills a MeshReport. When `fix` and the mesh is a closed, consistently oriented shell
+// set: inward components are flipped in place and the vertices are rewritten as the split
+// 2-manifold (see above; the mesh is left alone when its indices already are that).
+MeshReport analyseMesh(Mesh& mesh, bool fix);
 
 // Analyses every part (in parallel), flips inward bodies, computes nesting; the report is
 // also stored in model.validation.
-// Errors: a body that is not closed or not consistently oriented, non-finite vertices.
+// Errors: a body that is not closed (named with its open and non-manifold edge counts and
+// where a few of them are) or not consistently oriented, non-finite vertices.
+// Notes: bodies split at pinch-outs.
 // Warnings: degenerate or duplicate triangles. Notes: flipped bodies.
 ValidationReport validate(Model& model);
 

@@ -12,19 +12,13 @@ namespace geoslice {
 namespace {
 
 constexpr std::array<glm::vec3, 6> kDirections = {
-    glm::vec3(0.5316705f, 0.2876141f, 0.7966510f),  glm::vec3(-0.3120954f, 0.8231507f, -0.4743921f),
-    glm::vec3(0.7071421f, -0.6011239f, 0.3723344f), glm::vec3(-0.6432120f, -0.2213412f, 0.7329412f),
+    glm::vec3(0.5316705f, 0.2876141f, 0.7966510f),   glm::vec3(-0.3120954f, 0.8231507f, -0.4743921f),
+    glm::vec3(0.7071421f, -0.6011239f, 0.3723344f),  glm::vec3(-0.6432120f, -0.2213412f, 0.7329412f),
     glm::vec3(0.2953311f, -0.3187654f, -0.9006543f), glm::vec3(0.9112873f, 0.1012345f, -0.3991234f)};
 constexpr float kBaryEps = 1e-5f;     // hits this close (barycentric) to an edge re-cast the ray
 constexpr float kCosGrazing = 1e-4f;  // |cos| between ray and face below this re-casts the ray
 
-// Context passed through Embree to the filter callbacks (first member: Embree's own).
-struct NearestContext {
-    RTCIntersectContext base;
-    float tEnter = std::numeric_limits<float>::infinity();
-    unsigned enterGeom = RTC_INVALID_GEOMETRY_ID;
-    bool grazing = false;
-};
+// Context passed through Embree to the filter callback (first member: Embree's own).
 struct AllHitsContext {
     RTCIntersectContext base;
     std::vector<std::pair<unsigned, float>>* hits = nullptr;
@@ -44,22 +38,6 @@ float facing(const RTCFilterFunctionNArguments* a) {
            RTCRayN_dir_z(a->ray, a->N, 0) * RTCHitN_Ng_z(a->hit, a->N, 0);
 }
 
-// Keeps exiting hits (Embree then shrinks tfar to them); records and rejects entries.
-void nearestFilter(const RTCFilterFunctionNArguments* a) {
-    if (!a->valid[0]) return;
-    auto* ctx = reinterpret_cast<NearestContext*>(a->context);
-    float dot = facing(a);
-    if (isGrazing(a, dot)) ctx->grazing = true;
-    if (dot <= 0.0f) {
-        float t = RTCRayN_tfar(a->ray, a->N, 0);
-        if (t < ctx->tEnter) {
-            ctx->tEnter = t;
-            ctx->enterGeom = RTCHitN_geomID(a->hit, a->N, 0);
-        }
-        a->valid[0] = 0;
-    }
-}
-
 void allHitsFilter(const RTCFilterFunctionNArguments* a) {
     if (!a->valid[0]) return;
     auto* ctx = reinterpret_cast<AllHitsContext*>(a->context);
@@ -72,9 +50,10 @@ void allHitsFilter(const RTCFilterFunctionNArguments* a) {
 
 struct Classifier::Impl {
     RTCDevice device = nullptr;
-    RTCScene scene = nullptr;  // one BVH; the filter comes with each query's context
+    RTCScene scene = nullptr;                      // one BVH; the filter comes with each query's context
     std::vector<std::vector<glm::vec4>> vertices;  // local frame, 16-byte stride for Embree
     std::vector<int> geomToBody;
+    std::vector<std::array<glm::vec3, 2>> boxes;  // local bounds of each closed body (empty box otherwise)
     std::vector<int> parentBody;
     std::vector<int> depth;
     std::vector<RecordId> records;
@@ -111,7 +90,9 @@ Result<std::unique_ptr<Classifier>> Classifier::build(const Model& model) {
     Impl& im = *c->impl_;
     im.origin = model.origin;
     im.device = rtcNewDevice("verbose=0");
-    if (!im.device) return makeError(ErrorCode::Internal, "Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    if (!im.device)
+        return makeError(ErrorCode::Internal,
+                         "Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
     im.scene = rtcNewScene(im.device);
     rtcSetSceneFlags(im.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
     rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
@@ -120,15 +101,21 @@ Result<std::unique_ptr<Classifier>> Classifier::build(const Model& model) {
         im.parentBody.push_back(part.report.parent);
         im.depth.push_back(part.report.nestingDepth);
         im.records.push_back(part.record);
+        im.boxes.push_back(
+            {glm::vec3(std::numeric_limits<float>::infinity()), glm::vec3(-std::numeric_limits<float>::infinity())});
         if (part.mesh.triangleCount() == 0 || !part.report.closed) continue;
         auto& verts = im.vertices.emplace_back(part.mesh.positions.size());
         for (std::size_t i = 0; i < verts.size(); ++i) {
             verts[i] = glm::vec4(glm::vec3(part.mesh.positions[i] - model.origin), 0.0f);
-            im.maxLocalCoord = std::max({im.maxLocalCoord, std::abs(verts[i].x), std::abs(verts[i].y), std::abs(verts[i].z)});
+            im.boxes.back()[0] = glm::min(im.boxes.back()[0], glm::vec3(verts[i]));
+            im.boxes.back()[1] = glm::max(im.boxes.back()[1], glm::vec3(verts[i]));
+            im.maxLocalCoord =
+                std::max({im.maxLocalCoord, std::abs(verts[i].x), std::abs(verts[i].y), std::abs(verts[i].z)});
         }
         c->triangles_ += part.mesh.triangleCount();
         RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, verts.data(), 0, sizeof(glm::vec4), verts.size());
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, verts.data(), 0, sizeof(glm::vec4),
+                                   verts.size());
         rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, part.mesh.indices.data(), 0,
                                    3 * sizeof(std::uint32_t), part.mesh.triangleCount());
         rtcCommitGeometry(g);
@@ -148,50 +135,36 @@ int Classifier::classifyBody(const glm::dvec3& world) const {
     const Impl& im = *impl_;
     if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z)) return -1;
     const glm::vec3 org(world - im.origin);
-    for (const auto& dir : kDirections) {
-        NearestContext ctx;
-        rtcInitIntersectContext(&ctx.base);
-        ctx.base.filter = nearestFilter;
-        RTCRayHit rh = im.makeRay(org, dir);
-        rtcIntersect1(im.scene, &ctx.base, &rh);
-        if (ctx.grazing) continue;
-        const bool exits = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-        if (!exits) return -1;  // no exit: outside every closed body
-        const float tExit = rh.ray.tfar;
-        // Faces that neighbouring bodies share are coplanar but rounded to float32
-        // separately: their hit distances differ by a few ulps of the local coordinates.
-        const float tol = 1e-6f * (im.maxLocalCoord + tExit) + 1e-4f;
-        if (ctx.enterGeom != RTC_INVALID_GEOMETRY_ID && ctx.tEnter < tExit - tol)
-            return im.parentBody[static_cast<std::size_t>(im.geomToBody[ctx.enterGeom])];
-        return im.geomToBody[rh.hit.geomID];
-    }
-    return classifyBodyByParity(world);
-}
-
-int Classifier::classifyBodyByParity(const glm::dvec3& world) const {
-    const Impl& im = *impl_;
-    if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z)) return -1;
-    const glm::vec3 org(world - im.origin);
+    // No body's box holds p: nothing to cast for.
+    bool anyBox = false;
+    for (const auto& box : im.boxes)
+        anyBox = anyBox || (org.x >= box[0].x && org.y >= box[0].y && org.z >= box[0].z && org.x <= box[1].x &&
+                            org.y <= box[1].y && org.z <= box[1].z);
+    if (!anyBox) return -1;
     std::vector<std::pair<unsigned, float>> hits;
     std::vector<int> counts(im.records.size());
-    int best = -1;
-    for (const auto& dir : kDirections) {
+    for (std::size_t attempt = 0; attempt < kDirections.size(); ++attempt) {
         hits.clear();
         AllHitsContext ctx;
         ctx.hits = &hits;
         rtcInitIntersectContext(&ctx.base);
         ctx.base.filter = allHitsFilter;
-        RTCRayHit rh = im.makeRay(org, dir);
+        RTCRayHit rh = im.makeRay(org, kDirections[attempt]);
         rtcIntersect1(im.scene, &ctx.base, &rh);
+        if (ctx.grazing && attempt + 1 < kDirections.size()) continue;
+        // Parity per body; of the bodies that hold p, the section engine's winner.
         std::fill(counts.begin(), counts.end(), 0);
         for (const auto& [geom, t] : hits) ++counts[static_cast<std::size_t>(im.geomToBody[geom])];
-        best = -1;
+        int best = -1;
         for (std::size_t b = 0; b < counts.size(); ++b)
-            if (counts[b] % 2 == 1 && (best < 0 || im.depth[b] > im.depth[static_cast<std::size_t>(best)])) best = static_cast<int>(b);
-        if (!ctx.grazing) break;
+            if (counts[b] % 2 == 1 && (best < 0 || im.depth[b] >= im.depth[static_cast<std::size_t>(best)]))
+                best = static_cast<int>(b);
+        return best;
     }
-    return best;
+    return -1;
 }
+
+double Classifier::tolerance() const { return 1e-6 * double(impl_->maxLocalCoord) + 1e-4; }
 
 RecordId Classifier::classify(const glm::dvec3& world) const {
     int b = classifyBody(world);

@@ -1,21 +1,28 @@
-// The exact oracle: classify(point) -> the record of the innermost closed body that
-// contains the point, or kNoRecord. Every accuracy figure of geoslice is measured
-// against it.
+// The point classifier: classify(point) -> the record the exact section engine shows at
+// that point, or kNoRecord. Every accuracy figure of geoslice is measured against it, and
+// the HTTP ray query of profile views answers with it.
 //
-// Method (Embree, one ray per point): from p, along a fixed generic direction, find the
-// nearest hit that *exits* a body (ray . outward normal > 0) and the nearest hit that
-// *enters* one. If the exit is nearest (or ties with an entry: coincident faces of two
-// bodies that share a boundary), p lies in the exited body; if an entry is strictly
-// nearer, p lies outside the entered body C, in C's container (validation's nesting
-// parent), or in nothing. For closed, outward, non-intersecting shells this is exactly
-// the ray-parity rule restricted to the innermost body. A ray that grazes an edge or
-// vertex, or runs nearly parallel to a hit triangle, is re-cast in another direction;
-// classifyByParity() (all hits, parity per body) is the slow reference the tests use.
+// Rule (the section engine's, section/raster.hpp): of the closed bodies that contain the
+// point, the one with the greatest nesting depth (validation's), and of equal depths the
+// one latest in Model::bodies. Nested bodies win over their hosts; where neighbours overlap
+// (real models overlap or leave gaps of centimetres) the later body wins, as it is painted
+// last in the section's ID buffer.
 //
-// Precision: rays run in the model's local float32 frame (world - origin). Hits on the
-// two sides of a shared face count as one when within 1e-6 x (model half-extent + hit
-// distance) + 0.1 mm (3 mm for a 6 km model): points nearer than that to a boundary may
-// fall either side, and a body thinner than that along the ray is not resolved.
+// Method (Embree, one ray per point): all hits along a fixed generic direction; a body
+// contains the point when the ray crosses it an odd number of times (ray parity per body,
+// valid for closed shells however they overlap their neighbours). A ray that grazes an
+// edge or vertex, or runs nearly parallel to a hit triangle, is re-cast in another
+// direction. An earlier version took the nearest exit against the nearest entry and
+// answered "no geology" 82 m to 1.3 km inside a body when a neighbour overlapped it by
+// more than its tie tolerance; parity per body has no tie to break.
+//
+// Tolerance: rays run in the model's local float32 frame (world - origin), so a body's
+// faces move by up to half a float32 ulp of the local coordinates. The answer equals the
+// exact section engine's for every point farther than tolerance() = 1e-6 x (largest local
+// coordinate) + 0.1 mm from every boundary (3.1 mm for a model reaching 3 km from its
+// origin; float32's relative step is 6e-8, so this leaves a factor of ~16 for Embree's
+// own rounding). Nearer than that, either side may be answered.
+// Cost: a full traversal per point (every hit); figures in the README (bench_classify).
 // Thread-safety: build once; classify*() may be called from any number of threads.
 #pragma once
 
@@ -42,11 +49,13 @@ public:
     // World coordinates (x east, y north, z up, metres).
     RecordId classify(const glm::dvec3& world) const;
     int classifyBody(const glm::dvec3& world) const;  // index into Model::bodies, or -1
-    int classifyBodyByParity(const glm::dvec3& world) const;
     // Splits the batch over `threads` threads (0 = hardware concurrency).
     void classifyBatch(const glm::dvec3* world, std::size_t n, RecordId* out, unsigned threads = 0) const;
 
     std::size_t triangleCount() const { return triangles_; }
+    // Metres: answers equal the exact section engine's for points farther than this from
+    // every boundary (see above).
+    double tolerance() const;
 
 private:
     Classifier() = default;

@@ -87,8 +87,13 @@ Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, cons
     // Welds in parallel with the BVH build (they touch different memory).
     std::atomic<std::size_t> next{0};
     auto weldAll = [&] {
-        for (std::size_t i = next++; i < index->parts.size(); i = next++)
-            index->parts[i].canon = weld(index->parts[i].part->mesh.positions);
+        for (std::size_t i = next++; i < index->parts.size(); i = next++) {
+            // A validated closed body's indices are its 2-manifold (model/validate.hpp):
+            // welding by position again would merge the shells split at its pinch-outs.
+            const SectionPart& sp = index->parts[i];
+            if (sp.kind == PartKind::Body && sp.part->report.closed) continue;
+            index->parts[i].canon = weld(sp.part->mesh.positions);
+        }
     };
     std::thread welder(weldAll);
     auto bvh = buildBvh(index->meshes.data(), index->meshes.size(), model.origin, options);

@@ -27,7 +27,8 @@ struct SectionPart {
     int depth = 0;    // nesting depth (validation's)
     bool closed = false;
     // Welded vertex id per vertex (equal positions share the smallest index); empty when
-    // every vertex of the part already has a distinct position (identity).
+    // every vertex of the part already has a distinct position (identity), and for closed
+    // bodies, whose indices validation made the split 2-manifold (pinch-outs kept apart).
     std::vector<std::uint32_t> canon;
 
     std::uint32_t weld(std::uint32_t v) const { return canon.empty() ? v : canon[v]; }

@@ -94,6 +94,28 @@ TEST(ModelsDir, RawFilesPackagesAndACorruptPackage) {
     EXPECT_GT(hits, 10);
 }
 
+TEST(ModelsDir, ADeclaredVolumeThatIsNotClosedIsAFailedModel) {
+    // A glTF body (geoslice extras kind "body") with a triangle missing: never served as a
+    // surface; /readyz names it, the part, and how many edges are open.
+    spdlog::set_level(spdlog::level::off);
+    TempDir dir("geoslice_models_open_body");
+    Model m = test::syntheticModel(5000, OreVariant::Nested, 3);
+    m.bodies[0].mesh.indices.resize(m.bodies[0].mesh.indices.size() - 3);
+    ASSERT_TRUE(writeGlb(m, (dir.path / "holed.glb").string()));
+    SectionServer s(config(dir.path));
+    auto port = s.start();
+    ASSERT_TRUE(port);
+    EXPECT_FALSE(s.waitUntilLoaded());
+    const json ready = getJson(port.value(), "/readyz");
+    ASSERT_EQ(ready["models"]["failed"].size(), 1u);
+    EXPECT_EQ(ready["models"]["failed"][0]["id"], "holed");
+    const std::string error = ready["models"]["failed"][0]["error"];
+    EXPECT_NE(error.find(m.bodies[0].name + ": body is not a closed 2-manifold: 3 open (boundary) edges"),
+              std::string::npos)
+        << error;
+    getJson(port.value(), "/v1/models/holed", 404);
+}
+
 TEST(ModelsDir, RawModelsBakedOnFirstLoadAndReused) {
     spdlog::set_level(spdlog::level::off);
     TempDir dir("geoslice_bake_on_load");
