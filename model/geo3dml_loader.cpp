@@ -854,6 +854,7 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
     part.record = model.attributes.add(std::move(record.value()));
     part.mesh = std::move(mesh);
     part.kind = closed ? PartKind::Body : PartKind::Surface;
+    part.kindDeclared = isVolume;  // a volume stays a body: an error if it cannot be closed, never a surface
     (closed ? model.bodies : model.surfaces).push_back(std::move(part));
     return std::nullopt;
 }
