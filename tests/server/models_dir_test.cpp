@@ -106,7 +106,8 @@ TEST(ModelsDir, ADeclaredVolumeThatIsNotClosedIsAFailedModel) {
     auto port = s.start();
     ASSERT_TRUE(port);
     EXPECT_FALSE(s.waitUntilLoaded());
-    const json ready = getJson(port.value(), "/readyz");
+    const json ready = getJson(port.value(), "/readyz", 503);  // no model to serve
+    EXPECT_EQ(ready["ready"], false);
     ASSERT_EQ(ready["models"]["failed"].size(), 1u);
     EXPECT_EQ(ready["models"]["failed"][0]["id"], "holed");
     const std::string error = ready["models"]["failed"][0]["error"];
