@@ -872,6 +872,7 @@ Result<Model> VtuReader::run() {
         Part part;
         part.name = region ? arrayName + " " + std::to_string(values[r]) : std::string("cells");
         part.kind = PartKind::Body;
+        part.kindDeclared = true;  // cells are a volume: a shell that cannot be closed is an error
         AttributeRecord rec;
         rec.id = direct ? static_cast<RecordId>(values[r]) : static_cast<RecordId>(r + 1);
         rec.name = part.name;
