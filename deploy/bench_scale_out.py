@@ -105,7 +105,8 @@ def main():
         lb.configure([replicas[0].port])
         lb.start()
         status, _, body = http_get(lb.port, "/v1/models/demo/sections", method="POST",
-                                   body=json.dumps({"plane": "0,1,0,-3388846"}))
+                                   body=json.dumps({"plane": "0,1,0,-3388846"}),
+                                   headers={"Content-Type": "application/json"})
         sid = json.loads(body)["sid"]
         salt = 0
         for k in (1, 2, 3):

@@ -83,7 +83,7 @@ t_ctr=$(wait_ready "$p_ctr" 120) || fail "container not ready: $(ctr logs "$name
 echo "test-image: demo model ready in ${t_host} s (binary), ${t_ctr} s (container, read-only root, port $p_ctr)"
 
 plane=0,1,0,-3388846
-sid=$(curl -fsS -X POST "http://127.0.0.1:$p_host/v1/models/demo/sections" -d "{\"plane\": \"$plane\"}" |
+sid=$(curl -fsS -X POST "http://127.0.0.1:$p_host/v1/models/demo/sections" -H "Content-Type: application/json" -d "{\"plane\": \"$plane\"}" |
     python3 -c 'import json, sys; print(json.load(sys.stdin)["sid"])')
 paths=(
     "/v1/models/demo/section.jpg?plane=$plane&size=1024x512"

@@ -99,7 +99,8 @@ class ScaleOut(unittest.TestCase):
 
     def sid(self, port, plane=PLANE):
         status, _, body = http_get(port, "/v1/models/demo/sections", method="POST",
-                                   body=json.dumps({"plane": plane}))
+                                   body=json.dumps({"plane": plane}),
+                                   headers={"Content-Type": "application/json"})
         self.assertIn(status, (200, 201), body)
         return json.loads(body)["sid"]
 
