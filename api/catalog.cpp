@@ -19,6 +19,33 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// CatalogModel::toWgs84 / wgs84Note for the model's CRS and extent.
+void chooseWgs84Transform(CatalogModel& m) {
+    const Crs& crs = m.model.crs;
+    if (crs.isLocal()) return;
+    const Aabb b = m.model.bounds();
+    auto box = lonLatBoxOf(crs, {b.min.x, b.min.y}, {b.max.x, b.max.y});
+    if (!box) {
+        m.wgs84Note = "no WGS 84 coordinates: the model's extent has no lon/lat (" + box.error().message + ")";
+        return;
+    }
+    auto wgs84 = Crs::fromEpsg(4326);
+    if (!wgs84) {
+        m.wgs84Note = "no WGS 84 coordinates: " + wgs84.error().message;
+        return;
+    }
+    auto t = CrsTransform::forArea(crs, wgs84.value(), box.value());
+    if (!t) {
+        m.wgs84Note = "no WGS 84 coordinates: " + t.error().message;
+    } else if (t->isBallpark()) {
+        m.wgs84Note = "no WGS 84 coordinates: PROJ knows only a ballpark transformation from " +
+                      crs.geographicName() + " to WGS 84 over this model's extent (" + t->operationName() +
+                      "), which ignores the datum shift";
+    } else {
+        m.toWgs84 = std::make_shared<const CrsTransform>(std::move(t.value()));
+    }
+}
+
 Status indexModel(CatalogModel& m) {
     if (m.model.validation.hasErrors()) {
         std::string first;
@@ -43,6 +70,7 @@ Status indexModel(CatalogModel& m) {
     m.tracer = std::move(tracer.value());
     for (const auto& [id, record] : m.model.attributes.records()) m.recordJson[id] = record.toJson().dump();
     for (const Part& p : m.model.bodies) m.bodyName.emplace(p.record, p.name);
+    chooseWgs84Transform(m);
     return {};
 }
 
@@ -91,7 +119,17 @@ nlohmann::ordered_json CatalogModel::summary() const {
     j["name"] = model.name;
     const Crs& crs = model.crs;
     j["crs"] = {{"id", crs.id()}, {"name", crs.name()}, {"axes", {"easting", "northing", "elevation"}}, {"units", "m"}};
-    if (crs.isProjected()) j["crs"]["zone"] = crs.zone();
+    if (crs.isGaussKruger()) j["crs"]["zone"] = crs.zone();
+    if (!crs.isLocal()) {
+        j["crs"]["geographic"] = {{"id", crs.geographicId()}, {"name", crs.geographicName()}};
+        if (toWgs84)
+            j["crs"]["wgs84"] = {{"operation", toWgs84->operationName()},
+                                 {"accuracyM", toWgs84->accuracyM() >= 0.0 ? nlohmann::ordered_json(toWgs84->accuracyM())
+                                                                           : nlohmann::ordered_json(nullptr)}};
+        else
+            j["crs"]["wgs84Note"] = wgs84Note;
+    }
+    if (auto it = model.notes.find("crs_warning"); it != model.notes.end()) j["crs"]["warning"] = it->second;
     const Aabb b = model.bounds();
     j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
     if (crs.isProjected()) {
@@ -101,7 +139,7 @@ nlohmann::ordered_json CatalogModel::summary() const {
             j["lonlatBounds"] = {{"min", {lo.value().x, lo.value().y}},
                                  {"max", {hi.value().x, hi.value().y}},
                                  {"axes", {"lon", "lat"}},
-                                 {"crs", "EPSG:4490"}};
+                                 {"crs", crs.geographicId()}};
     }
     j["triangles"] = model.triangleCount();
     j["bodies"] = model.bodies.size();
@@ -151,9 +189,10 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
         auto bytes = readFile(path);
         if (!bytes) return bytes.error();
         std::uint64_t h = fnv1a64(bytes.value());
-        // Sidecar attribute tables change what a model answers, so they enter its version.
+        // Sidecar attribute tables and a <stem>.crs change what a model answers, so they enter
+        // its version.
         const fs::path p(path);
-        for (const char* ext : {".attributes.json", ".attributes.csv"}) {
+        for (const char* ext : {".attributes.json", ".attributes.csv", ".crs"}) {
             const auto side = p.parent_path() / (p.stem().string() + ext);
             if (fs::exists(side, ec))
                 if (auto sb = readFile(side.string())) h = fnv1a64(sb.value(), h);

@@ -43,6 +43,12 @@ struct CatalogModel {
     // Set when the bake dir held a package that failed its checks (checksums, format) while
     // its source was intact: the package was moved aside to this path and baked again.
     std::string rebakedFrom;
+    // The model's CRS to WGS 84 (EPSG:4326): one operation chosen at load for the model's
+    // lon/lat extent (model/crs.hpp CrsTransform). Null for a local model, and where PROJ
+    // has no operation or only a ballpark one; then `wgs84Note` says why, and answers give
+    // that note instead of WGS 84 coordinates.
+    std::shared_ptr<const CrsTransform> toWgs84;
+    std::string wgs84Note;
     // Serialised attribute record per record id, and the first body's name per record,
     // made once at load so that a query answer is a few appends.
     std::unordered_map<RecordId, std::string> recordJson;

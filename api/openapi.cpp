@@ -22,7 +22,7 @@ J viewParams() {
                    "a,b,c,d: world plane, keeps a*x+b*y+c*z+d >= 0 (x easting, y northing, z up, m)"),
         queryParam("line", "string", "x1,y1,x2,y2[,...]: vertical section along a map polyline (2..256 vertices)"),
         queryParam("elevation", "number", "horizontal slice (plan map) at this elevation, m"),
-        queryParam("coords", "string", "world (default) or lonlat: units of 'line' (CGCS2000 degrees lon,lat)"),
+        queryParam("coords", "string", "world (default) or lonlat: units of 'line' (degrees lon,lat on the model CRS's own datum)"),
         queryParam("view", "string", "profile (default, exact CPU engine) or perspective (GL renderer)"),
         queryParam("frame", "string", "u0,u1,v0,v1: plane u/v metres shown in a profile (default: model bounds)"),
         queryParam("eye", "string", "x,y,z: perspective camera position, world m"),
@@ -131,9 +131,10 @@ J openApiDocument(const std::string& serverVersion) {
            imageResponse()));
     get("/v1/models/{id}/query", op("what lies under one pixel of the view given by the same parameters: record and "
                                     "attributes, the world point, "
-                                    "the distance along the section, CGCS2000 projected (easting, northing, zone) and "
-                                    "geodetic (lon, lat, height) "
-                                    "coordinates. A pixel with no geology is a 200 answer with hit=false.",
+                                    "the distance along the section, and the point's coordinates (schema WorldPoint): "
+                                    "projected (easting, northing; zone for CGCS2000 Gauss-Kruger), geodetic (lon, lat, "
+                                    "height on the CRS's own datum) and WGS 84 with PROJ's stated accuracy. "
+                                    "A pixel with no geology is a 200 answer with hit=false.",
                                     concat(J::array({id, queryParam("px", "integer", "pixel column, 0 = left", true),
                                                      queryParam("py", "integer", "pixel row, 0 = top", true)}),
                                            viewParams()),
@@ -150,8 +151,8 @@ J openApiDocument(const std::string& serverVersion) {
         op("a virtual borehole at a map point: intervals (from/to metres below the collar, elevations, record, "
            "attributes) and the faults and surfaces crossed",
            J::array({id, queryParam("x", "number", "easting, world m"), queryParam("y", "number", "northing, world m"),
-                     queryParam("lon", "number", "or longitude, degrees (CGCS2000)"),
-                     queryParam("lat", "number", "and latitude, degrees (CGCS2000)")}),
+                     queryParam("lon", "number", "or longitude, degrees on the model CRS's own datum"),
+                     queryParam("lat", "number", "and latitude, degrees on the model CRS's own datum")}),
            jsonResponse("the borehole")));
     {
         const char* what =
@@ -199,9 +200,40 @@ J openApiDocument(const std::string& serverVersion) {
     doc["info"] = {{"title", "geoslice"},
                    {"version", serverVersion},
                    {"description",
-                    "Sections of 3D geological models: images, tiles and pixel queries in CGCS2000. "
+                    "Sections of 3D geological models: images, tiles and pixel queries with geodetic coordinates. "
                     "World coordinates: x easting, y northing, z elevation, metres, in the model's CRS."}};
     doc["paths"] = std::move(paths);
+    const J num = {{"type", "number"}}, str = {{"type", "string"}};
+    doc["components"]["schemas"]["WorldPoint"] = {
+        {"type", "object"},
+        {"description",
+         "A point in every coordinate system the model's CRS leads to. Axis order is always easting, northing "
+         "(projected) and lon, lat (geographic), whatever EPSG lists. CRS ids are \"EPSG:<code>\", \"local\" or, "
+         "for a CRS no EPSG code matches, its WKT."},
+        {"properties",
+         {{"x", num},
+          {"y", num},
+          {"z", num},
+          {"crs", str},
+          {"axes", {{"type", "array"}, {"items", str}}},
+          {"projected",
+           {{"type", "object"},
+            {"description",
+             "projected CRSs: crs, name, easting, northing (metres), axisOrder; CGCS2000 Gauss-Kruger CRSs also "
+             "zone, zoneWidthDeg, centralMeridianDeg"}}},
+          {"geodetic",
+           {{"type", "object"},
+            {"description",
+             "lon, lat (degrees) and height (the model's elevation) on the CRS's own datum (crs: its geographic "
+             "CRS, e.g. EPSG:4490 for CGCS2000, EPSG:4267 for NAD27, EPSG:4150 for CH1903+)"}}},
+          {"wgs84",
+           {{"type", "object"},
+            {"description",
+             "lon, lat on WGS 84 (EPSG:4326) through the one PROJ operation chosen for the model's extent: "
+             "operation (its name), accuracyM (PROJ's stated accuracy, metres; null with accuracyNote when PROJ "
+             "states none). Absent when PROJ has no operation or only a ballpark one; then wgs84Note says why"}}},
+          {"wgs84Note", str},
+          {"projectedNote", {{"type", "string"}, {"description", "local models: no projected or geodetic coordinates"}}}}}};
     doc["components"]["schemas"]["Problem"] = {{"type", "object"},
                                                {"description", "RFC 9457 problem details"},
                                                {"properties",

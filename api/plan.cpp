@@ -155,7 +155,7 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
             if (lonlat) {
                 if (!crs.isProjected())
                     return makeError(ErrorCode::InvalidArgument,
-                                     "parameter 'coords': lonlat needs a model in a projected CGCS2000 CRS; this model "
+                                     "parameter 'coords': lonlat needs a model in a projected CRS; this model "
                                      "is " +
                                          crs.id());
                 auto xy = crs.fromLonLat(p.x, p.y);

@@ -337,22 +337,34 @@ Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan,
     return a;
 }
 
-void writeWorldPoint(JsonWriter& w, const Crs& crs, const glm::dvec3& world) {
+// A world point in every coordinate system the model's CRS leads to (README "Query answer
+// coordinates"): the world frame, the projected CRS, lon/lat on the CRS's own datum, and
+// WGS 84 through the transformation chosen for the model at load (CatalogModel::toWgs84).
+void writeWorldPoint(JsonWriter& w, const CatalogModel& model, const glm::dvec3& world) {
+    const Crs& crs = model.model.crs;
     w.beginObject();
     w.key("x").value(world.x).key("y").value(world.y).key("z").value(world.z);
     w.key("crs").value(crs.id());
-    w.key("axes").beginArray().value("x: easting (m)").value("y: northing (m)").value("z: elevation (m)").endArray();
+    if (crs.isGeographic())
+        w.key("axes").beginArray().value("x: lon (degrees)").value("y: lat (degrees)").value("z: height (m)").endArray();
+    else
+        w.key("axes").beginArray().value("x: easting (m)").value("y: northing (m)").value("z: elevation (m)").endArray();
     if (crs.isProjected()) {
         w.key("projected").beginObject();
         w.key("crs").value(crs.id()).key("name").value(crs.name());
         w.key("easting").value(world.x).key("northing").value(world.y);
-        w.key("zone").value(crs.zone()).key("zoneWidthDeg").value(crs.zoneWidthDeg());
-        w.key("centralMeridianDeg").value(crs.centralMeridianDeg());
-        w.key("axisOrder").value("easting, northing (metres); EPSG lists northing first");
+        if (crs.isGaussKruger()) {
+            w.key("zone").value(crs.zone()).key("zoneWidthDeg").value(crs.zoneWidthDeg());
+            w.key("centralMeridianDeg").value(crs.centralMeridianDeg());
+            w.key("axisOrder").value("easting, northing (metres); EPSG lists northing first");
+        } else {
+            w.key("axisOrder").value("easting, northing (metres), whatever order EPSG lists");
+        }
         w.endObject();
         if (auto ll = crs.toLonLat(world.x, world.y)) {
             w.key("geodetic").beginObject();
-            w.key("crs").value("EPSG:4490").key("lon").value(ll.value().x).key("lat").value(ll.value().y);
+            w.key("crs").value(crs.geographicId()).key("name").value(crs.geographicName());
+            w.key("lon").value(ll.value().x).key("lat").value(ll.value().y);
             w.key("height").value(world.z);
             w.key("axisOrder").value("lon, lat (degrees), height (m); EPSG lists lat first");
             w.key("heightNote")
@@ -361,10 +373,30 @@ void writeWorldPoint(JsonWriter& w, const Crs& crs, const glm::dvec3& world) {
         }
     } else if (crs.isGeographic()) {
         w.key("geodetic").beginObject();
-        w.key("crs").value(crs.id()).key("lon").value(world.x).key("lat").value(world.y).key("height").value(world.z);
+        w.key("crs").value(crs.id()).key("name").value(crs.name());
+        w.key("lon").value(world.x).key("lat").value(world.y).key("height").value(world.z);
         w.endObject();
     } else {
-        w.key("projectedNote").value("the model has a local CRS: no CGCS2000 coordinates");
+        w.key("projectedNote").value("the model has a local CRS: no projected or geodetic coordinates");
+    }
+    if (!crs.isLocal()) {
+        Result<glm::dvec3> g = makeError(ErrorCode::NotFound, model.wgs84Note);
+        if (model.toWgs84) g = model.toWgs84->apply(world);
+        if (g) {
+            w.key("wgs84").beginObject();
+            w.key("crs").value("EPSG:4326").key("lon").value(g.value().x).key("lat").value(g.value().y);
+            w.key("height").value(world.z);
+            w.key("operation").value(model.toWgs84->operationName());
+            if (model.toWgs84->accuracyM() >= 0.0)
+                w.key("accuracyM").value(model.toWgs84->accuracyM());
+            else
+                w.key("accuracyM").null().key("accuracyNote").value("PROJ states no accuracy for this operation");
+            w.key("axisOrder").value("lon, lat (degrees), height (m)");
+            w.key("heightNote").value("the model's elevation, not transformed");
+            w.endObject();
+        } else {
+            w.key("wgs84Note").value(g.error().message);
+        }
     }
     w.endObject();
 }
@@ -390,7 +422,7 @@ void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::stri
         w.key("distanceFromEye").value(a.distanceAlong);
         if (std::isfinite(a.world.x)) {
             w.key("world");
-            writeWorldPoint(w, model.model.crs, a.world);
+            writeWorldPoint(w, model, a.world);
         } else {
             w.key("world").null();
         }
@@ -408,7 +440,7 @@ void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::stri
     }
     w.endObject();
     w.key("world");
-    writeWorldPoint(w, model.model.crs, a.world);
+    writeWorldPoint(w, model, a.world);
     w.key("source").value(a.fromIdBuffer ? "id-buffer" : "ray");
     w.endObject();
 }
@@ -423,10 +455,10 @@ Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, 
     return out;
 }
 
-nlohmann::ordered_json worldPointJson(const Crs& crs, const glm::dvec3& world) {
+nlohmann::ordered_json worldPointJson(const CatalogModel& model, const glm::dvec3& world) {
     std::string s;
     JsonWriter w(s);
-    writeWorldPoint(w, crs, world);
+    writeWorldPoint(w, model, world);
     return nlohmann::ordered_json::parse(s);
 }
 
@@ -441,7 +473,7 @@ Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Param
         if (!la) return la.error();
         if (!model.model.crs.isProjected())
             return makeError(ErrorCode::InvalidArgument,
-                             "borehole: lon/lat needs a model in a projected CGCS2000 CRS; "
+                             "borehole: lon/lat needs a model in a projected CRS; "
                              "this model is " +
                                  model.model.crs.id());
         auto xy = model.model.crs.fromLonLat(lo.value(), la.value());
@@ -465,9 +497,9 @@ Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Param
     out["model"] = model.id;
     out["version"] = model.version;
     out.update(boreholeJson(model.model, b));
-    // The collar in CGCS2000 too, like every point the API reports.
+    // The collar in every coordinate system too, like every point the API reports.
     out["collarCoordinates"] =
-        std::isnan(b.collarDepth) ? nlohmann::ordered_json(nullptr) : worldPointJson(model.model.crs, b.collar);
+        std::isnan(b.collarDepth) ? nlohmann::ordered_json(nullptr) : worldPointJson(model, b.collar);
     return out;
 }
 

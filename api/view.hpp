@@ -114,7 +114,8 @@ Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, 
 // surfaces crossed. Errors name the parameter; a point outside the model is OutOfRange.
 Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params);
 
-// The JSON of a world point: {x, y, z, crs, axes, projected: {...}, geodetic: {...}}.
-nlohmann::ordered_json worldPointJson(const Crs& crs, const glm::dvec3& world);
+// The JSON of a world point: {x, y, z, crs, axes, projected: {...}, geodetic: {...},
+// wgs84: {...} or wgs84Note} (README "Query answer coordinates").
+nlohmann::ordered_json worldPointJson(const CatalogModel& model, const glm::dvec3& world);
 
 }  // namespace geoslice::api

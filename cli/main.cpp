@@ -21,6 +21,10 @@ Result<Plane> parsePlaneFlag(const std::string& text) {
 void addLoadOptions(CLI::App* cmd, LoadOptions& options) {
     cmd->add_option("--region-array", options.vtu.regionArray,
                     ".vtu: the cell-data array naming each cell's formation (default: the first integer array)");
+    cmd->add_option("--crs", options.crs,
+                    "the model's CRS (EPSG:<code>, a CRS name, WKT, or local), for formats that carry none (OBJ); "
+                    "overrides the CRS the file or a <stem>.crs declares (with a warning when they differ); must "
+                    "measure in metres");
 }
 
 }  // namespace geoslice::cli

@@ -21,6 +21,10 @@ add_library(geoslice_geographiclib INTERFACE)
 target_include_directories(geoslice_geographiclib SYSTEM INTERFACE ${GeographicLib_INCLUDE_DIRS})
 target_link_libraries(geoslice_geographiclib INTERFACE ${GeographicLib_LIBRARIES})
 
+# PROJ (libproj-dev, 9.1): every CRS other than CGCS2000, from its local proj.db
+# (proj-data); geoslice turns network access off in every context it makes.
+find_package(PROJ 9 CONFIG REQUIRED)
+
 # tinygltf: Debian's shared library is built without Draco, so model/ compiles the
 # implementation from Debian's header once, with TINYGLTF_ENABLE_DRACO.
 find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)

@@ -194,11 +194,20 @@ Result<AttributeTable> AttributeTable::fromJson(const nlohmann::json& j, const s
 }
 
 Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j, const std::string& source) {
+    static const nlohmann::ordered_json kNoRecords = nlohmann::ordered_json::array();
     const nlohmann::ordered_json* arr = &j;
+    std::string crs;
+    if (j.is_object() && j.contains("crs")) {
+        if (!j["crs"].is_string())
+            return makeError(ErrorCode::ParseError, source + ": \"crs\" must be a string such as \"EPSG:2056\"");
+        crs = j["crs"].get<std::string>();
+        arr = &kNoRecords;
+    }
     if (j.is_object() && j.contains("records")) arr = &j["records"];
     if (!arr->is_array())
         return makeError(ErrorCode::ParseError, source + ": expected an array of records or {\"records\": [...]}");
     AttributeTable table;
+    table.declaredCrs_ = std::move(crs);
     std::size_t index = 0;
     for (const auto& o : *arr) {
         std::string where = source + ": record " + std::to_string(index++);

@@ -60,8 +60,13 @@ public:
     // Records in ascending id order.
     const std::map<RecordId, AttributeRecord>& records() const { return records_; }
 
+    // The top-level "crs" string of a JSON sidecar ({"crs": "EPSG:2056", "records": [...]}),
+    // as written; empty when none. Loaders apply it (model/loaders.cpp); CSV tables carry none.
+    const std::string& declaredCrs() const { return declaredCrs_; }
+
     nlohmann::ordered_json toJson() const;  // {"records":[...]}
-    // Accepts {"records":[...]} or a bare array of objects. `source` names the input in errors.
+    // Accepts {"records":[...]}, {"crs": "...", "records": [...]}, {"crs": "..."} or a bare
+    // array of objects. `source` names the input in errors.
     // Field order of `extra` follows the input document.
     static Result<AttributeTable> fromJson(const nlohmann::ordered_json& j, const std::string& source);
     static Result<AttributeTable> fromJson(const nlohmann::json& j, const std::string& source);
@@ -72,6 +77,7 @@ public:
 
 private:
     std::map<RecordId, AttributeRecord> records_;
+    std::string declaredCrs_;
 };
 
 }  // namespace geoslice

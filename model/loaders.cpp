@@ -7,6 +7,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "model/model_crs.hpp"
 #include "model/validate.hpp"
 
 namespace geoslice {
@@ -57,6 +58,24 @@ void mergeSidecar(Model& model, const AttributeTable& side, const std::string& s
     model.validation.issues.push_back({ValidationIssue::Severity::Warning, "", message});
     std::fprintf(stderr, "geoslice: warning: %s: %s\n", model.source.empty() ? sidePath.c_str() : model.source.c_str(),
                  message.c_str());
+}
+
+// `<stem>.crs` beside the model, then --crs; finally the model's CRS must suit a model.
+Status applyCrsDeclarations(Model& model, const std::filesystem::path& p, std::string_view crsOverride) {
+    const std::filesystem::path crsFile = p.parent_path() / (p.stem().string() + ".crs");
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(crsFile, ec)) {
+        auto text = readFile(crsFile.string(), std::size_t(1) << 20);
+        if (!text) return text.error();
+        if (auto s = declareModelCrs(model, text.value(), CrsDeclaration::CrsFile, crsFile.string()); !s) return s;
+    }
+    if (!crsOverride.empty())
+        if (auto s = declareModelCrs(model, crsOverride, CrsDeclaration::Override, "--crs"); !s) return s;
+    if (auto s = model.crs.checkModelCrs(); !s)
+        return makeError(s.error().code, p.string() + ": " + s.error().message);
+    if (auto w = model.notes.find("crs_warning"); w != model.notes.end())
+        std::fprintf(stderr, "geoslice: warning: %s: %s\n", p.string().c_str(), w->second.c_str());
+    return {};
 }
 
 }  // namespace
@@ -158,8 +177,12 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
         if (!table) return table.error();
         if (model->source.empty()) model->source = path;
         mergeSidecar(model.value(), table.value(), side.string());
+        if (!table->declaredCrs().empty())
+            if (auto s = declareModelCrs(*model, table->declaredCrs(), CrsDeclaration::Sidecar, side.string()); !s)
+                return s.error();
         break;
     }
+    if (auto s = applyCrsDeclarations(*model, p, options.crs); !s) return s.error();
     if (model->source.empty()) model->source = path;
     if (model->name.empty()) model->name = p.stem().string();
     return model;

@@ -27,12 +27,16 @@ struct VtuOptions {
 // Options that reach the format readers (CLI flags such as --region-array).
 struct LoadOptions {
     VtuOptions vtu;
+    // The model's CRS given explicitly (--crs): overrides the file's (model/model_crs.hpp).
+    std::string crs;
 };
 
 // Dispatches on extension (.glb .gltf .obj .xml .geo3dml .vtu; GOCAD .ts .tsurf .ml .so .vo
 // .sg .pl .gp) and, for unknown
 // extensions, on content. A sidecar "<stem>.attributes.json" or ".csv" next to the file
-// is merged into the attribute table when present.
+// is merged into the attribute table when present. The CRS comes from the file, the JSON
+// sidecar's "crs", a "<stem>.crs" file and options.crs (`--crs`), in the order and with
+// the rules of model/model_crs.hpp; a CRS a model cannot use (feet) is an error.
 Result<Model> loadModel(const std::string& path, const LoadOptions& options = {});
 
 // From bytes in memory; `source` names the input in error messages (fuzzers use these).

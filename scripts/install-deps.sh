@@ -22,8 +22,9 @@ build=(
   libtinygltf-dev libdraco-dev libpugixml-dev nlohmann-json3-dev libstb-dev
   # images
   libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev libwebp-dev zlib1g-dev libzstd-dev
-  # geodesy (GeographicLib)
-  libgeographiclib-dev
+  # geodesy: GeographicLib (CGCS2000), PROJ for every other CRS (library + its EPSG
+  # database and grids in proj-data)
+  libgeographiclib-dev libproj-dev proj-data
   # service and CLI
   libboost-dev libspdlog-dev libfmt-dev libcli11-dev   # Boost.Beast/Asio: the HTTP server
   libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks (configure needs it)
@@ -48,6 +49,7 @@ runtime=(
   libc6 libgcc-s1 libstdc++6 zlib1g
   libspdlog1.10 libfmt9
   libembree3-3 libtbb12 libmeshoptimizer2d libdraco7 libpugixml1v5 libgeographiclib23
+  libproj25 proj-data                 # PROJ and its database (proj.db) and grids
   libturbojpeg0 libpng16-16 libwebp7 libzstd1
   # GL through glvnd: Mesa's EGL (device + surfaceless) and llvmpipe, OSMesa (dlopen)
   libegl1 libglvnd0 libegl-mesa0 libgl1-mesa-dri libosmesa6

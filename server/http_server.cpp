@@ -1013,6 +1013,9 @@ struct SectionServer::Impl {
                                      m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version);
                         if (!m.value()->rebakedFrom.empty())
                             spdlog::warn("event=package_rebaked id={} moved_aside=\"{}\"", id, m.value()->rebakedFrom);
+                        const auto& notes = m.value()->model.notes;
+                        if (auto w = notes.find("crs_warning"); w != notes.end())
+                            spdlog::warn("event=model_crs_warning id={} warning=\"{}\"", id, w->second);
                         catalog.add(m.value());
                     } else {
                         ok = false;

@@ -9,6 +9,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +19,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "model/crs.hpp"
@@ -130,6 +133,20 @@ std::vector<std::string> runCs2cs(int from, int to, const std::string& input, co
     const auto r = runCommand(quote(cs2cs) + " -f " + format + " EPSG:" + std::to_string(from) +
                               " EPSG:" + std::to_string(to) + " < " + quote(in.path()) + " 2>&1");
     EXPECT_EQ(r.exitCode, 0) << "cs2cs EPSG:" << from << " EPSG:" << to << " failed:\n" << r.out;
+    return splitLines(r.out);
+}
+
+// Runs cs2cs with `args` ("[-r] [-s] FROM TO") and -f %.10f on `input`; fails the test
+// when cs2cs is missing or fails.
+std::vector<std::string> runCs2csArgs(const std::string& args, const std::string& input) {
+    const std::string cs2cs = findOnPath("cs2cs");
+    if (cs2cs.empty()) {
+        ADD_FAILURE() << "cs2cs (PROJ) not found on PATH: run scripts/install-deps.sh (proj-bin)";
+        return {};
+    }
+    TempFile in(input);
+    const auto r = runCommand(quote(cs2cs) + " -f %.10f " + args + " < " + quote(in.path()) + " 2>&1");
+    EXPECT_EQ(r.exitCode, 0) << "cs2cs " << args << " failed:\n" << r.out;
     return splitLines(r.out);
 }
 
@@ -256,7 +273,7 @@ TEST(Crs, EpsgTableParses) {
         const double zoneCm = c.zoneWidthDeg() == 3 ? c.zone() * 3.0 : c.zone() * 6.0 - 3.0;
         EXPECT_EQ(c.centralMeridianDeg(), zoneCm) << id;
     }
-    for (int code : {0, -1, 4326, 4489, 4555, 32650, 99999}) {
+    for (int code : {0, -1, 1, 99999, 2147483647}) {
         const auto c = Crs::fromEpsg(code);
         ASSERT_FALSE(c.ok()) << code;
         EXPECT_NE(c.error().message.find(std::to_string(code)), std::string::npos) << c.error().message;
@@ -368,15 +385,15 @@ TEST(Crs, RoundTripOverZones) {
 }
 
 TEST(Crs, ParseForms) {
-    for (const char* text : {"", "local", "LOCAL", "  local ", " \t"}) {
+    for (const char* text : {"", "local", "LOCAL", "  local ", " \t", "Default"}) {
         const auto c = Crs::parse(text);
         ASSERT_TRUE(c.ok()) << "\"" << text << "\"";
         EXPECT_TRUE(c->isLocal());
         EXPECT_EQ(c->epsg(), 0);
         EXPECT_EQ(c->id(), "local");
     }
-    for (const char* text :
-         {"EPSG:abc", "EPSG:", "EPSG:4523x", "EPSG:45 23", "4523.0", "EPSG:-4523", "WGS84", "EPSG:99999999999999"}) {
+    for (const char* text : {"EPSG:abc", "EPSG:", "EPSG:4523x", "EPSG:45 23", "4523.0", "EPSG:-4523",
+                             "no such CRS name", "EPSG:99999999999999", "urn:ogc:def:crs:EPSG::x"}) {
         const auto c = Crs::parse(text);
         ASSERT_FALSE(c.ok()) << "\"" << text << "\"";
         EXPECT_NE(c.error().message.find(text), std::string::npos) << c.error().message;
@@ -504,6 +521,12 @@ CommandResult runCoords(const std::string& args, const std::string& input) {
     return runCommand(quote(GEOSLICE_BINARY) + " coords " + args + " < " + quote(in.path()) + " 2>/dev/null");
 }
 
+// stdout and stderr together.
+CommandResult runCoordsWithStderr(const std::string& args, const std::string& input) {
+    TempFile in(input);
+    return runCommand(quote(GEOSLICE_BINARY) + " coords " + args + " < " + quote(in.path()) + " 2>&1");
+}
+
 TEST(CoordsCli, GeographicToGaussKruger) {
     const auto r = runCoords("--from EPSG:4490 --to EPSG:4523", "# lon lat h\n105.5 30.25 500\n\n104.1\t29.9\n");
     ASSERT_EQ(r.exitCode, 0) << r.out;
@@ -552,6 +575,319 @@ TEST(CoordsCli, BadCrsIsUsageError) {
     EXPECT_EQ(runCoords("--from EPSG:abc --to EPSG:4490", "105 30\n").exitCode, 2);
     EXPECT_EQ(runCoords("--from EPSG:4490 --to EPSG:99999", "105 30\n").exitCode, 2);
     EXPECT_EQ(runCoords("--from local --to EPSG:4490", "105 30\n").exitCode, 2);
+}
+
+// ---- CRSs through PROJ ------------------------------------------------------------------
+
+TEST(CrsProj, EpsgCrssBeyondCgcs2000) {
+    const Crs lv95 = crsOrDie(2056);
+    EXPECT_EQ(lv95.kind(), Crs::Kind::Projected);
+    EXPECT_FALSE(lv95.isCgcs2000());
+    EXPECT_EQ(lv95.name(), "CH1903+ / LV95");
+    EXPECT_EQ(lv95.id(), "EPSG:2056");
+    EXPECT_EQ(lv95.geographicId(), "EPSG:4150");
+    EXPECT_EQ(lv95.unitName(), "metre");
+    EXPECT_EQ(lv95.unitToMetre(), 1.0);
+    ASSERT_TRUE(lv95.areaOfUse().has_value());
+    EXPECT_TRUE(lv95.areaOfUse()->contains(7.5, 46.8));
+    EXPECT_FALSE(lv95.areaOfUse()->contains(105.0, 30.0));
+    EXPECT_TRUE(lv95.checkModelCrs().ok());
+
+    const Crs nad27 = crsOrDie(26711);
+    EXPECT_EQ(nad27.name(), "NAD27 / UTM zone 11N");
+    EXPECT_EQ(nad27.geographicId(), "EPSG:4267");
+    EXPECT_EQ(nad27.geographicName(), "NAD27");
+
+    const Crs wgs84 = crsOrDie(4326);
+    EXPECT_TRUE(wgs84.isGeographic());
+    EXPECT_EQ(wgs84.geographicId(), "EPSG:4326");
+    EXPECT_EQ(wgs84.unitName(), "degree");
+    EXPECT_FALSE(wgs84.toLonLat(7.0, 46.0).ok());  // not projected
+
+    // CGCS2000 keeps GeographicLib, with EPSG's metadata.
+    const Crs gk = crsOrDie(4523);
+    EXPECT_TRUE(gk.isGaussKruger());
+    EXPECT_TRUE(gk.isCgcs2000());
+    EXPECT_EQ(gk.geographicId(), "EPSG:4490");
+    ASSERT_TRUE(gk.areaOfUse().has_value());
+    EXPECT_TRUE(gk.areaOfUse()->contains(105.0, 30.0));
+
+    // US survey feet: fine for conversions, refused for a model (its coordinates are metres).
+    const Crs ftUs = crsOrDie(2227);
+    EXPECT_NEAR(ftUs.unitToMetre(), 1200.0 / 3937.0, 1e-15);  // the definition of the US survey foot
+    EXPECT_EQ(ftUs.unitName(), "US survey foot");
+    const auto refused = ftUs.checkModelCrs();
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("US survey foot"), std::string::npos) << refused.error().message;
+    EXPECT_NE(refused.error().message.find("EPSG:2227"), std::string::npos) << refused.error().message;
+
+    // A compound CRS gives its horizontal part; geocentric and vertical CRSs are refused.
+    EXPECT_EQ(crsOrDie(5972).epsg(), 25832);  // ETRS89 / UTM zone 32N + NN2000 height
+    for (int code : {4978, 5703}) {
+        const auto c = Crs::fromEpsg(code);
+        ASSERT_FALSE(c.ok()) << code;
+        EXPECT_EQ(c.error().code, ErrorCode::Unsupported);
+        EXPECT_NE(c.error().message.find(code == 4978 ? "geocentric" : "vertical"), std::string::npos)
+            << c.error().message;
+    }
+}
+
+TEST(CrsProj, ParseNamesUrnsAndWkt) {
+    const std::pair<const char*, int> named[] = {
+        {"CH1903 / LV03", 21781},
+        {"NAD27 / UTM zone 11N", 26711},
+        {"GDA2020 / MGA zone 55", 7855},
+        {"urn:ogc:def:crs:EPSG::2056", 2056},
+        {"urn:ogc:def:crs:EPSG:9.8.15:2056", 2056},
+        {"http://www.opengis.net/def/crs/EPSG/0/2056", 2056},
+        {"CGCS2000 / 3-degree Gauss-Kruger zone 35", 4523},
+        {"urn:ogc:def:crs:EPSG::4490", 4490},
+        {"ETRS89 / UTM zone 32N", 25832},
+    };
+    for (const auto& [text, code] : named) {
+        const auto c = Crs::parse(text);
+        ASSERT_TRUE(c.ok()) << text << ": " << c.error().message;
+        EXPECT_EQ(c->epsg(), code) << text;
+        EXPECT_EQ(c->isGaussKruger(), code == 4523) << text;
+    }
+    // WKT as projinfo writes it (with its EPSG id) identifies the EPSG CRS.
+    const std::string projinfo = findOnPath("projinfo");
+    ASSERT_FALSE(projinfo.empty()) << "projinfo (PROJ) not found: run scripts/install-deps.sh (proj-bin)";
+    for (const char* format : {"WKT2_2019", "WKT1_GDAL"}) {
+        const auto wkt = runCommand(quote(projinfo) + " -q -o " + format + " EPSG:21781");
+        ASSERT_EQ(wkt.exitCode, 0);
+        const auto c = Crs::parse(wkt.out);
+        ASSERT_TRUE(c.ok()) << format << ": " << c.error().message;
+        EXPECT_EQ(c->epsg(), 21781) << format;
+    }
+    // A definition no EPSG CRS matches keeps its WKT as id, and parse(id()) gives it back.
+    const auto custom =
+        Crs::parse("+proj=tmerc +lat_0=0 +lon_0=9.5 +k=1 +x_0=100000 +y_0=0 +ellps=GRS80 +units=m +type=crs");
+    ASSERT_TRUE(custom.ok()) << custom.error().message;
+    EXPECT_EQ(custom->epsg(), 0);
+    EXPECT_TRUE(custom->isProjected());
+    EXPECT_NE(custom->id().find("PROJCRS"), std::string::npos) << custom->id();
+    const auto again = Crs::parse(custom->id());
+    ASSERT_TRUE(again.ok()) << again.error().message;
+    EXPECT_TRUE(again.value() == custom.value());
+    const auto cm = custom->toLonLat(100000.0, 5e6);  // on the central meridian
+    ASSERT_TRUE(cm.ok()) << cm.error().message;
+    EXPECT_NEAR(cm->x, 9.5, 1e-12);  // exact on the central meridian up to rounding
+    // Not CRSs: an operation, garbage.
+    for (const char* text : {"+proj=utm +zone=32", "PROJCRS[", "EPSG:4978"}) {
+        const auto c = Crs::parse(text);
+        EXPECT_FALSE(c.ok()) << text;
+    }
+}
+
+TEST(CrsProj, AxisOrderIsEastingNorthingAndLonLat) {
+    // LV95's projection origin (Bern, x_0 = 2600000 m, y_0 = 1200000 m) is at its lat_0 and
+    // lon_0, 46.9524055555556 N 7.43958333333333 E (projinfo EPSG:2056): lon comes first.
+    // 1e-9 degrees (0.1 mm) is far above the double-precision error of the oblique
+    // Mercator at its origin and far below an axis swap (39 degrees).
+    const auto bern = crsOrDie(2056).toLonLat(2600000.0, 1200000.0);
+    ASSERT_TRUE(bern.ok()) << bern.error().message;
+    EXPECT_NEAR(bern->x, 7.43958333333333, 1e-9);
+    EXPECT_NEAR(bern->y, 46.9524055555556, 1e-9);
+    const auto back = crsOrDie(2056).fromLonLat(7.43958333333333, 46.9524055555556);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_NEAR(back->x, 2600000.0, 1e-4);  // 1e-13 degrees of rounding in lat_0/lon_0 is 0.01 mm
+    EXPECT_NEAR(back->y, 1200000.0, 1e-4);
+    // GDA2020 geographic (EPSG order lat, lon) -> MGA zone 55 (central meridian 147 E):
+    // lon first in, easting first out; on the central meridian the easting is 500000 m.
+    const auto mga = convertPoint(crsOrDie(7844), crsOrDie(7855), {147.0, -37.8, 12.5});
+    ASSERT_TRUE(mga.ok()) << mga.error().message;
+    EXPECT_NEAR(mga->x, 500000.0, 1e-6);  // the conversion is exact on the CM up to rounding
+    EXPECT_GT(mga->y, 5.8e6);
+    EXPECT_LT(mga->y, 5.82e6);
+    EXPECT_EQ(mga->z, 12.5);  // 2D: heights pass through
+}
+
+TEST(CrsProj, NetworkIsOff) {
+    ::setenv("PROJ_NETWORK", "ON", 1);
+    EXPECT_FALSE(crsNetworkAccessEnabled());
+    ::unsetenv("PROJ_NETWORK");
+}
+
+TEST(CrsProj, ErrorsNameTheProblem) {
+    const Crs lv95 = crsOrDie(2056);
+    const auto nan = lv95.toLonLat(NAN, 1200000.0);
+    ASSERT_FALSE(nan.ok());
+    EXPECT_NE(nan.error().message.find("EPSG:2056"), std::string::npos) << nan.error().message;
+    EXPECT_FALSE(lv95.fromLonLat(7.0, 95.0).ok());
+    EXPECT_FALSE(convertPoint(lv95, crsOrDie(4326), {2600000.0, INFINITY, 0.0}).ok());
+    const auto unknown = Crs::parse("EPSG:99999");
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_NE(unknown.error().message.find("99999"), std::string::npos) << unknown.error().message;
+    const auto name = Crs::parse("no such CRS name");
+    ASSERT_FALSE(name.ok());
+    EXPECT_NE(name.error().message.find("no such CRS name"), std::string::npos) << name.error().message;
+    // Outside the area of use: converted, with a warning naming the CRS.
+    std::string warning;
+    const auto far = convertPoint(crsOrDie(4326), crsOrDie(26711), {-117.0, 10.0, 0.0}, &warning);
+    ASSERT_TRUE(far.ok()) << far.error().message;
+    EXPECT_NE(warning.find("outside the area of use of EPSG:26711"), std::string::npos) << warning;
+    warning.clear();
+    ASSERT_TRUE(convertPoint(crsOrDie(4326), crsOrDie(26711), {-117.0, 34.0, 0.0}, &warning).ok());
+    EXPECT_EQ(warning, "");
+}
+
+// The transformation a model's query answers use to WGS 84 (CatalogModel::toWgs84).
+TEST(CrsProj, Wgs84TransformForAnArea) {
+    const Crs wgs84 = crsOrDie(4326);
+    // SCEC faults (NAD27 / UTM 11N) around Los Angeles: a stated accuracy, and the same
+    // operation cs2cs picks for points there, so the same numbers (1e-9 degrees: both
+    // run the same PROJ pipeline; the margin covers cs2cs printing 10 decimals).
+    const LonLatBox la{-118.6, 33.7, -117.6, 34.4};
+    auto t = CrsTransform::forArea(crsOrDie(26711), wgs84, la);
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_FALSE(t->isBallpark()) << t->operationName();
+    EXPECT_GT(t->accuracyM(), 0.0) << t->operationName();
+    const std::vector<glm::dvec2> pts = {{380000.0, 3770000.0}, {420000.0, 3760000.0}, {400123.5, 3740000.25}};
+    std::string input;
+    for (const auto& p : pts) input += std::to_string(p.x) + " " + std::to_string(p.y) + "\n";
+    const auto out = runCs2csArgs("-s EPSG:26711 EPSG:4326", input);
+    ASSERT_EQ(out.size(), pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const auto g = t->apply({pts[i], 100.0});
+        ASSERT_TRUE(g.ok()) << g.error().message;
+        double lon = 0.0, lat = 0.0;
+        ASSERT_EQ(std::sscanf(out[i].c_str(), "%lf %lf", &lon, &lat), 2) << out[i];
+        EXPECT_NEAR(g->x, lon, 1e-9) << t->operationName();
+        EXPECT_NEAR(g->y, lat, 1e-9) << t->operationName();
+        EXPECT_EQ(g->z, 100.0);
+    }
+    // Swiss LV95: CH1903+ to WGS 84 (1), stated 1 m.
+    auto swiss = CrsTransform::forArea(crsOrDie(2056), wgs84, {7.3, 46.8, 7.6, 47.0});
+    ASSERT_TRUE(swiss.ok()) << swiss.error().message;
+    EXPECT_FALSE(swiss->isBallpark());
+    EXPECT_EQ(swiss->accuracyM(), 1.0) << swiss->operationName();
+    // CGCS2000: PROJ's database has only a ballpark offset to WGS 84, which answers omit.
+    auto china = CrsTransform::forArea(crsOrDie(4523), wgs84, {104.9, 30.5, 105.2, 30.7});
+    ASSERT_TRUE(china.ok()) << china.error().message;
+    EXPECT_TRUE(china->isBallpark()) << china->operationName();
+}
+
+// Many threads converting at once: PROJ contexts are per slot (model/proj_pool.hpp), so
+// every thread gets the single-threaded answer bit for bit.
+TEST(CrsProj, ConcurrentConversionsAgree) {
+    const Crs lv95 = crsOrDie(2056), nad27 = crsOrDie(26711), wgs84 = crsOrDie(4326);
+    auto t = CrsTransform::forArea(nad27, wgs84, {-118.6, 33.7, -117.6, 34.4});
+    ASSERT_TRUE(t.ok());
+    constexpr int kPoints = 500;
+    auto point = [](int i) { return glm::dvec2(2600000.0 + 37.5 * i, 1200000.0 - 11.25 * i); };
+    auto utm = [](int i) { return glm::dvec3(380000.0 + 41.0 * i, 3740000.0 + 17.0 * i, 0.0); };
+    std::vector<glm::dvec2> expectLl(kPoints);
+    std::vector<glm::dvec3> expectWgs(kPoints);
+    for (int i = 0; i < kPoints; ++i) {
+        expectLl[i] = lv95.toLonLat(point(i).x, point(i).y).value();
+        expectWgs[i] = t->apply(utm(i)).value();
+    }
+    std::vector<std::thread> threads;
+    std::atomic<int> mismatches{0};
+    for (int k = 0; k < 8; ++k) {
+        threads.emplace_back([&] {
+            for (int round = 0; round < 4; ++round)
+                for (int i = 0; i < kPoints; ++i) {
+                    const auto ll = lv95.toLonLat(point(i).x, point(i).y);
+                    const auto g = t->apply(utm(i));
+                    if (!ll.ok() || !g.ok() || ll.value() != expectLl[i] || g.value() != expectWgs[i]) ++mismatches;
+                }
+        });
+    }
+    for (auto& th : threads) th.join();
+    EXPECT_EQ(mismatches.load(), 0);
+}
+
+// ---- geoslice coords against cs2cs --------------------------------------------------
+
+struct CoordsCase {
+    const char* from;
+    const char* to;
+    const char* cs2csFlags;  // -r / -s where EPSG's order is lat,lon or northing,easting
+    bool toGeographic;
+    std::vector<glm::dvec3> points;  // geoslice order
+};
+
+TEST(CoordsCli, MatchesCs2cs) {
+    const std::vector<CoordsCase> cases = {
+        // LV03 <-> LV95 (both easting, northing in EPSG too)
+        {"EPSG:21781",
+         "EPSG:2056",
+         "",
+         false,
+         {{600000, 200000, 500}, {683000.5, 247000.25, 0}, {560000, 130000, 1200}}},
+        {"EPSG:2056", "EPSG:21781", "", false, {{2600000, 1200000, 500}, {2750000.125, 1250000, 0}}},
+        // NAD27 / UTM 11N (SCEC) <-> WGS 84 (lat, lon in EPSG)
+        {"EPSG:26711",
+         "EPSG:4326",
+         "-s",
+         true,
+         {{380000, 3770000, 0}, {500000, 3800000, 100}, {420000, 3650000, -2000}}},
+        {"EPSG:4326", "EPSG:26711", "-r", false, {{-118.3, 34.06, 0}, {-117.0, 33.5, 10}}},
+        // GDA2020 / MGA zone 55 <-> GDA2020 geographic
+        {"EPSG:7855", "EPSG:7844", "-s", true, {{320000, 5812000, 0}, {500000, 6000000, 50}, {710000, 5600000, 0}}},
+        {"EPSG:7844", "EPSG:7855", "-r", false, {{144.96, -37.81, 0}, {147.5, -42.9, 0}}},
+        // CGCS2000 Gauss-Kruger zone 35 <-> CGCS2000 (both in EPSG order lat/northing first)
+        {"EPSG:4523", "EPSG:4490", "-r -s", true, {{35500000, 3388000, 0}, {35612345.678, 3900000, 10}}},
+        {"EPSG:4490", "EPSG:4523", "-r -s", false, {{105.05, 30.62, 0}, {103.7, 36.1, 0}}},
+        // A UTM zone pair on WGS 84
+        {"EPSG:32632", "EPSG:32633", "", false, {{700000, 5300000, 0}, {650000.5, 5000000.5, 0}}},
+        // US survey feet in and out (California zone 3)
+        {"EPSG:2227", "EPSG:4269", "-s", true, {{6000000, 2100000, 0}, {6100000.5, 2000000, 0}}},
+    };
+    double worstM = 0.0, worstDeg = 0.0;
+    int compared = 0;
+    for (const auto& c : cases) {
+        std::string input;
+        char line[160];
+        for (const auto& p : c.points) {
+            std::snprintf(line, sizeof line, "%.10f %.10f %.6f\n", p.x, p.y, p.z);
+            input += line;
+        }
+        const auto ours = runCoords(std::string("--from ") + c.from + " --to " + c.to, input);
+        ASSERT_EQ(ours.exitCode, 0) << c.from << " -> " << c.to << ":\n" << ours.out;
+        const auto theirs = runCs2csArgs(std::string(c.cs2csFlags) + " " + c.from + " " + c.to, input);
+        const auto oursLines = splitLines(ours.out);
+        ASSERT_EQ(oursLines.size(), c.points.size()) << ours.out;
+        ASSERT_EQ(theirs.size(), c.points.size());
+        for (std::size_t i = 0; i < c.points.size(); ++i) {
+            double ax = 0, ay = 0, az = 0, bx = 0, by = 0, bz = 0;
+            ASSERT_EQ(std::sscanf(oursLines[i].c_str(), "%lf %lf %lf", &ax, &ay, &az), 3) << oursLines[i];
+            ASSERT_EQ(std::sscanf(theirs[i].c_str(), "%lf %lf %lf", &bx, &by, &bz), 3) << theirs[i];
+            // Metres: we print 6 decimals (5e-7 m rounding), cs2cs 10: 1e-6 m holds both.
+            // Degrees: we print 10 decimals, cs2cs 10: 1e-9 degrees (0.1 mm) holds both.
+            const double tol = c.toGeographic ? 1e-9 : 1e-6;
+            EXPECT_NEAR(ax, bx, tol) << c.from << " -> " << c.to << " point " << i;
+            EXPECT_NEAR(ay, by, tol) << c.from << " -> " << c.to << " point " << i;
+            EXPECT_NEAR(az, bz, 1e-6) << c.from << " -> " << c.to << " point " << i;
+            const double d = std::max(std::fabs(ax - bx), std::fabs(ay - by));
+            (c.toGeographic ? worstDeg : worstM) = std::max(c.toGeographic ? worstDeg : worstM, d);
+            ++compared;
+        }
+    }
+    std::printf("coords vs cs2cs: %d points, max difference %.3g m (projected), %.3g degrees (geographic)\n", compared,
+                worstM, worstDeg);
+    EXPECT_GE(compared, 20);
+}
+
+TEST(CoordsCli, WarningsAndBadInput) {
+    // Outside NAD27 / UTM 11N's area of use: converted, warned, exit 0.
+    const auto far = runCoordsWithStderr("--from EPSG:4326 --to EPSG:26711", "-117 10\n");
+    EXPECT_EQ(far.exitCode, 0) << far.out;
+    EXPECT_NE(far.out.find("outside the area of use of EPSG:26711"), std::string::npos) << far.out;
+    // Non-finite numbers: "*\t*", exit 1, the line named.
+    const auto bad = runCoordsWithStderr("--from EPSG:2056 --to EPSG:4326", "nan 1200000\n2600000 inf\n");
+    EXPECT_EQ(bad.exitCode, 1) << bad.out;
+    EXPECT_NE(bad.out.find("line 1"), std::string::npos) << bad.out;
+    EXPECT_NE(bad.out.find("not finite"), std::string::npos) << bad.out;
+    // A pair PROJ links only by a ballpark offset is said so before any output.
+    const auto ballpark = runCoordsWithStderr("--from EPSG:4490 --to EPSG:4326", "105 30\n");
+    EXPECT_EQ(ballpark.exitCode, 0) << ballpark.out;
+    EXPECT_NE(ballpark.out.find("ballpark"), std::string::npos) << ballpark.out;
+    // Unknown codes and names are usage errors.
+    EXPECT_EQ(runCoords("--from EPSG:2056 --to EPSG:99999", "1 2\n").exitCode, 2);
+    EXPECT_EQ(runCoords("--from 'no such CRS' --to EPSG:4326", "1 2\n").exitCode, 2);
 }
 
 }  // namespace
