@@ -69,12 +69,15 @@ json modelJson(const std::string& file, const Model& m) {
     j["file"] = file;
     j["name"] = m.name;
     j["crs"] = {{"id", m.crs.id()}, {"name", m.crs.name()}};
+    if (!m.crs.isLocal()) j["crs"]["geographic"] = m.crs.geographicId();
     j["axes"] = "x easting, y northing, z elevation up; metres";
     j["triangles"] = m.triangleCount();
     j["origin"] = {m.origin.x, m.origin.y, m.origin.z};
     j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
     if (auto ll = lonLatBounds(m, b))
-        j["lonlat_bounds"] = {{"min", {ll->first.x, ll->first.y}}, {"max", {ll->second.x, ll->second.y}}};
+        j["lonlat_bounds"] = {{"min", {ll->first.x, ll->first.y}},
+                              {"max", {ll->second.x, ll->second.y}},
+                              {"crs", m.crs.geographicId()}};
     j["bodies"] = json::array();
     for (const auto& p : m.bodies) j["bodies"].push_back(partJson(m, p));
     j["surfaces"] = json::array();
@@ -153,9 +156,10 @@ void printText(const json& j) {
                 mn[0].get<double>(), mx[0].get<double>(), mn[1].get<double>(), mx[1].get<double>(), mn[2].get<double>(),
                 mx[2].get<double>());
     if (j.contains("lonlat_bounds"))
-        std::printf("  lon/lat    %.6f .. %.6f E, %.6f .. %.6f N\n", j["lonlat_bounds"]["min"][0].get<double>(),
+        std::printf("  lon/lat    %.6f .. %.6f E, %.6f .. %.6f N (%s)\n", j["lonlat_bounds"]["min"][0].get<double>(),
                     j["lonlat_bounds"]["max"][0].get<double>(), j["lonlat_bounds"]["min"][1].get<double>(),
-                    j["lonlat_bounds"]["max"][1].get<double>());
+                    j["lonlat_bounds"]["max"][1].get<double>(),
+                    j["lonlat_bounds"]["crs"].get<std::string>().c_str());
     for (const char* list : {"bodies", "surfaces"}) {
         for (const auto& p : j[list]) {
             std::printf("  %-8s %-48s record %-4u %9zu tri  %s", list[0] == 'b' ? "body" : "surface",

@@ -1531,7 +1531,8 @@ void Reader::applyCrs(Model& model) const {
         return;
     }
     model.crs = crs.value();
-    if (!model.crs.isProjected()) return;
+    // The fit check below knows Gauss-Kruger false eastings only; PROJ CRSs are taken as declared.
+    if (!model.crs.isGaussKruger()) return;
 
     // Gauss-Kruger: easting = false easting +- a few hundred km, northing 0..10,002 km. Chinese
     // surveying writes X = northing first; EPSG's axis order for these CRSs is northing first

@@ -335,7 +335,13 @@ Result<Model> generateSynthetic(const SyntheticOptions& options) {
     glm::dvec3 centre(0.5 * kWidth, 0.5 * kHeight, 0.0);
     model.crs = options.crs;
     if (options.crs.isProjected()) {
-        glm::dvec2 at = options.atLonLat.value_or(glm::dvec2(options.crs.centralMeridianDeg(), 30.6));
+        // Default place: 30.6 N on a Gauss-Kruger zone's central meridian; for other CRSs the
+        // centre of their area of use.
+        glm::dvec2 fallback(options.crs.centralMeridianDeg(), 30.6);
+        if (!options.crs.isGaussKruger())
+            if (const auto area = options.crs.areaOfUse(); area && area->west <= area->east)
+                fallback = glm::dvec2(0.5 * (area->west + area->east), 0.5 * (area->south + area->north));
+        glm::dvec2 at = options.atLonLat.value_or(fallback);
         auto en = options.crs.fromLonLat(at.x, at.y);
         if (!en) return en.error();
         centre = glm::dvec3(en->x, en->y, 0.0);

@@ -743,9 +743,12 @@ TEST(CrsProj, Wgs84TransformForAnArea) {
     ASSERT_TRUE(t.ok()) << t.error().message;
     EXPECT_FALSE(t->isBallpark()) << t->operationName();
     EXPECT_GT(t->accuracyM(), 0.0) << t->operationName();
+    std::printf("NAD27 / UTM 11N -> WGS 84 over Los Angeles: %s, %g m\n", t->operationName().c_str(), t->accuracyM());
     const std::vector<glm::dvec2> pts = {{380000.0, 3770000.0}, {420000.0, 3760000.0}, {400123.5, 3740000.25}};
     std::string input;
-    for (const auto& p : pts) input += std::to_string(p.x) + " " + std::to_string(p.y) + "\n";
+    // The same height as below: a Helmert shift through geocentric coordinates uses it
+    // (100 m moves the longitude by 1.4e-8 degrees here) and PROJ restores it afterwards.
+    for (const auto& p : pts) input += std::to_string(p.x) + " " + std::to_string(p.y) + " 100\n";
     const auto out = runCs2csArgs("-s EPSG:26711 EPSG:4326", input);
     ASSERT_EQ(out.size(), pts.size());
     for (std::size_t i = 0; i < pts.size(); ++i) {
