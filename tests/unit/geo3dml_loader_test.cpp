@@ -289,13 +289,20 @@ TEST(Geo3dmlLoader, SrsNameForms) {
 }
 
 TEST(Geo3dmlLoader, UnsupportedCrsStaysLocalAndIsRecorded) {
-    const std::string srs =
-        "<SpatialReferenceSystem><CoordinateReferenceSystem><Identifier>EPSG</Identifier>"
-        "<Parameter>32650</Parameter></CoordinateReferenceSystem></SpatialReferenceSystem>";
-    Result<Model> r = parseGeo3dml(modelXml(tetraTin(), srs), "utm.xml");
+    // Any EPSG CRS PROJ knows is supported (model/crs.hpp): WGS 84 / UTM zone 50N.
+    const auto srsFor = [](const char* code) {
+        return std::string("<SpatialReferenceSystem><CoordinateReferenceSystem><Identifier>EPSG</Identifier>"
+                           "<Parameter>") +
+               code + "</Parameter></CoordinateReferenceSystem></SpatialReferenceSystem>";
+    };
+    Result<Model> utm = parseGeo3dml(modelXml(tetraTin(), srsFor("32650")), "utm.xml");
+    ASSERT_TRUE(utm.ok()) << utm.error().message;
+    EXPECT_EQ(utm->crs.epsg(), 32650);
+    // A code that is no CRS (99999) leaves the model local, with the text recorded.
+    Result<Model> r = parseGeo3dml(modelXml(tetraTin(), srsFor("99999")), "unknown.xml");
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_TRUE(r->crs.isLocal());
-    EXPECT_EQ(r->notes.at("declared_crs"), "EPSG:32650");
+    EXPECT_EQ(r->notes.at("declared_crs"), "EPSG:99999");
     EXPECT_TRUE(r->notes.count("declared_crs_note"));
 }
 
