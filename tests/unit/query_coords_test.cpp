@@ -86,7 +86,8 @@ TEST(QueryCoords, Lv95ModelGivesOwnDatumAndWgs84) {
     EXPECT_NEAR(w["geodetic"]["lat"].get<double>(), own.y, 1e-9);
     // WGS 84 through the operation chosen for the model, the one cs2cs uses here too.
     ASSERT_TRUE(w.contains("wgs84")) << w.dump();
-    const glm::dvec2 wgs = cs2cs("-s EPSG:2056 EPSG:4326", "2600010.5 1200020.25");
+    // With the same height: the Helmert shift through geocentric coordinates uses it.
+    const glm::dvec2 wgs = cs2cs("-s EPSG:2056 EPSG:4326", "2600010.5 1200020.25 550");
     EXPECT_NEAR(w["wgs84"]["lon"].get<double>(), wgs.x, 1e-9);
     EXPECT_NEAR(w["wgs84"]["lat"].get<double>(), wgs.y, 1e-9);
     EXPECT_EQ(w["wgs84"]["accuracyM"].get<double>(), 1.0);
