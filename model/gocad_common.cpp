@@ -65,6 +65,25 @@ Error Lines::failAt(std::size_t line, const std::string& what, ErrorCode code) c
     return makeError(code, std::move(msg));
 }
 
+bool Lines::nextStatement(Statement& out, Status& bad) {
+    std::string_view line;
+    while (next(line)) {
+        if (Status s = checkText(line, false); !s) {
+            bad = s;
+            return false;
+        }
+        std::string_view t = text::trim(line);
+        if (t.empty() || t.front() == '#') continue;
+        out.line = line;
+        out.text = t;
+        out.tokens = text::Tokens(t);
+        out.keyword = {};
+        out.tokens.next(out.keyword);
+        return true;
+    }
+    return false;
+}
+
 Status Lines::checkText(std::string_view line, bool utf8) const {
     std::size_t bad = findNonText(line, utf8);
     if (bad == std::string_view::npos) return {};

@@ -43,14 +43,12 @@ Status readObject(Context& cx, std::string_view type, std::size_t line, int dept
 // Reads objects up to the end of the input, or up to `terminator` (END_MEMBERS).
 Status readObjects(Context& cx, int depth, std::string_view terminator, std::size_t& objects) {
     Lines& lines = cx.lines;
-    std::string_view line;
-    while (lines.next(line)) {
-        if (Status s = lines.checkText(line, false); !s) return s;
-        std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
-        std::string_view keyword, type;
-        tokens.next(keyword);
+    Lines::Statement st;
+    Status bad;
+    while (lines.nextStatement(st, bad)) {
+        const std::string_view t = st.text, keyword = st.keyword;
+        Tokens& tokens = st.tokens;
+        std::string_view type;
         if (!terminator.empty() && keyword == terminator) return {};
         if (keyword != "GOCAD") {
             if (objects == 0 && depth == 0)
@@ -63,6 +61,7 @@ Status readObjects(Context& cx, int depth, std::string_view terminator, std::siz
         ++objects;
         if (Status s = readObject(cx, type, lines.lineNo(), depth); !s) return s;
     }
+    if (!bad) return bad;
     if (!terminator.empty())
         return lines.failAt(lines.lastLine(), "missing " + std::string(terminator) + " (truncated file?)");
     return {};
@@ -73,14 +72,11 @@ Status readGroup(Context& cx, std::size_t startLine, int depth) {
     if (depth > kMaxGroupDepth)
         return lines.fail("groups nested more than " + std::to_string(kMaxGroupDepth) + " deep");
     ObjectInfo info;
-    std::string_view line;
-    while (lines.next(line)) {
-        if (Status s = lines.checkText(line, false); !s) return s;
-        std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
-        std::string_view keyword;
-        tokens.next(keyword);
+    Lines::Statement st;
+    Status bad;
+    while (lines.nextStatement(st, bad)) {
+        const std::string_view line = st.line, keyword = st.keyword;
+        Tokens& tokens = st.tokens;
         if (keyword == "BEGIN_MEMBERS") {
             std::size_t members = 0;
             if (Status s = readObjects(cx, depth, "END_MEMBERS", members); !s) return s;
@@ -95,6 +91,7 @@ Status readGroup(Context& cx, std::size_t startLine, int depth) {
         if (!handled)
             if (Status s = skipUnknown(lines, keyword, line); !s) return s;
     }
+    if (!bad) return bad;
     return lines.failAt(lines.lastLine(), "missing END of the group that starts on line " + std::to_string(startLine) +
                                               " (truncated file?)");
 }

@@ -103,15 +103,13 @@ Status readModel3d(Context& cx, std::size_t startLine) {
     std::vector<Region> regions;
     std::vector<std::pair<std::string, std::vector<std::int64_t>>> layers;
 
-    std::string_view line;
+    Lines::Statement st;
+    Status bad;
     bool ended = false;
-    while (lines.next(line)) {
-        if (Status s = lines.checkText(line, false); !s) return s;
-        std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
-        std::string_view keyword;
-        tokens.next(keyword);
+    while (lines.nextStatement(st, bad)) {
+        std::string_view line = st.line;
+        const std::string_view keyword = st.keyword;
+        Tokens& tokens = st.tokens;
         if (keyword == "TSURF") {
             tsurfNames.push_back(toUtf8(unquote(tokens.rest())));
         } else if (keyword == "TFACE") {
@@ -165,6 +163,7 @@ Status readModel3d(Context& cx, std::size_t startLine) {
                 if (Status s = skipUnknown(lines, keyword, line); !s) return s;
         }
     }
+    if (!bad) return bad;
     if (!ended)
         return lines.failAt(lines.lastLine(), "missing END of the Model3d header that starts on line " +
                                                   std::to_string(startLine) + " (truncated file?)");

@@ -22,15 +22,12 @@ Status readPline(Context& cx, std::size_t startLine) {
         std::size_t line = 0;
     };
     std::vector<Seg> segs;
-    std::string_view line;
+    Lines::Statement st;
+    Status bad;
     bool ended = false;
-    while (lines.next(line)) {
-        if (Status s = lines.checkText(line, false); !s) return s;
-        std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
-        std::string_view keyword;
-        tokens.next(keyword);
+    while (lines.nextStatement(st, bad)) {
+        const std::string_view line = st.line, keyword = st.keyword;
+        Tokens& tokens = st.tokens;
         if (keyword == "VRTX" || keyword == "PVRTX") {
             VertexLine v;
             if (Status s = readVertexLine(cx, tokens, keyword, v); !s) return s;
@@ -64,6 +61,7 @@ Status readPline(Context& cx, std::size_t startLine) {
             if (Status s = skipUnknown(lines, keyword, line); !s) return s;
         }
     }
+    if (!bad) return bad;
     if (!ended)
         return lines.failAt(lines.lastLine(), "missing END of the PLine object that starts on line " +
                                                   std::to_string(startLine) + " (truncated file?)");

@@ -54,6 +54,15 @@ public:
     // "(truncated file?)" when the input ends without a newline or in this line.
     std::string truncationHint() const;
 
+    // One line with content: the line, its trimmed text, its first word and the words after it.
+    struct Statement {
+        std::string_view line, text, keyword;
+        text::Tokens tokens{std::string_view()};
+    };
+    // Advances to the next line that is neither blank nor a '#' comment. False at the end of
+    // the input, or at a line with control bytes, whose error is then left in `bad`.
+    bool nextStatement(Statement& out, Status& bad);
+
 private:
     std::string_view text_;
     const std::string& source_;

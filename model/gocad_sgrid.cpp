@@ -81,15 +81,12 @@ Status readSgrid(Context& cx, std::size_t startLine) {
     std::string pointsFile, asciiFile;
     std::size_t pointsLine = 0, asciiLine = 0;
     SampleFormat pointsFormat;
-    std::string_view line;
+    Lines::Statement st;
+    Status bad;
     bool ended = false;
-    while (lines.next(line)) {
-        if (Status s = lines.checkText(line, false); !s) return s;
-        std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
-        std::string_view keyword;
-        tokens.next(keyword);
+    while (lines.nextStatement(st, bad)) {
+        const std::string_view line = st.line, keyword = st.keyword;
+        Tokens& tokens = st.tokens;
         if (keyword == "POINTS_FILE") {
             pointsFile = std::string(tokens.rest());
             pointsLine = lines.lineNo();
@@ -116,6 +113,7 @@ Status readSgrid(Context& cx, std::size_t startLine) {
             if (Status s = skipUnknown(lines, keyword, line); !s) return s;
         }
     }
+    if (!bad) return bad;
     if (!ended)
         return lines.failAt(lines.lastLine(), "missing END of the SGrid object that starts on line " +
                                                   std::to_string(startLine) + " (truncated file?)");

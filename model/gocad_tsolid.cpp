@@ -59,15 +59,12 @@ Status readTsolid(Context& cx, std::size_t startLine) {
     std::vector<std::string> surfaceNames;
     std::vector<SurfaceTri> surfaceTris;
 
-    std::string_view line;
+    Lines::Statement st;
+    Status bad;
     bool ended = false;
-    while (lines.next(line)) {
-        if (Status s = lines.checkText(line, false); !s) return s;
-        std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
-        std::string_view keyword;
-        tokens.next(keyword);
+    while (lines.nextStatement(st, bad)) {
+        const std::string_view line = st.line, keyword = st.keyword;
+        Tokens& tokens = st.tokens;
         if (keyword == "VRTX" || keyword == "PVRTX") {
             VertexLine v;
             if (Status s = readVertexLine(cx, tokens, keyword, v); !s) return s;
@@ -139,6 +136,7 @@ Status readTsolid(Context& cx, std::size_t startLine) {
             if (Status s = skipUnknown(lines, keyword, line); !s) return s;
         }
     }
+    if (!bad) return bad;
     if (!ended)
         return lines.failAt(lines.lastLine(), "missing END of the TSolid object that starts on line " +
                                                   std::to_string(startLine) + " (truncated file?)");

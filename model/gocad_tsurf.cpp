@@ -67,15 +67,12 @@ Status readTsurfData(Context& cx, std::size_t startLine, TsurfData& out) {
     std::vector<Triangle> triangles;
     std::vector<std::size_t> tfaceStart;
 
-    std::string_view line;
+    Lines::Statement st;
+    Status bad;
     bool ended = false;
-    while (lines.next(line)) {
-        if (Status s = lines.checkText(line, false); !s) return s;
-        std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
-        std::string_view keyword;
-        tokens.next(keyword);
+    while (lines.nextStatement(st, bad)) {
+        const std::string_view line = st.line, keyword = st.keyword;
+        Tokens& tokens = st.tokens;
         if (keyword == "VRTX" || keyword == "PVRTX") {
             VertexLine v;
             if (Status s = readVertexLine(cx, tokens, keyword, v); !s) return s;
@@ -116,6 +113,7 @@ Status readTsurfData(Context& cx, std::size_t startLine, TsurfData& out) {
         if (std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored)) continue;
         if (Status s = skipUnknown(lines, keyword, line); !s) return s;
     }
+    if (!bad) return bad;
     if (!ended) {
         // Lenient: complete lines and no END. A line cut in the middle is still an error
         // (it has no newline, so it may be a number cut short).

@@ -150,15 +150,12 @@ Status readVoxet(Context& cx, std::size_t startLine) {
     GridHeader header;
     glm::dvec3 o(0.0), axis[3] = {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)};
     glm::dvec3 mn(0.0), mx(1.0);
-    std::string_view line;
+    Lines::Statement st;
+    Status bad;
     bool ended = false;
-    while (lines.next(line)) {
-        if (Status s = lines.checkText(line, false); !s) return s;
-        std::string_view t = trim(line);
-        if (t.empty() || t.front() == '#') continue;
-        Tokens tokens(t);
-        std::string_view keyword;
-        tokens.next(keyword);
+    while (lines.nextStatement(st, bad)) {
+        const std::string_view line = st.line, keyword = st.keyword;
+        Tokens& tokens = st.tokens;
         Status s;
         if (keyword == "AXIS_O") {
             s = readVector(lines, tokens, keyword, o);
@@ -188,6 +185,7 @@ Status readVoxet(Context& cx, std::size_t startLine) {
         }
         if (!s) return s;
     }
+    if (!bad) return bad;
     if (!ended)
         return lines.failAt(lines.lastLine(), "missing END of the Voxet object that starts on line " +
                                                   std::to_string(startLine) + " (truncated file?)");
