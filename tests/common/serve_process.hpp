@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -147,5 +148,24 @@ private:
     int status_ = 0;
     std::filesystem::path log_;
 };
+
+// Milliseconds since t0 on the steady clock.
+inline double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The fastest of `tries` GETs of /healthz, ms (the machine is shared: one slow answer is
+// scheduling noise, a server that is pinned or dead is slow or absent every time).
+inline double healthzMs(const ServeProcess& s, int tries = 5) {
+    auto c = s.client(10);
+    double best = 1e9;
+    for (int i = 0; i < tries; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        auto r = c.Get("/healthz");
+        const double ms = msSince(t0);
+        if (r && r->status == 200) best = std::min(best, ms);
+    }
+    return best;
+}
 
 }  // namespace geoslice::test

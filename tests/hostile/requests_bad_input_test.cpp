@@ -37,22 +37,6 @@ protected:
 };
 ServeProcess* Hostile::server_ = nullptr;
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-// The fastest of `tries` GETs of /healthz, ms (the machine is shared: one slow answer is
-// scheduling noise, a server that is pinned or dead is slow or absent every time).
-double healthzMs(const ServeProcess& s, int tries = 5) {
-    auto c = s.client(10);
-    double best = 1e9;
-    for (int i = 0; i < tries; ++i) {
-        const auto t0 = Clock::now();
-        auto r = c.Get("/healthz");
-        const double ms = msSince(t0);
-        if (r && r->status == 200) best = std::min(best, ms);
-    }
-    return best;
-}
-
 struct Case {
     std::string method;  // GET or POST
     std::string path;

@@ -37,22 +37,6 @@ protected:
 };
 ServeProcess* HostileCrash::server_ = nullptr;
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-// The fastest of `tries` GETs of /healthz, ms (the machine is shared: one slow answer is
-// scheduling noise, a server that is pinned or dead is slow or absent every time).
-double healthzMs(const ServeProcess& s, int tries = 5) {
-    auto c = s.client(10);
-    double best = 1e9;
-    for (int i = 0; i < tries; ++i) {
-        const auto t0 = Clock::now();
-        auto r = c.Get("/healthz");
-        const double ms = msSince(t0);
-        if (r && r->status == 200) best = std::min(best, ms);
-    }
-    return best;
-}
-
 TEST_F(HostileCrash, CrashAndPinRequestsAre400FastAndLeaveTheServerFast) {
     // Item 1 of issue 11: SIGSEGV (1e-300, 1e-100; plane and line) and a worker pinned for
     // minutes (widths 1e-6..1e-20) on the release server before this fix.

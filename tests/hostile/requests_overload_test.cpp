@@ -21,8 +21,6 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
 // A profile render of the demo model that takes a while: 4096x4096 WebP (several hundred
 // ms to seconds on a shared 2-core machine); `i` shifts the plane so that no two coalesce.
 std::string slowRender(int i, const std::string& size = "4096x4096", const std::string& format = "webp") {
