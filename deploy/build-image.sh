@@ -16,7 +16,8 @@ source deploy/engine.sh
 engine_init
 bash deploy/make-base.sh
 version=$(sed -n 's/^project(geoslice VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
-revision=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+source deploy/revision.sh
+revision=$(source_revision)
 flags=(-f deploy/Dockerfile -t "$tag" --network host
     --build-arg VERSION="$version" --build-arg REVISION="$revision"
     --build-arg CREATED="$(git log -1 --format=%cI 2>/dev/null || date -u +%FT%TZ)")

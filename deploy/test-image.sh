@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Tests the container image against the binary built outside it (.ci/run runs this after
-# scripts/test.sh). Builds the image first when it is missing or GEOSLICE_IMAGE_REBUILD=1
+# scripts/test.sh). Builds the image first when it is missing, from another revision, from
+# a tree with uncommitted edits, or GEOSLICE_IMAGE_REBUILD=1
 # (deploy/build-image.sh: layers and ccache are kept in build/podman, so a rebuild after a
 # source edit recompiles only what changed). Checks:
 #   - the runtime image: non-root user, OCI labels, HEALTHCHECK kept, no compiler, every
@@ -28,7 +29,13 @@ fail() {
     exit 1
 }
 [ -x "$binary" ] || fail "no binary at $binary (build it first: cmake --build build --target geoslice)"
-if [ "${GEOSLICE_IMAGE_REBUILD:-0}" = 1 ] || ! ctr image inspect "$image" >/dev/null 2>&1; then
+# An image from another revision (podman's storage is kept between CI runs) or from a tree
+# with uncommitted edits is rebuilt: it must hold the code the binary was built from.
+source deploy/revision.sh
+want=$(source_revision)
+have=$(ctr image inspect --format '{{index .Config.Labels "org.opencontainers.image.revision"}}' "$image" 2>/dev/null || true)
+if [ "${GEOSLICE_IMAGE_REBUILD:-0}" = 1 ] || [ -z "$have" ] || [ "$have" != "$want" ] || [[ $want == *-dirty ]]; then
+    echo "test-image: building $image (image revision '${have:-none}', source $want)"
     bash deploy/build-image.sh --tag "$image"
 fi
 
