@@ -19,10 +19,19 @@ J pathParam(const char* name, const char* description, J schema = J{{"type", "st
 J viewParams() {
     return J::array({
         queryParam("plane", "string",
-                   "a,b,c,d: world plane, keeps a*x+b*y+c*z+d >= 0 (x easting, y northing, z up, m)"),
+                   "a,b,c,d: world plane, keeps a*x+b*y+c*z+d >= 0 (x easting, y northing, z up, m); repeated up "
+                   "to 6 times for a cut-out of a perspective view (with 'cut')"),
+        queryParam("planes", "string",
+                   "a,b,c,d;a,b,c,d;...: 2..6 planes of a cut-out of a perspective view, the same as repeated "
+                   "'plane' (not both)"),
+        queryParam("cut", "string",
+                   "with 2..6 planes, required: union (remove the union of the planes' removed sides a*x+b*y+c*z+d "
+                   "< 0: keep what is on the kept side of every plane) or intersection (remove what is on the "
+                   "removed side of every plane: a wedge, octant or box taken out)"),
         queryParam("line", "string", "x1,y1,x2,y2[,...]: vertical section along a map polyline (2..256 vertices)"),
         queryParam("elevation", "number", "horizontal slice (plan map) at this elevation, m"),
-        queryParam("coords", "string", "world (default) or lonlat: units of 'line' (degrees lon,lat on the model CRS's own datum)"),
+        queryParam("coords", "string",
+                   "world (default) or lonlat: units of 'line' (degrees lon,lat on the model CRS's own datum)"),
         queryParam("view", "string", "profile (default, exact CPU engine) or perspective (GL renderer)"),
         queryParam("frame", "string", "u0,u1,v0,v1: plane u/v metres shown in a profile (default: model bounds)"),
         queryParam("eye", "string", "x,y,z: perspective camera position, world m"),
@@ -129,16 +138,17 @@ J openApiDocument(const std::string& serverVersion) {
                                        "(x, y, z in the model's CRS)")}),
                   viewParams()),
            imageResponse()));
-    get("/v1/models/{id}/query", op("what lies under one pixel of the view given by the same parameters: record and "
-                                    "attributes, the world point, "
-                                    "the distance along the section, and the point's coordinates (schema WorldPoint): "
-                                    "projected (easting, northing; zone for CGCS2000 Gauss-Kruger), geodetic (lon, lat, "
-                                    "height on the CRS's own datum) and WGS 84 with PROJ's stated accuracy. "
-                                    "A pixel with no geology is a 200 answer with hit=false.",
-                                    concat(J::array({id, queryParam("px", "integer", "pixel column, 0 = left", true),
-                                                     queryParam("py", "integer", "pixel row, 0 = top", true)}),
-                                           viewParams()),
-                                    jsonResponse("the answer")));
+    get("/v1/models/{id}/query",
+        op("what lies under one pixel of the view given by the same parameters: record and "
+           "attributes, the world point, "
+           "the distance along the section, and the point's coordinates (schema WorldPoint): "
+           "projected (easting, northing; zone for CGCS2000 Gauss-Kruger), geodetic (lon, lat, "
+           "height on the CRS's own datum) and WGS 84 with PROJ's stated accuracy. "
+           "A pixel with no geology is a 200 answer with hit=false.",
+           concat(J::array({id, queryParam("px", "integer", "pixel column, 0 = left", true),
+                            queryParam("py", "integer", "pixel row, 0 = top", true)}),
+                  viewParams()),
+           jsonResponse("the answer")));
     post("/v1/models/{id}/query",
          J{{"summary",
             "batch pixel query: {\"view\": {<view parameters as strings>}, \"pixels\": [[px, py], ...]} "
@@ -233,7 +243,8 @@ J openApiDocument(const std::string& serverVersion) {
              "operation (its name), accuracyM (PROJ's stated accuracy, metres; null with accuracyNote when PROJ "
              "states none). Absent when PROJ has no operation or only a ballpark one; then wgs84Note says why"}}},
           {"wgs84Note", str},
-          {"projectedNote", {{"type", "string"}, {"description", "local models: no projected or geodetic coordinates"}}}}}};
+          {"projectedNote",
+           {{"type", "string"}, {"description", "local models: no projected or geodetic coordinates"}}}}}};
     doc["components"]["schemas"]["Problem"] = {{"type", "object"},
                                                {"description", "RFC 9457 problem details"},
                                                {"properties",

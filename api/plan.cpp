@@ -42,8 +42,13 @@ std::string SectionDef::canonical() const {
     std::string s = "model=" + model;
     switch (geometry) {
         case Geometry::Plane: {
-            const double v[4] = {plane.normal.x, plane.normal.y, plane.normal.z, plane.d};
-            s += "&plane=" + join(v, 4);
+            if (cutPlanes.empty()) {
+                s += "&plane=" + planeText(plane);
+                break;
+            }
+            s += "&planes=";
+            for (std::size_t i = 0; i < cutPlanes.size(); ++i) s += (i ? ";" : "") + planeText(cutPlanes[i]);
+            s += std::string("&cut=") + cutModeName(cut);
             break;
         }
         case Geometry::Line: {
@@ -85,7 +90,8 @@ std::string ViewPlan::canonical() const {
 }
 
 const std::vector<std::string_view>& sectionParamNames() {
-    static const std::vector<std::string_view> names{"plane", "line", "elevation", "coords", "vx", "bg"};
+    static const std::vector<std::string_view> names{"plane",     "planes", "cut", "line",
+                                                     "elevation", "coords", "vx",  "bg"};
     return names;
 }
 
@@ -101,7 +107,12 @@ const std::vector<std::string_view>& viewParamNames() {
 Result<SectionDef> parseSectionDef(const Params& params, const std::string& model, const Crs& crs) {
     SectionDef def;
     def.model = model;
-    const auto plane = param(params, "plane");
+    const auto plane = param(params, "plane") ? param(params, "plane") : param(params, "planes");
+    const std::string_view planeName = param(params, "plane") ? "plane" : "planes";
+    if (param(params, "plane") && param(params, "planes"))
+        return makeError(ErrorCode::InvalidArgument,
+                         "parameters 'plane' and 'planes': give the planes either as 'plane' (repeated) or as "
+                         "'planes=a,b,c,d;a,b,c,d...', not both");
     const auto line = param(params, "line");
     const auto elevation = param(params, "elevation");
     const int given = int(bool(plane)) + int(bool(line)) + int(bool(elevation));
@@ -110,23 +121,34 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
                          given == 0 ? "no section geometry: give one of 'plane=a,b,c,d', 'line=x1,y1,x2,y2[,...]' or "
                                       "'elevation=z'"
                                     : "more than one section geometry: give only one of 'plane', 'line', 'elevation'");
+    if (param(params, "cut") && !plane)
+        return makeError(ErrorCode::InvalidArgument, "parameter 'cut': needs planes ('plane' or 'planes')");
     if (plane) {
-        auto v = parseNumberList("plane", *plane, 4);
-        if (!v) return v.error();
-        auto p = makePlane(v.value()[0], v.value()[1], v.value()[2], v.value()[3]);
-        if (!p) return makeError(p.error().code, "parameter 'plane': " + p.error().message);
+        auto planes = parsePlaneList(planeName, *plane);
+        if (!planes) return planes.error();
         def.geometry = Geometry::Plane;
-        def.plane = p.value();
-        // A normal that is already unit to rounding is kept bit for bit, so that the
-        // canonical text is a fixed point: parsing it again gives the same text (stateless
-        // section ids decode to the key they were made from; found by fuzz_request).
-        const double len =
-            std::sqrt(v.value()[0] * v.value()[0] + v.value()[1] * v.value()[1] + v.value()[2] * v.value()[2]);
-        if (std::abs(len - 1.0) <= 1e-15) {
-            def.plane.normal = {v.value()[0], v.value()[1], v.value()[2]};
-            def.plane.d = v.value()[3];
+        if (const auto cut = param(params, "cut")) {
+            auto mode = parseCutMode("cut", *cut);
+            if (!mode) return mode.error();
+            def.cut = mode.value();
+        } else if (planes.value().size() > 1) {
+            const std::string n = std::to_string(planes.value().size());
+            return makeError(
+                ErrorCode::InvalidArgument,
+                (planeName == "plane" ? "parameter 'plane' is given more than once (" + n + " planes) without 'cut'"
+                                      : "parameter 'cut': required with " + n + " planes") +
+                    ": several planes make a cut-out of a perspective view, with cut=union (keep what "
+                    "is on the kept side of every plane) or cut=intersection (take out what is on the "
+                    "removed side of every plane: a wedge, octant or box); other views take one plane");
         }
-        if (auto s = checkCoordinate("parameter 'plane': offset d / |(a, b, c)|", def.plane.d); !s) return s.error();
+        if (planes.value().size() > 1) {
+            def.cutPlanes = std::move(planes.value());
+            sortPlanes(def.cutPlanes);
+            def.plane = def.cutPlanes.front();
+        } else {
+            def.plane = planes.value().front();
+            def.cut = CutMode::Union;  // one plane: both modes are the same cut
+        }
     } else if (elevation) {
         auto z = parseNumber("elevation", *elevation);
         if (!z) return z.error();
@@ -216,6 +238,11 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
                                                      std::to_string(plan.height) + "): " + s.error().message);
             plan.frame = r;
         }
+        if (!plan.section.cutPlanes.empty())
+            return makeError(ErrorCode::InvalidArgument,
+                             "parameter 'plane' (or 'planes'): " + std::to_string(plan.section.cutPlanes.size()) +
+                                 " planes cut perspective views only (view=perspective); a profile view, vector "
+                                 "section or tile grid takes one 'plane'");
     } else if (*view == "perspective") {
         if (plan.section.geometry == Geometry::Line)
             return makeError(
@@ -268,6 +295,11 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
 
 Plane sectionPlane(const SectionDef& def) {
     return def.geometry == Geometry::Elevation ? horizontalPlane(def.elevation) : def.plane;
+}
+
+CutOut sectionCut(const SectionDef& def) {
+    if (def.cutPlanes.empty()) return CutOut{{sectionPlane(def)}, CutMode::Union};
+    return CutOut{def.cutPlanes, def.cut};
 }
 
 FrameRect projectedBounds(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin) {

@@ -5,6 +5,8 @@
 // Request parameters (HTTP query string or JSON fields; api/params.hpp):
 //   geometry, exactly one of
 //     plane=a,b,c,d             world plane; keeps a*x + b*y + c*z + d >= 0 (normalised here)
+//     plane=.. repeated (up to 6) or planes=a,b,c,d;a,b,c,d;..  with cut=union|intersection:
+//                               a cut-out of a perspective view (api/cut.hpp)
 //     line=x1,y1,x2,y2[,...]    vertical section along a map polyline (2..256 vertices)
 //     elevation=z               horizontal slice (plan map) at elevation z, metres
 //   coords=world|lonlat         units of `line` (lonlat: degrees lon,lat in CGCS2000; default world)
@@ -26,6 +28,7 @@
 
 #include <glm/glm.hpp>
 
+#include "api/cut.hpp"
 #include "api/params.hpp"
 #include "model/attributes.hpp"
 #include "model/crs.hpp"
@@ -46,7 +49,11 @@ enum class ViewKind { Profile, Perspective };
 struct SectionDef {
     std::string model;
     Geometry geometry = Geometry::Plane;
-    Plane plane;                   // Plane and Elevation: world, unit normal
+    Plane plane;  // Plane and Elevation: world, unit normal
+    // Cut-outs (api/cut.hpp): with two or more planes all of them, sorted (`plane` is the
+    // first), and how their removed sides combine; empty for one plane.
+    std::vector<Plane> cutPlanes;
+    CutMode cut = CutMode::Union;
     std::vector<glm::dvec2> line;  // Line: world easting, northing (metres)
     double elevation = 0.0;        // Elevation
     double exaggeration = 1.0;     // vertical exaggeration of profile frames
@@ -83,6 +90,9 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
 
 // The plane of a Plane or Elevation section (Elevation keeps what lies below z, seen from above).
 Plane sectionPlane(const SectionDef& def);
+// Every plane that cuts a perspective view of the section, with the cut mode: the section's
+// plane alone, or the planes of a cut-out.
+CutOut sectionCut(const SectionDef& def);
 
 // `bounds` projected on the plane's u/v axes: the tight u/v rectangle around its corners.
 FrameRect projectedBounds(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin);

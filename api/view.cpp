@@ -19,6 +19,10 @@ Status requirePlanar(const SectionDef& def) {
     if (def.geometry == Geometry::Line)
         return makeError(ErrorCode::Unsupported,
                          "tiles of polyline sections are not served yet; use 'plane' or 'elevation'");
+    if (!def.cutPlanes.empty())
+        return makeError(ErrorCode::InvalidArgument,
+                         "parameter 'planes': a section for tiles takes one plane; cut-outs of " +
+                             std::to_string(def.cutPlanes.size()) + " planes are for perspective views");
     return {};
 }
 
@@ -226,6 +230,14 @@ Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef&
     return v;
 }
 
+Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan) {
+    const CutOut cut = sectionCut(plan.section);
+    const char* name = cut.planes.size() > 1                          ? "planes"
+                       : plan.section.geometry == Geometry::Elevation ? "elevation"
+                                                                      : "plane";
+    return checkCutKeepsSomething(name, cut, model.index->bounds);
+}
+
 PixelRay perspectiveRay(const Camera& camera, int width, int height, double x, double y) {
     const glm::dvec3 f = glm::normalize(camera.target - camera.eye);
     const glm::dvec3 r = glm::normalize(glm::cross(f, camera.up));
@@ -240,11 +252,17 @@ PixelRay perspectiveRay(const Camera& camera, int width, int height, double x, d
 
 namespace {
 
-// The first thing a perspective view shows along the ray through a pixel centre: the
-// first body interval or open-surface crossing on the kept side of the plane (a body the
-// plane cuts shows its cut face, where the kept part of its interval begins).
+// What a perspective view shows along the ray through a pixel centre, by the renderer's
+// rule (renderer/slice_renderer.hpp): the first body interval with a kept part, at the start
+// of that part. Where the body's own entry (its front face) is kept, that is its exterior,
+// and an open surface crossed on a kept part of the ray before it is seen instead; where
+// the entry is removed, the kept part starts on a cut face (a cap), which open surfaces
+// never cover. With one plane no open surface can lie in front of a cap; with a cut-out
+// one can (kept, removed, kept again along the ray), and the image shows the cap there.
 Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
                                       const ViewImage* cached) {
+    if (auto s = checkPerspectiveCut(model, plan); !s) return s.error();
+    const CutOut cut = sectionCut(plan.section);
     // The pixel's ray in display space, mapped to world (the exaggeration is affine: a line
     // stays a line). Distances along it are world metres.
     const DisplaySpace display = displaySpace(plan.section, model.index->bounds);
@@ -253,39 +271,42 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
     PixelRay ray;
     ray.origin = display.toWorld(displayRay.origin);
     ray.direction = glm::normalize(display.toWorld(displayRay.origin + displayRay.direction) - ray.origin);
-    const Plane plane = sectionPlane(plan.section);
-    // Kept where s(t) = s0 + t * ds >= 0.
-    const double s0 = glm::dot(plane.normal, ray.origin) + plane.d, ds = glm::dot(plane.normal, ray.direction);
-    double keepFrom = 0.0, keepTo = std::numeric_limits<double>::infinity();
-    if (ds > 0.0)
-        keepFrom = std::max(0.0, -s0 / ds);
-    else if (ds < 0.0)
-        keepTo = -s0 / ds;
-    else if (s0 < 0.0)
-        keepTo = -1.0;
+    const std::vector<RaySpan> kept = cut.keptSpans(ray.origin, ray.direction);
+    auto isKept = [&](double t) {
+        for (const RaySpan& k : kept)
+            if (t >= k.from && t <= k.to) return true;
+        return false;
+    };
     QueryAnswer a;
     a.px = px;
     a.py = py;
     a.perspective = true;
     a.world = glm::dvec3(std::numeric_limits<double>::quiet_NaN());
     double hitT = std::numeric_limits<double>::infinity();
-    if (keepTo >= keepFrom) {
+    if (!kept.empty()) {
         auto hole = model.tracer->traceRay(ray.origin, ray.direction);
         if (hole) {
+            bool cap = false;
+            // Body intervals are disjoint and in order: the first with a kept part holds the
+            // nearest kept point of any body.
             for (const BoreholeInterval& iv : hole.value().intervals) {
-                const double from = std::max(iv.from, keepFrom), to = std::min(iv.to, keepTo);
-                if (from < to) {
-                    hitT = from;
-                    a.record = iv.record;
-                    break;
+                for (const RaySpan& k : kept) {
+                    const double from = std::max(iv.from, k.from), to = std::min(iv.to, k.to);
+                    if (from < to && from < hitT) {
+                        hitT = from;
+                        a.record = iv.record;
+                        cap = from > iv.from;
+                    }
                 }
+                if (std::isfinite(hitT)) break;
             }
-            for (const BoreholeCrossing& c : hole.value().crossings)
-                if (c.depth >= keepFrom && c.depth <= keepTo && c.depth < hitT) {
-                    hitT = c.depth;
-                    a.record = c.record;
-                    break;
-                }
+            if (!cap)
+                for (const BoreholeCrossing& c : hole.value().crossings)
+                    if (c.depth < hitT && isKept(c.depth)) {
+                        hitT = c.depth;
+                        a.record = c.record;
+                        break;
+                    }
         }
     }
     if (std::isfinite(hitT)) a.world = ray.origin + hitT * ray.direction;
@@ -346,9 +367,19 @@ void writeWorldPoint(JsonWriter& w, const CatalogModel& model, const glm::dvec3&
     w.key("x").value(world.x).key("y").value(world.y).key("z").value(world.z);
     w.key("crs").value(crs.id());
     if (crs.isGeographic())
-        w.key("axes").beginArray().value("x: lon (degrees)").value("y: lat (degrees)").value("z: height (m)").endArray();
+        w.key("axes")
+            .beginArray()
+            .value("x: lon (degrees)")
+            .value("y: lat (degrees)")
+            .value("z: height (m)")
+            .endArray();
     else
-        w.key("axes").beginArray().value("x: easting (m)").value("y: northing (m)").value("z: elevation (m)").endArray();
+        w.key("axes")
+            .beginArray()
+            .value("x: easting (m)")
+            .value("y: northing (m)")
+            .value("z: elevation (m)")
+            .endArray();
     if (crs.isProjected()) {
         w.key("projected").beginObject();
         w.key("crs").value(crs.id()).key("name").value(crs.name());

@@ -92,6 +92,9 @@ struct QueryAnswer {
     bool perspective = false;  // world = the first visible point on the ray (NaN: none); distanceAlong = from the eye
     bool fromIdBuffer = false;
 };
+// InvalidArgument naming the parameter ('plane', 'planes' or 'elevation') when the cut of a
+// perspective view keeps no part of the model's bounds (api/cut.hpp).
+Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan);
 // The ray through pixel coordinates (x, y) (x right, y down; the centre of pixel (i, j) is
 // (i + 0.5, j + 0.5)) of a perspective view, as the renderer projects (fov vertical,
 // aspect width / height). World coordinates; unit direction.

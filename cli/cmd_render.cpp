@@ -1,4 +1,4 @@
-// geoslice render MODEL --plane a,b,c,d [--plane ...] [--union] [--profile [--frame u0,u1,v0,v1] |
+// geoslice render MODEL --plane a,b,c,d [--plane ... --cut union|intersection] [--profile [--frame u0,u1,v0,v1] |
 //   --eye x,y,z --target x,y,z [--up x,y,z] [--fov deg]] [--size WxH] --out img.jpg|png|webp
 //   [--quality Q] [--lossless] [--ids ids.png|ids.pgm]
 //   [--gl auto|egl-device|egl-surfaceless|osmesa] [--device N] [--clip clip-distance|discard]
@@ -7,6 +7,9 @@
 // Renders one frame of the slicing pass (renderer/slice_renderer.hpp) on a headless context.
 // Planes are world (a,b,c,d), kept where a*x+b*y+c*z+d >= 0; points are world easting,
 // northing, elevation in metres. The profile looks at the first plane's cut face (along +n).
+// Two or more planes (up to 6) make a cut-out, as the API's plane=...&cut=... (api/cut.hpp):
+// --cut union removes the union of the planes' removed sides, --cut intersection removes what
+// lies on the removed side of every plane (a wedge, octant or box taken out).
 // With --exaggeration F the picture is stretched vertically by F about elevation --pivot:
 // --eye/--target are true world points (mapped into display space here); --frame is in the
 // display plane's u/v metres. --baked bakes the model's attribute texture in memory first
@@ -19,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "api/cut.hpp"
 #include "bake/bake.hpp"
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
@@ -51,7 +55,8 @@ struct RenderArgs {
     std::string model, out, ids, gl = "auto", clip = "clip-distance", size = "1024x1024", frame, eye, target,
                                  up = "0,0,1", background = "#00000000";
     std::vector<std::string> planes;
-    bool unionMode = false, profile = false;
+    std::string cut;
+    bool profile = false;
     double fov = 45.0;
     int device = -1;
     LoadOptions load;
@@ -71,10 +76,26 @@ int run(const RenderArgs& a) {
     };
     SliceRequest req;
     std::vector<double> v;
-    for (const std::string& p : a.planes) {
-        if (!parseNumbers(p, 4, v)) return fail("--plane " + p + ": expected a,b,c,d (four numbers)");
-        req.planes.push_back({v[0], v[1], v[2], v[3]});
+    api::CutOut cut;
+    if (!a.planes.empty()) {
+        std::string list;
+        for (const std::string& p : a.planes) list += (list.empty() ? "" : ";") + p;
+        auto planes = api::parsePlaneList("--plane", list);
+        if (!planes) return fail(planes.error().message);
+        cut.planes = planes.value();
+        if (!a.cut.empty()) {
+            auto mode = api::parseCutMode("--cut", a.cut);
+            if (!mode) return fail(mode.error().message);
+            cut.mode = mode.value();
+        } else if (cut.planes.size() > 1) {
+            return fail("--cut: required with " + std::to_string(cut.planes.size()) +
+                        " planes: union (keep what is on the kept side of every plane) or intersection (take out "
+                        "what is on the removed side of every plane)");
+        }
+        for (const Plane& p : cut.planes) req.planes.push_back(WorldPlane(p.normal, p.d));
     }
+    // The renderer names what is kept: --cut union keeps the intersection of the kept sides.
+    req.combine = cut.mode == api::CutMode::Union ? PlaneCombine::Intersection : PlaneCombine::Union;
     if (std::sscanf(a.size.c_str(), "%dx%d", &req.width, &req.height) != 2)
         return fail("--size " + a.size + ": expected WxH, e.g. 1024x768");
     auto backend = parseGlBackend(a.gl);
@@ -82,7 +103,6 @@ int run(const RenderArgs& a) {
     if (a.clip != "clip-distance" && a.clip != "discard")
         return fail("--clip " + a.clip + ": expected clip-distance or discard");
     req.clip = a.clip == "discard" ? ClipMethod::Discard : ClipMethod::ClipDistance;
-    req.combine = a.unionMode ? PlaneCombine::Union : PlaneCombine::Intersection;
     auto bg = a.background == "transparent" ? std::optional<Rgba8>(Rgba8{0, 0, 0, 0}) : parseColour(a.background);
     if (!bg) return fail("--background " + a.background + ": expected transparent, #rrggbb or #rrggbbaa");
     req.background = *bg;
@@ -125,6 +145,8 @@ int run(const RenderArgs& a) {
 
     auto model = loadModel(a.model, a.load);
     if (!model) return fail(model.error().message);
+    if (!cut.planes.empty())
+        if (auto s = api::checkCutKeepsSomething("--plane", cut, model->bounds()); !s) return fail(s.error().message);
     const bool perspective = !a.eye.empty();
     if (perspective) {
         PerspectiveView pv;
@@ -202,7 +224,9 @@ void addRender(CLI::App& app, int& exitCode) {
     addLoadOptions(cmd, a->load);
     cmd->add_option("--plane", a->planes,
                     "Cut plane a,b,c,d in world coordinates (repeat up to 6); kept where ax+by+cz+d >= 0");
-    cmd->add_flag("--union", a->unionMode, "Keep the union of the planes' positive sides (cut a box or wedge out)");
+    cmd->add_option("--cut", a->cut,
+                    "With two or more planes: union (remove the union of their removed sides) or intersection "
+                    "(remove what is on the removed side of every plane: a wedge, octant or box taken out)");
     cmd->add_flag("--profile", a->profile, "Orthographic profile of the first plane (the default without --eye)");
     cmd->add_option("--frame", a->frame, "Profile frame u0,u1,v0,v1 in plane metres (default: the whole model)");
     cmd->add_option("--eye", a->eye, "Perspective eye x,y,z (world)");

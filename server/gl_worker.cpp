@@ -46,9 +46,12 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
         if (auto s = renderer->warmUp(*gpu.value()); !s) return s.error();
         it = models.emplace(key, std::move(gpu.value())).first;
     }
-    const Plane plane = api::sectionPlane(plan.section);
+    // The request's removed sides combine by `cut` (api/cut.hpp); the renderer names what is
+    // kept: cut=union keeps the intersection of the kept sides, cut=intersection their union.
+    const api::CutOut cut = api::sectionCut(plan.section);
     SliceRequest req;
-    req.planes = {WorldPlane(plane.normal, plane.d)};
+    for (const Plane& plane : cut.planes) req.planes.push_back(WorldPlane(plane.normal, plane.d));
+    req.combine = cut.mode == api::CutMode::Union ? PlaneCombine::Intersection : PlaneCombine::Union;
     // Eye and target in display space (the exaggerated model), as the renderer expects.
     const api::DisplaySpace ds = api::displaySpace(plan.section, model.index->bounds);
     const api::Camera cam = api::displayCamera(plan, model.index->bounds);

@@ -170,11 +170,15 @@ void sendJson(HttpResponse& res, const Json& j, int status = 200) {
 }
 
 // Query parameters -> api::Params; a parameter given twice is an error (which one wins
-// would otherwise depend on the parser).
+// would otherwise depend on the parser), except `plane`, whose values are joined with ';'
+// in the order given (a cut-out's planes, api/cut.hpp).
 Result<api::Params> toParams(const HttpRequest& req) {
     api::Params p;
     for (const auto& [k, v] : req.params) {
-        if (!p.emplace(k, v).second)
+        auto [it, fresh] = p.emplace(k, v);
+        if (!fresh && k == "plane")
+            it->second += ";" + v;
+        else if (!fresh)
             return makeError(ErrorCode::InvalidArgument, "parameter '" + k + "' is given more than once");
     }
     return p;
@@ -191,12 +195,25 @@ Result<api::Params> jsonToParams(const nlohmann::json& j, const std::string& wha
             if (!std::isfinite(d)) return makeError(ErrorCode::InvalidArgument, what + ": '" + k + "' is not finite");
             p[k] = v.is_number_float() ? api::formatNumber(d) : v.dump();
         } else if (v.is_array()) {
+            // [n, n, ...] -> "n,n,..."; [[n, ...], [n, ...]] (planes) -> "n,...;n,...".
             std::string s;
-            for (const auto& x : v) {
-                if (!x.is_number())
-                    return makeError(ErrorCode::InvalidArgument, what + ": '" + k + "' must be an array of numbers");
-                if (!s.empty()) s += ',';
-                s += api::formatNumber(x.get<double>());
+            for (std::size_t i = 0; i < v.size(); ++i) {
+                const auto& x = v[i];
+                const bool nested = x.is_array() && v[0].is_array();
+                if (!x.is_number() && !nested)
+                    return makeError(ErrorCode::InvalidArgument,
+                                     what + ": '" + k + "' must be an array of numbers or of arrays of numbers");
+                if (i) s += nested ? ';' : ',';
+                if (!nested) {
+                    s += api::formatNumber(x.get<double>());
+                    continue;
+                }
+                for (std::size_t c = 0; c < x.size(); ++c) {
+                    if (!x[c].is_number())
+                        return makeError(ErrorCode::InvalidArgument,
+                                         what + ": '" + k + "' must be an array of numbers or of arrays of numbers");
+                    s += (c ? "," : "") + api::formatNumber(x[c].get<double>());
+                }
             }
             p[k] = s;
         } else if (v.is_boolean()) {
@@ -424,6 +441,7 @@ struct SectionServer::Impl {
     // for perspective views that GL is on. Errors name the parameter.
     Status validateView(const api::CatalogModel& m, const api::ViewPlan& plan) {
         if (plan.view == api::ViewKind::Perspective) {
+            if (auto s = api::checkPerspectiveCut(m, plan); !s) return s;
             if (!glBackend)
                 return makeError(ErrorCode::Unsupported,
                                  "parameter 'view': perspective views need GL, which is disabled on this server (--gl "

@@ -1,7 +1,7 @@
 // libFuzzer target for whole requests (issue 11 item 1): the bytes are a query string as
 // the HTTP layer hands it over; parameters -> plan -> render on a tiny generated model
 // (profile views with the exact engine, the section's tile grid and one tile, a vector
-// export and a pixel query). GL is skipped (perspective plans are parsed only). Any input
+// export and a pixel query). GL is skipped (perspective plans: two ray queries). Any input
 // gives an image or an error naming the parameter: never a crash, a hang or a sanitizer
 // report. Renders are capped at 256 x 256 pixels here (the limits themselves are checked
 // by the parser, which runs on every input).
@@ -32,7 +32,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto plan = api::parseViewPlan(params, model->id, model->model.crs);
     if (!plan) return 0;
     const api::ViewPlan& p = plan.value();
-    if (p.view != api::ViewKind::Profile) return 0;
+    if (p.view != api::ViewKind::Profile) {
+        // No GL here; the ray queries of a perspective view (cut-outs: api/cut.hpp) run on the CPU.
+        (void)api::queryPixel(*model, p, p.width / 2, p.height / 2, nullptr);
+        (void)api::queryPixel(*model, p, 0, p.height - 1, nullptr);
+        return 0;
+    }
     if (std::size_t(p.width) * std::size_t(p.height) > 256 * 256) return 0;
     if (auto image = api::renderProfile(*model, p)) {
         if (image.value().ids.size() != std::size_t(p.width) * std::size_t(p.height)) __builtin_trap();

@@ -120,6 +120,40 @@ std::vector<Case> badInputMatrix() {
     get(persp + "&eye=35504000,3387000,1500&target=35504000,nan,0", 400, "target");
     for (const char* f : {"0", "180", "nan", "0.5"})
         get(persp + "&eye=35504000,3387000,1500&target=35504000,3388846,0&fov=" + f, 400, "fov");
+    // cut-outs (api/cut.hpp): more than six planes, bad numbers, zero normals, duplicates, no
+    // or a bad combine mode, both spellings, a profile of several planes, everything removed
+    {
+        const std::string cut = kSection + "size=128x128&view=perspective&";
+        const std::string a = "-1,0,0,35504794", b = "0,1,0,-3388846";
+        std::string seven = "planes=" + a + ";" + b;
+        for (int i = 0; i < 5; ++i) seven += ";0,0,1," + std::to_string(-100 * i);
+        get(cut + seven + "&cut=intersection", 400, "parameter 'planes': 7 planes given, at most 6");
+        std::string repeated;
+        for (int i = 0; i < 7; ++i) repeated += "&plane=0,0,1," + std::to_string(-100 * i);
+        get(cut + repeated.substr(1) + "&cut=union", 400, "parameter 'plane': 7 planes");
+        get(cut + "planes=" + a + ";0,1,0,nan&cut=union", 400, "parameter 'planes': plane 2");
+        get(cut + "planes=" + a + ";0,1,0,inf&cut=union", 400, "parameter 'planes': plane 2");
+        get(cut + "planes=" + a + ";0,0,0,5&cut=union", 400, "parameter 'planes': plane 2");
+        get(cut + "planes=" + a + ";1e-320,0,0,1&cut=union", 400, "parameter 'planes': plane 2");
+        get(cut + "planes=" + a + ";-2,0,0,71009588&cut=union", 400, "are the same plane");
+        get(cut + "plane=" + a + "&plane=" + a + "&cut=union", 400, "are the same plane");
+        get(cut + "planes=" + a + ";" + b, 400, "parameter 'cut'");
+        get(cut + "planes=" + a + ";" + b + "&cut=xor", 400, "parameter 'cut'");
+        get(cut + "planes=" + a + ";;" + b + "&cut=union", 400, "parameter 'planes': plane 2");
+        get(cut + "planes=" + a + ";" + b + ";&cut=union", 400, "parameter 'planes': plane 3");
+        get(cut + "plane=" + a + "&planes=" + b + "&cut=union", 400, "not both");
+        get(kSection + "planes=" + a + ";" + b + "&cut=union", 400, "perspective views only");
+        get(kSection + "elevation=500&cut=union", 400, "parameter 'cut'");
+        get(cut + "planes=1,0,0,-35600000;0,1,0,-3400000;0,0,1,-9000&cut=intersection", 400,
+            "parameter 'planes': the cut removes the whole model");
+        get(cut + "planes=1,0,0,-35600000;0,1,0,-3388846&cut=union", 400, "removes the whole model");
+        get(cut + "plane=0,0,1,-9000", 400, "parameter 'plane': the cut removes the whole model");
+        get("/v1/models/demo/query?size=64x64&view=perspective&px=1&py=1&planes=" + a + ";" + b +
+                "&cut=union&cut=union",
+            400, "cut");
+        get("/v1/models/demo/query?size=64x64&view=perspective&px=1&py=1&plane=0,0,1,-9000", 400,
+            "removes the whole model");
+    }
     // quality, unknown and repeated parameters
     for (const char* q : {"0", "101", "abc"}) get(p + "&quality=" + q, 400, "quality");
     get(p + "&foo=1", 400, "foo");
@@ -169,6 +203,16 @@ std::vector<Case> badInputMatrix() {
     m.push_back(Case{"POST", post, 400, "foo", R"({"view":{"plane":"0,1,0,-3388846"},"pixels":[[1,1]],"foo":1})",
                      "application/json"});
     m.push_back(Case{"POST", "/v1/models/demo/sections", 400, "plane", R"({"plane":[0,0,0,1]})", "application/json"});
+    m.push_back(Case{"POST", "/v1/models/demo/sections", 400, "planes",
+                     R"({"planes":[[0,1,0,-3388846],[1,0,0,-35504794]],"cut":"union"})", "application/json"});
+    m.push_back(Case{"POST", post, 400, "same plane",
+                     R"({"view":{"planes":[[0,1,0,-3388846],[0,1,0,-3388846]],"cut":"union","view":"perspective"},)"
+                     R"("pixels":[[1,1]]})",
+                     "application/json"});
+    m.push_back(Case{"POST", post, 400, "planes",
+                     R"({"view":{"planes":[[0,1,0,-3388846],[1,0,"x",0]],"cut":"union","view":"perspective"},)"
+                     R"("pixels":[[1,1]]})",
+                     "application/json"});
     m.push_back(Case{"POST", "/v1/models/demo/sections", 400, "foo", R"({"plane":[0,1,0,-3388846],"foo":1})",
                      "application/json"});
     m.push_back(Case{"POST", "/v1/models/demo/sections", 415, "Content-Type", R"({"plane":[0,1,0,-3388846]})",
