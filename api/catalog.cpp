@@ -38,9 +38,8 @@ void chooseWgs84Transform(CatalogModel& m) {
     if (!t) {
         m.wgs84Note = "no WGS 84 coordinates: " + t.error().message;
     } else if (t->isBallpark()) {
-        m.wgs84Note = "no WGS 84 coordinates: PROJ knows only a ballpark transformation from " +
-                      crs.geographicName() + " to WGS 84 over this model's extent (" + t->operationName() +
-                      "), which ignores the datum shift";
+        m.wgs84Note = "no WGS 84 coordinates: PROJ knows only a ballpark transformation from " + crs.geographicName() +
+                      " to WGS 84 over this model's extent (" + t->operationName() + "), which ignores the datum shift";
     } else {
         m.toWgs84 = std::make_shared<const CrsTransform>(std::move(t.value()));
     }
@@ -123,9 +122,10 @@ nlohmann::ordered_json CatalogModel::summary() const {
     if (!crs.isLocal()) {
         j["crs"]["geographic"] = {{"id", crs.geographicId()}, {"name", crs.geographicName()}};
         if (toWgs84)
-            j["crs"]["wgs84"] = {{"operation", toWgs84->operationName()},
-                                 {"accuracyM", toWgs84->accuracyM() >= 0.0 ? nlohmann::ordered_json(toWgs84->accuracyM())
-                                                                           : nlohmann::ordered_json(nullptr)}};
+            j["crs"]["wgs84"] = {
+                {"operation", toWgs84->operationName()},
+                {"accuracyM", toWgs84->accuracyM() >= 0.0 ? nlohmann::ordered_json(toWgs84->accuracyM())
+                                                          : nlohmann::ordered_json(nullptr)}};
         else
             j["crs"]["wgs84Note"] = wgs84Note;
     }

@@ -213,7 +213,7 @@ struct BakedPart {
     // the float step, so vertices a fraction of a millimetre apart stay apart 100 km from
     // the origin (writePackage stores them where float32 alone would merge vertices).
     std::vector<glm::vec3> positionsLo;
-    std::vector<glm::vec2> uvs;        // page + u, v (see the header comment)
+    std::vector<glm::vec2> uvs;  // page + u, v (see the header comment)
     std::vector<std::uint32_t> indices;
 };
 

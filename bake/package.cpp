@@ -176,8 +176,8 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
                 std::memcpy(&residual[3 * i], &g, sizeof g);
             }
             const std::size_t lv = addView(residual.data(), residual.size() * 4, 34962);
-            accessors.push_back({{"bufferView", lv}, {"componentType", kFloat}, {"count", part.positionsLo.size()},
-                                 {"type", "VEC3"}});
+            accessors.push_back(
+                {{"bufferView", lv}, {"componentType", kFloat}, {"count", part.positionsLo.size()}, {"type", "VEC3"}});
             prim["attributes"][kPositionResidualAttribute] = accessors.size() - 1;
         }
         if (features)
@@ -640,8 +640,8 @@ Status verifyPackage(const std::string& dir) {
     if (!model) return makeError(model.error().code, "the package would be refused: " + model.error().message);
     for (const auto& issue : model->validation.issues)
         if (issue.severity == ValidationIssue::Severity::Error)
-            return makeError(ErrorCode::InvalidArgument, "the package would be refused: part \"" + issue.part +
-                                                             "\": " + issue.message);
+            return makeError(ErrorCode::InvalidArgument,
+                             "the package would be refused: part \"" + issue.part + "\": " + issue.message);
     return {};
 }
 

@@ -44,7 +44,6 @@ inline double currentRssMiB() {
     return double(rss) * 4096.0 / (1024.0 * 1024.0);
 }
 
-
 // Resets the process's peak RSS (Linux: "5" to clear_refs), so VmHWM measures one phase.
 inline void resetPeakRss() {
     if (FILE* f = std::fopen("/proc/self/clear_refs", "w")) {

@@ -22,9 +22,12 @@ int main(int argc, char** argv) {
     std::size_t nPoints = 2'000'000;
     int runs = 5;
     for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--size")) size = argv[i + 1];
-        else if (!std::strcmp(argv[i], "--points")) nPoints = std::stoul(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--runs")) runs = std::stoi(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--size"))
+            size = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--points"))
+            nPoints = std::stoul(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--runs"))
+            runs = std::stoi(argv[i + 1]);
     }
     SyntheticOptions so;
     so.triangles = bench::triangleCountFor(size);

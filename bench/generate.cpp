@@ -35,9 +35,12 @@ int main(int argc, char** argv) {
             double t1 = bench::nowSeconds();
             auto glb = m ? encodeGlb(m.value()) : Result<std::vector<std::uint8_t>>(m.error());
             double t2 = bench::nowSeconds();
-            std::string line = nlohmann::json({{"size", size}, {"triangles", m ? m->triangleCount() : 0},
-                                               {"target", so.triangles}, {"generate_s", t1 - t0},
-                                               {"encode_glb_s", t2 - t1}, {"glb_mib", glb ? double(glb->size()) / 1048576.0 : 0.0}})
+            std::string line = nlohmann::json({{"size", size},
+                                               {"triangles", m ? m->triangleCount() : 0},
+                                               {"target", so.triangles},
+                                               {"generate_s", t1 - t0},
+                                               {"encode_glb_s", t2 - t1},
+                                               {"glb_mib", glb ? double(glb->size()) / 1048576.0 : 0.0}})
                                    .dump();
             if (write(fds[1], line.data(), line.size()) < 0) _exit(1);
             _exit(m && glb ? 0 : 1);
@@ -54,7 +57,8 @@ int main(int argc, char** argv) {
         auto j = nlohmann::ordered_json::parse(buf, nullptr, false);
         if (j.is_discarded()) j = {{"size", size}, {"error", "child failed"}};
         j["peak_rss_mib"] = double(ru.ru_maxrss) / 1024.0;
-        j["within_5_percent"] = j.contains("target") &&
+        j["within_5_percent"] =
+            j.contains("target") &&
             std::abs(j["triangles"].get<double>() - j["target"].get<double>()) <= 0.05 * j["target"].get<double>();
         results.push_back(j);
     }

@@ -35,8 +35,9 @@ void addClassify(CLI::App& app, int& exitCode) {
     auto threads = std::make_shared<unsigned>(0);
     auto load = std::make_shared<LoadOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "classify", "Print the record id of the innermost body containing each point read from stdin ('x y z' per line, "
-                    "world coordinates: easting northing elevation, metres); 0 = no body, * = unreadable line");
+        "classify",
+        "Print the record id of the innermost body containing each point read from stdin ('x y z' per line, "
+        "world coordinates: easting northing elevation, metres); 0 = no body, * = unreadable line");
     cmd->add_option("MODEL", *path, "Model file")->required();
     cmd->add_option("--threads", *threads, "Worker threads (default: all cores)");
     addLoadOptions(cmd, *load);
@@ -62,7 +63,8 @@ void addClassify(CLI::App& app, int& exitCode) {
             glm::dvec3 p(0.0);
             bool ok = parsePoint(line, p);
             if (!ok) {
-                std::fprintf(stderr, "geoslice classify: stdin line %zu: expected 'x y z' (three finite numbers), got \"%s\"\n",
+                std::fprintf(stderr,
+                             "geoslice classify: stdin line %zu: expected 'x y z' (three finite numbers), got \"%s\"\n",
                              lineNo, line.substr(0, 80).c_str());
                 exitCode = 1;
             }

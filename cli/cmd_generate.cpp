@@ -19,7 +19,8 @@ void addGenerate(CLI::App& app, int& exitCode) {
         bool draco = false, check = false;
     };
     auto o = std::make_shared<Opts>();
-    CLI::App* cmd = app.add_subcommand("generate", "Write a deterministic synthetic mine model (GLB + <stem>.attributes.json)");
+    CLI::App* cmd =
+        app.add_subcommand("generate", "Write a deterministic synthetic mine model (GLB + <stem>.attributes.json)");
     cmd->add_option("--triangles", o->triangles, "Target triangle count (met within 5%; at least 2000)");
     cmd->add_option("--size", o->size, "Named size instead of --triangles: L1 (500K), L2 (2M), L3 (5M), L4 (10M)");
     cmd->add_option("--seed", o->seed, "Seed for fold phases, thickness and terrain (default 1)");
@@ -43,9 +44,12 @@ void addGenerate(CLI::App& app, int& exitCode) {
         } else if (o->triangles) {
             so.triangles = o->triangles;
         }
-        if (o->ore == "nested") so.ore = OreVariant::Nested;
-        else if (o->ore == "partition") so.ore = OreVariant::Partition;
-        else return fail("--ore \"" + o->ore + "\" must be nested or partition", 2);
+        if (o->ore == "nested")
+            so.ore = OreVariant::Nested;
+        else if (o->ore == "partition")
+            so.ore = OreVariant::Partition;
+        else
+            return fail("--ore \"" + o->ore + "\" must be nested or partition", 2);
         if (!o->crs.empty()) {
             auto crs = Crs::parse(o->crs);
             if (!crs) return fail(crs.error().message, 2);
@@ -54,7 +58,8 @@ void addGenerate(CLI::App& app, int& exitCode) {
         if (!o->at.empty()) {
             double lon = 0, lat = 0;
             char extra = 0;
-            if (std::sscanf(o->at.c_str(), "%lf,%lf%c", &lon, &lat, &extra) != 2 || !std::isfinite(lon) || !std::isfinite(lat))
+            if (std::sscanf(o->at.c_str(), "%lf,%lf%c", &lon, &lat, &extra) != 2 || !std::isfinite(lon) ||
+                !std::isfinite(lat))
                 return fail("--at \"" + o->at + "\" is not LON,LAT in degrees", 2);
             so.atLonLat = glm::dvec2(lon, lat);
         }
@@ -65,7 +70,8 @@ void addGenerate(CLI::App& app, int& exitCode) {
         if (o->check) {
             ValidationReport r = validate(model.value());
             for (const auto& i : r.issues)
-                if (i.severity == ValidationIssue::Severity::Error) std::fprintf(stderr, "  error: %s: %s\n", i.part.c_str(), i.message.c_str());
+                if (i.severity == ValidationIssue::Severity::Error)
+                    std::fprintf(stderr, "  error: %s: %s\n", i.part.c_str(), i.message.c_str());
             if (r.hasErrors()) return fail("the generated model failed validation", 1);
         }
         GlbWriteOptions wo;

@@ -75,9 +75,8 @@ json modelJson(const std::string& file, const Model& m) {
     j["origin"] = {m.origin.x, m.origin.y, m.origin.z};
     j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
     if (auto ll = lonLatBounds(m, b))
-        j["lonlat_bounds"] = {{"min", {ll->first.x, ll->first.y}},
-                              {"max", {ll->second.x, ll->second.y}},
-                              {"crs", m.crs.geographicId()}};
+        j["lonlat_bounds"] = {
+            {"min", {ll->first.x, ll->first.y}}, {"max", {ll->second.x, ll->second.y}}, {"crs", m.crs.geographicId()}};
     j["bodies"] = json::array();
     for (const auto& p : m.bodies) j["bodies"].push_back(partJson(m, p));
     j["surfaces"] = json::array();
@@ -158,8 +157,7 @@ void printText(const json& j) {
     if (j.contains("lonlat_bounds"))
         std::printf("  lon/lat    %.6f .. %.6f E, %.6f .. %.6f N (%s)\n", j["lonlat_bounds"]["min"][0].get<double>(),
                     j["lonlat_bounds"]["max"][0].get<double>(), j["lonlat_bounds"]["min"][1].get<double>(),
-                    j["lonlat_bounds"]["max"][1].get<double>(),
-                    j["lonlat_bounds"]["crs"].get<std::string>().c_str());
+                    j["lonlat_bounds"]["max"][1].get<double>(), j["lonlat_bounds"]["crs"].get<std::string>().c_str());
     for (const char* list : {"bodies", "surfaces"}) {
         for (const auto& p : j[list]) {
             std::printf("  %-8s %-48s record %-4u %9zu tri  %s", list[0] == 'b' ? "body" : "surface",
@@ -215,7 +213,8 @@ void addInfo(CLI::App& app, int& exitCode) {
     auto asJson = std::make_shared<bool>(false);
     auto load = std::make_shared<LoadOptions>();
     CLI::App* cmd = app.add_subcommand("info", "Describe and validate model files");
-    cmd->add_option("FILE", *files, "Model files (.glb .gltf .obj .vtu, GOCAD .ts .ml .so .vo .sg .pl .gp, Geo3DML .xml)")
+    cmd->add_option("FILE", *files,
+                    "Model files (.glb .gltf .obj .vtu, GOCAD .ts .ml .so .vo .sg .pl .gp, Geo3DML .xml)")
         ->required();
     cmd->add_flag("--json", *asJson, "One JSON document (an array when several files are given)");
     addLoadOptions(cmd, *load);

@@ -11,8 +11,10 @@ namespace geoslice {
 namespace {
 
 std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r' || s.front() == '\n')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '\n')) s.remove_suffix(1);
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r' || s.front() == '\n'))
+        s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '\n'))
+        s.remove_suffix(1);
     return s;
 }
 
@@ -81,8 +83,9 @@ int hexDigit(char c) {
 // guarantees that the key is not there yet.
 template <class V>
 void appendField(nlohmann::ordered_json& object, const std::string& key, V&& value) {
-    object.get_ref<nlohmann::ordered_json::object_t&>().std::vector<std::pair<const std::string, nlohmann::ordered_json>>::emplace_back(
-        key, nlohmann::ordered_json(std::forward<V>(value)));
+    object.get_ref<nlohmann::ordered_json::object_t&>()
+        .std::vector<std::pair<const std::string, nlohmann::ordered_json>>::emplace_back(
+            key, nlohmann::ordered_json(std::forward<V>(value)));
 }
 
 }  // namespace
@@ -223,7 +226,8 @@ Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j,
             const std::string& key = item.key();
             const auto& value = item.value();
             auto str = [&](std::string& out) -> Status {
-                if (!value.is_string()) return makeError(ErrorCode::ParseError, where + ": \"" + key + "\" must be a string");
+                if (!value.is_string())
+                    return makeError(ErrorCode::ParseError, where + ": \"" + key + "\" must be a string");
                 out = value.get<std::string>();
                 return {};
             };
@@ -236,17 +240,27 @@ Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j,
             };
             Status s;
             if (key == "id") continue;
-            if (key == "name") s = str(r.name);
-            else if (key == "kind") s = str(r.kind);
-            else if (key == "lithology") s = str(r.lithology);
-            else if (key == "age") s = str(r.age);
-            else if (key == "era") s = str(r.era);
-            else if (key == "grade_unit") s = str(r.gradeUnit);
-            else if (key == "density") s = num(r.density);
-            else if (key == "grade") s = num(r.grade);
+            if (key == "name")
+                s = str(r.name);
+            else if (key == "kind")
+                s = str(r.kind);
+            else if (key == "lithology")
+                s = str(r.lithology);
+            else if (key == "age")
+                s = str(r.age);
+            else if (key == "era")
+                s = str(r.era);
+            else if (key == "grade_unit")
+                s = str(r.gradeUnit);
+            else if (key == "density")
+                s = num(r.density);
+            else if (key == "grade")
+                s = num(r.grade);
             else if (key == "colour" || key == "color") {
                 std::optional<Rgba8> c = value.is_string() ? parseColour(value.get<std::string>()) : std::nullopt;
-                if (!c) return makeError(ErrorCode::ParseError, where + ": \"" + key + "\" is not a colour like \"#a0b0c0\"");
+                if (!c)
+                    return makeError(ErrorCode::ParseError,
+                                     where + ": \"" + key + "\" is not a colour like \"#a0b0c0\"");
                 r.colour = *c;
             } else {
                 appendField(r.extra, key, value);  // keys of a parsed object are unique
@@ -275,7 +289,8 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
         std::sort(sorted.begin(), sorted.end());
         for (std::size_t c = 1; c < sorted.size(); ++c)
             if (sorted[c] == sorted[c - 1])
-                return makeError(ErrorCode::ParseError, source + ": line 1: column \"" + sorted[c] + "\" appears twice");
+                return makeError(ErrorCode::ParseError,
+                                 source + ": line 1: column \"" + sorted[c] + "\" appears twice");
     }
     AttributeTable table;
     std::size_t line = 1;
@@ -290,28 +305,39 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
                                                         std::to_string(header.size()));
         AttributeRecord r;
         auto id = parseId(f[static_cast<std::size_t>(idCol)]);
-        if (!id) return makeError(ErrorCode::ParseError, where + ": id \"" + f[static_cast<std::size_t>(idCol)] + "\" is not an integer in 1..4294967294");
+        if (!id)
+            return makeError(ErrorCode::ParseError, where + ": id \"" + f[static_cast<std::size_t>(idCol)] +
+                                                        "\" is not an integer in 1..4294967294");
         r.id = *id;
         if (table.find(r.id)) return makeError(ErrorCode::ParseError, where + ": duplicate id " + std::to_string(r.id));
         for (std::size_t c = 0; c < header.size(); ++c) {
             const std::string& key = header[c];
             std::string value(trim(f[c]));
             if (static_cast<int>(c) == idCol) continue;
-            if (key == "name") r.name = value;
-            else if (key == "kind") r.kind = value;
-            else if (key == "lithology") r.lithology = value;
-            else if (key == "age") r.age = value;
-            else if (key == "era") r.era = value;
-            else if (key == "grade_unit") r.gradeUnit = value;
+            if (key == "name")
+                r.name = value;
+            else if (key == "kind")
+                r.kind = value;
+            else if (key == "lithology")
+                r.lithology = value;
+            else if (key == "age")
+                r.age = value;
+            else if (key == "era")
+                r.era = value;
+            else if (key == "grade_unit")
+                r.gradeUnit = value;
             else if (key == "density" || key == "grade") {
                 if (value.empty()) continue;
                 auto d = parseDouble(value);
-                if (!d) return makeError(ErrorCode::ParseError, where + ": " + key + " \"" + value + "\" is not a finite number");
+                if (!d)
+                    return makeError(ErrorCode::ParseError,
+                                     where + ": " + key + " \"" + value + "\" is not a finite number");
                 (key == "density" ? r.density : r.grade) = *d;
             } else if (key == "colour" || key == "color") {
                 if (value.empty()) continue;
                 auto col = parseColour(value);
-                if (!col) return makeError(ErrorCode::ParseError, where + ": colour \"" + value + "\" is not like #a0b0c0");
+                if (!col)
+                    return makeError(ErrorCode::ParseError, where + ": colour \"" + value + "\" is not like #a0b0c0");
                 r.colour = *col;
             } else if (auto d = parseDouble(value)) {
                 appendField(r.extra, key, *d);  // header names are unique (checked above)

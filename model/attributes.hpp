@@ -36,9 +36,9 @@ struct AttributeRecord {
     std::string age;        // e.g. "Late Triassic (T3x)"
     std::string era;        // e.g. "Mesozoic"
     Rgba8 colour;
-    std::optional<double> density;  // t/m^3
-    std::optional<double> grade;    // in gradeUnit
-    std::string gradeUnit;          // e.g. "% SiO2", "g/t Au"
+    std::optional<double> density;                                    // t/m^3
+    std::optional<double> grade;                                      // in gradeUnit
+    std::string gradeUnit;                                            // e.g. "% SiO2", "g/t Au"
     nlohmann::ordered_json extra = nlohmann::ordered_json::object();  // untouched fields
 
     nlohmann::ordered_json toJson() const;

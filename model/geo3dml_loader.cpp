@@ -910,7 +910,8 @@ std::optional<Error> Reader::appendLineString(pugi::xml_node ls, Polyline& line)
             const std::size_t before = coords.size();
             take(pos, textOf(pos));
             if (!error && coords.size() - before != 3)
-                return fail(pos, "a gml:pos has " + std::to_string(coords.size() - before) + " coordinates; expected 3 (x y z)");
+                return fail(pos, "a gml:pos has " + std::to_string(coords.size() - before) +
+                                     " coordinates; expected 3 (x y z)");
         }
         if (error) return error;
     }

@@ -15,7 +15,8 @@ namespace {
 
 std::string lowerExtension(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return ext;
 }
 
@@ -48,7 +49,8 @@ void mergeSidecar(Model& model, const AttributeTable& side, const std::string& s
     std::size_t unmatched = 0;
     for (const auto& [id, rec] : side.records()) {
         if (matched.count(id)) continue;
-        if (unmatched++ < 20) list += (list.empty() ? "" : ", ") + ("'" + rec.name + "' (id " + std::to_string(id) + ")");
+        if (unmatched++ < 20)
+            list += (list.empty() ? "" : ", ") + ("'" + rec.name + "' (id " + std::to_string(id) + ")");
     }
     if (unmatched == 0) return;
     if (unmatched > 20) list += ", ... (" + std::to_string(unmatched - 20) + " more)";
@@ -71,8 +73,7 @@ Status applyCrsDeclarations(Model& model, const std::filesystem::path& p, std::s
     }
     if (!crsOverride.empty())
         if (auto s = declareModelCrs(model, crsOverride, CrsDeclaration::Override, "--crs"); !s) return s;
-    if (auto s = model.crs.checkModelCrs(); !s)
-        return makeError(s.error().code, p.string() + ": " + s.error().message);
+    if (auto s = model.crs.checkModelCrs(); !s) return makeError(s.error().code, p.string() + ": " + s.error().message);
     if (auto w = model.notes.find("crs_warning"); w != model.notes.end())
         std::fprintf(stderr, "geoslice: warning: %s: %s\n", p.string().c_str(), w->second.c_str());
     return {};
@@ -82,7 +83,8 @@ Status applyCrsDeclarations(Model& model, const std::filesystem::path& p, std::s
 
 Result<std::string> readFile(const std::string& path, std::size_t maxBytes) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) return makeError(ErrorCode::IoError, path + ": is a directory, not a file");
+    if (std::filesystem::is_directory(path, ec))
+        return makeError(ErrorCode::IoError, path + ": is a directory, not a file");
     std::ifstream in(path, std::ios::binary);
     if (!in) return makeError(ErrorCode::NotFound, path + ": cannot open (does it exist and is it readable?)");
     in.seekg(0, std::ios::end);
@@ -163,8 +165,9 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
         model = parseGeo3dml(data, path, baseDir);
     } else {
         return makeError(ErrorCode::Unsupported,
-                         path + ": unknown model format (expected .glb, .gltf, .obj, .vtu, GOCAD .ts .ml .so .vo .sg .pl "
-                                ".gp, or Geo3DML .xml)");
+                         path +
+                             ": unknown model format (expected .glb, .gltf, .obj, .vtu, GOCAD .ts .ml .so .vo .sg .pl "
+                             ".gp, or Geo3DML .xml)");
     }
     if (!model) return model;
 

@@ -56,11 +56,11 @@ struct Mesh {
 // Validation findings for one part (see model/validate.hpp).
 struct MeshReport {
     std::size_t triangles = 0, vertices = 0;
-    std::size_t boundaryEdges = 0;     // edges used by one triangle
-    std::size_t nonManifoldEdges = 0;  // edges used by more than two triangles that could not be paired
-    std::size_t splitEdges = 0;        // edges used by 4, 6... triangles, paired by angle (pinch-outs)
-    std::size_t splitVertices = 0;     // welded vertices that are several vertices of the 2-manifold
-    std::size_t inconsistentEdges = 0; // manifold edges whose two triangles disagree in orientation
+    std::size_t boundaryEdges = 0;        // edges used by one triangle
+    std::size_t nonManifoldEdges = 0;     // edges used by more than two triangles that could not be paired
+    std::size_t splitEdges = 0;           // edges used by 4, 6... triangles, paired by angle (pinch-outs)
+    std::size_t splitVertices = 0;        // welded vertices that are several vertices of the 2-manifold
+    std::size_t inconsistentEdges = 0;    // manifold edges whose two triangles disagree in orientation
     std::size_t degenerateTriangles = 0;  // repeated index or zero area
     std::size_t duplicateTriangles = 0;   // same three vertices as an earlier triangle
     std::size_t nonFiniteVertices = 0;    // NaN or Inf coordinates
@@ -70,10 +70,10 @@ struct MeshReport {
     // position and split per shell and per fan at pinch-outs.
     bool closed = false;
     bool consistentlyOriented = false;
-    double signedVolume = 0.0;  // m^3, after any flip; closed bodies only
-    bool flipped = false;       // orientation was inward and has been flipped
-    int nestingDepth = 0;       // number of other closed bodies that contain this one
-    int parent = -1;            // index into Model::bodies of the innermost container, or -1
+    double signedVolume = 0.0;             // m^3, after any flip; closed bodies only
+    bool flipped = false;                  // orientation was inward and has been flipped
+    int nestingDepth = 0;                  // number of other closed bodies that contain this one
+    int parent = -1;                       // index into Model::bodies of the innermost container, or -1
     std::vector<glm::dvec3> problemEdges;  // world midpoints of a few boundary / non-manifold edges
 };
 

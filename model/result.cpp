@@ -4,15 +4,24 @@ namespace geoslice {
 
 const char* errorCodeName(ErrorCode code) {
     switch (code) {
-        case ErrorCode::InvalidArgument: return "invalid_argument";
-        case ErrorCode::ParseError: return "parse_error";
-        case ErrorCode::IoError: return "io_error";
-        case ErrorCode::NotFound: return "not_found";
-        case ErrorCode::Unsupported: return "unsupported";
-        case ErrorCode::OutOfRange: return "out_of_range";
-        case ErrorCode::Internal: return "internal";
-        case ErrorCode::Unavailable: return "unavailable";
-        case ErrorCode::DeadlineExceeded: return "deadline_exceeded";
+        case ErrorCode::InvalidArgument:
+            return "invalid_argument";
+        case ErrorCode::ParseError:
+            return "parse_error";
+        case ErrorCode::IoError:
+            return "io_error";
+        case ErrorCode::NotFound:
+            return "not_found";
+        case ErrorCode::Unsupported:
+            return "unsupported";
+        case ErrorCode::OutOfRange:
+            return "out_of_range";
+        case ErrorCode::Internal:
+            return "internal";
+        case ErrorCode::Unavailable:
+            return "unavailable";
+        case ErrorCode::DeadlineExceeded:
+            return "deadline_exceeded";
     }
     return "internal";
 }

@@ -11,15 +11,15 @@
 namespace geoslice {
 
 enum class ErrorCode {
-    InvalidArgument,  // a bad value from a caller (CLI flag, request field)
-    ParseError,       // a malformed file: the message names file, line or byte offset
-    IoError,          // cannot open, read or write a file
-    NotFound,         // a named thing (file, model, record) does not exist
-    Unsupported,      // a valid input that geoslice does not handle (yet)
-    OutOfRange,       // a number outside what the operation accepts
-    Internal,         // a dependency failed in a way we cannot attribute to the input
-    Unavailable,      // no capacity now (queue full, memory budget spent): retry later
-    DeadlineExceeded, // the work did not finish in time, or its caller is gone (cancelled)
+    InvalidArgument,   // a bad value from a caller (CLI flag, request field)
+    ParseError,        // a malformed file: the message names file, line or byte offset
+    IoError,           // cannot open, read or write a file
+    NotFound,          // a named thing (file, model, record) does not exist
+    Unsupported,       // a valid input that geoslice does not handle (yet)
+    OutOfRange,        // a number outside what the operation accepts
+    Internal,          // a dependency failed in a way we cannot attribute to the input
+    Unavailable,       // no capacity now (queue full, memory budget spent): retry later
+    DeadlineExceeded,  // the work did not finish in time, or its caller is gone (cancelled)
 };
 
 const char* errorCodeName(ErrorCode code);
@@ -73,7 +73,7 @@ private:
 }  // namespace geoslice
 
 // An invariant that must hold in every build type.
-#define GS_ASSERT(expr, msg)                                                           \
-    do {                                                                               \
-        if (!(expr)) ::geoslice::assertionFailed(#expr, __FILE__, __LINE__, (msg));    \
+#define GS_ASSERT(expr, msg)                                                        \
+    do {                                                                            \
+        if (!(expr)) ::geoslice::assertionFailed(#expr, __FILE__, __LINE__, (msg)); \
     } while (0)

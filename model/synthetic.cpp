@@ -32,7 +32,8 @@ constexpr std::array<StratumSpec, kStrata> kStrataSpecs = {{
     {"Jialingjiang Formation", "dolomite with gypsum", "Early Triassic (T1j)", "Mesozoic", "#8fb3d9", 2.80, 220.0},
     {"Xujiahe Formation", "quartz sandstone", "Late Triassic (T3x)", "Mesozoic", "#f2d16b", 2.55, 300.0},
     {"Ziliujing Formation", "purple-red mudstone", "Early Jurassic (J1z)", "Mesozoic", "#c96b5a", 2.50, 250.0},
-    {"Shaximiao Formation", "siltstone and feldspathic sandstone", "Middle Jurassic (J2s)", "Mesozoic", "#d99a6c", 2.45, 0.0},
+    {"Shaximiao Formation", "siltstone and feldspathic sandstone", "Middle Jurassic (J2s)", "Mesozoic", "#d99a6c", 2.45,
+     0.0},
 }};
 
 std::uint64_t splitmix(std::uint64_t& s) {
@@ -52,7 +53,8 @@ struct Fields {
                25.0 * std::sin(2.0 * kPi * (x + y) / 1800.0 + minorPhase) + 0.02 * (y - 0.5 * kHeight);
     }
     double thicknessFactor(int k, double x, double y) const {
-        return 1.0 + 0.1 * std::sin(2.0 * kPi * x / 3700.0 + thickPhase + k) * std::cos(2.0 * kPi * y / 4300.0 + 0.7 * k);
+        return 1.0 +
+               0.1 * std::sin(2.0 * kPi * x / 3700.0 + thickPhase + k) * std::cos(2.0 * kPi * y / 4300.0 + 0.7 * k);
     }
     double terrain(double x, double y) const {
         return 1800.0 + 160.0 * std::sin(2.0 * kPi * x / 3100.0 + terrainPhase1) * std::cos(2.0 * kPi * y / 2700.0) +
@@ -74,7 +76,8 @@ struct Fields {
         }
         h[kStrata] = terrain(x, y);
         for (int k = kStrata - 1; k >= 1; --k)  // keep every stratum at least kMinThickness thick
-            h[static_cast<std::size_t>(k)] = std::min(h[static_cast<std::size_t>(k)], h[static_cast<std::size_t>(k + 1)] - kMinThickness);
+            h[static_cast<std::size_t>(k)] =
+                std::min(h[static_cast<std::size_t>(k)], h[static_cast<std::size_t>(k + 1)] - kMinThickness);
         return h;
     }
 };
@@ -109,8 +112,10 @@ Plan planFor(std::size_t target, OreVariant ore) {
         p.ncy = std::max(2, ncy);
         double dx = kHeight / p.ncy;
         for (int b = 0; b < kBlocks; ++b)
-            p.ncx[static_cast<std::size_t>(b)] = std::max(2, static_cast<int>(std::lround(
-                (kBlockEdges[static_cast<std::size_t>(b + 1)] - kBlockEdges[static_cast<std::size_t>(b)]) / dx)));
+            p.ncx[static_cast<std::size_t>(b)] = std::max(
+                2,
+                static_cast<int>(std::lround(
+                    (kBlockEdges[static_cast<std::size_t>(b + 1)] - kBlockEdges[static_cast<std::size_t>(b)]) / dx)));
         p.lensTheta = std::max(12, 4 * (p.ncy / 4));
         p.lensPhi = std::max(6, p.lensTheta / 2);
         p.faultNz = std::max(2, p.ncy / 2);
@@ -169,12 +174,12 @@ void addStratumShell(Mesh& m, const Fields& f, int b, int lo, int ncx, int ncy, 
             quad(m, B(i, j), B(i, j + 1), B(i + 1, j + 1), B(i + 1, j));  // down
         }
     for (int i = 0; i < ncx; ++i) {
-        quad(m, B(i, 0), B(i + 1, 0), T(i + 1, 0), T(i, 0));              // south, -y
-        quad(m, B(i + 1, ncy), B(i, ncy), T(i, ncy), T(i + 1, ncy));      // north, +y
+        quad(m, B(i, 0), B(i + 1, 0), T(i + 1, 0), T(i, 0));          // south, -y
+        quad(m, B(i + 1, ncy), B(i, ncy), T(i, ncy), T(i + 1, ncy));  // north, +y
     }
     for (int j = 0; j < ncy; ++j) {
-        quad(m, B(ncx, j), B(ncx, j + 1), T(ncx, j + 1), T(ncx, j));      // east, +x
-        quad(m, B(0, j + 1), B(0, j), T(0, j), T(0, j + 1));              // west, -x
+        quad(m, B(ncx, j), B(ncx, j + 1), T(ncx, j + 1), T(ncx, j));  // east, +x
+        quad(m, B(0, j + 1), B(0, j), T(0, j), T(0, j + 1));          // west, -x
     }
 }
 
@@ -194,9 +199,7 @@ void addLens(Mesh& m, const Fields& f, int nTheta, int nPhi, double zBottom, boo
         for (int i = 0; i < nTheta; ++i) m.positions.push_back(point(2.0 * kPi * i / nTheta, kPi * j / nPhi));
     m.positions.push_back(point(0.0, kPi));  // south pole
     const std::uint32_t south = static_cast<std::uint32_t>(m.positions.size() - 1);
-    auto R = [&](int j, int i) {
-        return first + 1 + static_cast<std::uint32_t>((j - 1) * nTheta + (i % nTheta));
-    };
+    auto R = [&](int j, int i) { return first + 1 + static_cast<std::uint32_t>((j - 1) * nTheta + (i % nTheta)); };
     auto tri = [&](std::uint32_t p, std::uint32_t q, std::uint32_t r) {
         if (inward) std::swap(q, r);
         m.indices.insert(m.indices.end(), {p, q, r});
@@ -237,8 +240,8 @@ std::optional<std::size_t> namedModelSize(const std::string& name) {
 
 Result<Model> generateSynthetic(const SyntheticOptions& options) {
     if (options.triangles < 2000 || options.triangles > 200'000'000)
-        return makeError(ErrorCode::OutOfRange, "--triangles " + std::to_string(options.triangles) +
-                                                    " is outside 2000..200000000");
+        return makeError(ErrorCode::OutOfRange,
+                         "--triangles " + std::to_string(options.triangles) + " is outside 2000..200000000");
     std::uint64_t s = options.seed;
     Fields f{};
     f.foldPhase = 0.4 + 0.8 * uniform(s);
@@ -306,7 +309,8 @@ Result<Model> generateSynthetic(const SyntheticOptions& options) {
     for (int b = 0; b < kBlocks; ++b)
         for (int k = 1; k <= kStrata; ++k) {
             Part p;
-            p.name = std::string(kStrataSpecs[static_cast<std::size_t>(k - 1)].name) + " (" + kBlockNames[static_cast<std::size_t>(b)] + ")";
+            p.name = std::string(kStrataSpecs[static_cast<std::size_t>(k - 1)].name) + " (" +
+                     kBlockNames[static_cast<std::size_t>(b)] + ")";
             p.kind = PartKind::Body;
             p.record = static_cast<RecordId>(k);
             addStratumShell(p.mesh, f, b, k - 1, plan.ncx[static_cast<std::size_t>(b)], plan.ncy, zBottom);

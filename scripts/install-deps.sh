@@ -34,6 +34,7 @@ build=(
 dev=(
   git curl
   clang libclang-rt-14-dev            # libFuzzer targets and sanitizers under clang
+  clang-format                        # the house format, checked by ctest's test `format`
   libegl-mesa0 libgl1-mesa-dri        # llvmpipe for the GL tests
   proj-bin                            # PROJ's cs2cs as the CRS test oracle
   libgtest-dev libgmock-dev libbenchmark-dev

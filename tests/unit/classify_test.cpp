@@ -106,8 +106,8 @@ TEST(Classify, AgreesWithBruteForceOnSyntheticModel) {
             int truth = -1;
             for (std::size_t k = 0; k < m->bodies.size(); ++k)
                 if (pointInClosedMesh(m->bodies[k].mesh, p) &&
-                    (truth < 0 ||
-                     m->bodies[k].report.nestingDepth >= m->bodies[static_cast<std::size_t>(truth)].report.nestingDepth))
+                    (truth < 0 || m->bodies[k].report.nestingDepth >=
+                                      m->bodies[static_cast<std::size_t>(truth)].report.nestingDepth))
                     truth = static_cast<int>(k);
             disagreements += (*c)->classifyBody(p) != truth;
         }

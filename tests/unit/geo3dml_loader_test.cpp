@@ -291,8 +291,9 @@ TEST(Geo3dmlLoader, SrsNameForms) {
 TEST(Geo3dmlLoader, UnsupportedCrsStaysLocalAndIsRecorded) {
     // Any EPSG CRS PROJ knows is supported (model/crs.hpp): WGS 84 / UTM zone 50N.
     const auto srsFor = [](const char* code) {
-        return std::string("<SpatialReferenceSystem><CoordinateReferenceSystem><Identifier>EPSG</Identifier>"
-                           "<Parameter>") +
+        return std::string(
+                   "<SpatialReferenceSystem><CoordinateReferenceSystem><Identifier>EPSG</Identifier>"
+                   "<Parameter>") +
                code + "</Parameter></CoordinateReferenceSystem></SpatialReferenceSystem>";
     };
     Result<Model> utm = parseGeo3dml(modelXml(tetraTin(), srsFor("32650")), "utm.xml");

@@ -210,7 +210,9 @@ TEST(Geo3dmlVolumes, LineFilesLoadAsLines) {
         ASSERT_TRUE(doc.load_string(xml.c_str()));
         std::size_t expectedLines = 0, expectedPoints = 0;
         for (const auto& x : doc.select_nodes("//*[local-name()='GeoFeature']"))
-            if (!x.node().select_nodes("*[local-name()='Geometry']/*[local-name()='Shape']//*[local-name()='LineString']").empty())
+            if (!x.node()
+                     .select_nodes("*[local-name()='Geometry']/*[local-name()='Shape']//*[local-name()='LineString']")
+                     .empty())
                 ++expectedLines;
         // Lines of feature shapes; the section's coverage domains (ShapeProperty) are not geometry.
         for (const auto& x : doc.select_nodes("//*[local-name()='Shape']//*[local-name()='LineString']"))

@@ -42,7 +42,8 @@ testing::VtuGrid toVtu(const VolumeMesh& m) {
     testing::VtuGrid::Array formation{"formation", "Int32", 1, {}};
     for (std::size_t c = 0; c < m.cellCount(); ++c) {
         g.types.push_back(static_cast<std::uint8_t>(m.cellTypes[c]));
-        for (std::uint32_t k = m.cellOffsets[c]; k < m.cellOffsets[c + 1]; ++k) g.connectivity.push_back(m.cellVertices[k]);
+        for (std::uint32_t k = m.cellOffsets[c]; k < m.cellOffsets[c + 1]; ++k)
+            g.connectivity.push_back(m.cellVertices[k]);
         g.offsets.push_back(static_cast<std::int64_t>(g.connectivity.size()));
         formation.values.push_back(m.cellRegions[c] + 1);  // record ids 1..4
     }
@@ -60,16 +61,19 @@ public:
         buckets_.resize(std::size_t(kN) * kN * kN);
         for (std::size_t c = 0; c < m.cellCount(); ++c) {
             Aabb b;
-            for (std::uint32_t k = m.cellOffsets[c]; k < m.cellOffsets[c + 1]; ++k) b.extend(m.positions[m.cellVertices[k]]);
+            for (std::uint32_t k = m.cellOffsets[c]; k < m.cellOffsets[c + 1]; ++k)
+                b.extend(m.positions[m.cellVertices[k]]);
             const glm::ivec3 lo = bucketOf(b.min), hi = bucketOf(b.max);
             for (int z = lo.z; z <= hi.z; ++z)
                 for (int y = lo.y; y <= hi.y; ++y)
-                    for (int x = lo.x; x <= hi.x; ++x) buckets_[index(x, y, z)].push_back(static_cast<std::uint32_t>(c));
+                    for (int x = lo.x; x <= hi.x; ++x)
+                        buckets_[index(x, y, z)].push_back(static_cast<std::uint32_t>(c));
         }
     }
     std::set<RecordId> at(const glm::dvec3& p) const {
         std::set<RecordId> out;
-        if (p.x < box_.min.x || p.y < box_.min.y || p.z < box_.min.z || p.x > box_.max.x || p.y > box_.max.y || p.z > box_.max.z)
+        if (p.x < box_.min.x || p.y < box_.min.y || p.z < box_.min.z || p.x > box_.max.x || p.y > box_.max.y ||
+            p.z > box_.max.z)
             return out;
         const glm::ivec3 b = bucketOf(p);
         for (const std::uint32_t c : buckets_[index(b.x, b.y, b.z)]) {
@@ -87,7 +91,9 @@ private:
         glm::ivec3 i = glm::ivec3(glm::floor((p - box_.min) / cell_));
         return glm::clamp(i, glm::ivec3(0), glm::ivec3(kN - 1));
     }
-    std::size_t index(int x, int y, int z) const { return (std::size_t(z) * kN + std::size_t(y)) * kN + std::size_t(x); }
+    std::size_t index(int x, int y, int z) const {
+        return (std::size_t(z) * kN + std::size_t(y)) * kN + std::size_t(x);
+    }
     const VolumeMesh& m_;
     Aabb box_;
     glm::dvec3 cell_;
@@ -110,7 +116,8 @@ double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm
     const double vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(p - (a + ac * (d2 / (d2 - d6))));
     const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
     const double denom = 1.0 / (va + vb + vc);
     return glm::length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
 }
@@ -121,8 +128,9 @@ double distanceToBoundary(const Model& m, const glm::dvec3& p) {
     double best = INFINITY;
     for (const auto& b : m.bodies)
         for (std::size_t t = 0; t < b.mesh.indices.size(); t += 3)
-            best = std::min(best, pointTriangleDistance(p, b.mesh.positions[b.mesh.indices[t]], b.mesh.positions[b.mesh.indices[t + 1]],
-                                                         b.mesh.positions[b.mesh.indices[t + 2]]));
+            best = std::min(best, pointTriangleDistance(p, b.mesh.positions[b.mesh.indices[t]],
+                                                        b.mesh.positions[b.mesh.indices[t + 1]],
+                                                        b.mesh.positions[b.mesh.indices[t + 2]]));
     return best;
 }
 
@@ -191,8 +199,8 @@ TEST(VtuOracle, TetModelInEveryEncodingAgreesWithPointInTetrahedron) {
         std::array<double, 5> tetVolume{};
         for (std::size_t t = 0; t < tm.mesh.cellCount(); ++t) {
             const std::uint32_t* v = &tm.mesh.cellVertices[tm.mesh.cellOffsets[t]];
-            tetVolume[std::size_t(tm.mesh.cellRegions[t] + 1)] += std::abs(
-                test::tetVolume(tm.mesh.positions[v[0]], tm.mesh.positions[v[1]], tm.mesh.positions[v[2]], tm.mesh.positions[v[3]]));
+            tetVolume[std::size_t(tm.mesh.cellRegions[t] + 1)] += std::abs(test::tetVolume(
+                tm.mesh.positions[v[0]], tm.mesh.positions[v[1]], tm.mesh.positions[v[2]], tm.mesh.positions[v[3]]));
         }
         auto reserves = computeReserves(model);
         ASSERT_TRUE(reserves) << reserves.error().message;
@@ -209,7 +217,8 @@ TEST(VtuOracle, TetModelInEveryEncodingAgreesWithPointInTetrahedron) {
         ASSERT_TRUE(classifier) << classifier.error().message;
         std::mt19937_64 rng(42);
         const Aabb box = oracle.bounds();
-        std::uniform_real_distribution<double> ux(box.min.x, box.max.x), uy(box.min.y, box.max.y), uz(box.min.z, box.max.z);
+        std::uniform_real_distribution<double> ux(box.min.x, box.max.x), uy(box.min.y, box.max.y),
+            uz(box.min.z, box.max.z);
         Tally points;
         std::vector<glm::dvec3> pts(100000);
         for (auto& p : pts) p = {ux(rng), uy(rng), uz(rng)};
@@ -237,10 +246,11 @@ TEST(VtuOracle, TetModelInEveryEncodingAgreesWithPointInTetrahedron) {
                     pixels.add(model, band, p, oracle.at(p), img->ids[std::size_t(j) * W + std::size_t(i)]);
                 }
         }
-        std::printf("[ oracle   ] vtu %s: classify %zu of %zu points agree (%zu disagree farther than %.2f mm, worst %.2f mm "
-                    "from a boundary); sections %zu of %zu pixels agree (%zu farther, worst %.2f mm); volumes within %.1e\n",
-                    c.label, points.agree, points.total, points.farDisagree, band * 1e3, points.worstDistance * 1e3, pixels.agree,
-                    pixels.total, pixels.farDisagree, pixels.worstDistance * 1e3, worstRel);
+        std::printf(
+            "[ oracle   ] vtu %s: classify %zu of %zu points agree (%zu disagree farther than %.2f mm, worst %.2f mm "
+            "from a boundary); sections %zu of %zu pixels agree (%zu farther, worst %.2f mm); volumes within %.1e\n",
+            c.label, points.agree, points.total, points.farDisagree, band * 1e3, points.worstDistance * 1e3,
+            pixels.agree, pixels.total, pixels.farDisagree, pixels.worstDistance * 1e3, worstRel);
         EXPECT_GE(double(points.agree), 0.9999 * double(points.total));
         EXPECT_EQ(points.farDisagree, 0u);
         EXPECT_GE(double(pixels.agree), 0.9999 * double(pixels.total));
