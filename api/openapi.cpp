@@ -105,9 +105,14 @@ J openApiDocument(const std::string& serverVersion) {
     const J id = pathParam("id", "model id: [A-Za-z0-9][A-Za-z0-9._-]{0,63}");
     const J format = pathParam("format", "image format", J{{"type", "string"}, {"enum", {"jpg", "png", "webp"}}});
     const J sectionFormat =
-        pathParam("format", "image format, or vector: geojson (polygons and traces with attributes and areas) or svg",
-                  J{{"type", "string"}, {"enum", {"jpg", "png", "webp", "geojson", "svg"}}});
+        pathParam("format",
+                  "image format, or vector: geojson (polygons and traces with attributes and areas) or svg, or pdf "
+                  "(a print-ready section sheet)",
+                  J{{"type", "string"}, {"enum", {"jpg", "png", "webp", "geojson", "svg", "pdf"}}});
     const J sid = pathParam("sid", "stateless section id from POST /v1/models/{id}/sections");
+    J sectionResponse = imageResponse();
+    for (const char* type : {"application/geo+json", "image/svg+xml", "application/pdf"})
+        sectionResponse["content"][type] = J::object();
     J paths = J::object();
     auto get = [&](const std::string& path, J operation) { paths[path]["get"] = std::move(operation); };
     auto post = [&](const std::string& path, J operation) { paths[path]["post"] = std::move(operation); };
@@ -132,12 +137,24 @@ J openApiDocument(const std::string& serverVersion) {
                                          J{{"description", "PNG"}, {"content", {{"image/png", J::object()}}}}));
     get("/v1/models/{id}/section.{format}",
         op("a section image: profile views from the exact CPU engine; perspective views from the GL renderer",
-           concat(J::array({id, sectionFormat, queryParam("quality", "integer", "JPEG/WebP quality 1..100"),
-                            queryParam("space", "string",
-                                       "geojson: plane (default; section u/v or chainage/elevation metres) or world "
-                                       "(x, y, z in the model's CRS)")}),
-                  viewParams()),
-           imageResponse()));
+           concat(
+               J::array(
+                   {id, sectionFormat, queryParam("quality", "integer", "JPEG/WebP quality 1..100"),
+                    queryParam("space", "string",
+                               "geojson: plane (default; section u/v or chainage/elevation metres) or world "
+                               "(x, y, z in the model's CRS)"),
+                    queryParam("layout", "string",
+                               "svg: print = a section sheet (axes, scale, ends, legend, title block) as section.pdf"),
+                    queryParam("decorate", "boolean", "jpg/png/webp: 1 = the section sheet as an image"),
+                    queryParam("paper", "string", "sheets: A0..A5, letter, tabloid (default A3)"),
+                    queryParam("orientation", "string", "sheets: landscape (default) or portrait"),
+                    queryParam("scale", "number",
+                               "sheets: scale denominator S of 1:S (vertical 1:S/vx); default: the smallest "
+                               "round scale at which the section fits the paper"),
+                    queryParam("dpi", "number", "decorated images: 50..600 (default 150)"),
+                    queryParam("date", "string", "sheets: the title block's date YYYY-MM-DD (default today, UTC)")}),
+               viewParams()),
+           sectionResponse));
     get("/v1/models/{id}/query",
         op("what lies under one pixel of the view given by the same parameters: record and "
            "attributes, the world point, "

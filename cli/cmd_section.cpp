@@ -17,8 +17,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/params.hpp"
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
+#include "print/cairo_output.hpp"
+#include "print/map_scale.hpp"
+#include "print/paper.hpp"
+#include "print/section_sheet.hpp"
+#include "print/sheet_date.hpp"
+#include "print/svg_output.hpp"
 #include "renderer/image_encode.hpp"
 #include "section/contours.hpp"
 #include "section/polyline.hpp"
@@ -28,6 +35,9 @@
 
 namespace geoslice::cli {
 namespace {
+
+using api::formatNumber;
+using print::todayUtc;
 
 using json = nlohmann::ordered_json;
 
@@ -95,11 +105,54 @@ json bodiesJson(const Model& m, const std::vector<BodySection>& bodies) {
     return out;
 }
 
+// The sheet's options from the flags, every value checked before the model loads.
+template <class Opts>
+Result<print::SheetOptions> sheetOptionsFromFlags(const Opts& o, const std::optional<FrameRect>& frame) {
+    const std::string ext = o.sheet.substr(std::min(o.sheet.size(), o.sheet.rfind('.') + 1));
+    if (ext != "pdf" && ext != "svg" && !isEncoded(o.sheet))
+        return makeError(ErrorCode::InvalidArgument,
+                         "--print \"" + o.sheet + "\": the extension must be .pdf, .svg, .png, .jpg or .webp");
+    print::SheetOptions so;
+    auto orientation = print::parseOrientation(o.orientation);
+    if (!orientation) return makeError(orientation.error().code, "--orientation: " + orientation.error().message);
+    auto paper = print::paperSize(o.paper, orientation.value());
+    if (!paper) return makeError(paper.error().code, "--paper: " + paper.error().message);
+    so.paper = paper.value();
+    if (!std::isnan(o.scale)) {
+        if (Status s = print::checkScale(o.scale); !s)
+            return makeError(s.error().code, "--scale: " + s.error().message);
+        so.scale = o.scale;
+    }
+    if (!(o.vx >= 0.1 && o.vx <= 100.0)) return makeError(ErrorCode::OutOfRange, "--vx must be within 0.1..100");
+    so.exaggeration = o.vx;
+    if (!(o.dpi >= 50.0 && o.dpi <= 600.0)) return makeError(ErrorCode::OutOfRange, "--dpi must be within 50..600");
+    so.dpi = o.dpi;
+    so.rasterGeometry = ext != "pdf" && ext != "svg";
+    so.frame = frame;
+    so.scaleName = "--scale";
+    if (!o.date.empty() && !print::isCalendarDate(o.date))
+        return makeError(ErrorCode::InvalidArgument, "--date \"" + o.date + "\" is not YYYY-MM-DD");
+    return so;
+}
+
+Status writeSheet(const std::string& path, const print::Sheet& sheet, double dpi) {
+    if (endsWith(path, ".pdf") || endsWith(path, ".svg")) {
+        auto doc = endsWith(path, ".pdf") ? print::renderPdf(sheet) : print::renderSvg(sheet);
+        if (!doc) return doc.error();
+        return writeText(path, doc.value());
+    }
+    auto raster = print::renderRaster(sheet, dpi);
+    if (!raster) return raster.error();
+    return writeImage(path, raster.value().rgba.data(), raster.value().width, raster.value().height);
+}
+
 }  // namespace
 
 void addSection(CLI::App& app, int& exitCode) {
     struct Opts {
         std::string model, plane, line, size = "1024x1024", frame, geojson, geojsonFrame = "plane", svg;
+        std::string sheet, paper = "A3", orientation = "landscape", date;
+        double scale = NAN, vx = 1.0, dpi = 150.0;
         std::vector<std::string> outs;
         double elevation = NAN;
         bool areas = false;
@@ -132,6 +185,16 @@ void addSection(CLI::App& app, int& exitCode) {
     cmd->add_option("--geojson-frame", o->geojsonFrame,
                     "GeoJSON coordinates: plane ([u, v] metres, default) or world ([x, y, z] in the model's CRS)");
     cmd->add_option("--svg", o->svg, "Write the polygons and traces as SVG (same frame and size as the image)");
+    cmd->add_option("--print", o->sheet,
+                    "Write a print-ready section sheet: .pdf, .svg (text as text), or .png/.jpg/.webp at --dpi; "
+                    "axes, scale, ends, legend, title block (print/section_sheet.hpp)");
+    cmd->add_option("--paper", o->paper, "Sheet paper: A0..A5, letter, tabloid (default A3)");
+    cmd->add_option("--orientation", o->orientation, "Sheet orientation: landscape (default) or portrait");
+    cmd->add_option("--scale", o->scale,
+                    "Sheet scale denominator S (1:S); default: the smallest round scale that fits the paper");
+    cmd->add_option("--vx", o->vx, "Vertical exaggeration of the sheet (default 1)");
+    cmd->add_option("--dpi", o->dpi, "Resolution of a .png/.jpg/.webp sheet, 50..600 (default 150)");
+    cmd->add_option("--date", o->date, "The title block's date, YYYY-MM-DD (default: today, UTC)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
     cmd->add_option("--threads", o->threads, "Threads for the cut: 1 or 2 (default 1)");
     cmd->callback([o, &exitCode] {
@@ -192,6 +255,12 @@ void addSection(CLI::App& app, int& exitCode) {
         if (o->geojsonFrame != "plane" && o->geojsonFrame != "world")
             return fail("--geojson-frame must be plane or world (got \"" + o->geojsonFrame + "\")", 2);
         if (o->threads < 1 || o->threads > 2) return fail("--threads must be 1 or 2", 2);
+        std::optional<print::SheetOptions> sheetOptions;
+        if (!o->sheet.empty()) {
+            auto so = sheetOptionsFromFlags(*o, givenFrame);
+            if (!so) return fail(so.error().message, 2);
+            sheetOptions = std::move(so.value());
+        }
 
         auto model = loadModel(o->model, o->load);
         if (!model) return fail(model.error().message, 1);
@@ -269,6 +338,23 @@ void addSection(CLI::App& app, int& exitCode) {
             auto svg = toSvg(idx, source, rect, width, height, ro);
             if (!svg) return fail(svg.error().message, 1);
             if (Status s = writeText(o->svg, svg.value()); !s) return fail(s.error().message, 1);
+        }
+        if (sheetOptions) {
+            print::SheetInfo info;
+            info.model = o->model;
+            info.crs = model->crs.isLocal() ? "local metres (no CRS)"
+                                            : (model->crs.epsg() > 0 ? "EPSG:" + std::to_string(model->crs.epsg()) + " "
+                                                                     : std::string()) +
+                                                  model->crs.name();
+            info.date = o->date.empty() ? todayUtc() : o->date;
+            info.definition = !o->plane.empty()  ? "plane=" + o->plane
+                              : !o->line.empty() ? "line=" + o->line
+                                                 : "elevation=" + formatNumber(o->elevation);
+            if (o->vx != 1.0) info.definition += "&vx=" + formatNumber(o->vx);
+            auto sheet = polyline ? print::sectionSheet(idx, *lineSection, *sheetOptions, info)
+                                  : print::sectionSheet(idx, *section, *sheetOptions, info);
+            if (!sheet) return fail(sheet.error().message, sheet.error().code == ErrorCode::OutOfRange ? 2 : 1);
+            if (Status s = writeSheet(o->sheet, sheet.value(), o->dpi); !s) return fail(s.error().message, 1);
         }
         if (o->areas) {
             const std::vector<BodySection>& bodies = polyline ? lineSection->bodies : section->bodies;

@@ -29,6 +29,8 @@ build=(
   libboost-dev libspdlog-dev libfmt-dev libcli11-dev   # Boost.Beast/Asio: the HTTP server
   libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks (configure needs it)
   libjs-leaflet                       # the web client embeds Debian's Leaflet (configure needs it)
+  # print sheets (print/): PDF, raster and text layout through cairo; the sheet's font
+  libcairo2-dev fonts-dejavu-core
 )
 # Everything else a developer or CI machine needs on top of the build list.
 dev=(
@@ -42,6 +44,7 @@ dev=(
   podman buildah crun fuse-overlayfs debootstrap nginx-light wrk python3-yaml
   # web client tests (tests/web): the browser driven by playwright-core, CJK glyphs
   chromium fonts-wqy-microhei
+  poppler-utils                       # pdftoppm/pdftotext open the print sheets' PDFs in tests
 )
 # tests/web need Node.js with npm; one already there (e.g. NodeSource's, which bundles npm)
 # is kept, since Debian's npm package conflicts with it.
@@ -61,6 +64,11 @@ runtime=(
   libturbojpeg0 libpng16-16 libwebp7 libzstd1
   # GL through glvnd: Mesa's EGL (device + surfaceless) and llvmpipe, OSMesa (dlopen)
   libegl1 libglvnd0 libegl-mesa0 libgl1-mesa-dri libosmesa6
+  # print sheets: cairo and what it loads (pixman, fontconfig + FreeType, its X11/xcb
+  # surface libraries, which libcairo2 links though geoslice draws headless), the font
+  libcairo2 libpixman-1-0 libfontconfig1 fontconfig-config libfreetype6 libexpat1
+  libxcb1 libxcb-shm0 libxcb-render0 libxrender1 libx11-6 libxext6 libxau6 libxdmcp6 libbsd0 libmd0
+  fonts-dejavu-core
   curl                                # HEALTHCHECK
 )
 

@@ -16,7 +16,9 @@
 #include "api/openapi.hpp"
 #include "api/plan.hpp"
 #include "api/reserves.hpp"
+#include "api/sheet.hpp"
 #include "api/view.hpp"
+#include "print/sheet_date.hpp"
 #include "renderer/image_encode.hpp"
 #include "server/gl_worker.hpp"
 #include "server/http_transport.hpp"
@@ -657,6 +659,11 @@ struct SectionServer::Impl {
         auto m = model(req.matches[1], res, req.path);
         if (!m) return;
         const std::string ext = req.matches[2];
+        if (auto sheet = sheetFormat(req, ext); !sheet) {
+            return problem(res, sheet.error(), req.path);
+        } else if (sheet.value()) {
+            return sectionSheet(req, res, *m, *sheet.value(), ext);
+        }
         if (ext == "geojson" || ext == "svg") return sectionVector(req, res, *m, ext == "svg");
         auto format = imageFormatFromName(ext);
         if (!format)
@@ -714,6 +721,65 @@ struct SectionServer::Impl {
                 return e;
             },
             renderBytes(plan.value().width, plan.value().height, perspective), perspective, req);
+        if (!result) return problem(res, result.error(), req.path);
+        sendEncoded(req, res, *result.value());
+    }
+
+    // Print sheets (api/sheet.hpp, print/): section.pdf, section.svg?layout=print and
+    // section.{png,jpg,webp}?decorate=1. nullopt: not a sheet request.
+    Result<std::optional<api::SheetFormat>> sheetFormat(const HttpRequest& req, const std::string& ext) {
+        const api::SheetFormat format = ext == "pdf"   ? api::SheetFormat::Pdf
+                                        : ext == "svg" ? api::SheetFormat::Svg
+                                                       : api::SheetFormat::Raster;
+        if (ext == "geojson") return std::optional<api::SheetFormat>();
+        auto params = toParams(req);
+        if (!params) return params.error();
+        auto wants = api::wantsSheet(params.value(), format);
+        if (!wants) return wants.error();
+        return wants.value() ? std::optional<api::SheetFormat>(format) : std::nullopt;
+    }
+
+    void sectionSheet(const HttpRequest& req, HttpResponse& res, const api::CatalogModel& m, api::SheetFormat format,
+                      const std::string& ext) {
+        auto params = toParams(req);
+        if (!params) return problem(res, params.error(), req.path);
+        auto imageFormat = imageFormatFromName(ext);
+        if (format == api::SheetFormat::Raster && !imageFormat) return problem(res, imageFormat.error(), req.path);
+        auto known = withNames(api::viewParamNames(), {"quality"});
+        known.insert(known.end(), api::sheetParamNames().begin(), api::sheetParamNames().end());
+        if (auto s = api::checkKnownParams(params.value(), known); !s) return problem(res, s.error(), req.path);
+        auto quality = qualityParam(params.value());
+        if (!quality) return problem(res, quality.error(), req.path);
+        auto sheet = api::parseSheetRequest(params.value(), m, format, print::todayUtc());
+        if (!sheet) return problem(res, sheet.error(), req.path);
+        if (auto s = validateView(m, sheet.value().plan); !s) return problem(res, s.error(), req.path);
+        const std::string key =
+            m.version + "|" + sheet.value().canonical() + "|" + ext + "|q=" + std::to_string(quality.value());
+        const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
+        if (auto hit = images.get(key)) return sendEncoded(req, res, *hit);
+        auto mp = catalog.find(m.id);
+        auto result = renderCoalesced(
+            key,
+            [this, mp, r = sheet.value(), etag, q = quality.value(),
+             imageFormat = imageFormat.ok() ? imageFormat.value() : ImageFormat::Png](
+                WorkerState&, const std::atomic<bool>& cancel) -> Rendered {
+                auto out = api::renderSheet(*mp, r, &cancel);
+                if (!out) return out.error();
+                metrics.render("sheet", out.value().renderMs / 1e3);
+                if (r.format == api::SheetFormat::Raster) {
+                    api::ViewImage v;
+                    v.width = out.value().width;
+                    v.height = out.value().height;
+                    v.rgba = std::move(out.value().rgba);
+                    return encode(v, imageFormat, q, etag, &cancel);
+                }
+                auto e = std::make_shared<Encoded>();
+                e->body = std::move(out.value().document);
+                e->contentType = r.format == api::SheetFormat::Pdf ? "application/pdf" : "image/svg+xml";
+                e->etag = etag;
+                return std::shared_ptr<const Encoded>(std::move(e));
+            },
+            std::max(kVectorBytes, sheet.value().memoryBytes()), false, req);
         if (!result) return problem(res, result.error(), req.path);
         sendEncoded(req, res, *result.value());
     }

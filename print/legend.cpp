@@ -1,0 +1,96 @@
+#include "print/legend.hpp"
+
+#include <set>
+
+#include "print/text_metrics.hpp"
+
+namespace geoslice::print {
+namespace {
+
+LegendEntry entryOf(const SectionIndex& index, std::uint32_t part, bool line) {
+    const SectionPart& p = index.parts[part];
+    LegendEntry e;
+    e.record = p.record;
+    e.colour = p.colour;
+    e.line = line;
+    e.name = p.part ? p.part->name : "";
+    if (index.model) {
+        if (const AttributeRecord* r = index.model->attributes.find(p.record)) {
+            if (!r->name.empty()) e.name = r->name;
+            e.lithology = r->lithology;
+            e.age = r->age;
+        }
+    }
+    if (e.name.empty()) e.name = "record " + std::to_string(p.record);
+    return e;
+}
+
+}  // namespace
+
+std::vector<LegendEntry> sectionLegend(const SectionIndex& index, const VectorSource& source) {
+    std::vector<LegendEntry> out;
+    std::set<std::pair<RecordId, bool>> seen;
+    std::set<std::uint32_t> bodyParts, surfaceParts;
+    if (source.bodies)
+        for (const BodySection& b : *source.bodies) bodyParts.insert(b.part);
+    if (source.traces)
+        for (const SectionTrace& t : *source.traces) surfaceParts.insert(t.part);
+    for (std::uint32_t part : bodyParts)
+        if (seen.insert({index.parts[part].record, false}).second) out.push_back(entryOf(index, part, false));
+    for (std::uint32_t part : surfaceParts)
+        if (seen.insert({index.parts[part].record, true}).second) out.push_back(entryOf(index, part, true));
+    return out;
+}
+
+double drawLegend(Sheet& sheet, const PageRect& area, const std::vector<LegendEntry>& entries) {
+    constexpr double kHeadingMm = 8.0, kRowMm = 7.6, kSwatchW = 10.0, kSwatchH = 5.6, kGap = 2.5;
+    constexpr double kNamePt = 7.2, kDetailPt = 6.0;
+    TextItem head{{area.x, area.y + 5.0}, "Legend", 10.0, true};
+    sheet.add(std::move(head));
+    const std::size_t fit = area.height <= kHeadingMm ? 0 : std::size_t((area.height - kHeadingMm) / kRowMm);
+    const std::size_t shown = entries.size() <= fit ? entries.size() : (fit == 0 ? 0 : fit - 1);
+    const double textX = area.x + kSwatchW + kGap, textW = area.right() - textX;
+    for (std::size_t i = 0; i < shown; ++i) {
+        const LegendEntry& e = entries[i];
+        const double y = area.y + kHeadingMm + kRowMm * double(i);
+        PathItem swatch;
+        if (e.line) {
+            swatch.subpaths = {{{area.x, y + 0.5 * kSwatchH}, {area.x + kSwatchW, y + 0.5 * kSwatchH}}};
+            swatch.closed = false;
+            swatch.stroke = Rgba8{e.colour.r, e.colour.g, e.colour.b, 255};
+            swatch.strokeMm = 0.6;
+        } else {
+            swatch.subpaths = {
+                {{area.x, y}, {area.x + kSwatchW, y}, {area.x + kSwatchW, y + kSwatchH}, {area.x, y + kSwatchH}}};
+            swatch.fill = e.colour;
+            swatch.stroke = Rgba8{40, 40, 40, 255};
+            swatch.strokeMm = 0.15;
+        }
+        swatch.title = e.name;
+        sheet.add(std::move(swatch));
+        TextItem name{{textX, y}, fitText(e.name, textW, kNamePt, true), kNamePt, true};
+        name.baseline = TextBaseline::Hanging;
+        sheet.add(std::move(name));
+        std::string detail = e.lithology;
+        if (!e.age.empty()) detail += (detail.empty() ? "" : ", ") + e.age;
+        if (e.line && detail.empty()) detail = "trace of a surface";
+        if (!detail.empty()) {
+            TextItem d{{textX, y + 3.4}, fitText(detail, textW, kDetailPt), kDetailPt};
+            d.baseline = TextBaseline::Hanging;
+            d.colour = Rgba8{70, 70, 70, 255};
+            sheet.add(std::move(d));
+        }
+    }
+    double used = kHeadingMm + kRowMm * double(shown);
+    if (shown < entries.size()) {
+        TextItem more{{area.x, area.y + used + 1.0},
+                      "\u2026 and " + std::to_string(entries.size() - shown) + " more units (see the model's legend)",
+                      kDetailPt};
+        more.baseline = TextBaseline::Hanging;
+        sheet.add(std::move(more));
+        used += kRowMm;
+    }
+    return used;
+}
+
+}  // namespace geoslice::print

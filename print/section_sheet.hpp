@@ -1,0 +1,68 @@
+// A geological section sheet: the section from the exact engine (section/) laid out on a
+// paper size at a stated scale with the surrounds of a printed section -- elevation and
+// distance axes in metres, the ends named (compass points for a straight section, A, B,
+// C... for a polyline, its bends marked), scale statement and bar, vertical
+// exaggeration, a legend of the units shown, a title block, and for horizontal slices a
+// coordinate grid and a north arrow. The result is a Sheet (print/sheet.hpp) that
+// print/cairo_output.hpp turns into PDF or a raster and print/svg_output.hpp into SVG.
+//
+// Geometry is the engine's polygons (plane u/v or chainage/elevation metres) mapped to page
+// millimetres by print/map_frame.hpp, or, with `rasterGeometry`, the engine's own raster
+// of the map box at the sheet's resolution (decorated PNG/JPEG).
+// Pure functions of their inputs, any thread.
+#pragma once
+
+#include <atomic>
+#include <optional>
+#include <string>
+
+#include "model/result.hpp"
+#include "print/map_frame.hpp"
+#include "print/paper.hpp"
+#include "print/sheet.hpp"
+#include "section/contours.hpp"
+#include "section/polyline.hpp"
+#include "section/raster.hpp"
+#include "section/section_index.hpp"
+
+namespace geoslice::print {
+
+struct SheetOptions {
+    Paper paper;
+    std::optional<double> scale;                // 1:S; nullopt = the smallest round scale that fits
+    double exaggeration = 1.0;                  // vertical exaggeration of vertical and inclined sections
+    std::optional<FrameRect> frame;             // section coordinates to show; nullopt = the section's contents
+    bool rasterGeometry = false;                // the section as the engine's raster (for PNG/JPEG)
+    double dpi = 150.0;                         // with rasterGeometry: the resolution the sheet is drawn at
+    std::string scaleName = "scale";            // how errors name the scale (parameter or flag)
+    const std::atomic<bool>* cancel = nullptr;  // read by the raster fill
+};
+
+// What the title block says about where the section came from (the caller knows).
+struct SheetInfo {
+    std::string model;       // model id
+    std::string version;     // model version
+    std::string crs;         // e.g. "EPSG:4523 CGCS2000 / 3-degree Gauss-Kruger zone 35", or "local metres"
+    std::string date;        // YYYY-MM-DD
+    std::string definition;  // the section's definition as asked, e.g. "plane=0,1,0,-3388846&vx=2"
+};
+
+// The sheet of a plane section (vertical, inclined or horizontal) or a polyline section.
+// Errors: OutOfRange naming options.scaleName when a given scale does not fit the paper;
+// Unsupported for a horizontal plane that keeps what lies above (seen from below);
+// the raster fill's (cancelled).
+Result<Sheet> sectionSheet(const SectionIndex& index, const Section& section, const SheetOptions& options,
+                           const SheetInfo& info);
+Result<Sheet> sectionSheet(const SectionIndex& index, const PolylineSection& section, const SheetOptions& options,
+                           const SheetInfo& info);
+
+// The page's regions (mm): where the map frame may go, the scale band below it, the title
+// band above it, and the side (landscape) or bottom (portrait) panel with the legend and
+// the title block. Exposed for tests.
+struct SheetLayout {
+    PageRect neat;  // the sheet's border
+    PageRect titleBand, mapArea, scaleBand, panel;
+};
+SheetLayout sheetLayout(const Paper& paper);
+
+}  // namespace geoslice::print

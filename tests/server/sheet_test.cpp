@@ -1,0 +1,134 @@
+// Print sheets over HTTP (api/sheet.hpp): section.pdf, section.svg?layout=print and
+// section.png?decorate=1 on the demo model, and bad sheet parameters answered 400 with the
+// parameter named.
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+
+#include <nlohmann/json.hpp>
+#include <pugixml.hpp>
+
+#include "server/http_server.hpp"
+
+namespace geoslice::server {
+namespace {
+
+using nlohmann::json;
+
+const std::string kBase = "/v1/models/demo/section.";
+const std::string kPlane = "plane=0,1,0,-3388846";
+
+class Sheets : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        spdlog::set_level(spdlog::level::warn);
+        ServerConfig c;
+        c.host = "127.0.0.1";
+        c.port = 0;
+        c.gl = "none";
+        c.workers = 2;
+        c.demoTriangles = 20000;
+        c.cacheMiB = 64;
+        c.deadlineMs = 20000;
+        server_ = new SectionServer(c);
+        auto port = server_->start();
+        ASSERT_TRUE(port) << port.error().message;
+        ASSERT_TRUE(server_->waitUntilLoaded());
+    }
+    static void TearDownTestSuite() {
+        delete server_;
+        server_ = nullptr;
+    }
+    static httplib::Result get(const std::string& path) {
+        httplib::Client c("127.0.0.1", server_->port());
+        c.set_read_timeout(60, 0);
+        return c.Get(path.c_str());
+    }
+    static SectionServer* server_;
+};
+SectionServer* Sheets::server_ = nullptr;
+
+void expectProblem(const httplib::Result& r, const std::string& parameter, const std::string& needle = "") {
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 400) << r->body;
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json");
+    const json j = json::parse(r->body, nullptr, false);
+    ASSERT_TRUE(j.is_object()) << r->body;
+    const std::string detail = j.value("detail", "");
+    EXPECT_NE(detail.find("parameter '" + parameter + "'"), std::string::npos) << detail;
+    EXPECT_NE(detail.find(needle), std::string::npos) << detail;
+}
+
+TEST_F(Sheets, PdfSvgAndDecoratedImages) {
+    auto pdf = get(kBase + "pdf?" + kPlane + "&paper=A4&vx=2&date=2026-11-24");
+    ASSERT_TRUE(pdf);
+    ASSERT_EQ(pdf->status, 200) << pdf->body;
+    EXPECT_EQ(pdf->get_header_value("Content-Type"), "application/pdf");
+    EXPECT_EQ(pdf->body.rfind("%PDF-", 0), 0u);
+    EXPECT_FALSE(pdf->get_header_value("ETag").empty());
+
+    auto svg = get(kBase + "svg?layout=print&line=35502500,3388000,35504500,3389000,35506500,3388500&paper=A3");
+    ASSERT_TRUE(svg);
+    ASSERT_EQ(svg->status, 200) << svg->body;
+    EXPECT_EQ(svg->get_header_value("Content-Type"), "image/svg+xml");
+    pugi::xml_document doc;
+    ASSERT_TRUE(doc.load_string(svg->body.c_str()));
+    std::size_t texts = 0;
+    bool title = false;
+    for (pugi::xml_node n : doc.child("svg").children("text")) {
+        ++texts;
+        title |= std::string(n.text().get()) == "Geological section A\u2013B\u2013C";
+    }
+    EXPECT_GT(texts, 30u);
+    EXPECT_TRUE(title);
+
+    // The plain SVG (no layout) is unchanged: the section alone in pixel space.
+    auto plain = get(kBase + "svg?" + kPlane + "&size=256x128");
+    ASSERT_TRUE(plain);
+    EXPECT_EQ(plain->status, 200);
+    EXPECT_EQ(plain->body.find("<text"), std::string::npos);
+
+    auto png = get(kBase + "png?" + kPlane + "&decorate=1&paper=A5&dpi=50");
+    ASSERT_TRUE(png);
+    ASSERT_EQ(png->status, 200) << png->body;
+    EXPECT_EQ(png->get_header_value("Content-Type"), "image/png");
+    ASSERT_GT(png->body.size(), 24u);
+    auto be32 = [&](std::size_t at) {
+        return (std::uint32_t(std::uint8_t(png->body[at])) << 24) |
+               (std::uint32_t(std::uint8_t(png->body[at + 1])) << 16) |
+               (std::uint32_t(std::uint8_t(png->body[at + 2])) << 8) | std::uint32_t(std::uint8_t(png->body[at + 3]));
+    };
+    EXPECT_EQ(be32(16), 413u);  // A5 landscape, 210 x 148 mm at 50 dpi
+    EXPECT_EQ(be32(20), 291u);
+    auto jpg = get(kBase + "jpg?elevation=300&decorate=true&paper=A5&dpi=60&orientation=portrait");
+    ASSERT_TRUE(jpg);
+    EXPECT_EQ(jpg->status, 200) << jpg->body;
+    EXPECT_EQ(jpg->get_header_value("Content-Type"), "image/jpeg");
+}
+
+TEST_F(Sheets, BadSheetParametersAreNamed) {
+    const std::string pdf = kBase + "pdf?" + kPlane;
+    expectProblem(get(pdf + "&paper=B7"), "paper", "not a paper size");
+    expectProblem(get(pdf + "&orientation=sideways"), "orientation", "landscape or portrait");
+    expectProblem(get(pdf + "&scale=0"), "scale", "scale denominator");
+    expectProblem(get(pdf + "&scale=abc"), "scale");
+    expectProblem(get(pdf + "&scale=nan"), "scale");
+    expectProblem(get(pdf + "&scale=500&paper=A4"), "scale", "largest round scale that fits");
+    expectProblem(get(pdf + "&dpi=300"), "dpi", "decorated images");
+    expectProblem(get(pdf + "&size=100x100"), "size");
+    expectProblem(get(pdf + "&bg=%23ff0000"), "bg");
+    expectProblem(get(pdf + "&date=2026-02-30"), "date");
+    expectProblem(get(pdf + "&view=perspective"), "view");
+    expectProblem(get(kBase + "png?" + kPlane + "&decorate=1&dpi=1000"), "dpi", "50..600");
+    expectProblem(get(kBase + "png?" + kPlane + "&decorate=1&paper=A0&dpi=600"), "dpi", "pixels");
+    expectProblem(get(kBase + "png?" + kPlane + "&decorate=maybe"), "decorate");
+    expectProblem(get(kBase + "svg?" + kPlane + "&layout=fancy"), "layout");
+    expectProblem(get(kBase + "svg?" + kPlane + "&decorate=1"), "decorate");
+    auto unknown = get(pdf + "&papr=A4");
+    ASSERT_TRUE(unknown);
+    EXPECT_EQ(unknown->status, 400);
+    EXPECT_NE(unknown->body.find("papr"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace geoslice::server
