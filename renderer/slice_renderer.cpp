@@ -121,6 +121,7 @@ Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context)
         v.u.lodShift = v.program.uniform("uLodShift");
         v.u.baked = v.program.uniform("uBaked");
         v.u.fetch = v.program.uniform("uFetch");
+        v.u.background = v.program.uniform("uBackground");
         r->programs_.push_back(std::move(v));
     }
     auto trace = GlProgram::build(context.gl(), "trace.vert", "trace.frag", {});
@@ -363,7 +364,12 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     image.viewProj = view->viewProj;
     const int planeCount = int(request.planes.size());
     const bool unionMode = request.combine == PlaneCombine::Union && planeCount > 1;
-    image.clipUsed = unionMode ? ClipMethod::Discard : request.clip;
+    // Two or more planes keeping their intersection (a convex region): the fragment stage
+    // judges each fragment by its view ray (shaders/slice.frag), so that a ray that leaves
+    // the region inside a body still shows that body's cap; gl_ClipDistance would drop the
+    // fragments past the exit that say which body that is.
+    const bool convexCut = request.combine == PlaneCombine::Intersection && planeCount > 1;
+    image.clipUsed = unionMode || convexCut ? ClipMethod::Discard : request.clip;
     const Variant& v = programs_[image.clipUsed == ClipMethod::ClipDistance ? 0 : 1];
     const GLuint prog = v.program.id();
 
@@ -413,6 +419,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         eyeUniform = glm::vec4(glm::vec3(glm::normalize(dir)), 0.0f);
     }
     gl.ProgramUniform4fv(prog, v.u.eye, 1, glm::value_ptr(eyeUniform));
+    gl.ProgramUniform4fv(prog, v.u.background, 1, bg);
     gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
     const bool baked = model.hasIdTexture() && request.bakedIds;
     gl.ProgramUniform1i(prog, v.u.baked, baked ? 1 : 0);
@@ -423,7 +430,17 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     }
     gl.BindVertexArray(model.vertexArray());
 
-    const std::vector<float> allowed = clusterBudget(model, request, *view, unionMode, planesLocalD, image);
+    // A convex cut keeps the clusters past its exit (see above): only a plane with the eye on
+    // its removed side may cull (a fragment on its removed side is in front of the kept
+    // region, or on a ray that misses it); in a profile no plane culls.
+    std::vector<std::uint8_t> culls(planesLocalD.size(), 1);
+    if (convexCut)
+        for (std::size_t i = 0; i < planesLocalD.size(); ++i) {
+            const glm::dvec4& pl = planesLocalD[i];
+            const auto* pv = std::get_if<PerspectiveView>(&request.view);
+            culls[i] = pv && glm::dot(glm::dvec3(pl), ve.toWorld(pv->eye) - model.origin()) + pl.w < 0.0;
+        }
+    const std::vector<float> allowed = clusterBudget(model, request, *view, unionMode, planesLocalD, culls, image);
     // Ranges of one part go out as one glMultiDrawElementsBaseVertex: llvmpipe pays its
     // per-draw validation once instead of per cluster (thousands of clusters at L4).
     struct Batch {
@@ -478,11 +495,11 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         // A group replaces its members when every one of them may have its error and none is
         // at full detail for a cut (budget 0) or skipped; coarsest first (the model stores
         // them finest first), and a group with a member already drawn by a coarser one stays.
-        // Intersection of planes only: then every member cell lies in the kept region, which
-        // is convex, so the group (in the hull of its members) meets no plane; a union's kept
-        // region is not convex.
+        // One plane only: then every member cell lies in the kept half-space, which is
+        // convex, so the group (in the hull of its members) meets no plane; a union's kept
+        // region is not convex, and a convex cut keeps cells past its exit too.
         handled.assign(p.clusters.size(), 0);
-        for (auto it = p.groups.rbegin(); it != p.groups.rend() && !unionMode; ++it) {
+        for (auto it = p.groups.rbegin(); it != p.groups.rend() && !unionMode && !convexCut; ++it) {
             bool ok = true;
             for (std::uint32_t m : it->members) {
                 const float budget = allowed[p.clusters[m].cell];
@@ -649,7 +666,8 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
 
 std::vector<float> SliceRenderer::clusterBudget(const GpuModel& model, const SliceRequest& request,
                                                 const ViewTransform& view, bool unionMode,
-                                                const std::vector<glm::dvec4>& planesLocal, SliceImage& image) const {
+                                                const std::vector<glm::dvec4>& planesLocal,
+                                                const std::vector<std::uint8_t>& culls, SliceImage& image) const {
     const std::vector<Aabb>& cells = model.cellBounds();
     std::vector<float> allowed(cells.size(), 0.0f);
     const bool perspective = std::holds_alternative<PerspectiveView>(request.view);
@@ -677,14 +695,15 @@ std::vector<float> SliceRenderer::clusterBudget(const GpuModel& model, const Sli
         // Slack for float32 positions and plane coefficients on the GPU.
         const double tol = 1e-3 + 1e-6 * glm::length(b.size()) + 1e-7 * glm::length(b.max);
         bool removed = unionMode && !planesLocal.empty(), crossing = false;
-        for (const glm::dvec4& pl : planesLocal) {
+        for (std::size_t i = 0; i < planesLocal.size(); ++i) {
+            const glm::dvec4& pl = planesLocal[i];
             double lo = std::numeric_limits<double>::infinity(), hi = -lo;
             for (const glm::dvec3& q : corner) {
                 const double d = glm::dot(glm::dvec3(pl), q) + pl.w;
                 lo = std::min(lo, d);
                 hi = std::max(hi, d);
             }
-            const bool outside = hi < -tol;
+            const bool outside = hi < -tol && culls[i];
             removed = unionMode ? (removed && outside) : (removed || outside);
             crossing = crossing || (lo <= tol && hi >= -tol);
         }

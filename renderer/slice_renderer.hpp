@@ -76,8 +76,10 @@ constexpr int kMaxPlanes = 6;
 struct SliceRequest {
     std::vector<WorldPlane> planes;  // world (a,b,c,d); normalised by render(); up to kMaxPlanes
     PlaneCombine combine = PlaneCombine::Intersection;
-    // ClipDistance with Union and more than one plane falls back to Discard (reported in
-    // SliceImage::clipUsed): gl_ClipDistance can only intersect half-spaces.
+    // ClipDistance with more than one plane falls back to Discard (reported in
+    // SliceImage::clipUsed): gl_ClipDistance can only intersect half-spaces, and with an
+    // intersection the fragment stage must see the fragments past the kept region's exit
+    // to fill the caps of rays that leave it inside a body (shaders/slice.frag).
     ClipMethod clip = ClipMethod::ClipDistance;
     // The view is in display space (see VerticalExaggeration): for a profile of a cut plane
     // P use exaggeration.planeToDisplay(P) and boundsToDisplay(bounds); eye and target of a
@@ -171,16 +173,17 @@ private:
     Status ensureTarget(int width, int height, int samples, bool fxaa);
     void resolveMultisample(int width, int height);
     // Per cell of the model: the geometric error (metres) its clusters may have in this
-    // frame, 0 = full detail, -1 = skip (removed side or outside the view).
+    // frame, 0 = full detail, -1 = skip (removed side of a plane with culls[i] != 0, or
+    // outside the view).
     std::vector<float> clusterBudget(const GpuModel& model, const SliceRequest& request, const ViewTransform& view,
                                      bool unionMode, const std::vector<glm::dvec4>& planesLocal,
-                                     SliceImage& image) const;
+                                     const std::vector<std::uint8_t>& culls, SliceImage& image) const;
     void runFxaa(int width, int height);
 
     struct Uniforms {
         GLint viewProj = -1, planes = -1, planeCount = -1, unionMode = -1, faceRole = -1, record = -1, colour = -1,
               capRecord = -1, capColour = -1, lightDir = -1, shadeScale = -1, eye = -1, lodShift = -1, baked = -1,
-              fetch = -1;
+              fetch = -1, background = -1;
     };
     struct Variant {
         GlProgram program;

@@ -21,6 +21,14 @@
 // A texel that holds no id (0: rounding at a chart border) falls back to the draw's record.
 // GS_CLIP_DISTANCE = 0: the paper's pixel mask (eq. 5): discard when the plane test fails;
 // uUnion = 1 keeps a fragment on the positive side of any plane, 0 of every plane.
+// Two or more planes with uUnion = 0 keep a convex region K that a view ray can leave again
+// while inside a body (a kept wedge or box seen through its apex): there no fragment of that
+// body lies on the kept part of the ray, and the cap would be missing. So there a fragment
+// is judged by where it lies on its view ray (from uEye): in front of K or on a ray that
+// misses K, discarded; in K, as usual; beyond K ("past the exit"), kept as a witness of what
+// the ray is inside where it leaves K: a cap (role 1) shows that body, as the nearest
+// surviving fragment does with one plane; an exterior face or an open surface (role 0) means
+// the ray left K in the open, so it writes the background (uBackground, id 0) at its depth.
 
 in vec3 vLocal;
 in vec2 vUv;
@@ -37,6 +45,8 @@ uniform vec3 uLightDir;  // local frame, unit, towards the light
 uniform vec3 uShadeScale;  // (1, 1, vertical exaggeration): shade the surface as displayed
 uniform int uBaked;
 uniform int uFetch;
+uniform vec4 uEye;         // local frame: the eye (w = 1, perspective) or the view direction (w = 0)
+uniform vec4 uBackground;  // straight RGBA, for fragments past a convex cut's exit
 layout(binding = 0) uniform usampler2DArray uIdTexture;
 layout(binding = 1) uniform sampler2D uColourTable;  // record r at (r % width, r / width)
 
@@ -56,8 +66,27 @@ void main() {
     // Derivatives before any discard: they need the whole 2x2 quad alive.
     vec3 shown = vLocal * uShadeScale;
     vec3 n = normalize(cross(dFdx(shown), dFdy(shown)));
+    bool pastExit = false;
 #if !GS_CLIP_DISTANCE
-    if (uPlaneCount > 0) {
+    if (uPlaneCount > 1 && uUnion == 0) {
+        // The view ray through this fragment: vLocal + l * dir, l < 0 towards the eye. K is
+        // kept for l in [lo, hi]; the eye bounds lo in perspective.
+        vec3 dir = uEye.w != 0.0 ? normalize(vLocal - uEye.xyz) : uEye.xyz;
+        float lo = uEye.w != 0.0 ? -length(vLocal - uEye.xyz) : -3.0e38;
+        float hi = 3.0e38;
+        for (int i = 0; i < uPlaneCount; ++i) {
+            float s = dot(uPlanes[i].xyz, vLocal) + uPlanes[i].w;
+            float ds = dot(uPlanes[i].xyz, dir);
+            if (ds > 0.0)
+                lo = max(lo, -s / ds);
+            else if (ds < 0.0)
+                hi = min(hi, -s / ds);
+            else if (s < 0.0)
+                discard;
+        }
+        if (lo > hi || lo > 0.0) discard;
+        pastExit = hi < 0.0;
+    } else if (uPlaneCount > 0) {
         bool keep = uUnion == 0;
         for (int i = 0; i < uPlaneCount; ++i) {
             bool inside = dot(uPlanes[i].xyz, vLocal) + uPlanes[i].w >= 0.0;
@@ -75,6 +104,11 @@ void main() {
         ivec2 table = textureSize(uColourTable, 0);
         ivec2 at = ivec2(int(record % uint(table.x)), int(record / uint(table.x)));
         if (at.y < table.y) colour = texelFetch(uColourTable, at, 0);
+    }
+    if (pastExit && uFaceRole != 1) {
+        oRecord = 0u;
+        oColour = uBackground;
+        return;
     }
     oRecord = record;
     if (uFaceRole == 1) {
