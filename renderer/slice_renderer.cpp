@@ -694,7 +694,9 @@ std::vector<float> SliceRenderer::clusterBudget(const GpuModel& model, const Sli
             corner[i] = {i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y, i & 4 ? b.max.z : b.min.z};
         // Slack for float32 positions and plane coefficients on the GPU.
         const double tol = 1e-3 + 1e-6 * glm::length(b.size()) + 1e-7 * glm::length(b.max);
-        bool removed = unionMode && !planesLocal.empty(), crossing = false;
+        // witness: past a convex cut's exit (a plane that does not cull), where the fragment
+        // stage reads which body a ray leaves the kept region in: full detail, like a cut.
+        bool removed = unionMode && !planesLocal.empty(), crossing = false, witness = false;
         for (std::size_t i = 0; i < planesLocal.size(); ++i) {
             const glm::dvec4& pl = planesLocal[i];
             double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -704,6 +706,7 @@ std::vector<float> SliceRenderer::clusterBudget(const GpuModel& model, const Sli
                 hi = std::max(hi, d);
             }
             const bool outside = hi < -tol && culls[i];
+            witness = witness || (hi < -tol && !culls[i]);
             removed = unionMode ? (removed && outside) : (removed || outside);
             crossing = crossing || (lo <= tol && hi >= -tol);
         }
@@ -722,7 +725,7 @@ std::vector<float> SliceRenderer::clusterBudget(const GpuModel& model, const Sli
             allowed[c] = -1.0f;
             continue;
         }
-        if (!lod || crossing) continue;  // full detail: the cut stays exact
+        if (!lod || crossing || witness) continue;  // full detail: the cut stays exact
         double pixelsPerMetre = orthoScale;
         if (perspective) {
             const glm::dvec3 lo(b.min.x, b.min.y, f * b.min.z), hi(b.max.x, b.max.y, f * b.max.z);
