@@ -43,8 +43,8 @@ Result<MapFrame> fitMapFrame(const FitRequest& r) {
                     ") needs " + formatGrouped(paperMm(w, *r.scale), 0) + " x " +
                     formatGrouped(paperMm(h * r.exaggeration, *r.scale), 0) + " mm, more than the " +
                     formatGrouped(r.area.width, 0) + " x " + formatGrouped(r.area.height, 0) + " mm map area of " +
-                    r.areaName + "; the largest round scale that fits is " + formatScale(fits) + " (" + r.scaleName +
-                    "=" + formatGrouped(fits, 0, 1e300) + "), or use a larger paper");
+                    r.areaName + "; the largest round scale that fits is " + formatScale(fits) +
+                    ", or use a larger paper");
         }
         f.scale = *r.scale;
     } else {

@@ -48,16 +48,24 @@ std::string degrees(double a) {
     return buf;
 }
 
-// Vertical extent of the contents with a 5 % margin (at least 1 m), or `fallback` when empty.
+// Vertical extent of the contents with a 3 % margin (at least 1 m), or `fallback` when empty.
 void verticalExtent(FrameRect& r, const glm::dvec2& lo, const glm::dvec2& hi, bool empty, double fallbackLo,
                     double fallbackHi) {
     double a = empty ? fallbackLo : lo.y, b = empty ? fallbackHi : hi.y;
-    const double m = std::max(0.05 * (b - a), 1.0);
+    const double m = std::max(0.03 * (b - a), 1.0);
     r.v0 = a - m;
     r.v1 = b + m;
 }
 
-SheetLayout layoutFor(const Paper& paper) {
+// The page's regions (mm): where the map frame may go, the title band above it, the scale
+// band below it, and the side (landscape) or bottom (portrait) panel with the legend and
+// the title block (portrait: as tall as `legendRows` need, up to 45 % of the sheet).
+struct SheetLayout {
+    PageRect neat;  // the sheet's border
+    PageRect titleBand, mapArea, scaleBand, panel;
+};
+
+SheetLayout layoutFor(const Paper& paper, std::size_t legendRows) {
     SheetLayout l;
     const double margin = 10.0;
     l.neat = {margin, margin, paper.widthMm - 2 * margin, paper.heightMm - 2 * margin};
@@ -67,7 +75,10 @@ SheetLayout layoutFor(const Paper& paper) {
         l.panel = {l.neat.right() - w, l.neat.y, w, l.neat.height};
         main.width -= w;
     } else {
-        const double h = std::clamp(0.30 * l.neat.height, 72.0, 125.0);
+        // Tall enough for the legend's rows (print/legend.cpp: 8 mm heading, 7.6 mm a row) and
+        // a title block, up to 45 % of the sheet.
+        const double legend = 8.0 + 7.6 * double(legendRows) + 8.0;
+        const double h = std::min(std::max({0.30 * l.neat.height, legend, 95.0}), 0.45 * l.neat.height);
         l.panel = {l.neat.x, l.neat.bottom() - h, l.neat.width, h};
         main.height -= h;
     }
@@ -175,7 +186,8 @@ void drawEnds(Sheet& sheet, const Shape& shape, const MapFrame& f) {
 }
 
 Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOptions& o, const SheetInfo& info) {
-    const SheetLayout l = layoutFor(o.paper);
+    const std::vector<LegendEntry> legend = sectionLegend(index, shape.source);
+    const SheetLayout l = layoutFor(o.paper, legend.size());
     if (o.frame) shape.extent = *o.frame;
     FitRequest fit;
     fit.extent = shape.extent;
@@ -228,7 +240,9 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
     sub.colour = Rgba8{60, 60, 60, 255};
     sheet.add(std::move(sub));
 
-    drawScaleBar(sheet, {f.box.x, l.scaleBand.y, f.box.width, l.scaleBand.height}, f, shape.kind != Shape::Horizontal,
+    // The scale statement just under the axis title when the frame leaves room below it.
+    const double scaleY = std::min(l.scaleBand.y, f.box.bottom() + 16.0);
+    drawScaleBar(sheet, {f.box.x, scaleY, f.box.width, l.scaleBand.height}, f, shape.kind != Shape::Horizontal,
                  std::min(100.0, 0.5 * std::max(f.box.width, 0.5 * l.mapArea.width)));
 
     // The panel: (north arrow), legend from the top, title block at the bottom.
@@ -258,13 +272,11 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
         drawNorthArrow(sheet, {legendArea.right() - 9.0, legendArea.y + 12.0}, 16.0);
     }
     if (o.paper.orientation == Orientation::Landscape) legendArea.height -= blockHeight + pad;
-    drawLegend(sheet, legendArea, sectionLegend(index, shape.source));
+    drawLegend(sheet, legendArea, legend);
     return sheet;
 }
 
 }  // namespace
-
-SheetLayout sheetLayout(const Paper& paper) { return layoutFor(paper); }
 
 Result<Sheet> sectionSheet(const SectionIndex& index, const Section& section, const SheetOptions& o,
                            const SheetInfo& info) {

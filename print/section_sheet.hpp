@@ -56,13 +56,4 @@ Result<Sheet> sectionSheet(const SectionIndex& index, const Section& section, co
 Result<Sheet> sectionSheet(const SectionIndex& index, const PolylineSection& section, const SheetOptions& options,
                            const SheetInfo& info);
 
-// The page's regions (mm): where the map frame may go, the scale band below it, the title
-// band above it, and the side (landscape) or bottom (portrait) panel with the legend and
-// the title block. Exposed for tests.
-struct SheetLayout {
-    PageRect neat;  // the sheet's border
-    PageRect titleBand, mapArea, scaleBand, panel;
-};
-SheetLayout sheetLayout(const Paper& paper);
-
 }  // namespace geoslice::print

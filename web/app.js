@@ -562,7 +562,8 @@ function updateExports() {
     if (!sec) { a.removeAttribute('href'); a.setAttribute('aria-disabled', 'true'); continue; }
     a.removeAttribute('aria-disabled');
     const ext = { expPng: 'png', expSvg: 'svg', expGeojson: 'geojson', expPdf: 'pdf' }[id];
-    const extra = ext === 'geojson' ? '&space=world' : '&size=2048x1024';
+    // A PDF is a print sheet: its paper sizes it (A3 landscape by default), so no size.
+    const extra = ext === 'geojson' ? '&space=world' : ext === 'pdf' ? '' : '&size=2048x1024';
     a.href = api(`/section.${ext}?${sec.q}${extra}`);
     a.download = `${S.model.id}-section.${ext}`;
   }

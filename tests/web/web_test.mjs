@@ -324,6 +324,11 @@ const tests = {
     check(svg.startsWith('<?xml') || svg.startsWith('<svg'), 'SVG export is SVG');
     const gj = await page.evaluate((u) => fetch(u).then((r) => r.json()), await page.locator('#expGeojson').getAttribute('href'));
     check(gj.type === 'FeatureCollection' && gj.features.length > 0, 'GeoJSON export');
+    // The server offers section.pdf (a print sheet): the PDF link is shown and answers a PDF.
+    check(!(await page.locator('#expPdf').isHidden()), 'PDF export shown');
+    const pdf = await page.evaluate((u) => fetch(u).then(async (r) => [r.status, r.headers.get('content-type'),
+      new TextDecoder().decode((await r.arrayBuffer()).slice(0, 5))]), await page.locator('#expPdf').getAttribute('href'));
+    check(pdf[0] === 200 && pdf[1] === 'application/pdf' && pdf[2] === '%PDF-', `PDF export ${pdf}`);
     await page.context().close();
   },
 
