@@ -40,6 +40,9 @@ dev=(
   libegl-mesa0 libgl1-mesa-dri        # llvmpipe for the GL tests
   proj-bin                            # PROJ's cs2cs as the CRS test oracle
   libgtest-dev libgmock-dev libbenchmark-dev
+  # bench/table1: its peers and plots (benchmark-only, never linked into geoslice):
+  # VTK 9.1's cutters through Python, CGAL's Polygon_mesh_slicer (headers), matplotlib
+  python3-vtk9 libcgal-dev python3-matplotlib
   # deploy tests (tests/deploy, deploy/test-image.sh): containers, load balancer, load
   podman buildah crun fuse-overlayfs debootstrap nginx-light wrk python3-yaml
   # web client tests (tests/web): the browser driven by playwright-core, CJK glyphs
