@@ -156,20 +156,25 @@ bool overlapsRect(const NodeTest& t, const PlaneRect& rect) {
     return cu + ru >= rect.u0 - tol && cu - ru <= rect.u1 + tol && cv + rv >= rect.v0 - tol && cv - rv <= rect.v1 + tol;
 }
 
-// Calls onLeaf(node) for every leaf that straddles the plane (and overlaps the rectangle).
+template <bool kRect>
+bool hitNode(const BvhNode& nd, const LocalPlane& plane, const PlaneRect* rect, BvhQueryStats& st) {
+    ++st.nodesVisited;
+    const NodeTest t(nd);
+    if (!straddles(t, plane)) return false;
+    if constexpr (kRect) {
+        if (!overlapsRect(t, *rect)) return false;
+    }
+    return true;
+}
+
+// Calls onLeaf(node) for every leaf under `start` that straddles the plane (and overlaps
+// the rectangle).
 template <bool kRect, class OnLeaf>
-void traverse(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* rect, BvhQueryStats& st, OnLeaf&& onLeaf) {
+void traverse(const Bvh& bvh, std::uint32_t start, const LocalPlane& plane, const PlaneRect* rect, BvhQueryStats& st,
+              OnLeaf&& onLeaf) {
     if (bvh.nodes.empty()) return;
-    auto hit = [&](const BvhNode& nd) {
-        ++st.nodesVisited;
-        const NodeTest t(nd);
-        if (!straddles(t, plane)) return false;
-        if constexpr (kRect) {
-            if (!overlapsRect(t, *rect)) return false;
-        }
-        return true;
-    };
-    const BvhNode& root = bvh.nodes[0];
+    auto hit = [&](const BvhNode& nd) { return hitNode<kRect>(nd, plane, rect, st); };
+    const BvhNode& root = bvh.nodes[start];
     if (!hit(root)) return;
     if (root.count) {
         onLeaf(root);
@@ -238,7 +243,7 @@ void query(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, const
             out.push_back(id);
         }
     };
-    traverse<kRect>(bvh, plane, rect, st, leaf);
+    traverse<kRect>(bvh, 0, plane, rect, st, leaf);
     if (stats) {
         stats->nodesVisited += st.nodesVisited;
         stats->trianglesTested += st.trianglesTested;
@@ -331,9 +336,57 @@ void queryPlaneLeaves(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* 
         st.trianglesTested += nd.count;
     };
     if (rect)
-        traverse<true>(bvh, plane, rect, st, onLeaf);
+        traverse<true>(bvh, 0, plane, rect, st, onLeaf);
     else
-        traverse<false>(bvh, plane, nullptr, st, onLeaf);
+        traverse<false>(bvh, 0, plane, nullptr, st, onLeaf);
+    if (stats) {
+        stats->nodesVisited += st.nodesVisited;
+        stats->trianglesTested += st.trianglesTested;
+    }
+}
+
+void queryPlaneUnits(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* rect, std::size_t minUnits,
+                     std::vector<std::uint32_t>& units, BvhQueryStats* stats) {
+    units.clear();
+    if (bvh.nodes.empty()) return;
+    BvhQueryStats st;
+    auto hit = [&](const BvhNode& nd) {
+        return rect ? hitNode<true>(nd, plane, rect, st) : hitNode<false>(nd, plane, nullptr, st);
+    };
+    if (!hit(bvh.nodes[0])) return;
+    units.push_back(0);
+    std::vector<std::uint32_t> next;
+    while (units.size() < minUnits) {
+        next.clear();
+        bool expanded = false;
+        for (std::uint32_t u : units) {
+            const BvhNode& nd = bvh.nodes[u];
+            if (nd.count) {
+                next.push_back(u);
+                continue;
+            }
+            expanded = true;
+            for (std::uint32_t c = nd.first; c < nd.first + 2; ++c)
+                if (hit(bvh.nodes[c])) next.push_back(c);
+        }
+        units.swap(next);
+        if (!expanded) break;
+    }
+    if (stats) stats->nodesVisited += st.nodesVisited;
+}
+
+void queryPlaneLeavesUnder(const Bvh& bvh, std::uint32_t unit, const LocalPlane& plane, const PlaneRect* rect,
+                           std::vector<std::uint32_t>& leaves, BvhQueryStats* stats) {
+    BvhQueryStats st;
+    const BvhNode* base = bvh.nodes.data();
+    auto onLeaf = [&](const BvhNode& nd) {
+        leaves.push_back(static_cast<std::uint32_t>(&nd - base));
+        st.trianglesTested += nd.count;
+    };
+    if (rect)
+        traverse<true>(bvh, unit, plane, rect, st, onLeaf);
+    else
+        traverse<false>(bvh, unit, plane, nullptr, st, onLeaf);
     if (stats) {
         stats->nodesVisited += st.nodesVisited;
         stats->trianglesTested += st.trianglesTested;

@@ -117,6 +117,16 @@ void queryPlane(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, 
 void queryPlaneLeaves(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* rect,
                       std::vector<std::uint32_t>& leaves, BvhQueryStats* stats = nullptr);
 
+// Work units for a parallel traversal: the straddling (and rectangle-overlapping) nodes of
+// a breadth-first descent from the root that stops once at least `minUnits` are known or
+// only leaves are left, in that order. The leaves queryPlaneLeavesUnder finds under each
+// unit, unit by unit, are exactly the leaves of queryPlaneLeaves (in another order).
+void queryPlaneUnits(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* rect, std::size_t minUnits,
+                     std::vector<std::uint32_t>& units, BvhQueryStats* stats = nullptr);
+// Appends the straddling leaves under node `unit` (breadth first, as queryPlaneLeaves).
+void queryPlaneLeavesUnder(const Bvh& bvh, std::uint32_t unit, const LocalPlane& plane, const PlaneRect* rect,
+                           std::vector<std::uint32_t>& leaves, BvhQueryStats* stats = nullptr);
+
 // As queryPlane, and also skips nodes and triangles whose extent along u or v misses
 // [u0, u1] x [v0, v1] (conservative: a triangle returned may still miss the rectangle).
 void queryPlaneRect(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, const PlaneRect& rect,

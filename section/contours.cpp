@@ -1,17 +1,21 @@
 #include "section/contours.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <thread>
 
 namespace geoslice {
 namespace {
 
 constexpr std::uint64_t kNoKey = ~0ull;  // edge keys have lo < hi, so never all ones
 constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+// Below this many segments a second thread costs more than it saves.
+constexpr std::size_t kTwoThreadMinSegments = 4096;
 
 // Edge key -> the (up to) two segment ends on that edge; end = segment * 2 + (0: a, 1: b).
 struct EndTable {
@@ -196,18 +200,19 @@ bool pointInRing(const glm::dvec2& p, const Ring& ring) {
     return inside;
 }
 
-void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& out) {
+void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& out, unsigned threads) {
     out.frame = cut.frame;
     out.bodies.clear();
     out.traces.clear();
-    EndTable table;
-    std::vector<char> visited;
-    // Closed loops of every body, kept until the regions (host + nested) are assembled.
-    std::vector<std::vector<Ring>> loops(index.bodyCount);
+    // Chaining is per part and region assembly per body, each into its own slot, so two
+    // threads may take parts (then bodies) in any order: the output is collected in part
+    // order afterwards and never depends on the thread count.
+    const std::size_t partCount = index.parts.size();
+    std::vector<std::vector<Ring>> loops(index.bodyCount);  // closed loops of every body
     std::vector<std::size_t> open(index.bodyCount, 0);
-    for (std::size_t p = 0; p < index.parts.size(); ++p) {
+    std::vector<std::vector<SectionTrace>> partTraces(partCount);
+    auto chainPart = [&](std::size_t p, EndTable& table, std::vector<char>& visited) {
         const std::vector<CutSegment>& segs = cut.parts[p];
-        if (segs.empty()) continue;
         table.reset(2 * segs.size());
         for (std::uint32_t i = 0; i < segs.size(); ++i) {
             table.insert(segs[i].keyA, 2 * i);
@@ -215,6 +220,7 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
         }
         visited.assign(segs.size(), 0);
         const bool body = index.parts[p].kind == PartKind::Body;
+        std::vector<SectionTrace>& traces = partTraces[p];
         if (!body) {
             // Open ends first, so each polyline is walked from one end.
             for (std::uint32_t i = 0; i < segs.size(); ++i) {
@@ -224,7 +230,7 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
                 if (!freeA && !freeB) continue;
                 Chain c = walk(segs, table, visited, i, freeA);
                 if (c.points.size() >= 2)
-                    out.traces.push_back(
+                    traces.push_back(
                         SectionTrace{static_cast<std::uint32_t>(p), index.parts[p].record, std::move(c.points), false});
             }
         }
@@ -237,33 +243,85 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
                 else if (c.points.size() >= 3)
                     loops[p].push_back(std::move(c.points));
             } else if (c.points.size() >= 2) {
-                out.traces.push_back(
+                traces.push_back(
                     SectionTrace{static_cast<std::uint32_t>(p), index.parts[p].record, std::move(c.points), c.closed});
             }
         }
-    }
+    };
 
     // Regions: a body's loops plus those of the bodies nested directly inside it.
     std::vector<std::vector<std::uint32_t>> children(index.bodyCount);
-    for (std::size_t b = 0; b < index.bodyCount; ++b) {
-        const int parent = index.parts[b].parent;
-        if (parent >= 0 && static_cast<std::size_t>(parent) < index.bodyCount && !loops[b].empty())
-            children[static_cast<std::size_t>(parent)].push_back(static_cast<std::uint32_t>(b));
-    }
-    for (std::size_t b = 0; b < index.bodyCount; ++b) {
-        if (loops[b].empty() && open[b] == 0) continue;
+    std::vector<BodySection> bodies(index.bodyCount);
+    std::vector<char> present(index.bodyCount, 0);
+    auto assembleBody = [&](std::size_t b) {
+        if (loops[b].empty() && open[b] == 0) return;
         std::vector<RingInfo> rings;
         for (const Ring& r : loops[b]) rings.push_back(makeRingInfo(r));
         if (!loops[b].empty())
             for (std::uint32_t c : children[b])
                 for (const Ring& r : loops[c]) rings.push_back(makeRingInfo(r));
-        BodySection bs;
+        BodySection& bs = bodies[b];
         bs.part = static_cast<std::uint32_t>(b);
         bs.record = index.parts[b].record;
         bs.openChains = open[b];
         bs.area = assemble(rings, bs.polygons);
-        out.bodies.push_back(std::move(bs));
+        present[b] = 1;
+    };
+
+    // Work lists, largest first (balance for two threads).
+    std::vector<std::uint32_t> partOrder;
+    std::size_t segments = 0;
+    for (std::size_t p = 0; p < partCount; ++p)
+        if (!cut.parts[p].empty()) partOrder.push_back(static_cast<std::uint32_t>(p)), segments += cut.parts[p].size();
+    std::stable_sort(partOrder.begin(), partOrder.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return cut.parts[a].size() > cut.parts[b].size(); });
+    std::atomic<std::size_t> nextPart{0}, nextBody{0};
+    std::atomic<int> chained{0};  // threads done chaining
+    auto linkChildren = [&] {
+        for (std::size_t b = 0; b < index.bodyCount; ++b) {
+            const int parent = index.parts[b].parent;
+            if (parent >= 0 && static_cast<std::size_t>(parent) < index.bodyCount && !loops[b].empty())
+                children[static_cast<std::size_t>(parent)].push_back(static_cast<std::uint32_t>(b));
+        }
+    };
+    if (threads >= 2 && segments >= kTwoThreadMinSegments && partOrder.size() >= 2) {
+        // The worker chains and then assembles; the caller chains, links the nesting once
+        // both have chained, then assembles alongside.
+        std::atomic<int> linked{0};
+        std::thread worker([&] {
+            EndTable table;
+            std::vector<char> visited;
+            for (std::size_t i = nextPart++; i < partOrder.size(); i = nextPart++)
+                chainPart(partOrder[i], table, visited);
+            chained.fetch_add(1);
+            chained.notify_all();
+            linked.wait(0);
+            for (std::size_t b = nextBody++; b < index.bodyCount; b = nextBody++) assembleBody(b);
+        });
+        {
+            EndTable table;
+            std::vector<char> visited;
+            for (std::size_t i = nextPart++; i < partOrder.size(); i = nextPart++)
+                chainPart(partOrder[i], table, visited);
+        }
+        chained.fetch_add(1);
+        for (int c = chained.load(); c < 2; c = chained.load()) chained.wait(c);
+        linkChildren();
+        linked.store(1);
+        linked.notify_all();
+        for (std::size_t b = nextBody++; b < index.bodyCount; b = nextBody++) assembleBody(b);
+        worker.join();
+    } else {
+        EndTable table;
+        std::vector<char> visited;
+        for (std::uint32_t p : partOrder) chainPart(p, table, visited);
+        linkChildren();
+        for (std::size_t b = 0; b < index.bodyCount; ++b) assembleBody(b);
     }
+    for (std::size_t b = 0; b < index.bodyCount; ++b)
+        if (present[b]) out.bodies.push_back(std::move(bodies[b]));
+    for (auto& t : partTraces)
+        for (auto& tr : t) out.traces.push_back(std::move(tr));
 
     glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (const auto& b : out.bodies)
@@ -317,7 +375,7 @@ Result<Section> computeSection(const SectionIndex& index, const Plane& plane, co
     const auto t2 = std::chrono::steady_clock::now();
     Section s;
     s.plane = checked.value();
-    assembleContours(index, cut, s);
+    assembleContours(index, cut, s, options.threads);
     if (timings) {
         timings->queryMs = cs.queryMs;
         timings->cutMs = cs.cutMs;

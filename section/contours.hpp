@@ -61,7 +61,9 @@ struct Section {
 };
 
 // Chains `cut` and assembles polygons and traces into `out` (frame and plane copied).
-void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& out);
+// threads = 2 shares the parts' chaining and the bodies' assembly between two threads
+// (above a few thousand segments); the output is the same for any thread count.
+void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& out, unsigned threads = 1);
 
 struct SectionTimings {
     double queryMs = 0.0, cutMs = 0.0, contourMs = 0.0;
@@ -69,7 +71,7 @@ struct SectionTimings {
 };
 
 struct SectionOptions {
-    unsigned threads = 1;  // 1 or 2: the cut of the BVH leaves' triangles (see cutWithBvh)
+    unsigned threads = 1;  // 1 or 2: the BVH traversal and cut (see cutWithBvh), then contour assembly
 };
 
 // Validates the plane, queries the BVH, cuts and assembles.

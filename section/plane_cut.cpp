@@ -1,6 +1,7 @@
 #include "section/plane_cut.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -99,6 +100,11 @@ inline __attribute__((always_inline)) void cutOne(const PartArrays& part, const 
     ++out.segments;
 }
 
+// Units of the traversal (section/bvh.hpp queryPlaneUnits): enough for two threads to
+// balance by taking them one at a time.
+constexpr std::size_t kTraversalUnits = 32;
+constexpr std::size_t kTwoThreadMinTriangles = 100000;
+
 }  // namespace
 
 void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out) {
@@ -122,11 +128,29 @@ void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std
 
 void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out, unsigned threads, CutStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<std::uint32_t> leaves;
-    BvhQueryStats qs;
-    queryPlaneLeaves(index.bvh, out.plane, rect, leaves, &qs);
-    const auto t1 = std::chrono::steady_clock::now();
     const Bvh& bvh = index.bvh;
+    // The traversal runs in units (subtrees near the root) so that two threads can share it;
+    // the leaves are taken unit by unit in unit order whatever the thread count, so the
+    // output never depends on it.
+    std::vector<std::uint32_t> units;
+    BvhQueryStats qs;
+    queryPlaneUnits(bvh, out.plane, rect, kTraversalUnits, units, &qs);
+    std::vector<std::vector<std::uint32_t>> unitLeaves(units.size());
+    std::atomic<std::size_t> nextUnit{0};
+    auto traverseUnits = [&](BvhQueryStats& st) {
+        for (std::size_t u = nextUnit++; u < units.size(); u = nextUnit++)
+            queryPlaneLeavesUnder(bvh, units[u], out.plane, rect, unitLeaves[u], &st);
+    };
+    // A second thread costs a thread start (tens of microseconds): small models cut on one.
+    const bool two = threads >= 2 && units.size() >= 2 && bvh.triangles.size() >= kTwoThreadMinTriangles;
+    std::vector<std::uint32_t> leaves;
+    auto gatherLeaves = [&] {
+        std::size_t n = 0;
+        for (const auto& l : unitLeaves) n += l.size();
+        leaves.reserve(n);
+        for (const auto& l : unitLeaves) leaves.insert(leaves.end(), l.begin(), l.end());
+    };
+    std::chrono::steady_clock::time_point t1;
     const std::vector<PartArrays> arrays = partArrays(index);
     // The cut is bound by memory latency along a chain of four dependent loads per leaf:
     // node -> its triangle ids -> their vertex indices -> the vertices. Each link is
@@ -171,21 +195,44 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
             }
         }
     };
-    if (threads >= 2 && qs.trianglesTested >= 4096) {
-        // Split point: half of the tested triangles.
-        std::size_t split = 0, acc = 0;
-        while (split < leaves.size() && 2 * acc < qs.trianglesTested) acc += bvh.nodes[leaves[split++]].count;
+    if (two) {
+        // Worker: its share of the traversal, then (once the leaves are split) the second
+        // half of the cut. Hand-offs through atomic wait/notify (futex), not spinning: the
+        // two threads may share the cores with other work.
+        std::atomic<int> phase{0};  // 1: worker's traversal done; 2: split known
+        std::size_t split = 0;
+        BvhQueryStats workerStats;
         PlaneCut second;
         second.frame = out.frame;
         second.plane = out.plane;
         second.parts.resize(out.parts.size());
-        std::thread worker([&] { cutRange(split, leaves.size(), second); });
+        std::thread worker([&] {
+            traverseUnits(workerStats);
+            phase.store(1);
+            phase.notify_one();
+            phase.wait(1);
+            cutRange(split, leaves.size(), second);
+        });
+        traverseUnits(qs);
+        phase.wait(0);
+        qs.nodesVisited += workerStats.nodesVisited;
+        qs.trianglesTested += workerStats.trianglesTested;
+        gatherLeaves();
+        // Split point: half of the tested triangles.
+        std::size_t acc = 0;
+        while (split < leaves.size() && 2 * acc < qs.trianglesTested) acc += bvh.nodes[leaves[split++]].count;
+        t1 = std::chrono::steady_clock::now();
+        phase.store(2);
+        phase.notify_one();
         cutRange(0, split, out);
         worker.join();
         for (std::size_t p = 0; p < out.parts.size(); ++p)
             out.parts[p].insert(out.parts[p].end(), second.parts[p].begin(), second.parts[p].end());
         out.segments += second.segments;
     } else {
+        traverseUnits(qs);
+        gatherLeaves();
+        t1 = std::chrono::steady_clock::now();
         cutRange(0, leaves.size(), out);
     }
     if (stats) {

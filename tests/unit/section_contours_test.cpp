@@ -231,3 +231,43 @@ TEST(SectionContours, RandomPlanesThroughGeneratedModels) {
         }
     }
 }
+
+TEST(SectionContours, TwoThreadsGiveTheSameSectionBitForBit) {
+    // The cut's traversal and triangles are shared by two threads above 100k triangles
+    // (section/plane_cut.cpp); leaves are taken in unit order whatever the thread count, so
+    // segments, rings and areas must be identical, not merely close (tolerance: none).
+    Model m = syntheticModel(240000);
+    auto idx = indexFor(m);
+    std::mt19937_64 rng(5);
+    SectionOptions one, two;
+    one.threads = 1;
+    two.threads = 2;
+    for (int k = 0; k < 12; ++k) {
+        const Plane p = randomPlane(m.bounds(), rng, k);
+        PlaneCut a, b;
+        beginCut(*idx, p, a);
+        beginCut(*idx, p, b);
+        cutWithBvh(*idx, nullptr, a, 1);
+        cutWithBvh(*idx, nullptr, b, 2);
+        ASSERT_EQ(a.segments, b.segments) << "plane " << k;
+        for (std::size_t part = 0; part < a.parts.size(); ++part) {
+            ASSERT_EQ(a.parts[part].size(), b.parts[part].size()) << "plane " << k << " part " << part;
+            for (std::size_t i = 0; i < a.parts[part].size(); ++i) {
+                const CutSegment &x = a.parts[part][i], &y = b.parts[part][i];
+                ASSERT_TRUE(x.keyA == y.keyA && x.keyB == y.keyB && x.a == y.a && x.b == y.b)
+                    << "plane " << k << " part " << part << " segment " << i;
+            }
+        }
+        auto s1 = computeSection(*idx, p, one);
+        auto s2 = computeSection(*idx, p, two);
+        ASSERT_TRUE(s1.ok() && s2.ok());
+        ASSERT_EQ(s1->bodies.size(), s2->bodies.size());
+        for (std::size_t i = 0; i < s1->bodies.size(); ++i) {
+            EXPECT_EQ(s1->bodies[i].area, s2->bodies[i].area) << "plane " << k;
+            ASSERT_EQ(s1->bodies[i].polygons.size(), s2->bodies[i].polygons.size());
+            for (std::size_t j = 0; j < s1->bodies[i].polygons.size(); ++j)
+                EXPECT_EQ(s1->bodies[i].polygons[j].outer, s2->bodies[i].polygons[j].outer) << "plane " << k;
+        }
+        EXPECT_EQ(s1->traces.size(), s2->traces.size());
+    }
+}
