@@ -135,7 +135,7 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
     std::vector<std::uint32_t> units;
     BvhQueryStats qs;
     queryPlaneUnits(bvh, out.plane, rect, kTraversalUnits, units, &qs);
-    std::vector<std::vector<std::uint32_t>> unitLeaves(units.size());
+    std::vector<std::vector<std::uint32_t>> unitLeaves(threads >= 2 ? units.size() : 0);
     std::atomic<std::size_t> nextUnit{0};
     auto traverseUnits = [&](BvhQueryStats& st) {
         for (std::size_t u = nextUnit++; u < units.size(); u = nextUnit++)
@@ -230,8 +230,8 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
             out.parts[p].insert(out.parts[p].end(), second.parts[p].begin(), second.parts[p].end());
         out.segments += second.segments;
     } else {
-        traverseUnits(qs);
-        gatherLeaves();
+        // Unit by unit straight into the leaf list (the same order as gathering per unit).
+        for (std::uint32_t u : units) queryPlaneLeavesUnder(bvh, u, out.plane, rect, leaves, &qs);
         t1 = std::chrono::steady_clock::now();
         cutRange(0, leaves.size(), out);
     }

@@ -79,6 +79,9 @@ def main():
         for m in ("brute_force", "octree_voxel", "pixel_mask", "exact"):
             if m in r:
                 rows.setdefault(m, {})[s] = r[m]
+        if "brute_force" in r:  # it keeps nothing but the mesh itself
+            r["brute_force"]["init_ms"] = None
+            r["brute_force"]["memory_mib"] = r["mesh_mib"]
         ref = load(os.path.join(d, f"{s}.geoslice.json"))["planes"]
         vtk = load(os.path.join(d, f"{s}.vtk.json"))
         cgal = load(os.path.join(d, f"{s}.cgal.json"))
@@ -96,7 +99,7 @@ def main():
             cut = [p["cutter"]["ms"] for p in pr if "cutter" in p]
             if cut:
                 rows.setdefault("vtk_cutter", {})[s] = {
-                    "init_ms": 0.0,
+                    "init_ms": None,  # no structure: every update visits every cell
                     "slice_ms": statistics.median(cut),
                     "planes_run": len(cut),
                 }
@@ -129,13 +132,17 @@ def main():
             return f"{x:,.0f}"
         if x >= 100:
             return f"{x:.0f}"
+        if 0 < x < 1:
+            return f"{x:.2g}"
         return f"{x:.{nd}f}"
 
     md = []
     md.append("# Table 1 reproduced (bench/table1)\n")
     md.append(f"Machine: {geo['cores']} cores; GL: {geo.get('gl')}; load: {uptime}\n")
     md.append(f"{geo['planes']} random planes per model, medians; image {geo['image']}; accuracy against the "
-              f"point classifier at the {geo['oracle_image']} pixel centres of each plane's profile.\n")
+              f"point classifier at the {geo['oracle_image']} pixel centres of each plane's profile. Memory: what "
+              "the method keeps besides the model's double-precision mesh (brute force: that mesh itself; "
+              "pixel mask: its GL buffer sizes; VTK: the tree's RSS growth; CGAL: the process's peak RSS).\n")
     md.append("| model | method | init (ms) | slice (ms) | image (ms) | frame rate (FPS) | memory (MiB) | "
               "query (µs) | accuracy, section (%) | accuracy, boundary pixels (%) |")
     md.append("|---|---|---|---|---|---|---|---|---|---|")
@@ -170,6 +177,7 @@ def main():
                                  "notes": v[4]} for k, v in agree.items()}, "peers": peers_info},
               open(os.path.join(d, "table1.json"), "w"), indent=1)
 
+    colour = {m: f"C{i}" for i, m in enumerate(names)}  # one colour per method in every panel
     # Fig. 4 style: (a) response time, (b) frame rate, (c) speed-up of the exact engine, (d) memory.
     fig, ax = plt.subplots(2, 2, figsize=(12, 9))
     xs = list(range(len(sizes)))
@@ -178,7 +186,7 @@ def main():
         ys = [rows.get(m, {}).get(s, {}).get("slice_ms") for s in sizes]
         pts = [(x, y) for x, y in zip(xs, ys) if y]
         if pts:
-            ax[0][0].plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=label)
+            ax[0][0].plot([p[0] for p in pts], [p[1] for p in pts], "o-", color=colour[m], label=label)
     ax[0][0].set_yscale("log")
     ax[0][0].set_ylabel("single slice response time (ms)")
     ax[0][0].set_title("(a) response time")
@@ -188,7 +196,7 @@ def main():
         ys = [rows.get(m, {}).get(s, {}).get("fps") for s in sizes]
         pts = [(x, y) for x, y in zip(xs, ys) if y]
         if pts:
-            ax[0][1].plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=label)
+            ax[0][1].plot([p[0] for p in pts], [p[1] for p in pts], "o-", color=colour[m], label=label)
     ax[0][1].set_yscale("log")
     ax[0][1].axhline(60, color="grey", ls=":", lw=1)
     ax[0][1].set_ylabel(f"frame rate, new plane each frame, {geo['image']} (FPS)")
@@ -204,7 +212,7 @@ def main():
             e = rows.get("exact", {}).get(s, {}).get("slice_ms")
             o = rows.get(m, {}).get(s, {}).get("slice_ms")
             ys.append(o / e if e and o else 0)
-        ax[1][0].bar([x + i * width for x in xs], ys, width, label=label)
+        ax[1][0].bar([x + i * width for x in xs], ys, width, color=colour[m], label=label)
         i += 1
     ax[1][0].set_yscale("log")
     ax[1][0].set_ylabel("speed-up of the exact engine (x)")
@@ -215,7 +223,7 @@ def main():
         ys = [rows.get(m, {}).get(s, {}).get("memory_mib", rows.get(m, {}).get(s, {}).get("peak_rss_mib")) or 0
               for s in sizes]
         if any(ys):
-            ax[1][1].bar([x + i * width for x in xs], ys, width, label=label)
+            ax[1][1].bar([x + i * width for x in xs], ys, width, color=colour[m], label=label)
             i += 1
     ax[1][1].set_ylabel("memory of the method's structures (MiB)")
     ax[1][1].set_title("(d) memory")
