@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -341,7 +342,7 @@ void addSection(CLI::App& app, int& exitCode) {
         }
         if (sheetOptions) {
             print::SheetInfo info;
-            info.model = o->model;
+            info.model = std::filesystem::path(o->model).filename().string();
             info.crs = model->crs.isLocal() ? "local metres (no CRS)"
                                             : (model->crs.epsg() > 0 ? "EPSG:" + std::to_string(model->crs.epsg()) + " "
                                                                      : std::string()) +

@@ -50,7 +50,7 @@ void drawPath(cairo_t* cr, const PathItem& p) {
 void drawText(cairo_t* cr, const TextItem& t) {
     if (t.text.empty()) return;
     cairo_save(cr);
-    cairo_select_font_face(cr, kFontFamily, CAIRO_FONT_SLANT_NORMAL,
+    cairo_select_font_face(cr, fontFamilyFor(t.text), CAIRO_FONT_SLANT_NORMAL,
                            t.bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, t.sizePt * kMmPerPoint);
     applyLayoutFontOptions(cr);

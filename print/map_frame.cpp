@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "model/view_limits.hpp"
 #include "print/map_scale.hpp"
 #include "print/round_numbers.hpp"
 #include "print/ticks.hpp"
@@ -24,8 +25,11 @@ void snap(double& lo, double& hi, double tick, double maxMetres) {
 
 Result<MapFrame> fitMapFrame(const FitRequest& r) {
     const double w = r.extent.u1 - r.extent.u0, h = r.extent.v1 - r.extent.v0;
-    GS_ASSERT(w > 0.0 && h > 0.0 && r.exaggeration > 0.0 && r.area.width > 0.0 && r.area.height > 0.0,
-              "fitMapFrame: empty extent or area");
+    GS_ASSERT(r.exaggeration > 0.0 && r.area.width > 0.0 && r.area.height > 0.0, "fitMapFrame: empty area");
+    if (!(w > 0.0) || !(h > 0.0) || !std::isfinite(w) || !std::isfinite(h))
+        return makeError(ErrorCode::InvalidArgument, "the frame u " + limitNumber(r.extent.u0) + ".." +
+                                                         limitNumber(r.extent.u1) + ", v " + limitNumber(r.extent.v0) +
+                                                         ".." + limitNumber(r.extent.v1) + " is empty or not finite");
     // The smallest S at which w * 1000 / S <= area width and h * k * 1000 / S <= area height.
     const double needed = std::max(w * 1000.0 / r.area.width, h * r.exaggeration * 1000.0 / r.area.height);
     MapFrame f;
@@ -48,7 +52,11 @@ Result<MapFrame> fitMapFrame(const FitRequest& r) {
         }
         f.scale = *r.scale;
     } else {
-        f.scale = std::min(roundScaleAtLeast(needed), kMaxScale);
+        if (needed > kMaxScale)
+            return makeError(ErrorCode::OutOfRange, "the frame (" + limitNumber(w) + " m x " + limitNumber(h) +
+                                                        " m) does not fit " + r.areaName +
+                                                        " at any scale up to 1:100,000,000");
+        f.scale = roundScaleAtLeast(needed);
     }
     f.shown = r.extent;
     const double maxU = r.area.width / f.mmPerMetreX(), maxV = r.area.height / f.mmPerMetreY();

@@ -46,7 +46,8 @@ struct FitRequest {
 };
 
 // The frame: the (snapped) extent at the scale, centred in the area.
-// Errors: OutOfRange naming `scaleName` when a given scale does not fit.
+// Errors: OutOfRange naming `scaleName` when a given scale does not fit, OutOfRange when
+// no scale up to kMaxScale fits; InvalidArgument for an empty or non-finite extent.
 Result<MapFrame> fitMapFrame(const FitRequest& request);
 
 }  // namespace geoslice::print

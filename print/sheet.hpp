@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -94,7 +95,16 @@ struct Sheet {
     void add(SheetItem item) { items.push_back(std::move(item)); }
 };
 
-// Font family both outputs use (fonts-dejavu-core): its metrics decide the layout.
+// Font families both outputs use: their metrics decide the layout. DejaVu Sans
+// (fonts-dejavu-core) has no CJK glyphs, so text with any CJK character (Chinese unit
+// names from Geo3DML models, "地层C") is set whole in WenQuanYi Micro Hei
+// (fonts-wqy-microhei), which has Latin glyphs too; cairo's simple text API picks one font
+// per string and does no fallback of its own.
 constexpr const char* kFontFamily = "DejaVu Sans";
+constexpr const char* kCjkFontFamily = "WenQuanYi Micro Hei";
+
+// kCjkFontFamily when `text` (UTF-8) holds a character of the CJK, kana, hangul or
+// full-width blocks, else kFontFamily.
+const char* fontFamilyFor(std::string_view text);
 
 }  // namespace geoslice::print

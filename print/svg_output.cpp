@@ -101,7 +101,7 @@ Result<std::string> renderSvg(const Sheet& sheet) {
             // renderers treat differently), the same shift cairo_output applies.
             text.append_attribute("x") = num(t->at.x).c_str();
             text.append_attribute("y") = num(t->at.y + baselineShiftMm(*t)).c_str();
-            text.append_attribute("font-family") = (std::string(kFontFamily) + ", Verdana, sans-serif").c_str();
+            text.append_attribute("font-family") = (std::string(fontFamilyFor(t->text)) + ", sans-serif").c_str();
             text.append_attribute("font-size") = num(t->sizePt * kMmPerPoint).c_str();
             if (t->bold) text.append_attribute("font-weight") = "bold";
             if (t->anchor != TextAnchor::Start)

@@ -22,7 +22,7 @@ void applyLayoutFontOptions(cairo_t* cr) {
 double textWidthMm(std::string_view text, double sizePt, bool bold) {
     cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_A8, 1, 1);
     cairo_t* cr = cairo_create(surface);
-    cairo_select_font_face(cr, kFontFamily, CAIRO_FONT_SLANT_NORMAL,
+    cairo_select_font_face(cr, fontFamilyFor(text), CAIRO_FONT_SLANT_NORMAL,
                            bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, sizePt * kMmPerPoint);  // user units = mm
     applyLayoutFontOptions(cr);

@@ -30,7 +30,7 @@ build=(
   libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks (configure needs it)
   libjs-leaflet                       # the web client embeds Debian's Leaflet (configure needs it)
   # print sheets (print/): PDF, raster and text layout through cairo; the sheet's font
-  libcairo2-dev fonts-dejavu-core
+  libcairo2-dev fonts-dejavu-core fonts-wqy-microhei   # DejaVu Sans; WenQuanYi for CJK unit names
 )
 # Everything else a developer or CI machine needs on top of the build list.
 dev=(
@@ -71,7 +71,7 @@ runtime=(
   # surface libraries, which libcairo2 links though geoslice draws headless), the font
   libcairo2 libpixman-1-0 libfontconfig1 fontconfig-config libfreetype6 libexpat1
   libxcb1 libxcb-shm0 libxcb-render0 libxrender1 libx11-6 libxext6 libxau6 libxdmcp6 libbsd0 libmd0
-  fonts-dejavu-core
+  fonts-dejavu-core fonts-wqy-microhei
   curl                                # HEALTHCHECK
 )
 

@@ -14,6 +14,8 @@
 #include <set>
 #include <sstream>
 
+#include "model/loaders.hpp"
+#include "model/validate.hpp"
 #include "print/axes.hpp"
 #include "print/cairo_output.hpp"
 #include "print/map_frame.hpp"
@@ -376,6 +378,42 @@ TEST(PrintPdf, OpensInPopplerAndMatchesItsGolden) {
     const std::string text = runText("pdftotext -layout '" + path + "' -");
     for (const char* s : {"Geological section W", "Legend", "Elevation (m)", "2026-11-24", "Scale 1:"})
         EXPECT_NE(text.find(s), std::string::npos) << s << " not found in the PDF's text:\n" << text;
+}
+
+// Chinese unit names (a Geo3DML model's records, "雾迷山组"): set in WenQuanYi Micro Hei, whose glyphs
+// the PDF embeds, so the names print instead of empty boxes; pdftotext reads them back.
+TEST(PrintPdf, ChineseUnitNamesGetACjkFont) {
+    EXPECT_STREQ(fontFamilyFor("Maokou Formation (P2m)"), kFontFamily);
+    EXPECT_STREQ(fontFamilyFor("\u5730\u5c42C"), kCjkFontFamily);
+    auto model = loadModel(std::string(GEOSLICE_TEST_DATA_DIR) + "/geo3dml/model_Volume_1.xml");
+    ASSERT_TRUE(model.ok()) << model.error().message;
+    validate(model.value());
+    auto index = buildSectionIndex(model.value());
+    ASSERT_TRUE(index.ok());
+    auto section = computeSection(*index.value(), Plane{{1.0, 0.0, 0.0}, -100.0});
+    ASSERT_TRUE(section.ok()) << section.error().message;
+    SheetOptions o;
+    o.paper = paperSize("A4", Orientation::Landscape).value();
+    SheetInfo info;
+    info.model = "model_Volume_1";
+    info.date = "2026-11-24";
+    auto sheet = sectionSheet(*index.value(), section.value(), o, info);
+    ASSERT_TRUE(sheet.ok()) << sheet.error().message;
+    auto pdf = renderPdf(sheet.value());
+    ASSERT_TRUE(pdf.ok());
+    const std::string path = tempPath("cjk.pdf");
+    {
+        std::ofstream f(path, std::ios::binary);
+        f << pdf.value();
+    }
+    EXPECT_NE(runText("pdffonts '" + path + "'").find("WenQuanYi"), std::string::npos);
+    const std::string text = runText("pdftotext '" + path + "' -");
+    for (const BodySection& b : section.value().bodies) {
+        const AttributeRecord* r = model.value().attributes.find(b.record);
+        ASSERT_NE(r, nullptr);
+        EXPECT_STREQ(fontFamilyFor(r->name), kCjkFontFamily) << r->name;  // e.g. 雾迷山组
+        EXPECT_NE(text.find(r->name), std::string::npos) << r->name << " not in\n" << text;
+    }
 }
 
 // decorate=1: the section is the engine's raster, pixel-aligned in the map box of a sheet

@@ -135,3 +135,47 @@ TEST(SectionCli, LineVectorsImagesBoreholeAndReserves) {
     EXPECT_EQ(runGeoslice("reserves " + glb + " --plane 0,0,0,1").exitCode, 2);
     std::filesystem::remove_all(dir);
 }
+
+// `geoslice section --print`: a sheet as PDF, SVG and PNG; bad sheet flags exit 2 naming the flag.
+TEST(SectionCli, PrintSheets) {
+    const auto dir = std::filesystem::temp_directory_path() / ("gs_section_cli3_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string glb = (dir / "m.glb").string();
+    ASSERT_EQ(runGeoslice("generate --triangles 20000 --crs EPSG:4523 --out " + glb).exitCode, 0);
+    auto info = nlohmann::json::parse(runGeoslice("info --json " + glb).out);
+    const double ymid = 0.5 * (info["bounds"]["min"][1].get<double>() + info["bounds"]["max"][1].get<double>());
+    const std::string plane = " --plane 0,1,0," + std::to_string(-ymid);
+    auto withStderr = [](const std::string& args) {  // stdout and stderr, for the error messages
+        return geoslice::test::runCommand(std::string(GEOSLICE_BINARY) + " " + args + " 2>&1");
+    };
+    auto read = [](const std::filesystem::path& p) {
+        std::ifstream f(p, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    };
+    CmdResult r = runGeoslice("section " + glb + plane + " --vx 2 --paper A4 --print " + (dir / "s.pdf").string());
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    EXPECT_EQ(read(dir / "s.pdf").rfind("%PDF-", 0), 0u);
+    r = runGeoslice("section " + glb + " --elevation 300 --orientation portrait --print " + (dir / "s.svg").string());
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    const std::string svg = read(dir / "s.svg");
+    EXPECT_NE(svg.find("<text"), std::string::npos);
+    EXPECT_NE(svg.find("Horizontal slice at elevation 300 m"), std::string::npos);
+    r = runGeoslice("section " + glb + plane + " --paper A5 --dpi 50 --print " + (dir / "s.png").string());
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    EXPECT_EQ(read(dir / "s.png").substr(1, 3), "PNG");
+
+    struct Bad {
+        std::string flags, needle;
+    };
+    for (const Bad& b : {Bad{"--paper B7", "--paper"}, Bad{"--orientation sideways", "--orientation"},
+                         Bad{"--scale 0", "--scale"}, Bad{"--scale 100 --paper A5", "--scale: at 1:100"},
+                         Bad{"--dpi 5000", "--dpi"}, Bad{"--vx 0", "--vx"}, Bad{"--date 2026-02-30", "--date"}}) {
+        r = withStderr("section " + glb + plane + " " + b.flags + " --print " + (dir / "bad.pdf").string());
+        EXPECT_EQ(r.exitCode, 2) << b.flags;
+        EXPECT_NE(r.out.find(b.needle), std::string::npos) << b.flags << ": " << r.out;
+    }
+    r = withStderr("section " + glb + plane + " --print " + (dir / "s.doc").string());
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.out.find("--print"), std::string::npos) << r.out;
+    std::filesystem::remove_all(dir);
+}
