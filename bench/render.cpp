@@ -9,7 +9,9 @@
 //   aa_ms            anti-aliasing: FXAA pass (software) or MSAA resolve (hardware), + glFinish
 //   readback_ms      glReadPixels of RGBA8 colour and R32UI ids, row flips included
 //   encode_ms        JPEG q85, PNG zlib 1 + SUB, WebP q80 method 0 of the colour image
-// Cases: profile and perspective views, clip distance against discard; the perspective
+// Cases: a plain draw (the profile's view and geometry, no plane: the reference the paper's
+// pixel mask is measured against), profile and perspective views, clip distance against
+// discard; the perspective
 // view also with level of detail ("lod": simplified clusters away from the cut), with the
 // number of id pixels that differ from the full-detail frame and the triangles drawn.
 //   frame_cpu_ms     CPU time of the whole process over one render() call (all llvmpipe
@@ -214,8 +216,10 @@ int main(int argc, char** argv) {
                     ClipMethod clip;
                     SliceRequest::Lod lod;
                     float pixelError = 1.0f;  // LOD: screen-space error bound, pixels
+                    bool plain = false;       // no plane: a plain draw of the same geometry
                 };
-                const Spec specs[] = {{"profile", ClipMethod::ClipDistance, SliceRequest::Lod::Off},
+                const Spec specs[] = {{"profile", ClipMethod::ClipDistance, SliceRequest::Lod::Off, 1.0f, true},
+                                      {"profile", ClipMethod::ClipDistance, SliceRequest::Lod::Off},
                                       {"profile", ClipMethod::Discard, SliceRequest::Lod::Off},
                                       {"perspective", ClipMethod::ClipDistance, SliceRequest::Lod::Off},
                                       {"perspective", ClipMethod::Discard, SliceRequest::Lod::Off},
@@ -226,7 +230,7 @@ int main(int argc, char** argv) {
                     SliceRequest req;
                     req.width = w;
                     req.height = h;
-                    req.planes = {plane};
+                    if (!sp.plain) req.planes = {plane};
                     req.clip = sp.clip;
                     req.lod = sp.lod;
                     req.lodPixelError = sp.pixelError;
@@ -238,7 +242,7 @@ int main(int argc, char** argv) {
                     CaseResult r = runCase(**renderer, **gpu, req, runs);
                     json jc;
                     jc["view"] = sp.view;
-                    jc["clip"] = clipMethodName(sp.clip);
+                    jc["clip"] = sp.plain ? "none (plain draw)" : clipMethodName(sp.clip);
                     jc["detail"] = sp.lod == SliceRequest::Lod::On ? (r.lodUsed ? "lod" : "lod-unavailable") : "full";
                     if (sp.lod == SliceRequest::Lod::On) jc["lod_pixel_error"] = sp.pixelError;
                     if (!r.error.empty()) {
@@ -266,7 +270,7 @@ int main(int argc, char** argv) {
                             jc["ids_differing_from_full"] = differ;
                         }
                     }
-                    if (sp.clip == ClipMethod::ClipDistance) jc["encode"] = encodeTimes(r.rgba, w, h);
+                    if (sp.clip == ClipMethod::ClipDistance && !sp.plain) jc["encode"] = encodeTimes(r.rgba, w, h);
                     ji["cases"].push_back(jc);
                 }
                 jb["images"].push_back(ji);

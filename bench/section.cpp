@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
         const double rssPeakBuild = bench::peakRssSinceResetMiB();
         const SectionIndex& idx = *index.value();
 
+        std::vector<double> cSection1, cSection2, tSection1;
         std::vector<double> tQueryTris, tContours2, tEnd2, cCut, cAssemble, cFill, cEnd, nodesVisited, trisTested,
             tFillReused, tSection, tQuery, tCut, tAssemble, tContours, tFill, tTile, tEnd, tBrute, crossing, segments;
         std::mt19937_64 rng(7);
@@ -144,9 +145,18 @@ int main(int argc, char** argv) {
             {
                 SectionOptions two;
                 two.threads = 2;
+                const double pc = bench::processCpuSeconds();
                 s = bench::nowSeconds();
                 auto sec2 = computeSection(idx, p, two);
                 tContours2.push_back(ms(s));
+                cSection2.push_back(1000.0 * (bench::processCpuSeconds() - pc));
+                // The same on one thread, timed the same way (wall and process CPU).
+                const double pc1 = bench::processCpuSeconds();
+                s = bench::nowSeconds();
+                auto sec1 = computeSection(idx, p);
+                tSection1.push_back(ms(s));
+                cSection1.push_back(1000.0 * (bench::processCpuSeconds() - pc1));
+                (void)sec1;
                 if (sec2) {
                     RasterOptions ro;
                     auto img2 =
@@ -299,6 +309,7 @@ int main(int argc, char** argv) {
               {"contour_assembly", bench::median(tAssemble)},
               {"contours_total", bench::median(tContours)},
               {"contours_total_2_threads", bench::median(tContours2)},
+              {"compute_section_1_thread_next_to_2", bench::median(tSection1)},
               {"fill_" + std::to_string(side) + "_fresh_buffers", bench::median(tFill)},
               {"fill_" + std::to_string(side), bench::median(tFillReused)},
               {"tile_" + std::to_string(tileSide), bench::median(tTile)},
@@ -308,6 +319,8 @@ int main(int argc, char** argv) {
               {"brute_force_cut", bench::median(tBrute)}}},
             {"median_cpu_ms",
              {{"bvh_query_and_cut", bench::median(cCut)},
+              {"compute_section_process_cpu_1_thread", bench::median(cSection1)},
+              {"compute_section_process_cpu_2_threads", bench::median(cSection2)},
               {"contour_assembly", bench::median(cAssemble)},
               {"fill_" + std::to_string(side), bench::median(cFill)},
               {"end_to_end_" + std::to_string(side), bench::median(cEnd)}}},
