@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "print/axes.hpp"
+#include "print/grid_convergence.hpp"
 #include "print/legend.hpp"
 #include "print/map_scale.hpp"
 #include "print/north_arrow.hpp"
@@ -35,7 +36,8 @@ struct Shape {
         bool bend = false;
     };
     std::vector<End> ends;
-    std::vector<TitleRow> rows;  // shape-specific title block rows (section, ends, azimuth...)
+    std::vector<TitleRow> rows;       // shape-specific title block rows (section, ends, azimuth...)
+    std::optional<double> trueNorth;  // horizontal slices in a projected CRS: from grid north, degrees
     // The engine's raster of a section rectangle, for rasterGeometry.
     std::function<Result<std::vector<std::uint8_t>>(const FrameRect&, int, int, const RasterOptions&)> raster;
 };
@@ -269,7 +271,7 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
     }
     const double blockHeight = drawTitleBlock(sheet, blockArea, "geoslice  \u00b7  section sheet", rows);
     if (shape.kind == Shape::Horizontal) {
-        drawNorthArrow(sheet, {legendArea.right() - 9.0, legendArea.y + 12.0}, 16.0);
+        drawNorthArrow(sheet, {legendArea.right() - 12.0, legendArea.y + 12.0}, 16.0, shape.trueNorth);
     }
     if (o.paper.orientation == Orientation::Landscape) legendArea.height -= blockHeight + pad;
     drawLegend(sheet, legendArea, legend);
@@ -317,6 +319,7 @@ Result<Sheet> sectionSheet(const SectionIndex& index, const Section& section, co
         s.axes.grid = true;
         s.rows.push_back({"Section", info.definition});
         s.rows.push_back({"Elevation", metres(z) + " m, seen from above"});
+        if (index.model) s.trueNorth = trueNorthDeg(index.model->crs, 0.5 * (lo + hi));
     } else {
         const bool vertical = std::abs(n.z) < 1e-9;
         s.kind = vertical ? Shape::Vertical : Shape::Inclined;

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -18,6 +19,7 @@
 #include "model/validate.hpp"
 #include "print/axes.hpp"
 #include "print/cairo_output.hpp"
+#include "print/grid_convergence.hpp"
 #include "print/map_frame.hpp"
 #include "print/map_scale.hpp"
 #include "print/paper.hpp"
@@ -257,6 +259,22 @@ TEST(PrintSheet, SectionSheetHasItsSurrounds) {
     ASSERT_TRUE(plan.ok()) << plan.error().message;
     EXPECT_TRUE(contains(texts(plan.value()), "N"));
     EXPECT_TRUE(contains(texts(plan.value()), "Northing (m)"));
+    // True north from grid north: Transverse Mercator convergence is about (lon - lon0) sin(lat)
+    // (Snyder, "Map Projections: A Working Manual", 1987, eq. 8-4 to first order): 0.03 degrees
+    // west at 105.05 E, 30.6 N in zone 35 (central meridian 105 E). Tolerance 1e-3 degrees:
+    // the first-order formula's neglected terms and the 0.001-degree step.
+    const glm::dvec2 centre{0.5 * (fx.index->bounds.min.x + fx.index->bounds.max.x),
+                            0.5 * (fx.index->bounds.min.y + fx.index->bounds.max.y)};
+    auto ll = fx.model.crs.toLonLat(centre.x, centre.y);
+    ASSERT_TRUE(ll.ok());
+    auto tn = trueNorthDeg(fx.model.crs, centre);
+    ASSERT_TRUE(tn.has_value());
+    const double expected = -(ll.value().x - 105.0) * std::sin(ll.value().y * std::numbers::pi / 180.0);
+    EXPECT_NEAR(*tn, expected, 1e-3);
+    EXPECT_FALSE(trueNorthDeg(Crs::local(), centre).has_value());
+    bool stated = false;
+    for (const std::string& s : texts(plan.value())) stated |= s.rfind("true north ", 0) == 0;
+    EXPECT_TRUE(stated);
 }
 
 TEST(PrintSheet, PolylineSheetNamesItsVerticesAndMarksBends) {
