@@ -756,6 +756,12 @@ struct SectionServer::Impl {
         const std::string key =
             m.version + "|" + sheet.value().canonical() + "|" + ext + "|q=" + std::to_string(quality.value());
         const std::string etag = quoted(api::hex64(api::fnv1a64(key)));
+        if (etagMatches(req.get_header_value("If-None-Match"), etag)) {
+            res.set_header("ETag", etag);
+            res.set_header("Cache-Control", "public, max-age=86400");
+            res.status = 304;
+            return;
+        }
         if (auto hit = images.get(key)) return sendEncoded(req, res, *hit);
         auto mp = catalog.find(m.id);
         auto result = renderCoalesced(

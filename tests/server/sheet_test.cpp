@@ -65,7 +65,15 @@ TEST_F(Sheets, PdfSvgAndDecoratedImages) {
     ASSERT_EQ(pdf->status, 200) << pdf->body;
     EXPECT_EQ(pdf->get_header_value("Content-Type"), "application/pdf");
     EXPECT_EQ(pdf->body.rfind("%PDF-", 0), 0u);
-    EXPECT_FALSE(pdf->get_header_value("ETag").empty());
+    const std::string etag = pdf->get_header_value("ETag");
+    EXPECT_FALSE(etag.empty());
+    {
+        httplib::Client c("127.0.0.1", server_->port());
+        auto again = c.Get((kBase + "pdf?" + kPlane + "&paper=A4&vx=2&date=2026-11-24").c_str(),
+                           httplib::Headers{{"If-None-Match", etag}});
+        ASSERT_TRUE(again);
+        EXPECT_EQ(again->status, 304);
+    }
 
     auto svg = get(kBase + "svg?layout=print&line=35502500,3388000,35504500,3389000,35506500,3388500&paper=A3");
     ASSERT_TRUE(svg);
