@@ -20,7 +20,7 @@ void onSignal(int sig) { gSignal = sig; }
 
 struct ServeArgs {
     std::string configFile, host, models, bakeDir, gl, lod, cors, logLevel;
-    int port = -1, deadlineMs = -1;
+    int port = -1, deadlineMs = -1, shutdownGraceMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
     long long memoryBudgetMiB = -1;
     bool readyzPaths = false;
@@ -49,6 +49,7 @@ int runServe(const ServeArgs& a) {
     if (!a.cors.empty()) config.cors = a.cors == "none" ? "" : a.cors;
     if (!a.logLevel.empty()) config.logLevel = a.logLevel;
     if (a.deadlineMs > 0) config.deadlineMs = a.deadlineMs;
+    if (a.shutdownGraceMs >= 0) config.shutdownGraceMs = a.shutdownGraceMs;
     if (a.workers >= 0) config.workers = unsigned(a.workers);
     if (a.queue > 0) config.queue = std::size_t(a.queue);
     if (a.httpThreads > 0) config.httpThreads = unsigned(a.httpThreads);
@@ -124,6 +125,9 @@ void addServe(CLI::App& app, int& exitCode) {
     cmd->add_flag("--readyz-paths", a->readyzPaths,
                   "Show absolute file paths in /readyz model errors (default: names only)");
     cmd->add_option("--deadline-ms", a->deadlineMs, "Per-request render deadline, ms (default 10000)");
+    cmd->add_option(
+        "--shutdown-grace-ms", a->shutdownGraceMs,
+        "After SIGTERM, in-flight requests may finish within this (and their deadline), ms (default 10000)");
     cmd->add_option("--max-body", a->maxBody, "Largest request body, bytes (default 1 MiB)");
     cmd->add_option("--cors", a->cors, "Access-Control-Allow-Origin value (default *; 'none' = off)");
     cmd->add_option("--demo-triangles", a->demoTriangles, "Size of the generated demo model (default 200000)");

@@ -85,7 +85,7 @@ p_ctr=$(free_port)
 host_pid=$!
 t_host=$(wait_ready "$p_host" 120) || fail "binary not ready: $(tail -5 "$work/host.log")"
 ctr run -d --name "$name" --read-only "${ctr_run_args[@]}" "${health_args[@]}" -e GEOSLICE_PORT="$p_ctr" \
-    "$image" serve --host 127.0.0.1 --workers 1 --deadline-ms 60000 >/dev/null
+    "$image" serve --host 127.0.0.1 --workers 1 --deadline-ms 60000 --shutdown-grace-ms 60000 >/dev/null
 t_ctr=$(wait_ready "$p_ctr" 120) || fail "container not ready: $(ctr logs "$name" 2>&1 | tail -5)"
 echo "test-image: demo model ready in ${t_host} s (binary), ${t_ctr} s (container, read-only root, port $p_ctr)"
 

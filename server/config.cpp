@@ -54,6 +54,8 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.cacheMiB, 0, 1 << 20);
     else if (key == "deadlineMs")
         return number(c.deadlineMs, 1, 3600000);
+    else if (key == "shutdownGraceMs")
+        return number(c.shutdownGraceMs, 0, 3600000);
     else if (key == "maxBodyBytes")
         return number(c.maxBodyBytes, 1024, 1LL << 30);
     else if (key == "cors")
@@ -115,6 +117,7 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_REUSE_PORT", "reusePort"},
         {"GEOSLICE_CACHE_MIB", "cacheMiB"},
         {"GEOSLICE_DEADLINE_MS", "deadlineMs"},
+        {"GEOSLICE_SHUTDOWN_GRACE_MS", "shutdownGraceMs"},
         {"GEOSLICE_MAX_BODY", "maxBodyBytes"},
         {"GEOSLICE_CORS", "cors"},
         {"GEOSLICE_MEMORY_BUDGET_MIB", "memoryBudgetMiB"},
@@ -142,6 +145,9 @@ Status checkConfig(const ServerConfig& c) {
     if (c.gl != "auto" && c.gl != "egl-device" && c.gl != "egl-surfaceless" && c.gl != "osmesa" && c.gl != "none")
         return makeError(ErrorCode::InvalidArgument,
                          "gl '" + c.gl + "' is not auto, egl-device, egl-surfaceless, osmesa or none");
+    if (c.shutdownGraceMs < 0 || c.shutdownGraceMs > 3600000)
+        return makeError(ErrorCode::InvalidArgument,
+                         "shutdownGraceMs " + std::to_string(c.shutdownGraceMs) + " is outside 0..3600000 ms");
     if (c.lod != "off" && c.lod != "auto")
         return makeError(ErrorCode::InvalidArgument, "lod '" + c.lod + "' is not off or auto");
     if (c.logLevel != "trace" && c.logLevel != "debug" && c.logLevel != "info" && c.logLevel != "warn" &&

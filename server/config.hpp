@@ -1,30 +1,41 @@
 // Server configuration: built-in defaults, then a JSON config file, then GEOSLICE_*
 // environment variables, then command-line flags (each later source wins).
+// clang-format off
 //
-//   key (JSON)        env                      flag            default
-//   host              GEOSLICE_HOST            --host          0.0.0.0
-//   port              GEOSLICE_PORT            --port          8080 (0 = any free port)
-//   models            GEOSLICE_MODELS          --models        "" (none: the demo model)
-//   bakeDir           GEOSLICE_BAKE_DIR        --bake-dir      "" (raw models are not baked)
-//   gl                GEOSLICE_GL              --gl            auto (auto|egl-device|egl-surfaceless|osmesa|none)
-//   lod               GEOSLICE_LOD             --lod           off (auto: simplified context geometry in 3D views on
-//   CPU backends) workers           GEOSLICE_WORKERS         --workers       number of cores queue GEOSLICE_QUEUE
-//   --queue         64 jobs httpThreads       GEOSLICE_HTTP_THREADS    --http-threads  128 (requests handled at once)
-//   maxConnections    GEOSLICE_MAX_CONNECTIONS --max-connections 10000 (then the longest-waiting idle one closes, else
-//   503) headerTimeoutMs   GEOSLICE_HEADER_TIMEOUT_MS --header-timeout-ms 10000 (whole request header, from its first
-//   byte) bodyTimeoutMs     GEOSLICE_BODY_TIMEOUT_MS --body-timeout-ms 10000 (whole request body) keepAliveMs
-//   GEOSLICE_KEEP_ALIVE_MS   --keep-alive-ms 5000 (idle keep-alive connection) keepAliveRequests
-//   GEOSLICE_KEEP_ALIVE_REQUESTS --keep-alive-requests 10000 (per connection) sendTimeoutMs GEOSLICE_SEND_TIMEOUT_MS
-//   --send-timeout-ms 10000 (per 8 MiB of answer) reusePort         GEOSLICE_REUSE_PORT      --reuse-port    0 (1:
-//   SO_REUSEPORT, share the port with other processes) cacheMiB          GEOSLICE_CACHE_MIB       --cache-mib     512
-//   deadlineMs        GEOSLICE_DEADLINE_MS     --deadline-ms   10000
-//   maxBodyBytes      GEOSLICE_MAX_BODY        --max-body      1048576
-//   cors              GEOSLICE_CORS            --cors          * ("" = no CORS headers)
-//   demoTriangles     GEOSLICE_DEMO_TRIANGLES  --demo-triangles 200000
-//   logLevel          GEOSLICE_LOG_LEVEL       --log-level     info
-//   memoryBudgetMiB   GEOSLICE_MEMORY_BUDGET_MIB --memory-budget-mib 4096 (estimated memory of queued and running
-//                                                renders; beyond it 503 + Retry-After; 0 = no limit)
-//   readyzPaths       GEOSLICE_READYZ_PATHS    --readyz-paths  0 (1: /readyz shows absolute file paths in model errors)
+//   key (JSON)         env                            flag                    default
+//   host               GEOSLICE_HOST                  --host                  0.0.0.0
+//   port               GEOSLICE_PORT                  --port                  8080 (0 = any free port)
+//   models             GEOSLICE_MODELS                --models                "" (none: the demo model)
+//   bakeDir            GEOSLICE_BAKE_DIR              --bake-dir              "" (raw models are not baked)
+//   gl                 GEOSLICE_GL                    --gl                    auto (auto|egl-device|egl-surfaceless|osmesa|none)
+//   lod                GEOSLICE_LOD                   --lod                   off (auto: simplified context geometry in 3D
+//                                                                             views on CPU backends)
+//   workers            GEOSLICE_WORKERS               --workers               number of cores
+//   queue              GEOSLICE_QUEUE                 --queue                 64 jobs
+//   httpThreads        GEOSLICE_HTTP_THREADS          --http-threads          128 (requests handled at once)
+//   maxConnections     GEOSLICE_MAX_CONNECTIONS       --max-connections       10000 (then the longest-waiting idle
+//                                                                             one closes, else 503)
+//   headerTimeoutMs    GEOSLICE_HEADER_TIMEOUT_MS     --header-timeout-ms     10000 (whole header, from its first byte)
+//   bodyTimeoutMs      GEOSLICE_BODY_TIMEOUT_MS       --body-timeout-ms       10000 (whole request body)
+//   keepAliveMs        GEOSLICE_KEEP_ALIVE_MS         --keep-alive-ms         5000 (idle keep-alive connection)
+//   keepAliveRequests  GEOSLICE_KEEP_ALIVE_REQUESTS   --keep-alive-requests   10000 (per connection)
+//   sendTimeoutMs      GEOSLICE_SEND_TIMEOUT_MS       --send-timeout-ms       10000 (per 8 MiB of answer)
+//   reusePort          GEOSLICE_REUSE_PORT            --reuse-port            0 (1: SO_REUSEPORT, share the port)
+//   cacheMiB           GEOSLICE_CACHE_MIB             --cache-mib             512
+//   deadlineMs         GEOSLICE_DEADLINE_MS           --deadline-ms           10000
+//   shutdownGraceMs    GEOSLICE_SHUTDOWN_GRACE_MS     --shutdown-grace-ms     10000 (after SIGTERM, in-flight requests
+//                                                                             may finish within this, capped by
+//                                                                             deadlineMs; then renders are cancelled)
+//   maxBodyBytes       GEOSLICE_MAX_BODY              --max-body              1048576
+//   cors               GEOSLICE_CORS                  --cors                  * ("" = no CORS headers)
+//   demoTriangles      GEOSLICE_DEMO_TRIANGLES        --demo-triangles        200000
+//   logLevel           GEOSLICE_LOG_LEVEL             --log-level             info
+//   memoryBudgetMiB    GEOSLICE_MEMORY_BUDGET_MIB     --memory-budget-mib     4096 (estimated memory of queued and
+//                                                                             running renders; beyond it 503 +
+//                                                                             Retry-After; 0 = no limit)
+//   readyzPaths        GEOSLICE_READYZ_PATHS          --readyz-paths          0 (1: /readyz shows absolute file
+//                                                                             paths in model errors)
+// clang-format on
 #pragma once
 
 #include <cstddef>
@@ -54,6 +65,7 @@ struct ServerConfig {
     bool reusePort = false;
     std::size_t cacheMiB = 512;
     int deadlineMs = 10000;
+    int shutdownGraceMs = 10000;  // SIGTERM: in-flight requests may finish within this (and their deadline)
     std::size_t maxBodyBytes = 1 << 20;
     std::string cors = "*";
     std::size_t demoTriangles = 200000;

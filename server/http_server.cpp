@@ -33,7 +33,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Json = nlohmann::ordered_json;
 constexpr const char* kVersion = "0.2.0";
-constexpr int kShutdownGraceMs = 2000;  // in-flight renders may finish within this after SIGTERM
 
 // An encoded image or JSON body, as cached and served.
 struct Encoded {
@@ -1254,11 +1253,11 @@ void SectionServer::stop() {
     if (im.stopped) return;
     im.draining = true;
     spdlog::info("event=shutdown_begin in_flight={}", im.inFlight.load());
-    // In-flight requests get a grace period to finish (kShutdownGraceMs, or the deadline
+    // In-flight requests get a grace period to finish (shutdownGraceMs, or the deadline
     // if shorter); then queued renders are dropped and running ones cancelled (they stop
     // within milliseconds), so SIGTERM ends within the grace period plus a second even
     // when a render would run for minutes.
-    const auto until = Clock::now() + std::chrono::milliseconds(std::min(config_.deadlineMs, kShutdownGraceMs));
+    const auto until = Clock::now() + std::chrono::milliseconds(std::min(config_.deadlineMs, config_.shutdownGraceMs));
     while (im.inFlight > 0 && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (!im.pool->stop(std::chrono::milliseconds(1000))) {
         // A render is inside a codec call that cannot be cancelled (libwebp's alpha pass on

@@ -151,8 +151,9 @@ TEST(HostileOverload, AdmissionByMemoryAnswers503WithRetryAfter) {
 }
 
 TEST(HostileOverload, SigtermEndsWithinFiveSecondsDuringALongRender) {
-    auto server =
-        ServeProcess::start({"--gl", "none", "--demo-triangles", "20000", "--workers", "1", "--deadline-ms", "600000"});
+    // A 2 s grace: the 8192x8192 renders outlast it and must be cancelled, not waited for.
+    auto server = ServeProcess::start({"--gl", "none", "--demo-triangles", "20000", "--workers", "1", "--deadline-ms",
+                                       "600000", "--shutdown-grace-ms", "2000"});
     ASSERT_NE(server, nullptr);
     ASSERT_TRUE(server->waitReady()) << server->log();
     std::vector<std::thread> clients;

@@ -85,8 +85,11 @@ TEST(ServeConfig, SourcesAndErrors) {
     EXPECT_EQ(c.port, 9000);
     EXPECT_EQ(c.modelsDir, "/data");
     EXPECT_EQ(c.cacheMiB, 64u);
-    ASSERT_TRUE(applyConfigEnv(c, {{"GEOSLICE_PORT", "9100"}, {"OTHER", "x"}}));
+    ASSERT_TRUE(
+        applyConfigEnv(c, {{"GEOSLICE_PORT", "9100"}, {"OTHER", "x"}, {"GEOSLICE_SHUTDOWN_GRACE_MS", "25000"}}));
     EXPECT_EQ(c.port, 9100);
+    EXPECT_EQ(c.shutdownGraceMs, 25000);
+    EXPECT_FALSE(applyConfigEnv(c, {{"GEOSLICE_SHUTDOWN_GRACE_MS", "-1"}}));
     auto unknown = applyConfigJson(c, R"({"prot": 1})", "test.json");
     ASSERT_FALSE(unknown);
     EXPECT_NE(unknown.error().message.find("unknown setting 'prot'"), std::string::npos);
