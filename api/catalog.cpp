@@ -11,6 +11,7 @@
 #include "model/loaders.hpp"
 #include "model/synthetic.hpp"
 #include "model/validate.hpp"
+#include "section/block_section.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -69,6 +70,7 @@ Status indexModel(CatalogModel& m) {
     m.tracer = std::move(tracer.value());
     for (const auto& [id, record] : m.model.attributes.records()) m.recordJson[id] = record.toJson().dump();
     for (const Part& p : m.model.bodies) m.bodyName.emplace(p.record, p.name);
+    if (m.model.blocks) m.blockRecords = blockClipRecords(m.model, *m.model.blocks);
     chooseWgs84Transform(m);
     return {};
 }
@@ -150,6 +152,19 @@ nlohmann::ordered_json CatalogModel::summary() const {
                       {"height", package->height},
                       {"residentBytes", package->residentBytes()},
                       {"note", "attribute-indexed texture (R32UI record ids) from the baked package"}};
+    if (model.blocks) {
+        const BlockModel& bm = *model.blocks;
+        nlohmann::ordered_json props = nlohmann::ordered_json::array();
+        for (const BlockProperty& p : bm.properties) props.push_back({{"name", p.name}, {"unit", p.unit}});
+        nlohmann::ordered_json clip = nlohmann::ordered_json::array();
+        for (std::uint32_t body : bm.clipBodyIndex) clip.push_back(model.bodies[body].name);
+        j["blocks"] = {{"source", bm.source},
+                       {"dims", {bm.dims[0], bm.dims[1], bm.dims[2]}},
+                       {"cellSize", {bm.size[0], bm.size[1], bm.size[2]}},
+                       {"origin", {bm.origin.x, bm.origin.y, bm.origin.z}},
+                       {"properties", props},
+                       {"clipBodies", clip}};
+    }
     j["legend"] = legend();
     return j;
 }
@@ -197,6 +212,8 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
             if (fs::exists(side, ec))
                 if (auto sb = readFile(side.string())) h = fnv1a64(sb.value(), h);
         }
+        for (const std::string& side : blockModelFiles(path, {}))
+            if (auto sb = readFile(side)) h = fnv1a64(sb.value(), h);
         bytes.value().clear();
         bytes.value().shrink_to_fit();
         m->version = hex64(h);
@@ -265,6 +282,19 @@ Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles)
     m->model = std::move(model.value());
     m->model.name = "demo";
     validate(m->model);  // closed flags and nesting, as every loader does
+    if (auto s = indexModel(*m); !s) return s.error();
+    m->loadMs = msSince(t0);
+    return std::shared_ptr<const CatalogModel>(std::move(m));
+}
+
+Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
+                                                           const std::string& version) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto m = std::make_shared<CatalogModel>();
+    m->id = id;
+    m->source = model.source.empty() ? "(in memory)" : model.source;
+    m->version = version;
+    m->model = std::move(model);
     if (auto s = indexModel(*m); !s) return s.error();
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));

@@ -53,6 +53,8 @@ struct CatalogModel {
     // made once at load so that a query answer is a few appends.
     std::unordered_map<RecordId, std::string> recordJson;
     std::unordered_map<RecordId, std::string> bodyName;
+    // Records of the bodies that clip the block model (model.blocks), sorted; empty without one.
+    std::vector<RecordId> blockRecords;
 
     // {id, version, crs, bounds, triangles, bodies: [...], surfaces: [...], legend: [...]}
     nlohmann::ordered_json summary() const;
@@ -70,6 +72,10 @@ bool isValidModelId(std::string_view id);
 // errors (named).
 Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
                                                              const std::string& bakeDir = "");
+// A loaded, validated model indexed as the server does (tests and benchmarks build models
+// in memory); `version` as the caller chooses.
+Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
+                                                           const std::string& version);
 // The built-in demo mine (synthetic, EPSG:4523 at 105.05 E 30.62 N), `triangles` in total.
 Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles = 200000);
 // Model files directly in `dir` whose stem is a valid id, and package directories (holding a

@@ -6,7 +6,10 @@
 #include <cstdint>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "api/catalog.hpp"
+#include "section/block_section.hpp"
 
 namespace geoslice::api {
 
@@ -15,6 +18,14 @@ struct LegendImage {
     std::vector<std::uint8_t> rgba;
 };
 
-LegendImage renderLegend(const CatalogModel& model, int scale = 2);
+// With `classes` (a block-property colouring, api/view.hpp blockClasses), the rows end with
+// the property's name and unit, the ramp, and one swatch per class labelled with its range.
+LegendImage renderLegend(const CatalogModel& model, int scale = 2, const PropertyClasses* classes = nullptr);
+
+// The legend of a block-property colouring, for clients and print layouts:
+// {"property", "unit", "ramp", "breaks": [...], "classes": [{"class", "from" (null for the
+// first), "to" (null for the last), "colour": "#rrggbb", "label"}]}; class k holds values in
+// [from, to).
+nlohmann::ordered_json blockLegendJson(const BlockModel& blocks, const PropertyClasses& classes);
 
 }  // namespace geoslice::api

@@ -41,6 +41,11 @@ J viewParams() {
         queryParam("size", "string", "WxH pixels, each 1..8192, at most 2^26 pixels (default 1024x1024)"),
         queryParam("vx", "number", "vertical exaggeration 0.1..100 (default 1)"),
         queryParam("bg", "string", "transparent (default) or #rrggbb[aa]"),
+        queryParam("colour", "string",
+                   "a block property (the model's block model): the clipping bodies coloured by its class at "
+                   "each cell's exact piece; profile views, tiles, GeoJSON and SVG"),
+        queryParam("breaks", "string", "b1,b2,...: increasing class breaks of 'colour' (default: 5 equal classes)"),
+        queryParam("ramp", "string", "colour ramp of 'colour': viridis (default), magma, greys, spectral"),
     });
 }
 
@@ -193,7 +198,13 @@ J openApiDocument(const std::string& serverVersion) {
         get("/v1/models/{id}/reserves",
             op(what,
                J::array(
-                   {id, plane, queryParam("format", "string", "json (default) or csv (the same as reserves.csv)")}),
+                   {id, plane, queryParam("format", "string", "json (default) or csv (the same as reserves.csv)"),
+                    queryParam("cutoffs", "string",
+                               "c1,c2,...: grade-tonnage tables of the block model's clipping bodies (exact cell x "
+                               "body volumes); JSON adds grade_tonnage, CSV becomes the table"),
+                    queryParam("property", "string",
+                               "the grade property of the table (default: the first not "
+                               "named density)")}),
                J{{"description", "the reserves; ETag and Cache-Control set"},
                  {"content", {{"application/json", J::object()}, {"text/csv", J::object()}}}}));
         get("/v1/models/{id}/reserves.csv",

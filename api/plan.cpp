@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <functional>
 #include <limits>
+
+#include "section/block_section.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -66,6 +69,10 @@ std::string SectionDef::canonical() const {
     }
     s += "&vx=" + formatNumber(exaggeration);
     s += "&bg=" + colourHex(background);
+    if (colour) {
+        s += "&colour=" + colour->property + "&ramp=" + colour->ramp;
+        if (colour->breaks) s += "&breaks=" + join(colour->breaks->data(), colour->breaks->size());
+    }
     return s;
 }
 
@@ -90,8 +97,8 @@ std::string ViewPlan::canonical() const {
 }
 
 const std::vector<std::string_view>& sectionParamNames() {
-    static const std::vector<std::string_view> names{"plane",     "planes", "cut", "line",
-                                                     "elevation", "coords", "vx",  "bg"};
+    static const std::vector<std::string_view> names{"plane", "planes", "cut",    "line",   "elevation", "coords",
+                                                     "vx",    "bg",     "colour", "breaks", "ramp"};
     return names;
 }
 
@@ -102,6 +109,43 @@ const std::vector<std::string_view>& viewParamNames() {
         return n;
     }();
     return names;
+}
+
+Result<std::optional<BlockColouring>> parseBlockColouring(const Params& params) {
+    if (const auto colour = param(params, "colour")) {
+        BlockColouring bc;
+        bc.property = std::string(*colour);
+        const bool nameOk =
+            !bc.property.empty() && bc.property.size() <= 64 &&
+            std::all_of(bc.property.begin(), bc.property.end(), [](char ch) {
+                return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-';
+            });
+        if (!nameOk)
+            return makeError(ErrorCode::InvalidArgument,
+                             "parameter 'colour': a block property name of 1..64 characters A-Z a-z 0-9 _ . -");
+        if (const auto ramp = param(params, "ramp")) {
+            if (!isRampName(*ramp)) {
+                std::string known;
+                for (auto n : rampNames()) known += (known.empty() ? "" : ", ") + std::string(n);
+                return makeError(ErrorCode::InvalidArgument,
+                                 "parameter 'ramp': '" + std::string(ramp->substr(0, 64)) + "' is not one of " + known);
+            }
+            bc.ramp = std::string(*ramp);
+        }
+        if (const auto breaks = param(params, "breaks")) {
+            auto v = parseNumberList("breaks", *breaks, 0, 64);
+            if (!v) return v.error();
+            if (v.value().empty()) return makeError(ErrorCode::InvalidArgument, "parameter 'breaks': no numbers");
+            for (std::size_t i = 1; i < v.value().size(); ++i)
+                if (!(v.value()[i] > v.value()[i - 1]))
+                    return makeError(ErrorCode::InvalidArgument, "parameter 'breaks': values must increase strictly");
+            bc.breaks = std::move(v.value());
+        }
+        return std::optional<BlockColouring>(std::move(bc));
+    }
+    if (param(params, "breaks") || param(params, "ramp"))
+        return makeError(ErrorCode::InvalidArgument, "parameters 'breaks' and 'ramp' need 'colour=PROPERTY'");
+    return std::optional<BlockColouring>();
 }
 
 Result<SectionDef> parseSectionDef(const Params& params, const std::string& model, const Crs& crs) {
@@ -208,6 +252,9 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
         if (!c) return c.error();
         def.background = c.value();
     }
+    auto colour = parseBlockColouring(params);
+    if (!colour) return colour.error();
+    def.colour = std::move(colour.value());
     return def;
 }
 

@@ -17,6 +17,7 @@
 //   size=WxH                    pixels, each side 1..8192, at most 2^26 pixels (default 1024x1024)
 //   vx=k                        vertical exaggeration 0.1..100 (default 1): v metres per pixel / k
 //   bg=transparent|#rrggbb[aa]  background (default transparent)
+//   colour=PROP breaks=b1,.. ramp=NAME   colour by a block property (BlockColouring)
 // Units: metres in the model's CRS (x easting, y northing, z elevation), degrees for lon/lat.
 // Pure functions, any thread.
 #pragma once
@@ -46,6 +47,15 @@ enum class Geometry { Plane, Line, Elevation };
 enum class ViewKind { Profile, Perspective };
 
 // What a section is, independent of the view of it (a tile pyramid shares one).
+// Colouring by a block property (model/block_model.hpp): colour=PROP [&breaks=b1,b2,...]
+// [&ramp=viridis|magma|greys|spectral]. Without breaks: five equal classes over the
+// property's range. PROP is [A-Za-z0-9_.-]{1,64}.
+struct BlockColouring {
+    std::string property;
+    std::string ramp = "viridis";
+    std::optional<std::vector<double>> breaks;
+};
+
 struct SectionDef {
     std::string model;
     Geometry geometry = Geometry::Plane;
@@ -58,8 +68,10 @@ struct SectionDef {
     double elevation = 0.0;        // Elevation
     double exaggeration = 1.0;     // vertical exaggeration of profile frames
     Rgba8 background{0, 0, 0, 0};
+    std::optional<BlockColouring> colour;  // colour the clipping bodies by a block property
 
-    // "model=..&plane=..&vx=..&bg=.." with every number in shortest round-trip form.
+    // "model=..&plane=..&vx=..&bg=..[&colour=..&ramp=..&breaks=..]" with every number in
+    // shortest round-trip form.
     std::string canonical() const;
 };
 
@@ -83,6 +95,8 @@ struct ViewPlan {
 const std::vector<std::string_view>& sectionParamNames();
 const std::vector<std::string_view>& viewParamNames();
 
+// colour, breaks and ramp of `params` (nullopt when there is no 'colour').
+Result<std::optional<BlockColouring>> parseBlockColouring(const Params& params);
 // Parses the section fields of `params`. `crs` converts lon/lat lines (error when local).
 Result<SectionDef> parseSectionDef(const Params& params, const std::string& model, const Crs& crs);
 // Parses a whole view. Errors name the parameter (InvalidArgument / OutOfRange).

@@ -1,5 +1,7 @@
 #include "api/reserves.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <map>
 
 #include "api/plan.hpp"
@@ -112,11 +114,16 @@ std::string ReservesRequest::canonical() const {
         s = "plane=";
         for (int i = 0; i < 4; ++i) s += (i ? "," : "") + formatNumber(v[i]);
     }
+    if (cutoffs) {
+        s += "|cutoffs=";
+        for (std::size_t i = 0; i < cutoffs->size(); ++i) s += (i ? "," : "") + formatNumber((*cutoffs)[i]);
+        s += "|property=" + property;
+    }
     return s + (csv ? "|csv" : "|json");
 }
 
 Result<ReservesRequest> parseReservesRequest(const Params& params, bool csvPath) {
-    if (auto s = checkKnownParams(params, {"plane", "format"}); !s) return s.error();
+    if (auto s = checkKnownParams(params, {"plane", "format", "cutoffs", "property"}); !s) return s.error();
     ReservesRequest r;
     r.csv = csvPath;
     if (const auto f = param(params, "format")) {
@@ -134,7 +141,78 @@ Result<ReservesRequest> parseReservesRequest(const Params& params, bool csvPath)
         if (!def) return def.error();
         r.plane = def.value().plane;
     }
+    if (const auto c = param(params, "cutoffs")) {
+        auto v = parseNumberList("cutoffs", *c, 0, 64);
+        if (!v) return v.error();
+        for (std::size_t i = 1; i < v.value().size(); ++i)
+            if (!(v.value()[i] > v.value()[i - 1]))
+                return makeError(ErrorCode::InvalidArgument, "parameter 'cutoffs': values must increase strictly");
+        if (r.plane)
+            return makeError(ErrorCode::Unsupported,
+                             "parameters 'cutoffs' and 'plane': grade-tonnage tables are of whole bodies only");
+        r.cutoffs = std::move(v.value());
+    }
+    if (const auto p = param(params, "property")) {
+        if (!r.cutoffs)
+            return makeError(ErrorCode::InvalidArgument,
+                             "parameter 'property' needs 'cutoffs' (a grade-tonnage table)");
+        r.property = std::string(p->substr(0, 128));
+    }
     return r;
+}
+
+Result<std::string> gradeProperty(const Model& model, const std::string& requested) {
+    if (!model.blocks)
+        return makeError(ErrorCode::InvalidArgument,
+                         "grade-tonnage tables need a block model (a <stem>.blocks.json or .blocks.csv sidecar, or "
+                         "--blocks)");
+    if (!requested.empty()) return requested;
+    for (const BlockProperty& p : model.blocks->properties) {
+        std::string n = p.name;
+        std::transform(n.begin(), n.end(), n.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+        if (n != "density") return p.name;
+    }
+    return model.blocks->properties.front().name;
+}
+
+J gradeTonnageJson(const Model& model, const GradeTonnage& table) {
+    J bodies = J::array();
+    for (const BodyGradeTonnage& b : table.bodies) {
+        J rows = J::array();
+        for (const GradeTonnageRow& r : b.rows)
+            rows.push_back({{"cutoff", r.cutoff},
+                            {"cells", r.cells},
+                            {"volume_m3", r.volume},
+                            {"tonnage_t", optional(r.tonnage)},
+                            {"mean_grade", optional(r.meanGrade)},
+                            {"metal", optional(r.metal)},
+                            {"metal_unit", r.metalUnit}});
+        bodies.push_back({{"body", model.bodies[b.body].name},
+                          {"record", b.record},
+                          {"volume_m3", b.volume},
+                          {"volume_without_grade_m3", b.volumeNoGrade},
+                          {"density_source", b.densitySource},
+                          {"rows", std::move(rows)}});
+    }
+    return J{{"property", table.property},
+             {"unit", table.unit},
+             {"cutoffs", table.cutoffs},
+             {"method",
+              "exact cell ∩ body volumes (divergence theorem on the body clipped to each cell: 3D, then the section "
+              "of the body on the cell's face, then the body's crossings of that face's edge); net of directly nested "
+              "bodies; a row counts the cells whose grade >= its cut-off"},
+             {"bodies", std::move(bodies)}};
+}
+
+std::string gradeTonnageCsv(const Model& model, const GradeTonnage& table) {
+    std::string s = "body,record,cutoff,cells,volume_m3,tonnage_t,mean_grade,grade_unit,metal,metal_unit\n";
+    for (const BodyGradeTonnage& b : table.bodies)
+        for (const GradeTonnageRow& r : b.rows)
+            s += csvField(model.bodies[b.body].name) + ',' + std::to_string(b.record) + ',' + formatNumber(r.cutoff) +
+                 ',' + std::to_string(r.cells) + ',' + formatNumber(r.volume) + ',' + csvNumber(r.tonnage) + ',' +
+                 csvNumber(r.meanGrade) + ',' + csvField(table.unit) + ',' + csvNumber(r.metal) + ',' +
+                 csvField(r.metalUnit) + '\n';
+    return s;
 }
 
 }  // namespace geoslice::api

@@ -25,6 +25,7 @@
 
 #include "api/params.hpp"
 #include "model/model.hpp"
+#include "section/block_reserves.hpp"
 #include "section/reserves.hpp"
 
 namespace geoslice::api {
@@ -39,12 +40,31 @@ std::string reservesCsv(const Model& model, const Reserves& reserves);
 // exactly as a section's plane, errors name 'plane') and `format=json|csv` (optional; the
 // path reserves.csv means csv, and format=json there is a conflict). Any other parameter
 // is an InvalidArgument naming it.
+//
+// With a block model (model/block_model.hpp): `cutoffs=c1,c2,...` (increasing, at most 64)
+// and `property=NAME` (default: the first block property not named density) ask for
+// grade-tonnage tables (section/block_reserves.hpp); JSON then carries "grade_tonnage"
+// (gradeTonnageJson) beside the bodies, and CSV is the grade-tonnage table
+// (gradeTonnageCsv) instead of the body table. Not with `plane` (refused).
 struct ReservesRequest {
     std::optional<Plane> plane;
     bool csv = false;
+    std::optional<std::vector<double>> cutoffs;
+    std::string property;  // empty: the default
     // Cache key part: "whole" or the normalised plane's four numbers, then the format.
     std::string canonical() const;
 };
 Result<ReservesRequest> parseReservesRequest(const Params& params, bool csvPath);
+
+// The grade property a request names, or the default (first not named "density"; the
+// first property when all are). Error when the model has no block model.
+Result<std::string> gradeProperty(const Model& model, const std::string& requested);
+// {"property", "unit", "cutoffs", "method", "bodies": [{"body", "record", "volume_m3",
+//  "volume_without_grade_m3", "density_source", "rows": [{"cutoff", "cells", "volume_m3",
+//  "tonnage_t", "mean_grade", "metal", "metal_unit"}]}]} (null where there is no density).
+nlohmann::ordered_json gradeTonnageJson(const Model& model, const GradeTonnage& table);
+// CSV: body,record,cutoff,cells,volume_m3,tonnage_t,mean_grade,grade_unit,metal,metal_unit;
+// one row per body and cut-off.
+std::string gradeTonnageCsv(const Model& model, const GradeTonnage& table);
 
 }  // namespace geoslice::api

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "api/json_writer.hpp"
+#include "api/legend.hpp"
 #include "section/contours.hpp"
 #include "section/vector_export.hpp"
 
@@ -56,6 +57,38 @@ FrameRect defaultLineFrame(const SectionLine& line, const Aabb& bounds, int widt
 
 }  // namespace
 
+Result<std::optional<PropertyClasses>> blockClasses(const CatalogModel& model, const SectionDef& def) {
+    if (!def.colour) return std::optional<PropertyClasses>();
+    if (!model.model.blocks)
+        return makeError(ErrorCode::InvalidArgument, "parameter 'colour': model '" + model.id +
+                                                         "' has no block model (attach one with a <stem>.blocks.json "
+                                                         "or <stem>.blocks.csv sidecar)");
+    auto classes = propertyClasses(*model.model.blocks, def.colour->property, def.colour->ramp, def.colour->breaks);
+    if (!classes)
+        return makeError(classes.error().code,
+                         std::string(def.colour->breaks ? "parameters 'colour', 'breaks': " : "parameter 'colour': ") +
+                             classes.error().message);
+    return std::optional<PropertyClasses>(std::move(classes.value()));
+}
+
+std::size_t blockCellAt(const CatalogModel& model, RecordId record, const glm::dvec3& world) {
+    if (!model.model.blocks || record == kNoRecord ||
+        !std::binary_search(model.blockRecords.begin(), model.blockRecords.end(), record))
+        return BlockModel::kNoCell;
+    return model.model.blocks->cellAt(world);
+}
+
+void colourByBlocks(const CatalogModel& model, const PropertyClasses& classes, const PixelMapping& mapping,
+                    ViewImage& image) {
+    const std::size_t pixels = std::size_t(image.width) * std::size_t(image.height);
+    image.cells.assign(pixels, 0);
+    if (!model.model.blocks || image.ids.size() != pixels) return;
+    colourPixelsByBlocks(
+        *model.model.blocks, classes, model.blockRecords, [&](int i, int j) { return mapping.worldAt(i, j); },
+        image.width, image.height, image.ids.data(), image.rgba.size() == 4 * pixels ? image.rgba.data() : nullptr,
+        image.cells.data());
+}
+
 glm::dvec2 PixelMapping::sectionAt(int i, int j) const {
     const double pu = (rect.u1 - rect.u0) / width, pv = (rect.v1 - rect.v0) / height;
     return {rect.u0 + (i + 0.5) * pu, rect.v1 - (j + 0.5) * pv};
@@ -106,6 +139,8 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
     const auto t0 = std::chrono::steady_clock::now();
     auto mapping = profileMapping(model, plan);
     if (!mapping) return mapping.error();
+    auto classes = blockClasses(model, plan.section);
+    if (!classes) return classes.error();
     RasterOptions ro;
     ro.background = plan.section.background;
     ro.cancel = cancel;
@@ -133,6 +168,7 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
         v.ids = std::move(image.value().ids);
     }
     v.mapping = std::move(mapping.value());
+    if (classes.value()) colourByBlocks(model, *classes.value(), *v.mapping, v);
     v.renderMs = msSince(t0);
     return v;
 }
@@ -143,6 +179,8 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
         return makeError(ErrorCode::Unsupported, "vector output (GeoJSON, SVG) exists for profile views only");
     auto mapping = profileMapping(model, plan);
     if (!mapping) return mapping.error();
+    auto classes = blockClasses(model, plan.section);
+    if (!classes) return classes.error();
     RasterOptions ro;
     ro.background = plan.section.background;
     auto emit = [&](const VectorSource& source) -> Result<std::string> {
@@ -151,13 +189,34 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
         return toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane).dump();
     };
     if (plan.section.geometry == Geometry::Line) {
+        if (classes.value())
+            return makeError(ErrorCode::Unsupported,
+                             "parameter 'colour': vector output of polyline sections is not coloured by block "
+                             "properties yet (images and planes are)");
         auto section = computePolylineSection(*model.index, plan.section.line);
         if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
         return emit(vectorSource(section.value()));
     }
     auto section = computeSection(*model.index, sectionPlane(plan.section));
     if (!section) return section.error();
-    return emit(vectorSource(section.value()));
+    VectorSource source = vectorSource(section.value());
+    if (!classes.value()) return emit(source);
+    // The cells' exact pieces inside the clipping bodies, over the bodies' own fills.
+    const PropertyClasses& pc = *classes.value();
+    const BlockModel& blocks = *model.model.blocks;
+    auto pieces = blockPieces(blocks, section.value(), &mapping.value().rect);
+    if (!pieces) return makeError(pieces.error().code, "parameter 'colour': " + pieces.error().message);
+    if (auto c = checkCancel(cancel); !c) return c.error();
+    if (svg) {
+        source.svgOverBodies =
+            blockPiecesSvg(blocks, pc, pieces.value(), mapping.value().rect, plan.width, plan.height);
+        return emit(source);
+    }
+    nlohmann::ordered_json doc = toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane);
+    auto features = blockPiecesGeoJson(blocks, pc, pieces.value(), world ? &source.toWorld : nullptr);
+    for (auto& f : features) doc["features"].push_back(std::move(f));
+    doc["blockLegend"] = blockLegendJson(blocks, pc);
+    return doc.dump();
 }
 
 Result<FrameRect> TileGrid::tileRect(int z, long long x, long long y) const {
@@ -219,6 +278,8 @@ Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef&
                                     long long x, long long y, const std::atomic<bool>* cancel) {
     auto rect = grid.tileRect(z, x, y);
     if (!rect) return rect.error();
+    auto classes = blockClasses(model, def);
+    if (!classes) return classes.error();
     const auto t0 = std::chrono::steady_clock::now();
     RasterOptions ro;
     ro.background = def.background;
@@ -226,6 +287,7 @@ Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef&
     auto image = renderTile(*model.index, sectionPlane(def), rect.value(), grid.tileSize, grid.tileSize, ro);
     if (!image) return image.error();
     ViewImage v = fromSectionImage(std::move(image.value()));
+    if (classes.value()) colourByBlocks(model, *classes.value(), *v.mapping, v);
     v.renderMs = msSince(t0);
     return v;
 }
@@ -310,6 +372,7 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
         }
     }
     if (std::isfinite(hitT)) a.world = ray.origin + hitT * ray.direction;
+    if (std::isfinite(hitT)) a.cell = blockCellAt(model, a.record, a.world);
     a.distanceAlong =
         std::isfinite(hitT) ? glm::length(a.world - ray.origin) : std::numeric_limits<double>::quiet_NaN();
     if (cached && !cached->ids.empty()) {
@@ -346,8 +409,13 @@ Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan,
     a.line = mapping->geometry == Geometry::Line;
     a.distanceAlong = a.line ? a.section.x : a.section.x - mapping->rect.u0;
     if (cached && !cached->ids.empty()) {
-        a.record = cached->ids[std::size_t(j) * std::size_t(cached->width) + std::size_t(i)];
+        const std::size_t p = std::size_t(j) * std::size_t(cached->width) + std::size_t(i);
+        a.record = cached->ids[p];
         a.fromIdBuffer = true;
+        if (!cached->cells.empty()) {
+            a.cell = cached->cells[p] == 0 ? BlockModel::kNoCell : std::size_t(cached->cells[p] - 1);
+            return a;
+        }
     } else if (a.line) {
         // Like the polyline fill: nothing before the first vertex or past the last one.
         a.record = a.section.x >= 0.0 && a.section.x < mapping->line.length() ? model.classifier->classify(a.world)
@@ -355,6 +423,7 @@ Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan,
     } else {
         a.record = model.classifier->classify(a.world);
     }
+    a.cell = blockCellAt(model, a.record, a.world);
     return a;
 }
 
@@ -432,6 +501,29 @@ void writeWorldPoint(JsonWriter& w, const CatalogModel& model, const glm::dvec3&
     w.endObject();
 }
 
+// "block": the cell's index and every property there, or null with why.
+void writeBlockAnswer(JsonWriter& w, const BlockModel& blocks, std::size_t cell) {
+    if (cell == BlockModel::kNoCell) {
+        w.key("block")
+            .null()
+            .key("blockNote")
+            .value("no block cell here: outside the block model's grid or outside the bodies that clip it");
+        return;
+    }
+    const auto ijk = blocks.ijk(cell);
+    w.key("block").beginObject();
+    w.key("cell").beginArray().value((long long)ijk[0]).value((long long)ijk[1]).value((long long)ijk[2]).endArray();
+    w.key("properties").beginObject();
+    for (const BlockProperty& p : blocks.properties) {
+        w.key(p.name).value(p.values[cell]);  // NaN (no value) is written as null
+    }
+    w.endObject();
+    w.key("units").beginObject();
+    for (const BlockProperty& p : blocks.properties) w.key(p.name).value(p.unit);
+    w.endObject();
+    w.endObject();
+}
+
 void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::string& out) {
     JsonWriter w(out);
     w.beginObject();
@@ -449,6 +541,7 @@ void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::stri
     } else {
         w.key("record").null().key("message").value("no geology at this pixel");
     }
+    if (model.model.blocks) writeBlockAnswer(w, *model.model.blocks, a.cell);
     if (a.perspective) {
         w.key("distanceFromEye").value(a.distanceAlong);
         if (std::isfinite(a.world.x)) {

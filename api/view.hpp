@@ -16,6 +16,7 @@
 #include "api/catalog.hpp"
 #include "api/plan.hpp"
 #include "model/result.hpp"
+#include "section/block_section.hpp"
 #include "section/polyline.hpp"
 #include "section/raster.hpp"
 
@@ -39,12 +40,28 @@ Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& p
 // A rendered view: colour, record ids and the pixel -> world map.
 struct ViewImage {
     int width = 0, height = 0;
-    std::vector<std::uint8_t> rgba;       // straight alpha, row 0 at the top
-    std::vector<std::uint32_t> ids;       // record ids, 0 = no geology
+    std::vector<std::uint8_t> rgba;  // straight alpha, row 0 at the top
+    std::vector<std::uint32_t> ids;  // record ids, 0 = no geology
+    // Views coloured by a block property (SectionDef::colour): the block cell at each pixel
+    // centre + 1 where the pixel's record is a clipping body's, else 0; empty otherwise.
+    std::vector<std::uint32_t> cells;
     std::optional<PixelMapping> mapping;  // profile views and tiles: exact pixel -> world
     double renderMs = 0.0;
-    std::size_t bytes() const { return rgba.size() + ids.size() * 4 + sizeof(ViewImage); }
+    std::size_t bytes() const { return rgba.size() + ids.size() * 4 + cells.size() * 4 + sizeof(ViewImage); }
 };
+
+// The colour classes a section's `colour=` asks for, against the model's block model;
+// nullopt when the section is not coloured. Errors (InvalidArgument, naming the parameter):
+// the model has no block model, no such property (the known ones are listed), bad breaks.
+Result<std::optional<PropertyClasses>> blockClasses(const CatalogModel& model, const SectionDef& def);
+// The block cell (BlockModel linear index) at world point `world` whose record is `record`:
+// BlockModel::kNoCell when the model has no block model, the record is not a clipping
+// body's, or the point is outside the grid. The one rule that both the image and the query use.
+std::size_t blockCellAt(const CatalogModel& model, RecordId record, const glm::dvec3& world);
+// Colours every pixel whose record is a clipping body's by the class of the cell at its
+// centre (cells with no value keep the body's colour) and fills `image.cells`.
+void colourByBlocks(const CatalogModel& model, const PropertyClasses& classes, const PixelMapping& mapping,
+                    ViewImage& image);
 
 // A profile view (plane, elevation or polyline section) with the exact engine. A plane that
 // misses the model gives an empty (background) image, not an error. `cancel` (may be
@@ -91,6 +108,7 @@ struct QueryAnswer {
     bool line = false;
     bool perspective = false;  // world = the first visible point on the ray (NaN: none); distanceAlong = from the eye
     bool fromIdBuffer = false;
+    std::size_t cell = BlockModel::kNoCell;  // the block cell (blockCellAt), from the cells buffer when cached
 };
 // InvalidArgument naming the parameter ('plane', 'planes' or 'elevation') when the cut of a
 // perspective view keeps no part of the model's bounds (api/cut.hpp).

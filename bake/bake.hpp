@@ -172,8 +172,9 @@ struct BlockModel {
 
 // CSV with a header row naming x,y,z (block centre, world: easting, northing, elevation),
 // dx,dy,dz (block size) and exactly one more column, the value; any column order, ',' or ';'.
-// Errors name the source and line: a missing column, a non-number, a non-finite value or a
-// size <= 0.
+// Read by the project's one block CSV reader (model/block_model.hpp readBlockRows); sizes may
+// differ here (sub-blocks). Errors name the source and line: a missing column, a
+// non-number, a non-finite or empty value or a size <= 0.
 Result<BlockModel> parseBlockCsv(std::string_view text, const std::string& source);
 
 // Grade classes of a field: class k holds values in [breaks[k-1], breaks[k]) (class 0 below

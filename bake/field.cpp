@@ -2,7 +2,6 @@
 // a uniform-grid index (cell = median block size) that finds the block holding a point, and
 // the barycentric interpolation of a per-vertex property (TSurf PVRTX).
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -10,91 +9,25 @@
 
 #include "bake/bake.hpp"
 #include "bake/field.hpp"
+#include "model/block_model.hpp"
 
 namespace geoslice::bake {
-namespace {
-
-std::vector<std::string_view> splitRow(std::string_view line, char sep) {
-    std::vector<std::string_view> out;
-    std::size_t start = 0;
-    for (std::size_t i = 0; i <= line.size(); ++i)
-        if (i == line.size() || line[i] == sep) {
-            std::string_view f = line.substr(start, i - start);
-            while (!f.empty() && (f.front() == ' ' || f.front() == '\t' || f.front() == '"')) f.remove_prefix(1);
-            while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r' || f.back() == '"'))
-                f.remove_suffix(1);
-            out.push_back(f);
-            start = i + 1;
-        }
-    return out;
-}
-
-}  // namespace
-
 Result<BlockModel> parseBlockCsv(std::string_view text, const std::string& source) {
+    auto rows = readBlockRows(text, source);
+    if (!rows) return rows.error();
+    if (rows->names.size() != 1)
+        return makeError(ErrorCode::ParseError, source + ": more than one value column (\"" + rows->names[0] +
+                                                    "\", \"" + rows->names[1] + "\"): a field bake takes one");
+    if (rows->centres.empty()) return makeError(ErrorCode::ParseError, source + ": no blocks");
     BlockModel b;
-    std::size_t pos = 0, lineNo = 0;
-    int col[7] = {-1, -1, -1, -1, -1, -1, -1};  // x y z dx dy dz value
-    std::size_t columns = 0;
-    char sep = ',';
-    while (pos < text.size()) {
-        std::size_t end = text.find('\n', pos);
-        if (end == std::string_view::npos) end = text.size();
-        std::string_view line = text.substr(pos, end - pos);
-        pos = end + 1;
-        ++lineNo;
-        if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;
-        if (columns == 0) {
-            sep = line.find(';') != std::string_view::npos && line.find(',') == std::string_view::npos ? ';' : ',';
-            const auto names = splitRow(line, sep);
-            columns = names.size();
-            static const char* known[6] = {"x", "y", "z", "dx", "dy", "dz"};
-            for (std::size_t i = 0; i < names.size(); ++i) {
-                std::string n(names[i]);
-                std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-                int k = -1;
-                for (int j = 0; j < 6; ++j)
-                    if (n == known[j]) k = j;
-                if (k < 0) {
-                    if (col[6] >= 0)
-                        return makeError(ErrorCode::ParseError, source + ":" + std::to_string(lineNo) +
-                                                                    ": more than one value column (\"" + b.name +
-                                                                    "\", \"" + std::string(names[i]) + "\")");
-                    col[6] = int(i);
-                    b.name = std::string(names[i]);
-                } else {
-                    col[k] = int(i);
-                }
-            }
-            for (int j = 0; j < 7; ++j)
-                if (col[j] < 0)
-                    return makeError(ErrorCode::ParseError,
-                                     source + ":" + std::to_string(lineNo) +
-                                         ": the header needs columns x,y,z,dx,dy,dz and one value column");
-            continue;
-        }
-        const auto f = splitRow(line, sep);
-        if (f.size() != columns)
-            return makeError(ErrorCode::ParseError, source + ":" + std::to_string(lineNo) + ": " +
-                                                        std::to_string(f.size()) + " fields, the header has " +
-                                                        std::to_string(columns));
-        double v[7];
-        for (int j = 0; j < 7; ++j) {
-            const std::string_view s = f[std::size_t(col[j])];
-            auto [next, ec] = std::from_chars(s.data(), s.data() + s.size(), v[j]);
-            if (ec != std::errc() || next != s.data() + s.size() || !std::isfinite(v[j]))
-                return makeError(ErrorCode::ParseError, source + ":" + std::to_string(lineNo) + ": \"" +
-                                                            std::string(s.substr(0, 40)) + "\" is not a finite number");
-            if (j >= 3 && j < 6 && !(v[j] > 0.0))
-                return makeError(ErrorCode::ParseError,
-                                 source + ":" + std::to_string(lineNo) + ": block size must be > 0");
-        }
-        b.centres.push_back({v[0], v[1], v[2]});
-        b.sizes.push_back({v[3], v[4], v[5]});
-        b.values.push_back(v[6]);
-    }
-    if (columns == 0) return makeError(ErrorCode::ParseError, source + ": empty block model (no header)");
-    if (b.values.empty()) return makeError(ErrorCode::ParseError, source + ": no blocks");
+    b.name = rows->names[0];
+    b.centres = std::move(rows->centres);
+    b.sizes = std::move(rows->sizes);
+    b.values = std::move(rows->values[0]);
+    for (std::size_t r = 0; r < b.values.size(); ++r)
+        if (std::isnan(b.values[r]))
+            return makeError(ErrorCode::ParseError,
+                             source + ":" + std::to_string(rows->lines[r]) + ": the value is empty");
     return b;
 }
 

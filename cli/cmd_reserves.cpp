@@ -3,19 +3,23 @@
 // (section/reserves.hpp says how and in which units; api/reserves.hpp lays out the JSON,
 // which GET /v1/models/{id}/reserves serves too).
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "api/reserves.hpp"
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
+#include "section/block_reserves.hpp"
 #include "section/reserves.hpp"
 
 namespace geoslice::cli {
 
 void addReserves(CLI::App& app, int& exitCode) {
     struct Opts {
-        std::string model, plane;
-        bool json = false;
+        std::string model, plane, property;
+        std::vector<double> cutoffs;
+        bool json = false, csv = false;
         LoadOptions load;
     };
     auto o = std::make_shared<Opts>();
@@ -25,6 +29,13 @@ void addReserves(CLI::App& app, int& exitCode) {
     addLoadOptions(cmd, o->load);
     cmd->add_option("--plane", o->plane, "Plane a,b,c,d (world metres): count only what lies where a*x+b*y+c*z+d >= 0");
     cmd->add_flag("--json", o->json, "Print JSON instead of a table");
+    cmd->add_flag("--csv", o->csv, "Print CSV (the body table; with --cutoffs the grade-tonnage table)");
+    cmd->add_option("--cutoffs", o->cutoffs,
+                    "Grade-tonnage table of the block model's clipping bodies at these cut-offs (comma-separated, "
+                    "increasing)")
+        ->delimiter(',');
+    cmd->add_option("--property", o->property,
+                    "The block property of the grade-tonnage table (default: the first not named density)");
     cmd->callback([o, &exitCode] {
         auto fail = [&](const std::string& msg, int code) {
             std::fprintf(stderr, "geoslice reserves: %s\n", msg.c_str());
@@ -44,8 +55,25 @@ void addReserves(CLI::App& app, int& exitCode) {
         if (r->skippedOpenBodies)
             std::fprintf(stderr, "geoslice reserves: warning: %zu bodies are not closed shells and have no volume\n",
                          r->skippedOpenBodies);
+        if (o->json && o->csv) return fail("--json and --csv exclude each other", 2);
+        std::optional<GradeTonnage> table;
+        if (!o->cutoffs.empty() || !o->property.empty()) {
+            if (o->cutoffs.empty()) return fail("--property needs --cutoffs", 2);
+            if (plane) return fail("--cutoffs: grade-tonnage tables are of whole bodies (no --plane)", 2);
+            auto property = api::gradeProperty(m, o->property);
+            if (!property) return fail(property.error().message, 1);
+            auto t = computeGradeTonnage(m, property.value(), o->cutoffs);
+            if (!t) return fail(t.error().message, 2);
+            table = std::move(t.value());
+        }
         if (o->json) {
-            std::printf("%s\n", api::reservesJson(m, r.value(), o->model).dump(2).c_str());
+            auto doc = api::reservesJson(m, r.value(), o->model);
+            if (table) doc["grade_tonnage"] = api::gradeTonnageJson(m, *table);
+            std::printf("%s\n", doc.dump(2).c_str());
+            return;
+        }
+        if (o->csv) {
+            std::fputs((table ? api::gradeTonnageCsv(m, *table) : api::reservesCsv(m, r.value())).c_str(), stdout);
             return;
         }
         if (r->plane)
@@ -59,6 +87,20 @@ void addReserves(CLI::App& app, int& exitCode) {
             std::printf("%-44s %8u %16.6g %16.6g %14s %14s\n", m.bodies[b.body].name.c_str(), b.record, b.grossVolume,
                         b.netVolume, tonnage, metal);
         }
+        if (!table) return;
+        std::printf("\ngrade-tonnage of %s%s (cells >= cut-off; exact cell x body volumes)\n", table->property.c_str(),
+                    table->unit.empty() ? "" : (" [" + table->unit + "]").c_str());
+        std::printf("%-32s %12s %10s %16s %14s %12s %16s\n", "body", "cutoff", "cells", "volume_m3", "tonnage_t",
+                    "mean_grade", "metal");
+        for (const BodyGradeTonnage& b : table->bodies)
+            for (const GradeTonnageRow& row : b.rows) {
+                char tonnage[32] = "-", grade[32] = "-", metal[64] = "-";
+                if (row.tonnage) std::snprintf(tonnage, sizeof tonnage, "%.6g", *row.tonnage);
+                if (row.meanGrade) std::snprintf(grade, sizeof grade, "%.6g", *row.meanGrade);
+                if (row.metal) std::snprintf(metal, sizeof metal, "%.6g %s", *row.metal, row.metalUnit.c_str());
+                std::printf("%-32s %12.6g %10zu %16.6g %14s %12s %16s\n", m.bodies[b.body].name.c_str(), row.cutoff,
+                            row.cells, row.volume, tonnage, grade, metal);
+            }
     });
 }
 

@@ -28,6 +28,7 @@
 #include "print/sheet_date.hpp"
 #include "print/svg_output.hpp"
 #include "renderer/image_encode.hpp"
+#include "section/block_section.hpp"
 #include "section/contours.hpp"
 #include "section/polyline.hpp"
 #include "section/raster.hpp"
@@ -154,6 +155,8 @@ void addSection(CLI::App& app, int& exitCode) {
         std::string model, plane, line, size = "1024x1024", frame, geojson, geojsonFrame = "plane", svg;
         std::string sheet, paper = "A3", orientation = "landscape", date;
         double scale = NAN, vx = 1.0, dpi = 150.0;
+        std::string colour, ramp = "viridis";
+        std::vector<double> breaks;
         std::vector<std::string> outs;
         double elevation = NAN;
         bool areas = false;
@@ -198,6 +201,12 @@ void addSection(CLI::App& app, int& exitCode) {
     cmd->add_option("--date", o->date, "The title block's date, YYYY-MM-DD (default: today, UTC)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
     cmd->add_option("--threads", o->threads, "Threads for the cut: 1 or 2 (default 1)");
+    cmd->add_option("--colour", o->colour,
+                    "Colour the block model's clipping bodies by this block property (images; SVG and GeoJSON of "
+                    "plane sections: each cell's exact piece); same as colour= over HTTP");
+    cmd->add_option("--breaks", o->breaks, "Class breaks of --colour, comma-separated (default: 5 equal classes)")
+        ->delimiter(',');
+    cmd->add_option("--ramp", o->ramp, "Colour ramp of --colour: viridis (default), magma, greys, spectral");
     cmd->callback([o, &exitCode] {
         auto fail = [&](const std::string& msg, int code) {
             std::fprintf(stderr, "geoslice section: %s\n", msg.c_str());
@@ -324,7 +333,39 @@ void addSection(CLI::App& app, int& exitCode) {
             rgba = std::move(img->rgba);
             ids = std::move(img->ids);
         }
-        const VectorSource source = polyline ? vectorSource(*lineSection) : vectorSource(*section);
+        VectorSource source = polyline ? vectorSource(*lineSection) : vectorSource(*section);
+        std::optional<PropertyClasses> classes;
+        std::vector<BlockPiece> pieces;
+        if (!o->colour.empty()) {
+            if (!model->blocks) return fail("--colour: the model has no block model (--blocks or a sidecar)", 2);
+            auto c = propertyClasses(*model->blocks, o->colour, o->ramp,
+                                     o->breaks.empty() ? std::nullopt : std::optional(o->breaks));
+            if (!c) return fail("--colour: " + c.error().message, 2);
+            classes = std::move(c.value());
+            const double pu = (rect.u1 - rect.u0) / width, pv = (rect.v1 - rect.v0) / height;
+            std::function<glm::dvec3(int, int)> worldAt;
+            std::optional<SectionLine> line;
+            if (polyline) {
+                auto l = makeSectionLine(linePoints);
+                if (!l) return fail(l.error().message, 1);
+                line = std::move(l.value());
+                worldAt = [&](int i, int j) {
+                    return line->worldAt(rect.u0 + (i + 0.5) * pu, rect.v1 - (j + 0.5) * pv);
+                };
+            } else {
+                worldAt = [&](int i, int j) {
+                    return section->frame.toWorld({rect.u0 + (i + 0.5) * pu, rect.v1 - (j + 0.5) * pv});
+                };
+            }
+            colourPixelsByBlocks(*model->blocks, *classes, blockClipRecords(model.value(), *model->blocks), worldAt,
+                                 width, height, ids.data(), rgba.data(), nullptr);
+            if (!polyline && (!o->svg.empty() || !o->geojson.empty())) {
+                auto p = blockPieces(*model->blocks, *section, &rect);
+                if (!p) return fail(p.error().message, 1);
+                pieces = std::move(p.value());
+                source.svgOverBodies = blockPiecesSvg(*model->blocks, *classes, pieces, rect, width, height);
+            }
+        }
         for (const auto& out : o->outs) {
             Status s = endsWith(out, ".ppm")   ? writePpm(out, rgba, width, height)
                        : endsWith(out, ".pgm") ? writePgm16(out, ids, width, height)
@@ -332,7 +373,11 @@ void addSection(CLI::App& app, int& exitCode) {
             if (!s) return fail(s.error().message, 1);
         }
         if (!o->geojson.empty()) {
-            const json g = toGeoJson(idx, source, o->geojsonFrame == "world" ? VectorFrame::World : VectorFrame::Plane);
+            json g = toGeoJson(idx, source, o->geojsonFrame == "world" ? VectorFrame::World : VectorFrame::Plane);
+            if (classes && !polyline)
+                for (auto& f : blockPiecesGeoJson(*model->blocks, *classes, pieces,
+                                                  o->geojsonFrame == "world" ? &source.toWorld : nullptr))
+                    g["features"].push_back(std::move(f));
             if (Status s = writeText(o->geojson, g.dump() + "\n"); !s) return fail(s.error().message, 1);
         }
         if (!o->svg.empty()) {

@@ -25,6 +25,12 @@ void addLoadOptions(CLI::App* cmd, LoadOptions& options) {
                     "the model's CRS (EPSG:<code>, a CRS name, WKT, or local), for formats that carry none (OBJ); "
                     "overrides the CRS the file or a <stem>.crs declares (with a warning when they differ); must "
                     "measure in metres");
+    cmd->add_option("--blocks", options.blocks.source,
+                    "block model: a CSV (x,y,z,dx,dy,dz + property columns, e.g. grade [g/t Au]) or grid:NAME for a "
+                    "Voxet of the model (default: the <stem>.blocks.json or <stem>.blocks.csv sidecar)");
+    cmd->add_option("--blocks-clip", options.blocks.clip,
+                    "bodies the block model counts inside (comma-separated names; default: the sidecar's, else all)")
+        ->delimiter(',');
 }
 
 }  // namespace geoslice::cli

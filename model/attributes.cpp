@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "model/text_scan.hpp"
+
 namespace geoslice {
 namespace {
 
@@ -34,41 +36,6 @@ std::optional<RecordId> parseId(std::string_view s) {
     auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
     if (ec != std::errc() || p != s.data() + s.size() || v == 0 || v > 0xFFFFFFFEull) return std::nullopt;
     return static_cast<RecordId>(v);
-}
-
-// RFC 4180 fields of one record; `pos` advances past the record's line end.
-std::vector<std::string> csvRecord(std::string_view text, std::size_t& pos, bool& badQuote) {
-    std::vector<std::string> fields;
-    std::string cur;
-    bool inQuotes = false;
-    badQuote = false;
-    while (pos < text.size()) {
-        char c = text[pos++];
-        if (inQuotes) {
-            if (c == '"') {
-                if (pos < text.size() && text[pos] == '"') {
-                    cur += '"';
-                    ++pos;
-                } else {
-                    inQuotes = false;
-                }
-            } else {
-                cur += c;
-            }
-        } else if (c == '"') {
-            inQuotes = true;
-        } else if (c == ',') {
-            fields.push_back(std::move(cur));
-            cur.clear();
-        } else if (c == '\n') {
-            break;
-        } else if (c != '\r') {
-            cur += c;
-        }
-    }
-    if (inQuotes) badQuote = true;
-    fields.push_back(std::move(cur));
-    return fields;
 }
 
 int hexDigit(char c) {
@@ -276,7 +243,7 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
     std::size_t pos = 0;
     bool badQuote = false;
     if (text.substr(0, 3) == "\xEF\xBB\xBF") pos = 3;  // UTF-8 byte order mark
-    std::vector<std::string> header = csvRecord(text, pos, badQuote);
+    std::vector<std::string> header = text::csvRecord(text, pos, badQuote);
     if (badQuote) return makeError(ErrorCode::ParseError, source + ": line 1: unterminated quote");
     int idCol = -1;
     for (std::size_t c = 0; c < header.size(); ++c) {
@@ -296,7 +263,7 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
     std::size_t line = 1;
     while (pos < text.size()) {
         ++line;
-        std::vector<std::string> f = csvRecord(text, pos, badQuote);
+        std::vector<std::string> f = text::csvRecord(text, pos, badQuote);
         std::string where = source + ": line " + std::to_string(line);
         if (badQuote) return makeError(ErrorCode::ParseError, where + ": unterminated quote");
         if (f.size() == 1 && trim(f[0]).empty()) continue;

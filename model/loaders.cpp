@@ -188,6 +188,7 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
     if (auto s = applyCrsDeclarations(*model, p, options.crs); !s) return s.error();
     if (model->source.empty()) model->source = path;
     if (model->name.empty()) model->name = p.stem().string();
+    if (auto s = attachBlockModel(*model, path, options.blocks); !s) return s.error();
     return model;
 }
 

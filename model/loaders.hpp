@@ -29,6 +29,9 @@ struct LoadOptions {
     VtuOptions vtu;
     // The model's CRS given explicitly (--crs): overrides the file's (model/model_crs.hpp).
     std::string crs;
+    // The block model (--blocks, --blocks-clip; model/block_model.hpp attachBlockModel):
+    // empty source = the <stem>.blocks.json / .blocks.csv sidecar when there is one.
+    BlockOptions blocks;
 };
 
 // Dispatches on extension (.glb .gltf .obj .xml .geo3dml .vtu; GOCAD .ts .tsurf .ml .so .vo
@@ -36,7 +39,8 @@ struct LoadOptions {
 // extensions, on content. A sidecar "<stem>.attributes.json" or ".csv" next to the file
 // is merged into the attribute table when present. The CRS comes from the file, the JSON
 // sidecar's "crs", a "<stem>.crs" file and options.crs (`--crs`), in the order and with
-// the rules of model/model_crs.hpp; a CRS a model cannot use (feet) is an error.
+// the rules of model/model_crs.hpp; a CRS a model cannot use (feet) is an error. A block
+// model (options.blocks or a <stem>.blocks.json|csv sidecar) is attached last.
 Result<Model> loadModel(const std::string& path, const LoadOptions& options = {});
 
 // From bytes in memory; `source` names the input in error messages (fuzzers use these).

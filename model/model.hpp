@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include <glm/glm.hpp>
 
 #include "model/attributes.hpp"
+#include "model/block_model.hpp"
 #include "model/crs.hpp"
 
 namespace geoslice {
@@ -149,6 +151,8 @@ struct Model {
     std::vector<Part> surfaces;   // open sheets
     std::vector<Grid> grids;      // structured grids (Voxet, SGrid): kept, not sectioned yet
     std::vector<Polyline> lines;  // well paths and lines (PLine): kept, not sectioned yet
+    // The block model attached to the model (model/block_model.hpp), or null.
+    std::shared_ptr<const BlockModel> blocks;
     AttributeTable attributes;
     Crs crs;                      // Crs::local() when the model has no CRS
     glm::dvec3 origin{0.0};       // world point that local coordinates are relative to

@@ -120,4 +120,38 @@ bool Tokens::next(std::string_view& tok) {
     return true;
 }
 
+std::vector<std::string> csvRecord(std::string_view text, std::size_t& pos, bool& badQuote, char separator) {
+    std::vector<std::string> fields;
+    std::string cur;
+    bool inQuotes = false;
+    badQuote = false;
+    while (pos < text.size()) {
+        const char c = text[pos++];
+        if (inQuotes) {
+            if (c == '"') {
+                if (pos < text.size() && text[pos] == '"') {
+                    cur += '"';
+                    ++pos;
+                } else {
+                    inQuotes = false;
+                }
+            } else {
+                cur += c;
+            }
+        } else if (c == '"') {
+            inQuotes = true;
+        } else if (c == separator) {
+            fields.push_back(std::move(cur));
+            cur.clear();
+        } else if (c == '\n') {
+            break;
+        } else if (c != '\r') {
+            cur += c;
+        }
+    }
+    if (inQuotes) badQuote = true;
+    fields.push_back(std::move(cur));
+    return fields;
+}
+
 }  // namespace geoslice::text

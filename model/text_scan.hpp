@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace geoslice::text {
 
@@ -26,6 +27,12 @@ std::string quoteToken(std::string_view tok);
 // The whole token as a double (a leading '+' allowed), else nullopt. NaN/Inf parse: the
 // caller decides whether they are allowed.
 std::optional<double> parseDouble(std::string_view tok);
+
+// The fields of one CSV record (RFC 4180: quoted fields may hold separators, doubled
+// quotes and line ends) starting at text[pos]; `pos` advances past the record's line end
+// ('\n', a '\r' before it dropped). `badQuote` is set when a quote is not closed. The one
+// CSV reader of the project (attribute tables, block models).
+std::vector<std::string> csvRecord(std::string_view text, std::size_t& pos, bool& badQuote, char separator = ',');
 
 // Whitespace-separated tokens of one line; when `comment` is set, a token starting with
 // it ends the line.

@@ -181,6 +181,7 @@ Result<std::string> toSvg(const SectionIndex& index, const VectorSource& src, co
         std::snprintf(buf, sizeof buf, " (record %u): %.3f m2</title></path>\n", b->record, b->area);
         out += buf;
     }
+    out += src.svgOverBodies;
     if (options.traces) {
         for (const SectionTrace& t : *src.traces) {
             const SectionPart& part = index.parts[t.part];

@@ -46,6 +46,8 @@ struct VectorSource {
     const std::vector<SectionTrace>* traces = nullptr;
     std::function<glm::dvec3(const glm::dvec2&)> toWorld;  // 2D (metres) -> world
     std::string axes;                                      // what the 2D axes are, for the output
+    // SVG elements drawn over the bodies and under the traces (block cells: section/block_section.hpp).
+    std::string svgOverBodies;
 };
 
 // The source views keep pointers into `section`: it must outlive them.

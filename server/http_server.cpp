@@ -441,8 +441,13 @@ struct SectionServer::Impl {
     // views the plane against the model and the frame's pixel size (api::profileMapping),
     // for perspective views that GL is on. Errors name the parameter.
     Status validateView(const api::CatalogModel& m, const api::ViewPlan& plan) {
+        if (auto classes = api::blockClasses(m, plan.section); !classes) return classes.error();
         if (plan.view == api::ViewKind::Perspective) {
             if (auto s = api::checkPerspectiveCut(m, plan); !s) return s;
+            if (plan.section.colour)
+                return makeError(ErrorCode::Unsupported,
+                                 "parameter 'colour': perspective (GL) views are not coloured by block properties "
+                                 "yet; profile views, tiles, GeoJSON and SVG are");
             if (!glBackend)
                 return makeError(ErrorCode::Unsupported,
                                  "parameter 'view': perspective views need GL, which is disabled on this server (--gl "
@@ -602,9 +607,25 @@ struct SectionServer::Impl {
               [this](const HttpRequest& req, HttpResponse& res) {
                   auto m = model(req.matches[1], res, req.path);
                   if (!m) return;
-                  const std::string key = "legend|" + m->id + "|" + m->version;
+                  // colour=PROP[&breaks=..&ramp=..]: the rows of that block-property colouring too.
+                  auto params = toParams(req);
+                  if (!params) return problem(res, params.error(), req.path);
+                  if (auto s = api::checkKnownParams(params.value(), {"colour", "breaks", "ramp"}); !s)
+                      return problem(res, s.error(), req.path);
+                  auto colour = api::parseBlockColouring(params.value());
+                  if (!colour) return problem(res, colour.error(), req.path);
+                  api::SectionDef def;
+                  def.colour = colour.value();
+                  auto classes = api::blockClasses(*m, def);
+                  if (!classes) return problem(res, classes.error(), req.path);
+                  std::string key = "legend|" + m->id + "|" + m->version;
+                  if (def.colour) {
+                      key += "|" + def.colour->property + "|" + def.colour->ramp;
+                      for (double b : classes.value()->breaks) key += "|" + api::formatNumber(b);
+                  }
                   if (auto hit = images.get(key)) return sendEncoded(req, res, *hit);
-                  const api::LegendImage legend = api::renderLegend(*m);
+                  const api::LegendImage legend =
+                      api::renderLegend(*m, 2, classes.value() ? &*classes.value() : nullptr);
                   api::ViewImage v;
                   v.width = legend.width;
                   v.height = legend.height;
@@ -854,8 +875,22 @@ struct SectionServer::Impl {
                 auto figures = computeReserves(m->model, r.plane);
                 if (!figures) return figures.error();
                 auto e = std::make_shared<Encoded>();
-                e->body = r.csv ? api::reservesCsv(m->model, figures.value())
-                                : api::reservesJson(m->model, figures.value(), m->id).dump();
+                if (r.cutoffs) {
+                    auto property = api::gradeProperty(m->model, r.property);
+                    if (!property) return property.error();
+                    auto table = computeGradeTonnage(m->model, property.value(), *r.cutoffs);
+                    if (!table) return table.error();
+                    if (r.csv) {
+                        e->body = api::gradeTonnageCsv(m->model, table.value());
+                    } else {
+                        auto doc = api::reservesJson(m->model, figures.value(), m->id);
+                        doc["grade_tonnage"] = api::gradeTonnageJson(m->model, table.value());
+                        e->body = doc.dump();
+                    }
+                } else {
+                    e->body = r.csv ? api::reservesCsv(m->model, figures.value())
+                                    : api::reservesJson(m->model, figures.value(), m->id).dump();
+                }
                 e->contentType = r.csv ? "text/csv; charset=utf-8; header=present" : "application/json";
                 e->etag = etag;
                 metrics.render("reserves", std::chrono::duration<double>(Clock::now() - t0).count());

@@ -1,0 +1,192 @@
+// bench_blocks [--size L4] [--cells 100] [--image 1024] [--planes 8] [--cutoffs 10]:
+// block models on sections (issue 15). A synthetic model (L4 = 10M triangles) with a
+// cells^3 block model over its bounds (grade varying smoothly), clipped by every body:
+//  - section: the exact profile image (api::renderProfile) of `planes` vertical planes
+//    through the model, uncoloured and coloured by grade (colour=grade&breaks=...), median
+//    ms of each and their ratio (goal: coloured <= 2x uncoloured);
+//  - grade-tonnage: computeGradeTonnage over the orebody (the model's record of kind
+//    "orebody") for `cutoffs` cut-offs, median ms of 3 (goal <= 200 ms), and the same for
+//    every body (all strata), reported beside it.
+// Prints one JSON document with the load average at start and end (the machine is shared).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/catalog.hpp"
+#include "api/plan.hpp"
+#include "api/view.hpp"
+#include "bench/bench_util.hpp"
+#include "model/synthetic.hpp"
+#include "model/validate.hpp"
+#include "section/block_reserves.hpp"
+
+using namespace geoslice;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+double ms(double t0) { return (bench::nowSeconds() - t0) * 1000.0; }
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+std::string loadAverage() {
+    double l[3] = {0, 0, 0};
+    if (FILE* f = std::fopen("/proc/loadavg", "r")) {
+        if (std::fscanf(f, "%lf %lf %lf", &l[0], &l[1], &l[2]) != 3) l[0] = l[1] = l[2] = 0;
+        std::fclose(f);
+    }
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.2f %.2f %.2f", l[0], l[1], l[2]);
+    return buf;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string size = "L4";
+    int cells = 100, side = 1024, planes = 8, cutoffCount = 10;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--size"))
+            size = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--cells"))
+            cells = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--image"))
+            side = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--planes"))
+            planes = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--cutoffs"))
+            cutoffCount = std::stoi(argv[i + 1]);
+    }
+    json out;
+    out["bench"] = "blocks";
+    out["loadAverageStart"] = loadAverage();
+    SyntheticOptions so;
+    so.triangles = bench::triangleCountFor(size);
+    so.crs = Crs::fromEpsg(4523).value();
+    double t = bench::nowSeconds();
+    auto generated = generateSynthetic(so);
+    if (!generated) {
+        std::fprintf(stderr, "%s\n", generated.error().message.c_str());
+        return 1;
+    }
+    Model model = std::move(generated.value());
+    validate(model);
+    out["model"] = {
+        {"size", size}, {"triangles", model.triangleCount()}, {"bodies", model.bodies.size()}, {"generateMs", ms(t)}};
+
+    // The block model: cells^3 over the bounds, grade = a smooth field in 0..4.
+    const Aabb b = model.bounds();
+    BlockModel blocks;
+    blocks.source = "bench";
+    blocks.origin = b.min;
+    for (int a = 0; a < 3; ++a) {
+        blocks.size[std::size_t(a)] = (b.max[a] - b.min[a]) / cells;
+        blocks.dims[std::size_t(a)] = std::size_t(cells);
+    }
+    BlockProperty grade{"grade", "g/t Au", {}};
+    grade.values.resize(blocks.cellCount());
+    for (std::size_t c = 0; c < blocks.cellCount(); ++c) {
+        const auto ijk = blocks.ijk(c);
+        grade.values[c] =
+            2.0 + std::sin(0.21 * double(ijk[0])) * std::cos(0.17 * double(ijk[1])) + std::sin(0.13 * double(ijk[2]));
+    }
+    blocks.properties.push_back(std::move(grade));
+    if (auto s = resolveBlockClip(model, blocks); !s) {
+        std::fprintf(stderr, "%s\n", s.error().message.c_str());
+        return 1;
+    }
+    model.blocks = std::make_shared<const BlockModel>(blocks);
+    out["blocks"] = {{"cells", blocks.cellCount()},
+                     {"dims", {cells, cells, cells}},
+                     {"cellSize", {blocks.size[0], blocks.size[1], blocks.size[2]}},
+                     {"clipBodies", blocks.clipBodyIndex.size()}};
+    t = bench::nowSeconds();
+    auto cm = api::catalogModelOf("bench", model, "bench");
+    if (!cm) {
+        std::fprintf(stderr, "%s\n", cm.error().message.c_str());
+        return 1;
+    }
+    out["indexMs"] = ms(t);
+    const api::CatalogModel& m = *cm.value();
+
+    // Sections: vertical planes through the middle half of the model, turning.
+    std::vector<double> plain, coloured;
+    std::size_t colouredPixels = 0;
+    const std::string sizeText = std::to_string(side) + "x" + std::to_string(side);
+    for (int p = 0; p < planes; ++p) {
+        const double angle = 3.14159265358979 * (0.1 + 0.8 * p / std::max(1, planes - 1));
+        const glm::dvec3 c = b.centre() + (b.max - b.min) * glm::dvec3(0.25 * std::cos(3.0 * p), 0.2, 0.0);
+        const glm::dvec3 n{std::cos(angle), std::sin(angle), 0.0};
+        char plane[160];
+        std::snprintf(plane, sizeof plane, "%.17g,%.17g,0,%.17g", n.x, n.y, -glm::dot(n, c));
+        auto base = api::parseViewPlan({{"plane", plane}, {"size", sizeText}}, "bench", model.crs);
+        auto col =
+            api::parseViewPlan({{"plane", plane}, {"size", sizeText}, {"colour", "grade"}, {"breaks", "1,1.5,2,2.5,3"}},
+                               "bench", model.crs);
+        if (!base || !col) return 1;
+        t = bench::nowSeconds();
+        auto a = api::renderProfile(m, base.value());
+        plain.push_back(ms(t));
+        t = bench::nowSeconds();
+        auto v = api::renderProfile(m, col.value());
+        coloured.push_back(ms(t));
+        if (!a || !v) {
+            std::fprintf(stderr, "%s\n", (!a ? a.error() : v.error()).message.c_str());
+            return 1;
+        }
+        for (std::uint32_t cell : v.value().cells) colouredPixels += cell != 0;
+    }
+    out["section"] = {{"image", sizeText},
+                      {"planes", planes},
+                      {"uncolouredMedianMs", median(plain)},
+                      {"colouredMedianMs", median(coloured)},
+                      {"ratio", median(coloured) / std::max(1e-9, median(plain))},
+                      {"meanColouredPixels", double(colouredPixels) / planes},
+                      {"goal", "coloured <= 2x uncoloured"}};
+
+    // Grade-tonnage: the orebody, then every body.
+    std::vector<double> cutoffs;
+    for (int c = 0; c < cutoffCount; ++c) cutoffs.push_back(0.5 + 0.3 * c);
+    auto table = [&](const std::vector<std::string>& names) -> json {
+        BlockModel copy = blocks;
+        copy.clipBodies = names;
+        if (auto s = resolveBlockClip(model, copy); !s) return {{"error", s.error().message}};
+        Model mm;
+        mm.bodies = model.bodies;
+        mm.attributes = model.attributes;
+        mm.blocks = std::make_shared<const BlockModel>(std::move(copy));
+        std::vector<double> times;
+        double volume = 0.0;
+        for (int r = 0; r < 3; ++r) {
+            const double t0 = bench::nowSeconds();
+            auto gt = computeGradeTonnage(mm, "grade", cutoffs);
+            times.push_back(ms(t0));
+            if (!gt) return {{"error", gt.error().message}};
+            volume = 0.0;
+            for (const auto& body : gt->bodies) volume += body.volume;
+        }
+        std::size_t triangles = 0;
+        for (std::uint32_t i : mm.blocks->clipBodyIndex) triangles += mm.bodies[i].mesh.triangleCount();
+        return {{"bodies", mm.blocks->clipBodyIndex.size()},
+                {"triangles", triangles},
+                {"cutoffs", cutoffs.size()},
+                {"medianMs", median(times)},
+                {"volumeM3", volume}};
+    };
+    std::vector<std::string> ore;
+    for (const Part& p : model.bodies)
+        if (const AttributeRecord* r = model.attributes.find(p.record); r && r->kind == "orebody")
+            ore.push_back(p.name);
+    out["gradeTonnage"] = {{"orebody", table(ore)}, {"allBodies", table({})}, {"goal", "orebody table <= 200 ms"}};
+    out["loadAverageEnd"] = loadAverage();
+    std::printf("%s\n", out.dump(2).c_str());
+    return 0;
+}

@@ -1,0 +1,398 @@
+#include "model/block_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "model/loaders.hpp"
+#include "model/model.hpp"
+#include "model/text_scan.hpp"
+
+namespace geoslice {
+namespace {
+
+std::string where(const std::string& source, std::size_t line) { return source + ":" + std::to_string(line); }
+
+// "grade [g/t Au]" -> {"grade", "g/t Au"}.
+std::pair<std::string, std::string> splitUnit(std::string_view header) {
+    header = text::trim(header);
+    const std::size_t open = header.find('[');
+    if (open != std::string_view::npos && !header.empty() && header.back() == ']')
+        return {std::string(text::trim(header.substr(0, open))),
+                std::string(text::trim(header.substr(open + 1, header.size() - open - 2)))};
+    return {std::string(header), ""};
+}
+
+}  // namespace
+
+std::size_t BlockModel::cellAt(const glm::dvec3& world) const {
+    const glm::dvec3 g = toGrid(world);
+    std::size_t idx[3];
+    for (int a = 0; a < 3; ++a) {
+        const double t = std::floor(g[a] / size[a]);
+        if (!(t >= 0.0) || t >= double(dims[a])) return kNoCell;  // also NaN
+        idx[a] = std::size_t(t);
+    }
+    return linear(idx[0], idx[1], idx[2]);
+}
+
+int BlockModel::propertyIndex(std::string_view name) const {
+    for (std::size_t p = 0; p < properties.size(); ++p)
+        if (properties[p].name == name) return int(p);
+    return -1;
+}
+
+std::string BlockModel::propertyList() const {
+    std::string s;
+    for (const auto& p : properties) s += (s.empty() ? "" : ", ") + p.name;
+    return s;
+}
+
+bool BlockModel::clips(std::uint32_t body) const {
+    return std::find(clipBodyIndex.begin(), clipBodyIndex.end(), body) != clipBodyIndex.end();
+}
+
+Result<BlockRows> readBlockRows(std::string_view text, const std::string& source) {
+    std::size_t pos = 0, line = 1;
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") pos = 3;  // UTF-8 byte order mark
+    // Skip blank lines before the header.
+    while (pos < text.size()) {
+        const std::size_t end = std::min(text.find('\n', pos), text.size());
+        if (!text::trim(text.substr(pos, end - pos)).empty()) break;
+        pos = end + 1;
+        ++line;
+    }
+    if (pos >= text.size()) return makeError(ErrorCode::ParseError, source + ": empty block model (no header)");
+    const std::string_view first = text.substr(pos, std::min(text.find('\n', pos), text.size()) - pos);
+    const char sep = first.find(';') != std::string_view::npos && first.find(',') == std::string_view::npos ? ';' : ',';
+    bool badQuote = false;
+    const std::size_t headerLine = line;
+    std::vector<std::string> header = text::csvRecord(text, pos, badQuote, sep);
+    if (badQuote) return makeError(ErrorCode::ParseError, where(source, headerLine) + ": unterminated quote");
+    line += 1;
+    int col[6] = {-1, -1, -1, -1, -1, -1};
+    static const char* kKnown[6] = {"x", "y", "z", "dx", "dy", "dz"};
+    BlockRows rows;
+    std::vector<std::size_t> propCol;
+    std::map<std::string, int> seen;
+    for (std::size_t c = 0; c < header.size(); ++c) {
+        auto [name, unit] = splitUnit(header[c]);
+        const std::string low = text::lower(name);
+        if (name.empty())
+            return makeError(ErrorCode::ParseError,
+                             where(source, headerLine) + ": column " + std::to_string(c + 1) + " has no name");
+        if (!seen.emplace(low, int(c)).second)
+            return makeError(ErrorCode::ParseError,
+                             where(source, headerLine) + ": column \"" + text::toUtf8(name) + "\" appears twice");
+        int k = -1;
+        for (int j = 0; j < 6; ++j)
+            if (low == kKnown[j]) k = j;
+        if (k >= 0) {
+            col[k] = int(c);
+        } else {
+            rows.names.push_back(text::toUtf8(name));
+            rows.units.push_back(text::toUtf8(unit));
+            propCol.push_back(c);
+        }
+    }
+    for (int j = 0; j < 6; ++j)
+        if (col[j] < 0)
+            return makeError(ErrorCode::ParseError, where(source, headerLine) +
+                                                        ": the header needs columns x,y,z,dx,dy,dz and at least one "
+                                                        "value column (no \"" +
+                                                        kKnown[j] + "\")");
+    if (propCol.empty())
+        return makeError(ErrorCode::ParseError,
+                         where(source, headerLine) + ": the header needs at least one value column after x..dz");
+    rows.values.resize(propCol.size());
+    while (pos < text.size()) {
+        const std::size_t rowLine = line;
+        const std::size_t before = pos;
+        std::vector<std::string> f = text::csvRecord(text, pos, badQuote, sep);
+        line +=
+            std::size_t(std::count(text.begin() + std::ptrdiff_t(before), text.begin() + std::ptrdiff_t(pos), '\n'));
+        if (badQuote) return makeError(ErrorCode::ParseError, where(source, rowLine) + ": unterminated quote");
+        if (f.size() == 1 && text::trim(f[0]).empty()) continue;
+        if (f.size() != header.size())
+            return makeError(ErrorCode::ParseError, where(source, rowLine) + ": " + std::to_string(f.size()) +
+                                                        " fields, the header has " + std::to_string(header.size()));
+        double v[6];
+        for (int j = 0; j < 6; ++j) {
+            const std::string_view s = text::trim(f[std::size_t(col[j])]);
+            const auto d = text::parseDouble(s);
+            if (!d || !std::isfinite(*d))
+                return makeError(ErrorCode::ParseError, where(source, rowLine) + ": " + kKnown[j] + " " +
+                                                            text::quoteToken(s) + " is not a finite number");
+            if (j >= 3 && !(*d > 0.0))
+                return makeError(ErrorCode::ParseError, where(source, rowLine) + ": " + kKnown[j] + " " +
+                                                            text::quoteToken(s) + ": block size must be > 0");
+            v[j] = *d;
+        }
+        for (std::size_t p = 0; p < propCol.size(); ++p) {
+            const std::string_view s = text::trim(f[propCol[p]]);
+            double d = std::numeric_limits<double>::quiet_NaN();
+            if (!s.empty()) {
+                const auto parsed = text::parseDouble(s);
+                if (!parsed || !std::isfinite(*parsed))
+                    return makeError(ErrorCode::ParseError, where(source, rowLine) + ": " + rows.names[p] + " " +
+                                                                text::quoteToken(s) +
+                                                                " is not a finite number (leave it empty for none)");
+                d = *parsed;
+            }
+            rows.values[p].push_back(d);
+        }
+        rows.centres.push_back({v[0], v[1], v[2]});
+        rows.sizes.push_back({v[3], v[4], v[5]});
+        rows.lines.push_back(rowLine);
+    }
+    return rows;
+}
+
+Result<BlockModel> blockModelFromCsv(std::string_view text, const std::string& source) {
+    auto parsed = readBlockRows(text, source);
+    if (!parsed) return parsed.error();
+    const BlockRows& rows = parsed.value();
+    if (rows.centres.empty()) return makeError(ErrorCode::ParseError, source + ": no blocks (a header and no rows)");
+    BlockModel b;
+    b.source = source;
+    const glm::dvec3 size = rows.sizes[0];
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (std::size_t r = 0; r < rows.centres.size(); ++r) {
+        const glm::dvec3 d = glm::abs(rows.sizes[r] - size);
+        if (d.x > 1e-9 * size.x || d.y > 1e-9 * size.y || d.z > 1e-9 * size.z)
+            return makeError(ErrorCode::ParseError,
+                             where(source, rows.lines[r]) +
+                                 ": block size differs from the first row's: a block model is one regular grid "
+                                 "(sub-blocks are not supported)");
+        lo = glm::min(lo, rows.centres[r]);
+        hi = glm::max(hi, rows.centres[r]);
+    }
+    b.origin = lo - 0.5 * size;
+    b.size = {size.x, size.y, size.z};
+    double cells = 1.0;
+    for (int a = 0; a < 3; ++a) {
+        const double n = std::round((hi[a] - lo[a]) / size[a]) + 1.0;
+        cells *= n;
+        b.dims[std::size_t(a)] = std::size_t(std::min(n, 1e12));
+    }
+    if (cells > double(kMaxBlockCells))
+        return makeError(ErrorCode::OutOfRange, source + ": the rows span a grid of " + std::to_string(b.dims[0]) +
+                                                    " x " + std::to_string(b.dims[1]) + " x " +
+                                                    std::to_string(b.dims[2]) + " cells, over the limit of " +
+                                                    std::to_string(kMaxBlockCells));
+    const std::size_t n = b.cellCount();
+    for (std::size_t p = 0; p < rows.names.size(); ++p)
+        b.properties.push_back(
+            {rows.names[p], rows.units[p], std::vector<double>(n, std::numeric_limits<double>::quiet_NaN())});
+    std::vector<std::uint8_t> taken(n, 0);
+    for (std::size_t r = 0; r < rows.centres.size(); ++r) {
+        std::size_t idx[3];
+        for (int a = 0; a < 3; ++a) {
+            const double t = (rows.centres[r][a] - lo[a]) / size[a];
+            const double k = std::round(t);
+            // Centres within a millionth of a cell of the lattice (text rounding of the centres).
+            if (std::abs(t - k) > 1e-6)
+                return makeError(ErrorCode::ParseError, where(source, rows.lines[r]) + ": the centre is " +
+                                                            std::to_string(std::abs(t - k)) + " cells off the grid " +
+                                                            "of the other rows (a block model is one regular grid)");
+            idx[a] = std::size_t(k);
+        }
+        const std::size_t c = b.linear(idx[0], idx[1], idx[2]);
+        if (taken[c]++)
+            return makeError(ErrorCode::ParseError, where(source, rows.lines[r]) + ": a second row for cell (" +
+                                                        std::to_string(idx[0]) + ", " + std::to_string(idx[1]) + ", " +
+                                                        std::to_string(idx[2]) + ")");
+        for (std::size_t p = 0; p < rows.names.size(); ++p) b.properties[p].values[c] = rows.values[p][r];
+    }
+    return b;
+}
+
+Result<BlockModel> blockModelFromGrid(const Grid& grid) {
+    const std::string name = grid.type + " '" + grid.name + "'";
+    if (grid.type != "Voxet" || !grid.points.empty())
+        return makeError(ErrorCode::Unsupported,
+                         name + ": only regular grids (Voxet) can be block models; an SGrid's cells are not boxes");
+    if (grid.properties.empty()) return makeError(ErrorCode::Unsupported, name + ": the grid has no properties");
+    BlockModel b;
+    b.source = name;
+    for (int a = 0; a < 3; ++a) {
+        const double len = glm::length(grid.step[a]);
+        if (!(len > 0.0) || !std::isfinite(len))
+            return makeError(ErrorCode::Unsupported,
+                             name + ": axis " + std::to_string(a) + " has a zero step (one sample along it)");
+        b.axis[std::size_t(a)] = grid.step[a] / len;
+        b.size[std::size_t(a)] = len;
+    }
+    for (int a = 0; a < 3; ++a)
+        for (int c = a + 1; c < 3; ++c)
+            if (std::abs(glm::dot(b.axis[std::size_t(a)], b.axis[std::size_t(c)])) > 1e-9)
+                return makeError(ErrorCode::Unsupported,
+                                 name + ": the grid's axes are not orthogonal (its cells are not boxes)");
+    if (grid.cellCentred) {
+        b.origin = grid.origin;
+        for (int a = 0; a < 3; ++a) b.dims[std::size_t(a)] = grid.dims[a] > 1 ? grid.dims[a] - 1 : 1;
+    } else {
+        b.origin = grid.origin - 0.5 * (grid.step[0] + grid.step[1] + grid.step[2]);
+        for (int a = 0; a < 3; ++a) b.dims[std::size_t(a)] = grid.dims[a];
+    }
+    for (const GridProperty& p : grid.properties) {
+        if (p.values.size() != b.cellCount())
+            return makeError(ErrorCode::Unsupported, name + " property '" + p.name +
+                                                         "': " + std::to_string(p.values.size()) + " values for " +
+                                                         std::to_string(b.cellCount()) + " cells");
+        b.properties.push_back({p.name, p.unit, std::vector<double>(p.values.begin(), p.values.end())});
+    }
+    return b;
+}
+
+Status resolveBlockClip(const Model& model, BlockModel& blocks) {
+    blocks.clipBodyIndex.clear();
+    if (blocks.clipBodies.empty()) {
+        for (std::uint32_t b = 0; b < model.bodies.size(); ++b)
+            if (model.bodies[b].report.closed) blocks.clipBodyIndex.push_back(b);
+        return {};
+    }
+    for (const std::string& name : blocks.clipBodies) {
+        bool found = false;
+        for (std::uint32_t b = 0; b < model.bodies.size(); ++b)
+            if (model.bodies[b].name == name && model.bodies[b].report.closed) {
+                blocks.clipBodyIndex.push_back(b);
+                found = true;
+            }
+        if (!found) {
+            std::string known;
+            for (const Part& p : model.bodies)
+                if (p.report.closed) known += (known.empty() ? "'" : ", '") + p.name + "'";
+            return makeError(ErrorCode::InvalidArgument, "block model clip body '" + name +
+                                                             "' is not a closed body of the model (bodies: " +
+                                                             (known.empty() ? "none" : known) + ")");
+        }
+    }
+    std::sort(blocks.clipBodyIndex.begin(), blocks.clipBodyIndex.end());
+    blocks.clipBodyIndex.erase(std::unique(blocks.clipBodyIndex.begin(), blocks.clipBodyIndex.end()),
+                               blocks.clipBodyIndex.end());
+    return {};
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BlockSpec {
+    std::string source;  // CSV path or grid:NAME
+    std::vector<std::string> clip;
+    std::vector<std::pair<std::string, std::string>> units;
+    std::string sidecar;  // the JSON sidecar read, if any
+};
+
+Result<BlockSpec> blockSpec(const std::string& modelPath, const BlockOptions& options) {
+    BlockSpec spec;
+    const fs::path p(modelPath);
+    const fs::path json = p.parent_path() / (p.stem().string() + ".blocks.json");
+    const fs::path csv = p.parent_path() / (p.stem().string() + ".blocks.csv");
+    std::error_code ec;
+    if (options.source.empty() && fs::is_regular_file(json, ec)) {
+        auto text = readFile(json.string(), std::size_t(1) << 20);
+        if (!text) return text.error();
+        const auto j = nlohmann::json::parse(text.value(), nullptr, false);
+        if (j.is_discarded() || !j.is_object())
+            return makeError(ErrorCode::ParseError, json.string() + ": not a JSON object");
+        for (const auto& [key, value] : j.items())
+            if (key != "source" && key != "clip" && key != "units")
+                return makeError(ErrorCode::ParseError,
+                                 json.string() + ": unknown field '" + key + "' (expected source, clip, units)");
+        if (!j.contains("source") || !j["source"].is_string())
+            return makeError(ErrorCode::ParseError,
+                             json.string() + ": needs \"source\": a CSV file beside it or \"grid:NAME\"");
+        spec.source = j["source"].get<std::string>();
+        if (spec.source.rfind("grid:", 0) != 0) {
+            if (fs::path(spec.source).is_absolute() || spec.source.find("..") != std::string::npos)
+                return makeError(ErrorCode::InvalidArgument, json.string() + ": source '" + spec.source +
+                                                                 "' must be a file name inside the sidecar's folder");
+            spec.source = (p.parent_path() / spec.source).string();
+        }
+        if (j.contains("clip")) {
+            if (!j["clip"].is_array())
+                return makeError(ErrorCode::ParseError, json.string() + ": \"clip\" must be a list of body names");
+            for (const auto& c : j["clip"]) {
+                if (!c.is_string())
+                    return makeError(ErrorCode::ParseError, json.string() + ": \"clip\" must be a list of body names");
+                spec.clip.push_back(c.get<std::string>());
+            }
+        }
+        if (j.contains("units")) {
+            if (!j["units"].is_object())
+                return makeError(ErrorCode::ParseError, json.string() + ": \"units\" must be an object");
+            for (const auto& [k, v] : j["units"].items()) {
+                if (!v.is_string())
+                    return makeError(ErrorCode::ParseError, json.string() + ": units." + k + " must be a string");
+                spec.units.emplace_back(k, v.get<std::string>());
+            }
+        }
+        spec.sidecar = json.string();
+    } else if (options.source.empty() && fs::is_regular_file(csv, ec)) {
+        spec.source = csv.string();
+    } else {
+        spec.source = options.source;
+    }
+    if (!options.clip.empty()) spec.clip = options.clip;
+    for (const auto& u : options.units) spec.units.push_back(u);
+    return spec;
+}
+
+}  // namespace
+
+std::vector<std::string> blockModelFiles(const std::string& modelPath, const BlockOptions& options) {
+    std::vector<std::string> files;
+    auto spec = blockSpec(modelPath, options);
+    if (!spec) return files;
+    if (!spec->sidecar.empty()) files.push_back(spec->sidecar);
+    if (!spec->source.empty() && spec->source.rfind("grid:", 0) != 0) files.push_back(spec->source);
+    return files;
+}
+
+Status attachBlockModel(Model& model, const std::string& modelPath, const BlockOptions& options) {
+    auto spec = blockSpec(modelPath, options);
+    if (!spec) return spec.error();
+    if (spec->source.empty()) {
+        if (!options.clip.empty())
+            return makeError(ErrorCode::InvalidArgument, "--blocks-clip without a block model (--blocks)");
+        return {};
+    }
+    Result<BlockModel> blocks = makeError(ErrorCode::Internal, "no block model");
+    if (spec->source.rfind("grid:", 0) == 0) {
+        const std::string name = spec->source.substr(5);
+        const Grid* grid = nullptr;
+        std::string known;
+        for (const Grid& g : model.grids) {
+            if (g.name == name) grid = &g;
+            known += (known.empty() ? "'" : ", '") + g.name + "' (" + g.type + ")";
+        }
+        if (!grid)
+            return makeError(ErrorCode::NotFound, "block model '" + spec->source + "': the model has no grid named '" +
+                                                      name + "' (grids: " + (known.empty() ? "none" : known) + ")");
+        blocks = blockModelFromGrid(*grid);
+    } else {
+        auto text = readFile(spec->source);
+        if (!text) return text.error();
+        blocks = blockModelFromCsv(text.value(), spec->source);
+    }
+    if (!blocks) return blocks.error();
+    blocks->clipBodies = spec->clip;
+    for (const auto& [prop, unit] : spec->units) {
+        const int k = blocks->propertyIndex(prop);
+        if (k < 0)
+            return makeError(ErrorCode::InvalidArgument,
+                             "block model " + blocks->source + ": a unit for '" + prop +
+                                 "', which is not a property (properties: " + blocks->propertyList() + ")");
+        blocks->properties[std::size_t(k)].unit = unit;
+    }
+    if (Status s = resolveBlockClip(model, blocks.value()); !s) return s;
+    model.blocks = std::make_shared<const BlockModel>(std::move(blocks.value()));
+    return {};
+}
+
+}  // namespace geoslice
