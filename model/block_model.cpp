@@ -10,6 +10,7 @@
 #include "model/loaders.hpp"
 #include "model/model.hpp"
 #include "model/text_scan.hpp"
+#include "model/view_limits.hpp"
 
 namespace geoslice {
 namespace {
@@ -169,6 +170,19 @@ Result<BlockModel> blockModelFromCsv(std::string_view text, const std::string& s
                                  "(sub-blocks are not supported)");
         lo = glm::min(lo, rows.centres[r]);
         hi = glm::max(hi, rows.centres[r]);
+        for (int a = 0; a < 3; ++a)
+            if (!(std::abs(rows.centres[r][a]) <= kMaxCoordinateMetres) || !(rows.sizes[r][a] <= kMaxCoordinateMetres))
+                return makeError(ErrorCode::OutOfRange, where(source, rows.lines[r]) + ": a centre or size beyond " +
+                                                            std::to_string(kMaxCoordinateMetres) + " m");
+    }
+    // Cells must be far larger than a double's step at these coordinates (1e6 steps), or a
+    // point could not be placed in its cell.
+    for (int a = 0; a < 3; ++a) {
+        const double reach = std::max({1.0, std::abs(lo[a]), std::abs(hi[a])});
+        if (!(size[a] >= 1e-9 * reach))
+            return makeError(ErrorCode::OutOfRange,
+                             where(source, rows.lines[0]) + ": a cell size of " + std::to_string(size[a]) +
+                                 " m is below the resolution of coordinates near " + std::to_string(reach) + " m");
     }
     b.origin = lo - 0.5 * size;
     b.size = {size.x, size.y, size.z};

@@ -79,8 +79,10 @@ TEST(BlockModel, CsvGridUnitsAndErrors) {
     EXPECT_NE(err("x,y,z,dx,dy,dz,g\n5,5,5,10,10,10,1\n5,5,5,10,10,10,2\n").find("second row"), std::string::npos);
     EXPECT_NE(err("x,y,z,dx,dy,dz,g\n5,5,5,10,10,10,x\n").find("not a finite number"), std::string::npos);
     EXPECT_NE(err("x,y,z,dx,dy,dz,g,G\n").find("appears twice"), std::string::npos);
-    EXPECT_NE(err("x,y,z,dx,dy,dz,g\n0,0,0,1,1,1,1\n1e9,1e9,1e9,1,1,1,1\n").find("over the limit"), std::string::npos);
+    EXPECT_NE(err("x,y,z,dx,dy,dz,g\n0,0,0,1,1,1,1\n1e7,1e7,1e7,1,1,1,1\n").find("over the limit"), std::string::npos);
     EXPECT_NE(err("x,y,z,dx,dy,dz,g\n").find("no blocks"), std::string::npos);
+    EXPECT_NE(err("x,y,z,dx,dy,dz,g\n1e7,0,0,1e-6,1,1,1\n").find("resolution"), std::string::npos);
+    EXPECT_NE(err("x,y,z,dx,dy,dz,g\n1e9,0,0,1,1,1,1\n").find("beyond"), std::string::npos);
     EXPECT_NE(err("x,y,z,dx,dy,dz,\"g\n1").find("unterminated quote"), std::string::npos);
 }
 

@@ -1,0 +1,207 @@
+// Block models over real HTTP on loopback (issue 15 items 1-3): a box orebody nested in a
+// box host at Gauss-Kruger magnitudes, saved as a .glb with a <stem>.blocks.json sidecar that
+// names a CSV of 10 m cells (grade = 0.1 x i, density 2.5) clipped by the orebody. The server
+// reads the sidecar; a coloured section image, its pixel query (the cell and its grade, as a
+// point-in-box computation finds them), SVG pieces, the legend and grade-tonnage tables
+// (exact volumes of the analytic box, JSON equal to `geoslice reserves --cutoffs --json`,
+// CSV) are checked; bad parameters are 400 problems naming the parameter.
+//
+// Tolerance: relative 1e-12 on volumes and tonnages (a few ulps at 1e4..1e6 m³); the
+// orebody's faces lie on grid planes and inside cells, both counted exactly.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
+
+#include "model/gltf_io.hpp"
+#include "server/http_server.hpp"
+#include "tests/unit/test_meshes.hpp"
+
+namespace geoslice::server {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Grid: 12 x 10 x 6 cells of 10 m from kGrid; orebody [kGrid + (20, 15, 10), + (85, 70, 45)].
+const glm::dvec3 kGrid(35500000.0, 3380000.0, -100.0);
+const glm::dvec3 kOreLo = kGrid + glm::dvec3(20.0, 15.0, 10.0), kOreHi = kGrid + glm::dvec3(85.0, 70.0, 45.0);
+constexpr double kDensity = 2.5;
+
+double gradeOf(int i) { return 0.1 * i; }
+
+double overlap(double a0, double a1, double b0, double b1) {
+    return std::max(0.0, std::min(a1, b1) - std::max(a0, b0));
+}
+
+std::string run(const std::string& cmd) {
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return out;
+    char buf[4096];
+    std::size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    pclose(p);
+    return out;
+}
+
+class ServerBlocks : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        spdlog::set_level(spdlog::level::warn);
+        dir_ = fs::temp_directory_path() / ("geoslice_blocks_" + std::to_string(::getpid()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+        Model m = test::modelOf(
+            {test::makePart("host", PartKind::Body, 1, test::boxMesh(kGrid - 20.0, kGrid + glm::dvec3(140, 120, 80))),
+             test::makePart("ore", PartKind::Body, 2, test::boxMesh(kOreLo, kOreHi))});
+        AttributeRecord host, ore;
+        host.id = 1;
+        host.name = "host";
+        ore.id = 2;
+        ore.name = "ore";
+        m.attributes.put(host);
+        m.attributes.put(ore);
+        ASSERT_TRUE(writeGlb(m, (dir_ / "box.glb").string()));
+        std::ofstream csv(dir_ / "ore_blocks.csv");
+        csv << "x,y,z,dx,dy,dz,grade [g/t Au],density\n";
+        char line[256];
+        for (int k = 0; k < 6; ++k)
+            for (int j = 0; j < 10; ++j)
+                for (int i = 0; i < 12; ++i) {
+                    const glm::dvec3 c = kGrid + 10.0 * glm::dvec3(i + 0.5, j + 0.5, k + 0.5);
+                    std::snprintf(line, sizeof line, "%.1f,%.1f,%.1f,10,10,10,%.17g,%g\n", c.x, c.y, c.z, gradeOf(i),
+                                  kDensity);
+                    csv << line;
+                }
+        csv.close();
+        std::ofstream(dir_ / "box.blocks.json") << R"({"source": "ore_blocks.csv", "clip": ["ore"]})";
+        ServerConfig c;
+        c.host = "127.0.0.1";
+        c.port = 0;
+        c.gl = "none";
+        c.workers = 2;
+        c.modelsDir = dir_.string();
+        server_ = new SectionServer(c);
+        auto port = server_->start();
+        ASSERT_TRUE(port) << port.error().message;
+        ASSERT_TRUE(server_->waitUntilLoaded());
+    }
+    static void TearDownTestSuite() {
+        delete server_;
+        server_ = nullptr;
+        fs::remove_all(dir_);
+    }
+    static httplib::Result get(const std::string& path) {
+        httplib::Client c("127.0.0.1", server_->port());
+        c.set_read_timeout(60, 0);
+        return c.Get(path.c_str());
+    }
+    static json getJson(const std::string& path) {
+        auto r = get(path);
+        EXPECT_TRUE(r) << path;
+        if (!r) return json();
+        EXPECT_EQ(r->status, 200) << path << "\n" << r->body;
+        return json::parse(r->body, nullptr, false);
+    }
+    static void expectProblem(const std::string& path, const std::string& needle) {
+        auto r = get(path);
+        ASSERT_TRUE(r) << path;
+        EXPECT_GE(r->status, 400) << path;
+        EXPECT_LT(r->status, 500) << path << "\n" << r->body;
+        EXPECT_NE(r->body.find(needle), std::string::npos) << path << ": " << r->body;
+    }
+    static inline SectionServer* server_ = nullptr;
+    static inline fs::path dir_;
+};
+
+TEST_F(ServerBlocks, TheSidecarIsLoadedAndDescribed) {
+    const json j = getJson("/v1/models/box");
+    ASSERT_TRUE(j.contains("blocks")) << j.dump();
+    EXPECT_EQ(j["blocks"]["dims"], json({12, 10, 6}));
+    EXPECT_EQ(j["blocks"]["clipBodies"], json({"ore"}));
+    EXPECT_EQ(j["blocks"]["properties"][0]["unit"], "g/t Au");
+}
+
+TEST_F(ServerBlocks, GradeTonnageIsExactAndEqualsTheCli) {
+    const std::string cutoffs = "0,0.35,0.75";
+    const json j = getJson("/v1/models/box/reserves?cutoffs=" + cutoffs);
+    ASSERT_TRUE(j.contains("grade_tonnage")) << j.dump();
+    const json& gt = j["grade_tonnage"];
+    EXPECT_EQ(gt["property"], "grade");
+    ASSERT_EQ(gt["bodies"].size(), 1u);
+    EXPECT_EQ(gt["bodies"][0]["body"], "ore");
+    const double yz = (kOreHi.y - kOreLo.y) * (kOreHi.z - kOreLo.z);
+    int row = 0;
+    for (double cut : {0.0, 0.35, 0.75}) {
+        double vol = 0.0, metal = 0.0;
+        for (int i = 0; i < 12; ++i) {
+            if (!(gradeOf(i) >= cut)) continue;
+            const double v = overlap(kGrid.x + 10 * i, kGrid.x + 10 * (i + 1), kOreLo.x, kOreHi.x) * yz;
+            vol += v;
+            metal += v * kDensity * gradeOf(i);
+        }
+        const json& r = gt["bodies"][0]["rows"][row++];
+        EXPECT_NEAR(r["volume_m3"].get<double>(), vol, 1e-12 * vol) << cut;
+        EXPECT_NEAR(r["tonnage_t"].get<double>(), vol * kDensity, 1e-12 * vol * kDensity) << cut;
+        EXPECT_NEAR(r["mean_grade"].get<double>(), metal / (vol * kDensity), 1e-12) << cut;
+        EXPECT_NEAR(r["metal"].get<double>(), metal, 1e-12 * metal) << cut;
+        EXPECT_EQ(r["metal_unit"], "g");
+    }
+    json cli = json::parse(run(std::string(GEOSLICE_BINARY) + " reserves '" + (dir_ / "box.glb").string() +
+                               "' --json --cutoffs " + cutoffs),
+                           nullptr, false);
+    ASSERT_TRUE(cli.is_object());
+    EXPECT_EQ(cli["grade_tonnage"], gt);
+    auto csv = get("/v1/models/box/reserves.csv?cutoffs=" + cutoffs);
+    ASSERT_TRUE(csv);
+    EXPECT_EQ(csv->status, 200);
+    EXPECT_EQ(csv->body.substr(0, csv->body.find('\n')),
+              "body,record,cutoff,cells,volume_m3,tonnage_t,mean_grade,grade_unit,metal,metal_unit");
+    EXPECT_EQ(std::count(csv->body.begin(), csv->body.end(), '\n'), 4);
+    expectProblem("/v1/models/box/reserves?cutoffs=1,0", "cutoffs");
+    expectProblem("/v1/models/box/reserves?cutoffs=1&property=gold", "gold");
+    expectProblem("/v1/models/box/reserves?property=grade", "'property'");
+}
+
+TEST_F(ServerBlocks, ColouredImageQuerySvgAndLegend) {
+    const std::string view = "elevation=" + std::to_string(kGrid.z + 27.5) + "&size=200x160&colour=grade&breaks=0.5";
+    auto img = get("/v1/models/box/section.png?" + view);
+    ASSERT_TRUE(img);
+    EXPECT_EQ(img->status, 200) << img->body;
+    EXPECT_EQ(img->get_header_value("Content-Type"), "image/png");
+    // Every pixel of a row through the orebody: the query's cell is the one holding its
+    // world point (point in box), with that cell's grade, inside the orebody; none outside.
+    int inside = 0;
+    for (int px = 0; px < 200; px += 7) {
+        const json q = getJson("/v1/models/box/query?" + view + "&px=" + std::to_string(px) + "&py=80");
+        const glm::dvec3 w{q["world"]["x"].get<double>(), q["world"]["y"].get<double>(), q["world"]["z"].get<double>()};
+        const bool inOre = w.x >= kOreLo.x && w.x < kOreHi.x && w.y >= kOreLo.y && w.y < kOreHi.y;
+        ASSERT_EQ(q["block"].is_object(), inOre) << q.dump();
+        if (!inOre) continue;
+        ++inside;
+        const int i = int(std::floor((w.x - kGrid.x) / 10.0)), j = int(std::floor((w.y - kGrid.y) / 10.0));
+        EXPECT_EQ(q["block"]["cell"], json({i, j, 2})) << q.dump();
+        EXPECT_EQ(q["block"]["properties"]["grade"].get<double>(), gradeOf(i));
+        EXPECT_EQ(q["block"]["units"]["grade"], "g/t Au");
+    }
+    EXPECT_GT(inside, 5);
+    auto svg = get("/v1/models/box/section.svg?" + view);
+    ASSERT_TRUE(svg);
+    EXPECT_EQ(svg->status, 200);
+    EXPECT_NE(svg->body.find("data-cell=\"2,2,2\""), std::string::npos);
+    auto legend = get("/v1/models/box/legend.png?colour=grade&breaks=0.5&ramp=magma");
+    ASSERT_TRUE(legend);
+    EXPECT_EQ(legend->status, 200);
+    expectProblem("/v1/models/box/section.png?elevation=-70&colour=gold", "'colour'");
+    expectProblem("/v1/models/box/section.png?elevation=-70&colour=grade&ramp=jet", "'ramp'");
+    expectProblem("/v1/models/box/legend.png?breaks=1", "colour");
+}
+
+}  // namespace
+}  // namespace geoslice::server
