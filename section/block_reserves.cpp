@@ -285,7 +285,7 @@ Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& 
         bt.densitySource = densityIndex >= 0 ? "block property '" + blocks.properties[std::size_t(densityIndex)].name +
                                                    "' (record density where a cell has none)"
                            : !std::isnan(recordDensity) ? "record"
-                                           : "none";
+                                                        : "none";
         bt.rows.resize(cutoffs.size());
         std::vector<double> tonnage(cutoffs.size(), 0.0), metalSum(cutoffs.size(), 0.0);
         bool allDensity = true;
