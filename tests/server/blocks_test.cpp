@@ -203,5 +203,22 @@ TEST_F(ServerBlocks, ColouredImageQuerySvgAndLegend) {
     expectProblem("/v1/models/box/legend.png?breaks=1", "colour");
 }
 
+TEST_F(ServerBlocks, ColouredTilesFromAStatelessSectionId) {
+    httplib::Client c("127.0.0.1", server_->port());
+    const std::string z = std::to_string(kGrid.z + 27.5);
+    auto plain = c.Post("/v1/models/box/sections", R"({"elevation": )" + z + "}", "application/json");
+    auto coloured = c.Post("/v1/models/box/sections",
+                           R"({"elevation": )" + z + R"(, "colour": "grade", "breaks": "0.5"})", "application/json");
+    ASSERT_TRUE(plain && coloured);
+    ASSERT_EQ(coloured->status, 201) << coloured->body;
+    const std::string a = json::parse(plain->body)["sid"], b = json::parse(coloured->body)["sid"];
+    EXPECT_NE(a, b);  // the colouring is part of the section's identity (cache keys, ETags)
+    auto ta = get("/v1/sections/" + a + "/tiles/0/0/0.png"), tb = get("/v1/sections/" + b + "/tiles/0/0/0.png");
+    ASSERT_TRUE(ta && tb);
+    EXPECT_EQ(ta->status, 200);
+    EXPECT_EQ(tb->status, 200) << tb->body;
+    EXPECT_NE(ta->body, tb->body);
+}
+
 }  // namespace
 }  // namespace geoslice::server
