@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iterator>
 #include <string_view>
+#include <thread>
 
 #include "api/plan.hpp"
 #include "model/loaders.hpp"
@@ -59,13 +60,26 @@ Status indexModel(CatalogModel& m) {
     }
     if (m.model.triangleCount() == 0)
         return makeError(ErrorCode::InvalidArgument, "model '" + m.id + "' (" + m.source + ") has no triangles");
-    auto index = buildSectionIndex(m.model);
+    // The section index (the package's BVH when there is one) on a second thread while Embree
+    // builds the one ray scene that every ray query of the model shares (classifier, tracer).
+    Result<std::unique_ptr<SectionIndex>> index = makeError(ErrorCode::Internal, "not built");
+    std::thread indexer([&] {
+        if (m.package && !m.package->sectionBvh.empty()) {
+            index = loadSectionIndex(m.model, m.package->sectionBvh, m.source + "/" + bake::kSectionBvhFile);
+            if (index) return;
+            m.loadWarning = "the package's section BVH was not used (" + index.error().message + "); built instead";
+        }
+        index = buildSectionIndex(m.model);
+    });
+    auto scene = RayScene::build(m.model);
+    indexer.join();
     if (!index) return index.error();
     m.index = std::move(index.value());
-    auto classifier = Classifier::build(m.model);
+    if (!scene) return scene.error();
+    auto classifier = Classifier::build(m.model, scene.value());
     if (!classifier) return classifier.error();
     m.classifier = std::move(classifier.value());
-    auto tracer = BoreholeTracer::build(m.model);
+    auto tracer = BoreholeTracer::build(m.model, std::move(scene.value()));
     if (!tracer) return tracer.error();
     m.tracer = std::move(tracer.value());
     for (const auto& [id, record] : m.model.attributes.records()) m.recordJson[id] = record.toJson().dump();
@@ -181,7 +195,7 @@ Result<std::shared_ptr<const bake::Package>> openPackage(const std::string& dir)
 }  // namespace
 
 Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
-                                                             const std::string& bakeDir) {
+                                                             const std::string& bakeDir, bool mayBake) {
     namespace fs = std::filesystem;
     if (!isValidModelId(id)) return makeError(ErrorCode::InvalidArgument, "model id '" + id + "' is not valid");
     const auto t0 = std::chrono::steady_clock::now();
@@ -190,13 +204,14 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
     m->source = path;
     std::error_code ec;
     if (fs::is_directory(path, ec)) {
-        // A baked package: the checksummed manifest identifies the content.
+        // A baked package: the checksummed manifest identifies the content, and the model is
+        // the package's as validated when it was baked (bake::packageModel).
         auto pkg = openPackage(path);
         if (!pkg) return pkg.error();
         auto manifest = readFile((fs::path(path) / bake::kManifestFile).string(), 64 << 20);
         if (!manifest) return manifest.error();
         m->version = hex64(fnv1a64(manifest.value()));
-        auto model = loadModel((fs::path(path) / bake::kMeshFile).string());
+        auto model = bake::packageModel(*pkg.value());
         if (!model) return model.error();
         m->model = std::move(model.value());
         m->package = std::move(pkg.value());
@@ -217,45 +232,78 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
         bytes.value().clear();
         bytes.value().shrink_to_fit();
         m->version = hex64(h);
-        auto model = loadModel(path);
-        if (!model) return model.error();
-        m->model = std::move(model.value());
-        if (!bakeDir.empty()) {
+        if (bakeDir.empty()) {
+            if (!mayBake)
+                return makeError(ErrorCode::Unsupported, "model '" + id + "' (" + path +
+                                                             ") is not a baked package, and this server does not bake "
+                                                             "(--no-bake): bake it with `geoslice bake` first");
+            auto model = loadModel(path);
+            if (!model) return model.error();
+            m->model = std::move(model.value());
+        } else {
+            // The package in bakeDir/<id>/ serves while its stamp (source.version) is this
+            // source's version and it passes its checks; the source is parsed only to bake.
             const std::string dir = (fs::path(bakeDir) / id).string();
             const std::string stamp = (fs::path(dir) / "source.version").string();
             auto bakeInto = [&]() -> Status {
-                auto baked = bake::bakeModel(m->model);
+                auto model = loadModel(path);
+                if (!model) return model.error();
+                auto baked = bake::bakeModel(model.value());
                 if (!baked) return makeError(baked.error().code, "baking model '" + id + "': " + baked.error().message);
-                if (auto s = bake::writePackage(m->model, baked.value(), dir); !s) return s.error();
+                if (auto s = bake::writePackage(model.value(), baked.value(), dir); !s) return s.error();
                 std::FILE* f = std::fopen(stamp.c_str(), "wb");
                 if (!f) return makeError(ErrorCode::IoError, "cannot write " + stamp);
                 std::fwrite(m->version.data(), 1, m->version.size(), f);
                 std::fclose(f);
                 return {};
             };
+            auto refuse = [&](const std::string& why) {
+                return makeError(ErrorCode::Unsupported, "model '" + id + "' (" + path + "): " + why +
+                                                             ", and this server does not bake (--no-bake): run the "
+                                                             "bake job (geoslice bake, or serve with --bake-only)");
+            };
             auto previous = readFile(stamp, 64);
-            if (!previous || previous.value() != m->version)
-                if (auto s = bakeInto(); !s) return s.error();
-            auto pkg = openPackage(dir);
-            if (!pkg) {
-                // The stamp matches but the package fails its checks (a corrupt or truncated
-                // file): the source is intact, so keep the package aside (never deleted
-                // silently) and bake again (issue 11 item 6).
-                const std::string why = pkg.error().message;
-                std::string aside;
-                for (int n = 1; n < 1000; ++n) {
-                    aside = dir + ".corrupt-" + std::to_string(n);
-                    if (!fs::exists(aside, ec)) break;
+            Result<std::shared_ptr<const bake::Package>> pkg = makeError(ErrorCode::NotFound, "not baked yet");
+            if (previous && previous.value() == m->version) {
+                pkg = openPackage(dir);
+                if (!pkg && pkg.error().code == ErrorCode::Unsupported) {
+                    // Another package format version: bake again in place.
+                    if (!mayBake) return refuse("its package in " + dir + " is stale (" + pkg.error().message + ")");
+                    m->rebakedFrom = dir + " (" + pkg.error().message + ")";
+                    if (auto s = bakeInto(); !s) return s.error();
+                    pkg = openPackage(dir);
+                    if (!pkg) return pkg.error();
+                } else if (!pkg) {
+                    // The stamp matches but the package fails its checks (a corrupt or truncated
+                    // file): the source is intact, so keep the package aside (never deleted
+                    // silently) and bake again (issue 11 item 6).
+                    const std::string why = pkg.error().message;
+                    if (!mayBake) return refuse("its package in " + dir + " fails its checks (" + why + ")");
+                    std::string aside;
+                    for (int n = 1; n < 1000; ++n) {
+                        aside = dir + ".corrupt-" + std::to_string(n);
+                        if (!fs::exists(aside, ec)) break;
+                    }
+                    fs::rename(dir, aside, ec);
+                    if (ec)
+                        return makeError(ErrorCode::IoError, "package " + dir + " fails its checks (" + why +
+                                                                 ") and cannot be moved aside: " + ec.message());
+                    if (auto s = bakeInto(); !s) return s.error();
+                    pkg = openPackage(dir);
+                    if (!pkg) return pkg.error();
+                    m->rebakedFrom = aside + " (" + why + ")";
                 }
-                fs::rename(dir, aside, ec);
-                if (ec)
-                    return makeError(ErrorCode::IoError, "package " + dir + " fails its checks (" + why +
-                                                             ") and cannot be moved aside: " + ec.message());
+            } else {
+                if (!mayBake)
+                    return refuse(previous ? "its package in " + dir + " was baked from another version of the source"
+                                           : "it has no baked package in " + dir);
                 if (auto s = bakeInto(); !s) return s.error();
                 pkg = openPackage(dir);
                 if (!pkg) return pkg.error();
-                m->rebakedFrom = aside + " (" + why + ")";
             }
+            auto model = bake::packageModel(*pkg.value());
+            if (!model) return model.error();
+            m->model = std::move(model.value());
             m->package = std::move(pkg.value());
         }
     }
@@ -311,6 +359,8 @@ Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir
         std::error_code e2;
         if (entry.is_directory(e2)) {
             const std::string name = p.filename().string();
+            // <id>.corrupt-N: a package moved aside by the bake dir, kept for inspection only.
+            if (name.find(".corrupt-") != std::string::npos) continue;
             if (isValidModelId(name) && fs::exists(p / bake::kManifestFile, e2)) out[name] = p.string();
             continue;
         }

@@ -43,6 +43,8 @@ struct CatalogModel {
     // Set when the bake dir held a package that failed its checks (checksums, format) while
     // its source was intact: the package was moved aside to this path and baked again.
     std::string rebakedFrom;
+    // Set when loading fell back to slower work it should not have needed (logged).
+    std::string loadWarning;
     // The model's CRS to WGS 84 (EPSG:4326): one operation chosen at load for the model's
     // lon/lat extent (model/crs.hpp CrsTransform). Null for a local model, and where PROJ
     // has no operation or only a ballpark one; then `wgs84Note` says why, and answers give
@@ -65,13 +67,19 @@ struct CatalogModel {
 bool isValidModelId(std::string_view id);
 
 // Loads, validates and indexes a model: a file (glTF/GLB, OBJ, TSurf, Geo3DML), or a baked
-// package directory (bake/package.hpp: checksums verified, its mesh.glb is the geometry,
-// its manifest checksum the version). With `bakeDir` non-empty a raw model is baked on
-// first load into bakeDir/<id>/ (reused while the model's version is unchanged).
+// package directory (bake/package.hpp: checksums verified, its mesh.glb is the geometry with
+// the validation stored at bake time (bake::packageModel), its manifest checksum the version).
+// With `bakeDir` non-empty a raw model is served from bakeDir/<id>/, baked there on first
+// load and again when the source's version, the package format or its checksums change
+// (a corrupt package is moved aside to <id>.corrupt-N); while the package is current the
+// source is read only for its version hash, never parsed.
+// `mayBake` false (serve --no-bake: replicas on a read-only models volume): nothing is
+// baked; a raw model without a current package is refused (Unsupported, naming why:
+// missing, baked from another source version, stale format, failing its checks).
 // Errors: the loader's or the package reader's, and InvalidArgument when validation found
 // errors (named).
 Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
-                                                             const std::string& bakeDir = "");
+                                                             const std::string& bakeDir = "", bool mayBake = true);
 // A loaded, validated model indexed as the server does (tests and benchmarks build models
 // in memory); `version` as the caller chooses.
 Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
@@ -80,7 +88,7 @@ Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id
 Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles = 200000);
 // Model files directly in `dir` whose stem is a valid id, and package directories (holding a
 // manifest.json) whose name is a valid id: id -> path, sorted by id. A package wins over a
-// file of the same id.
+// file of the same id. Packages moved aside as corrupt (<id>.corrupt-N) are not models.
 Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir);
 
 class Catalog {

@@ -10,6 +10,12 @@
 //   ids.r32ui.zst    the index texture T_ID: one zstd frame holding pages x height x width
 //                    little-endian uint32 record ids, row 0 (v = 0) first
 //   attributes.json  the attribute table, {"records": [...]} (model/attributes.hpp)
+//   section.bvh      the section engine's BVH over the model as packageModel() reads it
+//                    (section/bvh.hpp saveBvh: flat arrays, memory-mapped and copied once)
+//   vertices.map     per part, how validation turns the stored (chart-split) vertices into
+//                    the model's (welded) ones: packageModel() replays it
+
+// The manifest's "validation" holds validate()'s reports and findings for that model.
 //
 // Why zstd-compressed raw for T_ID: lossless by construction, decodes straight into the
 // bytes glTexImage3D(GL_R32UI) takes (no conversion, no 8-bit channel packing), the content
@@ -37,12 +43,21 @@
 
 namespace geoslice::bake {
 
-constexpr int kPackageVersion = 1;
+// 2: the manifest carries the validation of the package's own mesh ("validation"), so a
+// package that passes its checksums is not validated again when it is loaded, and the
+// package holds the section BVH (section.bvh).
+constexpr int kPackageVersion = 2;
 constexpr const char* kPackageFormat = "geoslice-baked-model";
 constexpr const char* kManifestFile = "manifest.json";
 constexpr const char* kMeshFile = "mesh.glb";
 constexpr const char* kTextureFile = "ids.r32ui.zst";
 constexpr const char* kAttributesFile = "attributes.json";
+// The section engine's BVH over the package's model (section/bvh.hpp saveBvh), so that a
+// server loads it instead of building it.
+constexpr const char* kSectionBvhFile = "section.bvh";
+// How validation turns the stored mesh into the served model (bake/package.cpp: chart seams
+// welded again), so that packageModel() replays it instead of validating.
+constexpr const char* kVertexMapFile = "vertices.map";
 // mesh.glb primitive attribute (float VEC3, glTF axes) with position - float(position).
 constexpr const char* kPositionResidualAttribute = "_POSITION_LO";
 
@@ -58,8 +73,8 @@ std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed = 0);
 Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel = 3,
                     bool positionResiduals = true);
 
-// Loads a written package as the server does (checksums, mesh.glb through the model loader,
-// validation) and fails, naming the part and the finding, where the server would refuse it.
+// Loads a written package as the server does (checksums, packageModel() with the validation
+// the bake stored) and fails, naming the part and the finding, where the server would refuse it.
 Status verifyPackage(const std::string& dir);
 
 // The baked model as one glTF 2.0 binary for CesiumJS and other glTF tools: the package's
@@ -78,11 +93,13 @@ struct PackagePart {
     RecordId record = kNoRecord;
     const float* positions = nullptr;  // 3 per vertex, local frame in glTF axes (X east, Y up, Z -north)
     const float* uvs = nullptr;        // 2 per vertex
+    const float* residuals = nullptr;  // kPositionResidualAttribute (3 per vertex, glTF axes) or null
     const std::uint32_t* indices = nullptr;
     std::size_t vertexCount = 0, indexCount = 0;
 };
 
 struct Package {
+    std::string source;  // the package directory (or the name parsePackage was given), for messages
     nlohmann::json manifest;
     AttributeTable attributes;
     std::string name, crs;
@@ -90,7 +107,15 @@ struct Package {
     std::uint32_t width = 0, height = 0, pages = 0;
     std::vector<std::uint32_t> texels;  // pages * height * width, row 0 first
     std::vector<PackagePart> parts;
-    std::shared_ptr<const void> storage;  // keeps the mesh bytes (mapping or copy) alive
+    std::shared_ptr<const void> storage;  // keeps the mesh and BVH bytes (mappings or copy) alive
+    // section.bvh's bytes (loadPackage; checksum verified), empty from parsePackage.
+    std::span<const std::uint8_t> sectionBvh;
+    std::span<const std::uint8_t> vertexMap;  // vertices.map, likewise
+    // mesh.glb's scene: its name, the geoslice scene extras (CRS, notes; model/gltf_io.hpp)
+    // and the root node's translation (glTF axes), which packageModel() needs.
+    std::string sceneName;
+    nlohmann::json sceneExtras;
+    glm::dvec3 rootTranslation{0.0};
 
     RecordId fetch(glm::dvec2 uv) const { return fetchId(texels.data(), width, height, pages, uv); }
     // Bytes this package keeps in memory: the texture plus the mesh arrays.
@@ -100,6 +125,15 @@ struct Package {
 struct PackageReadOptions {
     bool verifyChecksums = true;  // XXH64 of every file against the manifest
 };
+
+// The model a loaded package holds, as loadModel() reads and validates its mesh.glb (the same
+// double world positions, indices, parts, records, attribute table, CRS, notes, origin, part
+// reports and findings, bit for bit) without validating it again: the bake validated this
+// very mesh and stored what validation did to it (vertices.map: the chart seams it welds) and
+// what it found (the manifest's "validation"); checksums vouch that nothing changed since.
+// When the bake found that a vertex map cannot replay validation ("trusted": false, e.g.
+// validation flipped triangles), the model is validated here.
+Result<Model> packageModel(const Package& pkg);
 
 // Loads a package directory (mesh.glb is memory-mapped, not copied). Errors name the file and
 // what is wrong: NotFound/IoError for missing or unreadable files, ParseError for a corrupt,

@@ -9,6 +9,7 @@
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "api/catalog.hpp"
 #include "cli/commands.hpp"
 #include "server/http_server.hpp"
 
@@ -23,11 +24,43 @@ struct ServeArgs {
     int port = -1, deadlineMs = -1, shutdownGraceMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
     long long memoryBudgetMiB = -1;
-    bool readyzPaths = false;
+    bool readyzPaths = false, noBake = false, bakeOnly = false;
     long long maxConnections = -1, headerTimeoutMs = -1, bodyTimeoutMs = -1, keepAliveMs = -1, keepAliveRequests = -1,
               sendTimeoutMs = -1;
     bool reusePort = false;
 };
+
+// serve --bake-only: every model of the models directory through the same load as a
+// replica's (bake into the bake dir where the package is missing, stale or corrupt, then load
+// it as a replica will: checksums, stored validation, BVH, ray scene), one line per model on
+// stdout; exit 0 when every model loaded, 1 otherwise. The bake-once Job of
+// deploy/kubernetes/geoslice.yaml runs it, so replicas (--no-bake) never bake.
+int runBakeOnly(const server::ServerConfig& config) {
+    if (config.modelsDir.empty() || config.bakeDir.empty()) {
+        std::fprintf(stderr, "geoslice serve: --bake-only needs --models DIR and --bake-dir DIR\n");
+        return 2;
+    }
+    auto files = api::listModelFiles(config.modelsDir);
+    if (!files) {
+        std::fprintf(stderr, "geoslice serve: %s\n", files.error().message.c_str());
+        return 1;
+    }
+    int failed = 0;
+    for (const auto& [id, path] : files.value()) {
+        auto m = api::loadCatalogModel(id, path, config.bakeDir, /*mayBake=*/!config.noBake);
+        if (!m) {
+            ++failed;
+            std::printf("bake: %s failed: %s\n", id.c_str(), m.error().message.c_str());
+        } else {
+            std::printf("bake: %s ready (%zu triangles, %.0f ms, version %s)%s%s\n", id.c_str(),
+                        m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version.c_str(),
+                        m.value()->rebakedFrom.empty() ? "" : "; baked again, was ", m.value()->rebakedFrom.c_str());
+        }
+        std::fflush(stdout);
+    }
+    std::printf("bake: %zu models, %d failed\n", files.value().size(), failed);
+    return failed ? 1 : 0;
+}
 
 int runServe(const ServeArgs& a) {
     server::ServerConfig config;
@@ -63,12 +96,14 @@ int runServe(const ServeArgs& a) {
     if (a.cacheMiB >= 0) config.cacheMiB = std::size_t(a.cacheMiB);
     if (a.memoryBudgetMiB >= 0) config.memoryBudgetMiB = std::size_t(a.memoryBudgetMiB);
     if (a.readyzPaths) config.readyzPaths = true;
+    if (a.noBake) config.noBake = true;
     if (a.demoTriangles > 0) config.demoTriangles = std::size_t(a.demoTriangles);
     if (a.maxBody > 0) config.maxBodyBytes = std::size_t(a.maxBody);
     if (auto s = server::checkConfig(config); !s) {
         std::fprintf(stderr, "geoslice serve: %s\n", s.error().message.c_str());
         return 2;
     }
+    if (a.bakeOnly) return runBakeOnly(config);
     // Logs go to stderr (one logfmt line per event); stdout carries only the banner.
     spdlog::set_default_logger(spdlog::stderr_logger_mt("geoslice"));
     spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%eZ level=%l %v", spdlog::pattern_time_type::utc);
@@ -102,6 +137,12 @@ void addServe(CLI::App& app, int& exitCode) {
     cmd->add_option("--models", a->models, "Directory of model files (default: the built-in demo model)");
     cmd->add_option("--bake-dir", a->bakeDir,
                     "Bake raw models on first load into DIR/<id>/ (attribute-indexed texture packages)");
+    cmd->add_flag("--no-bake", a->noBake,
+                  "Never bake (replicas on a read-only models volume): a model without a current baked package is "
+                  "refused and named in /readyz");
+    cmd->add_flag("--bake-only", a->bakeOnly,
+                  "Bake every model of --models into --bake-dir (where missing, stale or corrupt), load each as a "
+                  "replica will, print one line per model and exit (1 if any failed): the bake-once job");
     cmd->add_option("--gl", a->gl, "GL backend for perspective views: auto|egl-device|egl-surfaceless|osmesa|none");
     cmd->add_option("--lod", a->lod,
                     "3D views on CPU backends: off (default, exact) or auto (simplified geometry away from the cut)");

@@ -99,7 +99,7 @@ Result<std::string> readFile(const std::string& path, std::size_t maxBytes) {
     return data;
 }
 
-void finishLoadedModel(Model& model, bool classifyByClosure) {
+void finishLoadedModel(Model& model, bool classifyByClosure, bool validateModel) {
     if (classifyByClosure) {
         std::vector<Part> all;
         for (auto* list : {&model.bodies, &model.surfaces})
@@ -139,7 +139,7 @@ void finishLoadedModel(Model& model, bool classifyByClosure) {
         }
     }
     model.recentre();
-    validate(model);
+    if (validateModel) validate(model);
 }
 
 Result<Model> loadModel(const std::string& path, const LoadOptions& options) {

@@ -67,7 +67,9 @@ Result<std::string> readFile(const std::string& path, std::size_t maxBytes = std
 //  - when `classifyByClosure`, parts whose kind is not declared (Part::kindDeclared) become
 //    bodies when closed (after splitting pinch-outs, see analyseMesh) and surfaces when open;
 //    declared parts keep their kind, so a declared body that is not closed is an error;
-//  - origin = rounded bounds centre; validate(model) runs (see model/validate.hpp).
-void finishLoadedModel(Model& model, bool classifyByClosure);
+//  - origin = rounded bounds centre; validate(model) runs (see model/validate.hpp) unless
+//    `validateModel` is false (a baked package's mesh, validated when it was baked:
+//    bake/package.hpp packageModel()).
+void finishLoadedModel(Model& model, bool classifyByClosure, bool validateModel = true);
 
 }  // namespace geoslice

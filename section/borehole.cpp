@@ -44,19 +44,10 @@ bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v
 
 struct BoreholeTracer::Impl {
     const Model* model = nullptr;
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    std::vector<std::vector<glm::vec4>> vertices;  // local frame, 16-byte stride for Embree
-    // geometry id -> part: >= 0 body index, < 0 -(surface index + 1)
-    std::vector<int> geomToPart;
+    std::shared_ptr<const RayScene> scene;
     glm::dvec3 origin{0.0};
     Aabb bounds;
     float maxLocalCoord = 0.0f;
-
-    ~Impl() {
-        if (scene) rtcReleaseScene(scene);
-        if (device) rtcReleaseDevice(device);
-    }
 
     // Float32 tolerance at distance `t` along a ray cast from near the model (its float
     // origin is the box entry point, so t is measured from there, not from the caller's origin).
@@ -66,45 +57,23 @@ struct BoreholeTracer::Impl {
 BoreholeTracer::~BoreholeTracer() = default;
 
 Result<std::unique_ptr<BoreholeTracer>> BoreholeTracer::build(const Model& model) {
+    auto scene = RayScene::build(model);
+    if (!scene) return scene.error();
+    return build(model, std::move(scene.value()));
+}
+
+Result<std::unique_ptr<BoreholeTracer>> BoreholeTracer::build(const Model& model,
+                                                              std::shared_ptr<const RayScene> scene) {
+    if (!scene || &scene->model() != &model)
+        return makeError(ErrorCode::InvalidArgument, "borehole tracer: the ray scene was built for another model");
     std::unique_ptr<BoreholeTracer> tracer(new BoreholeTracer());
     tracer->impl_ = std::make_unique<Impl>();
     Impl& im = *tracer->impl_;
     im.model = &model;
     im.origin = model.origin;
     im.bounds = model.bounds();
-    im.device = rtcNewDevice("verbose=0");
-    if (!im.device)
-        return makeError(ErrorCode::Internal,
-                         "Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
-    im.scene = rtcNewScene(im.device);
-    rtcSetSceneFlags(im.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
-    rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
-    auto attach = [&](const Part& part, int tag) {
-        if (part.mesh.triangleCount() == 0) return;
-        auto& verts = im.vertices.emplace_back(part.mesh.positions.size());
-        for (std::size_t i = 0; i < verts.size(); ++i) {
-            verts[i] = glm::vec4(glm::vec3(part.mesh.positions[i] - model.origin), 0.0f);
-            if (std::isfinite(verts[i].x) && std::isfinite(verts[i].y) && std::isfinite(verts[i].z))
-                im.maxLocalCoord =
-                    std::max({im.maxLocalCoord, std::abs(verts[i].x), std::abs(verts[i].y), std::abs(verts[i].z)});
-        }
-        RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, verts.data(), 0, sizeof(glm::vec4),
-                                   verts.size());
-        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, part.mesh.indices.data(), 0,
-                                   3 * sizeof(std::uint32_t), part.mesh.triangleCount());
-        rtcCommitGeometry(g);
-        const unsigned id = rtcAttachGeometry(im.scene, g);
-        rtcReleaseGeometry(g);
-        if (im.geomToPart.size() <= id) im.geomToPart.resize(id + 1, 0);
-        im.geomToPart[id] = tag;
-    };
-    for (std::size_t b = 0; b < model.bodies.size(); ++b)
-        if (model.bodies[b].report.closed) attach(model.bodies[b], static_cast<int>(b));
-    for (std::size_t s = 0; s < model.surfaces.size(); ++s) attach(model.surfaces[s], -static_cast<int>(s) - 1);
-    rtcCommitScene(im.scene);
-    if (RTCError e = rtcGetDeviceError(im.device); e != RTC_ERROR_NONE)
-        return makeError(ErrorCode::Internal, "Embree: scene build failed (error " + std::to_string(e) + ")");
+    im.maxLocalCoord = scene->maxLocalCoordAll();
+    im.scene = std::move(scene);
     return tracer;
 }
 
@@ -168,7 +137,7 @@ Result<Borehole> BoreholeTracer::traceRay(const glm::dvec3& origin, const glm::d
     rh.ray.mask = 0xFFFFFFFFu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(im.scene, &ctx.base, &rh);
+    rtcIntersect1(im.scene->scene(), &ctx.base, &rh);
     std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
         if (a.t != b.t) return a.t < b.t;
         if (a.geom != b.geom) return a.geom < b.geom;
@@ -186,7 +155,7 @@ Result<Borehole> BoreholeTracer::traceRay(const glm::dvec3& origin, const glm::d
     // Surfaces: one crossing per surface per distinct distance (a hit on a shared edge
     // is reported by both triangles).
     for (const Hit& h : hits) {
-        const int tag = im.geomToPart[h.geom];
+        const int tag = im.scene->partOf(h.geom);
         if (tag >= 0) continue;
         const auto s = static_cast<std::uint32_t>(-tag - 1);
         const double t = t0 + double(h.t);
@@ -212,7 +181,7 @@ Result<Borehole> BoreholeTracer::traceRay(const glm::dvec3& origin, const glm::d
     };
     std::vector<Event> events;
     for (const Hit& h : hits) {
-        const int b = im.geomToPart[h.geom];
+        const int b = im.scene->partOf(h.geom);
         if (b < 0 || std::abs(h.cosine) < kCosGrazing) continue;
         const double t = t0 + double(h.t);
         const bool enter = h.cosine < 0.0f;

@@ -39,6 +39,7 @@
 
 #include "model/model.hpp"
 #include "model/result.hpp"
+#include "section/ray_scene.hpp"
 
 namespace geoslice {
 
@@ -76,6 +77,9 @@ public:
     // model must be validated (closed flags, nesting depths) and must outlive the tracer.
     // Errors: Internal when Embree fails.
     static Result<std::unique_ptr<BoreholeTracer>> build(const Model& model);
+    // The same over a scene built for this model and shared with other ray queries
+    // (section/ray_scene.hpp).
+    static Result<std::unique_ptr<BoreholeTracer>> build(const Model& model, std::shared_ptr<const RayScene> scene);
     ~BoreholeTracer();
     BoreholeTracer(const BoreholeTracer&) = delete;
     BoreholeTracer& operator=(const BoreholeTracer&) = delete;

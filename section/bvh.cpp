@@ -1,5 +1,8 @@
 #include "section/bvh.hpp"
 
+#include <bit>
+#include <cstring>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -401,6 +404,104 @@ void queryPlane(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, 
 void queryPlaneRect(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, const PlaneRect& rect,
                     std::vector<std::uint32_t>& out, BvhQueryStats* stats) {
     query<true>(bvh, meshes, plane, &rect, out, stats);
+}
+
+namespace {
+
+constexpr char kBvhMagic[8] = {'G', 'S', 'B', 'V', 'H', '0', '0', '1'};
+constexpr std::size_t kBvhHeader = 64;
+static_assert(std::endian::native == std::endian::little, "saved BVHs are little-endian");
+
+struct SavedBvhHeader {
+    char magic[8];
+    std::uint32_t nodeSize;
+    std::uint32_t reserved;
+    std::uint64_t nodeCount, triangleCount, meshCount;
+    double origin[3];
+};
+static_assert(sizeof(SavedBvhHeader) == kBvhHeader);
+
+}  // namespace
+
+std::vector<std::uint8_t> saveBvh(const Bvh& bvh) {
+    SavedBvhHeader h{};
+    std::memcpy(h.magic, kBvhMagic, 8);
+    h.nodeSize = sizeof(BvhNode);
+    h.nodeCount = bvh.nodes.size();
+    h.triangleCount = bvh.triangles.size();
+    h.meshCount = bvh.meshCount();
+    h.origin[0] = bvh.origin.x;
+    h.origin[1] = bvh.origin.y;
+    h.origin[2] = bvh.origin.z;
+    const std::size_t meshWords = bvh.meshFirst.size();
+    std::vector<std::uint8_t> out(kBvhHeader + bvh.nodes.size() * sizeof(BvhNode) +
+                                  (bvh.triangles.size() + meshWords) * 4);
+    std::size_t at = 0;
+    auto put = [&](const void* p, std::size_t n) {
+        if (n) std::memcpy(out.data() + at, p, n);
+        at += n;
+    };
+    put(&h, sizeof h);
+    put(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode));
+    put(bvh.triangles.data(), bvh.triangles.size() * 4);
+    put(bvh.meshFirst.data(), meshWords * 4);
+    return out;
+}
+
+Result<Bvh> loadBvh(std::span<const std::uint8_t> bytes, const BvhMesh* meshes, std::size_t meshCount,
+                    const glm::dvec3& origin, const std::string& source) {
+    auto bad = [&](const std::string& what) { return makeError(ErrorCode::ParseError, source + ": " + what); };
+    SavedBvhHeader h;
+    if (bytes.size() < kBvhHeader) return bad("shorter than its header (truncated)");
+    std::memcpy(&h, bytes.data(), sizeof h);
+    if (std::memcmp(h.magic, kBvhMagic, 8) != 0) return bad("not a saved section BVH (magic)");
+    if (h.nodeSize != sizeof(BvhNode)) return bad("node size " + std::to_string(h.nodeSize) + ", expected 32");
+    if (h.meshCount != meshCount)
+        return bad("built over " + std::to_string(h.meshCount) + " meshes, the model has " + std::to_string(meshCount));
+    if (h.origin[0] != origin.x || h.origin[1] != origin.y || h.origin[2] != origin.z)
+        return bad("built for another origin than the model's");
+    if (h.nodeCount >= 0xFFFFFFFFull || h.triangleCount >= 0xFFFFFFFFull) return bad("counts out of range");
+    const std::uint64_t need =
+        kBvhHeader + h.nodeCount * sizeof(BvhNode) + (h.triangleCount + h.meshCount + 1) * std::uint64_t(4);
+    if (need != bytes.size())
+        return bad(std::to_string(bytes.size()) + " bytes, its header describes " + std::to_string(need));
+    const std::uint8_t* at = bytes.data() + kBvhHeader;
+    const std::uint8_t* trianglesAt = at + h.nodeCount * sizeof(BvhNode);
+    const std::uint8_t* meshFirstAt = trianglesAt + h.triangleCount * 4;
+
+    Bvh bvh;
+    bvh.origin = origin;
+    // Copied straight into their storage (assign from the bytes: no zero-fill first).
+    bvh.meshFirst.resize(meshCount + 1);
+    std::memcpy(bvh.meshFirst.data(), meshFirstAt, (meshCount + 1) * 4);
+    if (bvh.meshFirst[0] != 0) return bad("mesh ranges do not start at 0");
+    for (std::size_t m = 0; m < meshCount; ++m)
+        if (std::uint64_t(bvh.meshFirst[m + 1]) - bvh.meshFirst[m] != meshes[m].triangleCount ||
+            bvh.meshFirst[m + 1] < bvh.meshFirst[m])
+            return bad("mesh " + std::to_string(m) + " has another triangle count than the model's");
+    const std::uint32_t total = bvh.meshFirst[meshCount];
+    if (h.triangleCount > total) return bad("more triangle ids than triangles");
+    const auto* ids = reinterpret_cast<const std::uint32_t*>(trianglesAt);
+    bvh.triangles.assign(ids, ids + h.triangleCount);
+    for (const std::uint32_t id : bvh.triangles)
+        if (id >= total) return bad("triangle id " + std::to_string(id) + " out of range");
+    const auto* nodes = reinterpret_cast<const BvhNode*>(at);
+    bvh.nodes.assign(nodes, nodes + h.nodeCount);
+    const std::size_t n = bvh.nodes.size();
+    if (n == 1) return bad("one node (a tree has a root and a padding node)");
+    std::vector<std::uint8_t> referenced(n / 2 + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i == 1) continue;  // padding
+        const BvhNode& nd = bvh.nodes[i];
+        if (nd.count) {
+            if (nd.count > 64 || nd.first > h.triangleCount || nd.count > h.triangleCount - nd.first)
+                return bad("leaf " + std::to_string(i) + " lies outside the triangle ids");
+        } else {
+            if (nd.first % 2 != 0 || nd.first <= i || std::size_t(nd.first) + 1 >= n || referenced[nd.first / 2]++)
+                return bad("node " + std::to_string(i) + " has bad children (not a tree)");
+        }
+    }
+    return bvh;
 }
 
 }  // namespace geoslice

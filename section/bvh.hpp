@@ -24,6 +24,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <new>
+#include <span>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -90,6 +92,22 @@ struct BvhOptions {
 // Errors: more than 2^32 - 2 triangles in all; maxLeafSize outside 1..64.
 Result<Bvh> buildBvh(const BvhMesh* meshes, std::size_t meshCount, const glm::dvec3& origin,
                      const BvhOptions& options = {});
+
+// The tree as flat arrays, for baked packages (bake/package.hpp stores it as section.bvh, so
+// a server loads it instead of building it): a 64-byte header ("GSBVH001", node size 32,
+// node / triangle-id / mesh counts, origin as 3 doubles), then the nodes (32 bytes each, as in
+// memory), the triangle ids (uint32) and meshFirst (uint32, meshCount + 1); little-endian,
+// every array 4-byte aligned. Deterministic: the same tree gives the same bytes.
+std::vector<std::uint8_t> saveBvh(const Bvh& bvh);
+
+// Reads saveBvh's bytes for `meshes` (the meshes the tree was built over, in the same order)
+// and `origin`. Checked before use, so that no bytes can make a query read out of bounds or
+// loop: the header, sizes, the origin, meshFirst against the meshes' triangle counts, every
+// triangle id, every leaf range, and every internal node's children (an even pair after the
+// node, each pair the child of one node only: a tree). Box values are taken as stored (a
+// package's checksums vouch for them). Errors: ParseError naming `source` and the defect.
+Result<Bvh> loadBvh(std::span<const std::uint8_t> bytes, const BvhMesh* meshes, std::size_t meshCount,
+                    const glm::dvec3& origin, const std::string& source);
 
 // A rectangle in a section plane, local frame: points originLocal + s*u + t*v with
 // s in [u0, u1], t in [v0, v1] (metres); u, v unit and orthogonal to the plane normal.

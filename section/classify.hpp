@@ -8,8 +8,8 @@
 // (real models overlap or leave gaps of centimetres) the later body wins, as it is painted
 // last in the section's ID buffer.
 //
-// Method (Embree, one ray per point): all hits along a fixed generic direction; a body
-// contains the point when the ray crosses it an odd number of times (ray parity per body,
+// Method (Embree, one ray per point, in the model's shared RayScene; open surfaces ignored): all hits along a fixed
+// generic direction; a body contains the point when the ray crosses it an odd number of times (ray parity per body,
 // valid for closed shells however they overlap their neighbours). A ray that grazes an
 // edge or vertex, or runs nearly parallel to a hit triangle, is re-cast in another
 // direction. An earlier version took the nearest exit against the nearest entry and
@@ -34,14 +34,17 @@
 
 #include "model/model.hpp"
 #include "model/result.hpp"
+#include "section/ray_scene.hpp"
 
 namespace geoslice {
 
 class Classifier {
 public:
-    // Builds an Embree scene over the model's closed bodies. The model must have been
-    // validated (loaders and generateSynthetic + validate do so) for nesting parents.
+    // Builds an Embree scene over the model (section/ray_scene.hpp), or uses `scene`, built for
+    // this model and shared with other ray queries. The model must have been validated
+    // (loaders and generateSynthetic + validate do so) for closed flags and nesting depths.
     static Result<std::unique_ptr<Classifier>> build(const Model& model);
+    static Result<std::unique_ptr<Classifier>> build(const Model& model, std::shared_ptr<const RayScene> scene);
     ~Classifier();
     Classifier(const Classifier&) = delete;
     Classifier& operator=(const Classifier&) = delete;

@@ -61,7 +61,12 @@ std::size_t SectionIndex::memoryBytes() const {
     return b;
 }
 
-Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, const BvhOptions& options) {
+namespace {
+
+// Everything but the BVH: parts, meshes; `makeBvh` gets the index and returns its tree. The
+// welds run on a second thread while it works (they touch different memory).
+template <class MakeBvh>
+Result<std::unique_ptr<SectionIndex>> makeIndex(const Model& model, MakeBvh&& makeBvh) {
     auto index = std::make_unique<SectionIndex>();
     index->model = &model;
     index->origin = model.origin;
@@ -84,7 +89,6 @@ Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, cons
                                             p.mesh.triangleCount()});
         }
 
-    // Welds in parallel with the BVH build (they touch different memory).
     std::atomic<std::size_t> next{0};
     auto weldAll = [&] {
         for (std::size_t i = next++; i < index->parts.size(); i = next++) {
@@ -96,12 +100,27 @@ Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, cons
         }
     };
     std::thread welder(weldAll);
-    auto bvh = buildBvh(index->meshes.data(), index->meshes.size(), model.origin, options);
+    Result<Bvh> bvh = makeBvh(*index);
     weldAll();
     welder.join();
     if (!bvh) return bvh.error();
     index->bvh = std::move(bvh).value();
     return index;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, const BvhOptions& options) {
+    return makeIndex(model, [&](const SectionIndex& index) {
+        return buildBvh(index.meshes.data(), index.meshes.size(), model.origin, options);
+    });
+}
+
+Result<std::unique_ptr<SectionIndex>> loadSectionIndex(const Model& model, std::span<const std::uint8_t> savedBvh,
+                                                       const std::string& source) {
+    return makeIndex(model, [&](const SectionIndex& index) {
+        return loadBvh(savedBvh, index.meshes.data(), index.meshes.size(), model.origin, source);
+    });
 }
 
 }  // namespace geoslice

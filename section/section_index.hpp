@@ -10,6 +10,8 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "model/model.hpp"
@@ -49,5 +51,11 @@ struct SectionIndex {
 // Builds the index. The model should be validated (outward bodies, nesting parents).
 // Errors: from buildBvh (too many triangles).
 Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, const BvhOptions& options = {});
+
+// The same index with the BVH read from saveBvh() bytes made for this model (a baked
+// package's section.bvh) instead of built: the sections are the same, bit for bit.
+// Errors: loadBvh's (ParseError naming `source`).
+Result<std::unique_ptr<SectionIndex>> loadSectionIndex(const Model& model, std::span<const std::uint8_t> savedBvh,
+                                                       const std::string& source);
 
 }  // namespace geoslice

@@ -68,6 +68,8 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.memoryBudgetMiB, 0, 1LL << 30);
     else if (key == "readyzPaths")
         return number(c.readyzPaths, 0, 1);
+    else if (key == "noBake")
+        return number(c.noBake, 0, 1);
     else
         return makeError(ErrorCode::InvalidArgument, source + ": unknown setting '" + key + "'");
     return {};
@@ -122,6 +124,7 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_CORS", "cors"},
         {"GEOSLICE_MEMORY_BUDGET_MIB", "memoryBudgetMiB"},
         {"GEOSLICE_READYZ_PATHS", "readyzPaths"},
+        {"GEOSLICE_NO_BAKE", "noBake"},
         {"GEOSLICE_DEMO_TRIANGLES", "demoTriangles"},
         {"GEOSLICE_LOG_LEVEL", "logLevel"},
     };

@@ -35,6 +35,9 @@
 //                                                                             Retry-After; 0 = no limit)
 //   readyzPaths        GEOSLICE_READYZ_PATHS          --readyz-paths          0 (1: /readyz shows absolute file
 //                                                                             paths in model errors)
+//   noBake             GEOSLICE_NO_BAKE               --no-bake               0 (1: never bake; a model without a
+//                                                                             current baked package is refused and
+//                                                                             named in /readyz: read-only volumes)
 // clang-format on
 #pragma once
 
@@ -72,6 +75,7 @@ struct ServerConfig {
     std::string logLevel = "info";
     std::size_t memoryBudgetMiB = 4096;  // render admission by estimated memory; 0 = off
     bool readyzPaths = false;            // /readyz shows file-system paths (else only file names)
+    bool noBake = false;                 // never bake: serve baked packages only (api::loadCatalogModel mayBake)
 };
 
 // Applies a JSON object's known keys (unknown keys are an error naming them).

@@ -1131,10 +1131,12 @@ struct SectionServer::Impl {
                 if (files.value().empty()) spdlog::warn("event=models_dir_empty dir=\"{}\"", config.modelsDir);
                 for (const auto& [id, path] : files.value()) {
                     if (draining) break;
-                    auto m = api::loadCatalogModel(id, path, config.bakeDir);
+                    auto m = api::loadCatalogModel(id, path, config.bakeDir, !config.noBake);
                     if (m) {
                         spdlog::info("event=model_loaded id={} triangles={} ms={:.0f} version={}", id,
                                      m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version);
+                        if (!m.value()->loadWarning.empty())
+                            spdlog::warn("event=model_load_warning id={} warning=\"{}\"", id, m.value()->loadWarning);
                         if (!m.value()->rebakedFrom.empty())
                             spdlog::warn("event=package_rebaked id={} moved_aside=\"{}\"", id, m.value()->rebakedFrom);
                         const auto& notes = m.value()->model.notes;

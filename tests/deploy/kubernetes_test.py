@@ -129,6 +129,7 @@ class Manifests(unittest.TestCase):
             self.assertTrue(claims[m["name"]].get("readOnly"))
             find(self.docs, "PersistentVolumeClaim", claims[m["name"]]["claimName"])
             self.assertIn(m["mountPath"].rstrip("/") + "/baked", " ".join(c["args"]), "serves the baked packages")
+        self.assertIn("--no-bake", c["args"], "replicas on a read-only volume never bake")
         return c, labels
 
     def test_cpu_deployment(self):
@@ -163,9 +164,10 @@ class Manifests(unittest.TestCase):
         written = [m for m in c["volumeMounts"]
                    if vols[m["name"]].get("persistentVolumeClaim", {}).get("claimName") == "geoslice-models"]
         self.assertTrue(written and not written[0].get("readOnly"), "the Job writes the claim")
-        script = " ".join(c.get("command", []) + c.get("args", []))
-        self.assertIn("geoslice bake", script)
-        self.assertIn(written[0]["mountPath"] + "/baked", script)
+        args = c.get("command", []) + c.get("args", [])
+        self.assertTrue(args[0].endswith("geoslice"))
+        self.assertIn("--bake-only", args, "bakes with the server's bake-dir rules, then exits")
+        self.assertEqual(args[args.index("--bake-dir") + 1], written[0]["mountPath"] + "/baked")
 
     def test_gpu_variant(self):
         dep = find(self.docs, "Deployment", "geoslice-gpu")
