@@ -21,7 +21,8 @@ Result<std::shared_ptr<const RayScene>> RayScene::build(const Model& model, cons
         return makeError(ErrorCode::Internal,
                          "Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
     rs->scene_ = rtcNewScene(rs->device_);
-    rtcSetSceneFlags(rs->scene_, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
+    rtcSetSceneFlags(rs->scene_, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
+                                               (options.compact ? RTC_SCENE_FLAG_COMPACT : 0)));
     rtcSetSceneBuildQuality(rs->scene_, options.quality);
     constexpr float kInf = std::numeric_limits<float>::infinity();
     rs->boxes_.assign(model.bodies.size(), {glm::vec3(kInf), glm::vec3(-kInf)});

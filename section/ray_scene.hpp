@@ -32,6 +32,8 @@ struct RaySceneOptions {
     // Embree's BVH build quality. MEDIUM (the default) builds an SAH tree with spatial splits
     // off; LOW is Morton-code based: faster to build, slower to traverse.
     RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
+    // RTC_SCENE_FLAG_COMPACT: a smaller tree (less memory to allocate and zero), slower rays.
+    bool compact = false;
 };
 
 class RayScene {
