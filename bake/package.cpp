@@ -19,6 +19,7 @@
 #include "model/gltf_io.hpp"
 #include "model/loaders.hpp"
 #include "model/validate.hpp"
+#include "model/version.hpp"
 #include "section/section_index.hpp"
 
 namespace geoslice::bake {
@@ -804,7 +805,7 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
     json manifest;
     manifest["format"] = kPackageFormat;
     manifest["version"] = kPackageVersion;
-    manifest["generator"] = "geoslice 0.1.0";
+    manifest["generator"] = kGeneratorName;
     manifest["model"] = {{"name", model.name},
                          {"source", model.source},
                          {"crs", model.crs.id()},

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.hpp"
+#include "model/version.hpp"
 
 namespace geoslice::cli {
 
@@ -38,7 +39,7 @@ void addLoadOptions(CLI::App* cmd, LoadOptions& options) {
 int main(int argc, char** argv) {
     CLI::App app{"geoslice: cut 3D geological models with planes and serve the sections"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", "geoslice 0.1.0");
+    app.set_version_flag("--version", geoslice::kGeneratorName);
     int exitCode = 0;
     geoslice::cli::addGenerate(app, exitCode);
     geoslice::cli::addInfo(app, exitCode);

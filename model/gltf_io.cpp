@@ -18,6 +18,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "model/loaders.hpp"
+#include "model/version.hpp"
 
 namespace geoslice {
 namespace {
@@ -863,7 +864,7 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
                 {"translation", {o.x, o.y, o.z}},
                 {"children", rootChildren}};
     json doc;
-    doc["asset"] = {{"version", "2.0"}, {"generator", "geoslice 0.1.0"}};
+    doc["asset"] = {{"version", "2.0"}, {"generator", kGeneratorName}};
     if (options.draco) {
         doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
         doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};

@@ -18,8 +18,10 @@
 #include "api/reserves.hpp"
 #include "api/sheet.hpp"
 #include "api/view.hpp"
+#include "model/version.hpp"
 #include "print/sheet_date.hpp"
 #include "renderer/image_encode.hpp"
+#include "server/gl_status.hpp"
 #include "server/gl_worker.hpp"
 #include "server/http_transport.hpp"
 #include "server/lru_cache.hpp"
@@ -32,7 +34,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using Json = nlohmann::ordered_json;
-constexpr const char* kVersion = "0.2.0";
 
 // An encoded image or JSON body, as cached and served.
 struct Encoded {
@@ -255,8 +256,7 @@ struct SectionServer::Impl {
     Coalescer<std::shared_ptr<const Result<std::shared_ptr<const Encoded>>>> coalescer;
     std::unique_ptr<RenderPool> pool;    // declared after what its jobs use: destroyed first
     std::optional<GlBackend> glBackend;  // nullopt: GL disabled
-    std::string glInfo = "not probed";
-    std::atomic<bool> glReady{false};
+    GlStatus glStatus;                   // written by the probing render worker, read by /readyz (locked)
     std::atomic<bool> draining{false};
     std::atomic<bool> loaded{false};
     std::atomic<bool> loadOk{false};
@@ -556,7 +556,8 @@ struct SectionServer::Impl {
             // Ready once loading is done and at least one model is in: a broken file in the
             // models directory is reported here and in the logs, not a reason to stay unready.
             const bool modelsReady = loaded && catalog.size() > 0;
-            const bool glOk = !glBackend || glReady;
+            const GlStatus::Snapshot gl = glStatus.get();
+            const bool glOk = !glBackend || gl.ready;
             Json failures;
             {
                 std::lock_guard lock(failedMutex);
@@ -580,7 +581,7 @@ struct SectionServer::Impl {
                          {"memoryReservedMiB", ps.reservedBytes >> 20}};
             Json j{{"ready", modelsReady && glOk && workersOk},
                    {"models", {{"loaded", catalog.size()}, {"done", bool(loaded)}, {"failed", failures}}},
-                   {"gl", {{"enabled", bool(glBackend)}, {"ready", bool(glReady)}, {"device", glInfo}}},
+                   {"gl", {{"enabled", bool(glBackend)}, {"ready", gl.ready}, {"device", gl.device}}},
                    {"workers", pool->workers()},
                    {"renders", std::move(renders)}};
             sendJson(res, j, modelsReady && glOk && workersOk ? 200 : 503);
@@ -624,16 +625,24 @@ struct SectionServer::Impl {
                       for (double b : classes.value()->breaks) key += "|" + api::formatNumber(b);
                   }
                   if (auto hit = images.get(key)) return sendEncoded(req, res, *hit);
-                  const api::LegendImage legend =
-                      api::renderLegend(*m, 2, classes.value() ? &*classes.value() : nullptr);
-                  api::ViewImage v;
-                  v.width = legend.width;
-                  v.height = legend.height;
-                  v.rgba = legend.rgba;
-                  auto e = encode(v, ImageFormat::Png, 0, quoted(api::hex64(api::fnv1a64(key))));
-                  if (!e) return problem(res, e.error(), req.path);
-                  images.put(key, e.value());
-                  sendEncoded(req, res, *e.value());
+                  // Drawn and encoded on a render worker (the threading rule: HTTP threads
+                  // only wait), coalesced and cached like every other image.
+                  auto result = renderCoalesced(
+                      key,
+                      [this, m, classes = classes.value(), etag = quoted(api::hex64(api::fnv1a64(key)))](
+                          WorkerState&, const std::atomic<bool>& cancel) -> Rendered {
+                          const auto t0 = Clock::now();
+                          api::LegendImage legend = api::renderLegend(*m, 2, classes ? &*classes : nullptr);
+                          api::ViewImage v;
+                          v.width = legend.width;
+                          v.height = legend.height;
+                          v.rgba = std::move(legend.rgba);
+                          metrics.render("legend", std::chrono::duration<double>(Clock::now() - t0).count());
+                          return encode(v, ImageFormat::Png, 0, etag, &cancel);
+                      },
+                      kVectorBytes, false, req);
+                  if (!result) return problem(res, result.error(), req.path);
+                  sendEncoded(req, res, *result.value());
               });
         route("GET", "/v1/models/{id}/section.{format}", "/v1/models/([^/]+)/section\\.([A-Za-z0-9]+)",
               [this](const HttpRequest& req, HttpResponse& res) { sectionImage(req, res); });
@@ -1168,16 +1177,17 @@ struct SectionServer::Impl {
         job.run = [this](WorkerState& w, const std::atomic<bool>&) {
             auto gl = GlWorker::create(*glBackend, config.lod == "auto");
             if (!gl) {
-                glInfo = "failed: " + gl.error().message;
+                glStatus.set("failed: " + gl.error().message, false);
                 spdlog::warn("event=gl_unavailable error=\"{}\"", gl.error().message);
                 return;
             }
-            glInfo = gl.value()->context->info().describe();
-            spdlog::info("event=gl_ready device=\"{}\"", glInfo);
+            const std::string device = gl.value()->context->info().describe();
+            spdlog::info("event=gl_ready device=\"{}\"", device);
             w.gl = std::move(gl.value());
-            glReady = true;
+            glStatus.set(device, true);
         };
-        if (pool->submit(std::move(job)) != Admission::Queued) glInfo = "failed: the render queue refused the probe";
+        if (pool->submit(std::move(job)) != Admission::Queued)
+            glStatus.set("failed: the render queue refused the probe", false);
     }
 };
 

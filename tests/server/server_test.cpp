@@ -15,6 +15,7 @@
 #include "api/openapi.hpp"
 #include "api/plan.hpp"
 #include "model/crs.hpp"
+#include "model/version.hpp"
 #include "server/http_server.hpp"
 
 namespace geoslice::server {
@@ -97,6 +98,26 @@ TEST_F(Server, HealthReadyAndModels) {
     ASSERT_TRUE(legend);
     EXPECT_EQ(legend->status, 200);
     EXPECT_TRUE(startsWith(legend->body, "\x89PNG"));
+}
+
+// Issue 14: one version string, generated from project(VERSION) (model/version.hpp).
+TEST_F(Server, ReportsTheOneProjectVersion) {
+    EXPECT_EQ(getJson("/healthz")["version"], kVersion);
+    EXPECT_EQ(getJson("/openapi.json")["info"]["version"], kVersion);
+}
+
+// Issue 14: the legend is drawn and encoded on a render worker like every other image (the
+// HTTP thread only waits), so it is counted as a render of kind "legend".
+TEST_F(Server, LegendIsRenderedOnARenderWorker) {
+    auto legend = get("/v1/models/demo/legend.png");
+    ASSERT_TRUE(legend);
+    EXPECT_EQ(legend->status, 200);
+    EXPECT_TRUE(startsWith(legend->body, "\x89PNG"));
+    EXPECT_FALSE(legend->get_header_value("ETag").empty());
+    auto metrics = get("/metrics");
+    ASSERT_TRUE(metrics);
+    EXPECT_NE(metrics->body.find("geoslice_render_duration_seconds_count{kind=\"legend\"} "), std::string::npos)
+        << "no legend render counted by a worker";
 }
 
 TEST_F(Server, SectionImagesInEveryFormat) {
