@@ -39,7 +39,9 @@ J viewParams() {
         queryParam("up", "string", "x,y,z: perspective up vector (default 0,0,1)"),
         queryParam("fov", "number", "perspective vertical field of view, degrees 1..170 (default 45)"),
         queryParam("size", "string", "WxH pixels, each 1..8192, at most 2^26 pixels (default 1024x1024)"),
-        queryParam("vx", "number", "vertical exaggeration 0.1..100 (default 1)"),
+        queryParam("vx", "number",
+                   "vertical exaggeration 0.1..100 (default 1): elevation stretched vx times about the centre "
+                   "elevation of the model's bounds (a plane's v axis by sqrt(nz^2 + vx^2 (1 - nz^2)))"),
         queryParam("bg", "string", "transparent (default) or #rrggbb[aa]"),
         queryParam("colour", "string",
                    "a block property (the model's block model): the clipping bodies coloured by its class at "
@@ -224,10 +226,11 @@ J openApiDocument(const std::string& serverVersion) {
     paths["/v1/models/{id}/sections"]["post"]["responses"]["201"] = jsonResponse("{sid, tiles, grid}");
     get("/v1/sections/{sid}", op("a section's definition and tile grid", J::array({sid}), jsonResponse("grid")));
     get("/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
-        op("one 256x256 tile. Grid: zoom 0 is one tile covering size0 metres along u (size0/vx along v) from the "
+        op("one 256x256 tile. Grid: zoom 0 is one tile covering size0 metres along u (size0/k along v) from the "
            "section extent's top-left corner (u0, v1); zoom z has 2^z x 2^z tiles; tile (z,x,y) covers "
-           "u in [u0+x*s, u0+(x+1)*s], v in [v1-(y+1)*s/vx, v1-y*s/vx], s = size0/2^z. In Leaflet use L.CRS.Simple "
-           "with lng = (u-u0)*256/size0 and lat = (v-v1)*vx*256/size0.",
+           "u in [u0+x*s, u0+(x+1)*s], v in [v1-(y+1)*s/k, v1-y*s/k], s = size0/2^z, k = the grid's "
+           "exaggeration (vx on a vertical plane, 1 on a horizontal one, sqrt(nz^2 + vx^2 (1 - nz^2)) for a unit "
+           "normal n). In Leaflet use L.CRS.Simple with lng = (u-u0)*256/size0 and lat = (v-v1)*k*256/size0.",
            J::array({sid, pathParam("z", "zoom", J{{"type", "integer"}}),
                      pathParam("x", "column", J{{"type", "integer"}}),
                      pathParam("y", "row (0 = top)", J{{"type", "integer"}}), format}),

@@ -243,8 +243,10 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
     if (const auto vx = param(params, "vx")) {
         auto k = parseNumber("vx", *vx);
         if (!k) return k.error();
-        if (!(k.value() >= 0.1 && k.value() <= 100.0))
-            return makeError(ErrorCode::OutOfRange, "parameter 'vx': " + std::string(*vx) + " is outside 0.1..100");
+        if (!(k.value() >= kMinExaggeration && k.value() <= kMaxExaggeration))
+            return makeError(ErrorCode::OutOfRange, "parameter 'vx': " + std::string(*vx) + " is outside " +
+                                                        limitNumber(kMinExaggeration) + ".." +
+                                                        limitNumber(kMaxExaggeration));
         def.exaggeration = k.value();
     }
     if (const auto bg = param(params, "bg")) {
@@ -349,33 +351,6 @@ CutOut sectionCut(const SectionDef& def) {
     return CutOut{def.cutPlanes, def.cut};
 }
 
-FrameRect projectedBounds(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin) {
-    const SectionFrame f = makeSectionFrame(plane, modelOrigin);
-    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner{(c & 1) ? bounds.max.x : bounds.min.x, (c & 2) ? bounds.max.y : bounds.min.y,
-                                (c & 4) ? bounds.max.z : bounds.min.z};
-        const glm::dvec2 uv = f.toPlane(corner - modelOrigin);
-        lo = glm::min(lo, uv);
-        hi = glm::max(hi, uv);
-    }
-    return FrameRect{lo.x, lo.y, hi.x, hi.y};
-}
-
-FrameRect defaultFrame(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin, int width, int height,
-                       double exaggeration, double margin) {
-    const FrameRect tight = projectedBounds(plane, bounds, modelOrigin);
-    const glm::dvec2 lo{tight.u0, tight.v0}, hi{tight.u1, tight.v1};
-    glm::dvec2 size = hi - lo;
-    const glm::dvec2 centre = (lo + hi) * 0.5;
-    size *= 1.0 + 2.0 * margin;
-    size = glm::max(size, glm::dvec2(1e-3));
-    // Metres per pixel along u = exaggeration x metres per pixel along v.
-    const double mppU = std::max(size.x / width, size.y * exaggeration / height);
-    const glm::dvec2 half{0.5 * mppU * width, 0.5 * mppU / exaggeration * height};
-    return FrameRect{centre.x - half.x, centre.y - half.y, centre.x + half.x, centre.y + half.y};
-}
-
 Camera defaultCamera(const Aabb& bounds) {
     Camera c;
     const glm::dvec3 size = bounds.size();
@@ -386,22 +361,19 @@ Camera defaultCamera(const Aabb& bounds) {
     return c;
 }
 
-DisplaySpace displaySpace(const SectionDef& def, const Aabb& bounds) {
-    return DisplaySpace{def.exaggeration, 0.5 * (bounds.min.z + bounds.max.z)};
+VerticalExaggeration exaggerationOf(const SectionDef& def, const Aabb& bounds) {
+    return VerticalExaggeration::aboutCentreOf(def.exaggeration, bounds);
 }
 
 Camera displayCamera(const ViewPlan& plan, const Aabb& bounds) {
-    const DisplaySpace ds = displaySpace(plan.section, bounds);
+    const VerticalExaggeration ds = exaggerationOf(plan.section, bounds);
     if (plan.camera) {
         Camera c = *plan.camera;
         c.eye = ds.toDisplay(c.eye);
         c.target = ds.toDisplay(c.target);
         return c;
     }
-    Aabb display;
-    display.extend(ds.toDisplay(bounds.min));
-    display.extend(ds.toDisplay(bounds.max));
-    return defaultCamera(display);
+    return defaultCamera(ds.boundsToDisplay(bounds));
 }
 
 std::string encodeSectionId(const SectionDef& def) { return base64UrlEncode(def.canonical()); }

@@ -15,7 +15,8 @@
 //                               bounds projected on the plane, 2 % margin, fitted to the size)
 //   eye=x,y,z target=x,y,z up=x,y,z fov=deg   perspective camera (world; defaults around the model)
 //   size=WxH                    pixels, each side 1..8192, at most 2^26 pixels (default 1024x1024)
-//   vx=k                        vertical exaggeration 0.1..100 (default 1): v metres per pixel / k
+//   vx=k                        vertical exaggeration 0.1..100 (default 1), model/exaggeration.hpp:
+//                               elevation stretched k times about the bounds' centre elevation
 //   bg=transparent|#rrggbb[aa]  background (default transparent)
 //   colour=PROP breaks=b1,.. ramp=NAME   colour by a block property (BlockColouring)
 // Units: metres in the model's CRS (x easting, y northing, z elevation), degrees for lon/lat.
@@ -33,10 +34,12 @@
 #include "api/params.hpp"
 #include "model/attributes.hpp"
 #include "model/crs.hpp"
+#include "model/exaggeration.hpp"
 #include "model/model.hpp"
+#include "model/plane.hpp"
 #include "model/result.hpp"
+#include "model/view_frame.hpp"
 #include "model/view_limits.hpp"
-#include "section/plane.hpp"
 #include "section/raster.hpp"
 
 namespace geoslice::api {
@@ -108,24 +111,14 @@ Plane sectionPlane(const SectionDef& def);
 // plane alone, or the planes of a cut-out.
 CutOut sectionCut(const SectionDef& def);
 
-// `bounds` projected on the plane's u/v axes: the tight u/v rectangle around its corners.
-FrameRect projectedBounds(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin);
-// The default profile frame: `bounds` projected on the plane's u/v axes, `margin` on each
-// side, grown along one axis so that (u metres per pixel) = exaggeration x (v metres per pixel).
-FrameRect defaultFrame(const Plane& plane, const Aabb& bounds, const glm::dvec3& modelOrigin, int width, int height,
-                       double exaggeration, double margin = 0.02);
+// Profile frames (FrameRect, defaultFrame, projectedBounds): model/view_frame.hpp.
 // The default perspective camera: from the south-east, above, looking at the bounds' centre.
 Camera defaultCamera(const Aabb& bounds);
 
-// Display space of perspective views with vertical exaggeration k (SectionDef::exaggeration):
-// z' = pivot + k (z - pivot), pivot = the centre elevation of the model's bounds; x and y
-// unchanged. Cameras given in a request are world points; they are mapped like the model.
-struct DisplaySpace {
-    double k = 1.0, pivot = 0.0;
-    glm::dvec3 toDisplay(const glm::dvec3& w) const { return {w.x, w.y, pivot + k * (w.z - pivot)}; }
-    glm::dvec3 toWorld(const glm::dvec3& d) const { return {d.x, d.y, pivot + (d.z - pivot) / k}; }
-};
-DisplaySpace displaySpace(const SectionDef& def, const Aabb& bounds);
+// The section's vertical exaggeration: SectionDef::exaggeration about the centre elevation
+// of the model's bounds (the one pivot rule, model/exaggeration.hpp). Perspective cameras
+// given in a request are world points; they are mapped like the model.
+VerticalExaggeration exaggerationOf(const SectionDef& def, const Aabb& bounds);
 // The camera of a perspective plan in display space: the request's camera mapped, or the
 // default camera around the display-space bounds.
 Camera displayCamera(const ViewPlan& plan, const Aabb& bounds);

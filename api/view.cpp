@@ -42,19 +42,6 @@ ViewImage fromSectionImage(SectionImage&& s) {
     return v;
 }
 
-// The default frame of a polyline section: chainage 0..length by the model's elevation
-// range, 2 % margin, grown along one axis so that s metres per pixel = k x z metres per pixel.
-FrameRect defaultLineFrame(const SectionLine& line, const Aabb& bounds, int width, int height, double exaggeration) {
-    const double margin = 0.02;
-    glm::dvec2 size{line.length(), bounds.max.z - bounds.min.z};
-    const glm::dvec2 centre{0.5 * line.length(), 0.5 * (bounds.max.z + bounds.min.z)};
-    size *= 1.0 + 2.0 * margin;
-    size = glm::max(size, glm::dvec2(1e-3));
-    const double mppU = std::max(size.x / width, size.y * exaggeration / height);
-    const glm::dvec2 half{0.5 * mppU * width, 0.5 * mppU / exaggeration * height};
-    return FrameRect{centre.x - half.x, centre.y - half.y, centre.x + half.x, centre.y + half.y};
-}
-
 }  // namespace
 
 Result<std::optional<PropertyClasses>> blockClasses(const CatalogModel& model, const SectionDef& def) {
@@ -112,8 +99,8 @@ Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& p
         if (!line) return makeError(line.error().code, "parameter 'line': " + line.error().message);
         m.line = std::move(line.value());
         m.rect = plan.frame ? *plan.frame
-                            : defaultLineFrame(m.line, model.index->bounds, plan.width, plan.height,
-                                               plan.section.exaggeration);
+                            : defaultLineFrame(m.line.length(), model.index->bounds, plan.width, plan.height,
+                                               exaggerationOf(plan.section, model.index->bounds));
     } else {
         auto plane = checkSectionPlane(*model.index, sectionPlane(plan.section));
         if (!plane)
@@ -123,7 +110,7 @@ Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& p
                                  plane.error().message);
         m.rect = plan.frame ? *plan.frame
                             : defaultFrame(plane.value(), model.index->bounds, model.model.origin, plan.width,
-                                           plan.height, plan.section.exaggeration);
+                                           plan.height, exaggerationOf(plan.section, model.index->bounds));
         m.planar.section = makeSectionFrame(plane.value(), model.model.origin);
         m.planar.rect = m.rect;
         m.planar.width = plan.width;
@@ -263,11 +250,13 @@ Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def) {
     auto plane = checkSectionPlane(*model.index, sectionPlane(def));
     if (!plane) return plane.error();
     TileGrid g;
-    g.exaggeration = def.exaggeration;
+    // The picture's stretch of plane v (model/exaggeration.hpp): def.exaggeration on a
+    // vertical plane, 1 on a horizontal one.
+    g.exaggeration = exaggerationOf(def, model.index->bounds).vStretch(plane.value().normal);
     // The model's bounds on the plane, no margin; the grid is anchored at its top-left corner.
     g.extent = projectedBounds(plane.value(), model.index->bounds, model.model.origin);
     const double extentU = g.extent.u1 - g.extent.u0;
-    const double extentV = (g.extent.v1 - g.extent.v0) * def.exaggeration;
+    const double extentV = (g.extent.v1 - g.extent.v0) * g.exaggeration;
     g.size0 = std::exp2(std::ceil(std::log2(std::max({extentU, extentV, 1e-3}))));
     const double finest = 0.01 * g.tileSize;  // about 1 cm per pixel
     g.maxZoom = std::clamp(int(std::ceil(std::log2(g.size0 / finest))), 0, 24);
@@ -327,7 +316,7 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
     const CutOut cut = sectionCut(plan.section);
     // The pixel's ray in display space, mapped to world (the exaggeration is affine: a line
     // stays a line). Distances along it are world metres.
-    const DisplaySpace display = displaySpace(plan.section, model.index->bounds);
+    const VerticalExaggeration display = exaggerationOf(plan.section, model.index->bounds);
     const Camera cam = displayCamera(plan, model.index->bounds);
     const PixelRay displayRay = perspectiveRay(cam, plan.width, plan.height, double(px) + 0.5, double(py) + 0.5);
     PixelRay ray;

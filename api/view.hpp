@@ -82,9 +82,9 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
 //   u in [u0 + x s, u0 + (x + 1) s],  v in [v1 - (y + 1) s / k, v1 - y s / k],  s = size0 / 2^z.
 // Leaflet (L.CRS.Simple, tileSize 256): lng = (u - u0) * 256 / size0, lat = (v - v1) * k * 256 / size0.
 struct TileGrid {
-    FrameRect extent;    // section contents' u/v rectangle
-    double size0 = 1.0;  // metres along u of the zoom-0 tile (a power of two)
-    double exaggeration = 1.0;
+    FrameRect extent;           // section contents' u/v rectangle
+    double size0 = 1.0;         // metres along u of the zoom-0 tile (a power of two)
+    double exaggeration = 1.0;  // k below: the picture's stretch of plane v, VerticalExaggeration::vStretch
     int tileSize = 256;
     int maxZoom = 0;  // tiles are no finer than about 1 cm per pixel
 

@@ -2,7 +2,7 @@
 //   --eye x,y,z --target x,y,z [--up x,y,z] [--fov deg]] [--size WxH] --out img.jpg|png|webp
 //   [--quality Q] [--lossless] [--ids ids.png|ids.pgm]
 //   [--gl auto|egl-device|egl-surfaceless|osmesa] [--device N] [--clip clip-distance|discard]
-//   [--background transparent|#rrggbb[aa]] [--exaggeration F [--pivot Z]] [--aa auto|none|fxaa|msaa]
+//   [--background transparent|#rrggbb[aa]] [--exaggeration F] [--aa auto|none|fxaa|msaa]
 //   [--no-traces] [--lod auto|on|off] [--baked [--bake-size N]]
 // Renders one frame of the slicing pass (renderer/slice_renderer.hpp) on a headless context.
 // Planes are world (a,b,c,d), kept where a*x+b*y+c*z+d >= 0; points are world easting,
@@ -10,11 +10,13 @@
 // Two or more planes (up to 6) make a cut-out, as the API's plane=...&cut=... (api/cut.hpp):
 // --cut union removes the union of the planes' removed sides, --cut intersection removes what
 // lies on the removed side of every plane (a wedge, octant or box taken out).
-// With --exaggeration F the picture is stretched vertically by F about elevation --pivot:
-// --eye/--target are true world points (mapped into display space here); --frame is in the
-// display plane's u/v metres. --baked bakes the model's attribute texture in memory first
-// (bake/bake.hpp, N x N texels per page) and takes every fragment's record id from it
-// (issue 4 item 8), as the server does with a baked package.
+// With --exaggeration F the picture is stretched vertically by F about the centre elevation
+// of the model's bounds, as HTTP's vx= (model/exaggeration.hpp): --eye/--target are true
+// world points (mapped into display space here); --frame is in the plane's true u/v metres,
+// as HTTP's frame=, and without it the profile has the default frame of model/view_frame.hpp,
+// so `render --profile` and GET section.png frame a plane alike. --baked bakes the model's attribute texture in memory
+// first (bake/bake.hpp, N x N texels per page) and takes every fragment's record id from it (issue 4 item 8), as the
+// server does with a baked package.
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -62,7 +64,7 @@ struct RenderArgs {
     LoadOptions load;
     int quality = -1;  // JPEG/WebP quality; -1 = the encoder's default
     bool lossless = false;
-    double exaggeration = 1.0, pivot = 0.0;
+    double exaggeration = 1.0;
     std::string aa = "auto", lod = "auto";
     bool noTraces = false;
     bool baked = false;
@@ -125,10 +127,7 @@ int run(const RenderArgs& a) {
         req.lod = SliceRequest::Lod::Off;
     else
         return fail("--lod " + a.lod + ": expected auto, on or off");
-    req.exaggeration.factor = a.exaggeration;
-    req.exaggeration.pivotZ = a.pivot;
-    if (auto s = checkExaggeration(req.exaggeration); !s) return fail("--exaggeration: " + s.error().message);
-    const VerticalExaggeration& ve = req.exaggeration;
+    if (auto s = checkExaggeration({a.exaggeration, 0.0}); !s) return fail("--exaggeration: " + s.error().message);
 
     // The colour format comes from --out's extension; checked before any work is done.
     auto format = imageFormatFromPath(a.out);
@@ -147,6 +146,8 @@ int run(const RenderArgs& a) {
     if (!model) return fail(model.error().message);
     if (!cut.planes.empty())
         if (auto s = api::checkCutKeepsSomething("--plane", cut, model->bounds()); !s) return fail(s.error().message);
+    req.exaggeration = VerticalExaggeration::aboutCentreOf(a.exaggeration, model->bounds());
+    const VerticalExaggeration& ve = req.exaggeration;
     const bool perspective = !a.eye.empty();
     if (perspective) {
         PerspectiveView pv;
@@ -160,15 +161,18 @@ int run(const RenderArgs& a) {
         req.view = pv;
     } else {
         if (req.planes.empty()) return fail("a profile needs --plane (or give --eye/--target for a 3D view)");
-        auto unit = normalizePlane(req.planes[0]);
-        if (!unit) return fail("--plane: " + unit.error().message);
-        ProfileView pv =
-            profileAround(ve.planeToDisplay(*unit), ve.boundsToDisplay(model->bounds()), req.width, req.height);
+        if (auto s = checkImageSize("--size", req.width, req.height); !s) return fail(s.error().message);
+        const WorldPlane& p0 = req.planes[0];
+        auto plane = makePlane(p0.x, p0.y, p0.z, p0.w);
+        if (!plane) return fail("--plane: " + plane.error().message);
+        FrameRect frame = defaultFrame(*plane, model->bounds(), model->origin, req.width, req.height, ve);
         if (!a.frame.empty()) {
             if (!parseNumbers(a.frame, 4, v)) return fail("--frame: expected u0,u1,v0,v1 (plane metres)");
-            pv.uMin = v[0], pv.uMax = v[1], pv.vMin = v[2], pv.vMax = v[3];
+            frame = FrameRect{v[0], v[2], v[1], v[3]};
+            if (!(frame.u1 > frame.u0) || !(frame.v1 > frame.v0))
+                return fail("--frame " + a.frame + ": needs u0 < u1 and v0 < v1");
         }
-        req.view = pv;
+        req.view = profileView(*plane, frame, ve);
     }
 
     GlContextOptions o;
@@ -228,7 +232,8 @@ void addRender(CLI::App& app, int& exitCode) {
                     "With two or more planes: union (remove the union of their removed sides) or intersection "
                     "(remove what is on the removed side of every plane: a wedge, octant or box taken out)");
     cmd->add_flag("--profile", a->profile, "Orthographic profile of the first plane (the default without --eye)");
-    cmd->add_option("--frame", a->frame, "Profile frame u0,u1,v0,v1 in plane metres (default: the whole model)");
+    cmd->add_option("--frame", a->frame,
+                    "Profile frame u0,u1,v0,v1 in plane u/v metres, as HTTP frame= (default: the whole model)");
     cmd->add_option("--eye", a->eye, "Perspective eye x,y,z (world)");
     cmd->add_option("--target", a->target, "Perspective target x,y,z (world)");
     cmd->add_option("--up", a->up, "Perspective up direction (default 0,0,1)");
@@ -244,7 +249,8 @@ void addRender(CLI::App& app, int& exitCode) {
     cmd->add_option("--clip", a->clip, "clip-distance (default) or discard (the paper's fragment mask)");
     cmd->add_option("--background", a->background, "Background: transparent (default) or #rrggbb[aa]");
     cmd->add_option("--exaggeration", a->exaggeration,
-                    "Vertical exaggeration of the picture (default 1; ids and cut planes stay true)");
+                    "Vertical exaggeration of the picture, 0.1..100, about the model's centre elevation (default 1; "
+                    "ids and cut planes stay true)");
     cmd->add_option("--aa", a->aa,
                     "Anti-aliasing of the colour image: auto (MSAA on a GPU, FXAA on llvmpipe), none, fxaa, msaa");
     cmd->add_option("--lod", a->lod,
@@ -252,7 +258,6 @@ void addRender(CLI::App& app, int& exitCode) {
     cmd->add_flag("--no-traces", a->noTraces, "Do not draw fault traces on the cut");
     cmd->add_flag("--baked", a->baked, "Bake the attribute texture first and take record ids from it");
     cmd->add_option("--bake-size", a->bakeSize, "Texels per side of a baked page (default 4096)");
-    cmd->add_option("--pivot", a->pivot, "Elevation (m) that exaggeration keeps in place (default 0)");
     cmd->callback([a, &exitCode] { exitCode = run(*a); });
 }
 

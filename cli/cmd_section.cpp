@@ -1,5 +1,5 @@
 // geoslice section MODEL (--plane a,b,c,d | --elevation z | --line x1,y1,x2,y2[,...])
-// [--size WxH] [--frame u0,u1,v0,v1] [--out F.png|F.jpg|F.webp|F.ppm|F.pgm]... [--geojson F]
+// [--size WxH] [--frame u0,u1,v0,v1 | --exaggeration k] [--out F.png|F.jpg|F.webp|F.ppm|F.pgm]... [--geojson F]
 // [--geojson-frame plane|world] [--svg F] [--areas]: the exact section engine from the
 // command line. Colour images go through renderer/image_encode.hpp (PNG, JPEG, WebP) or
 // binary PPM (composited over white); the ID buffer is written as 16-bit binary PGM
@@ -7,6 +7,8 @@
 // (section/vector_export.hpp). --areas prints JSON (plane or line, frame, pixel -> world
 // transform, area of each body in m², trace count) on stdout. With --line the section is
 // vertical along the map polyline: u = distance along the line (m), v = elevation (m).
+// Without --frame the image has the default frame of HTTP plans (model/view_frame.hpp):
+// the same request gives the same picture here and from GET section.png.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -125,8 +127,9 @@ Result<print::SheetOptions> sheetOptionsFromFlags(const Opts& o, const std::opti
             return makeError(s.error().code, "--scale: " + s.error().message);
         so.scale = o.scale;
     }
-    if (!(o.vx >= 0.1 && o.vx <= 100.0)) return makeError(ErrorCode::OutOfRange, "--vx must be within 0.1..100");
-    so.exaggeration = o.vx;
+    if (!(o.exaggeration >= kMinExaggeration && o.exaggeration <= kMaxExaggeration))
+        return makeError(ErrorCode::OutOfRange, "--vx must be within 0.1..100");
+    so.exaggeration = o.exaggeration;
     if (!(o.dpi >= 50.0 && o.dpi <= 600.0)) return makeError(ErrorCode::OutOfRange, "--dpi must be within 50..600");
     so.dpi = o.dpi;
     so.rasterGeometry = ext != "pdf" && ext != "svg";
@@ -154,11 +157,11 @@ void addSection(CLI::App& app, int& exitCode) {
     struct Opts {
         std::string model, plane, line, size = "1024x1024", frame, geojson, geojsonFrame = "plane", svg;
         std::string sheet, paper = "A3", orientation = "landscape", date;
-        double scale = NAN, vx = 1.0, dpi = 150.0;
+        double scale = NAN, dpi = 150.0;
         std::string colour, ramp = "viridis";
         std::vector<double> breaks;
         std::vector<std::string> outs;
-        double elevation = NAN;
+        double elevation = NAN, exaggeration = 1.0;
         bool areas = false;
         unsigned threads = 1;
         LoadOptions load;
@@ -182,7 +185,10 @@ void addSection(CLI::App& app, int& exitCode) {
     cmd->add_option("--size", o->size, "Image size WxH in pixels (default 1024x1024)");
     cmd->add_option("--frame", o->frame,
                     "Frame u0,u1,v0,v1 in plane metres (with --line: distance along the line and elevation; "
-                    "default: the section's extent); same meaning as in render");
+                    "default: the model's bounds on the plane, as HTTP); same meaning as in render and frame=");
+    cmd->add_option("--exaggeration,--vx", o->exaggeration,
+                    "Vertical exaggeration of the image's default frame and of the sheet, 0.1..100, as HTTP vx= "
+                    "(default 1)");
     cmd->add_option("--out", o->outs,
                     "Output file, repeatable: .png/.jpg/.webp/.ppm = colour, .pgm = record ids (16-bit)");
     cmd->add_option("--geojson", o->geojson, "Write the polygons and traces as GeoJSON");
@@ -196,7 +202,6 @@ void addSection(CLI::App& app, int& exitCode) {
     cmd->add_option("--orientation", o->orientation, "Sheet orientation: landscape (default) or portrait");
     cmd->add_option("--scale", o->scale,
                     "Sheet scale denominator S (1:S); default: the smallest round scale that fits the paper");
-    cmd->add_option("--vx", o->vx, "Vertical exaggeration of the sheet (default 1)");
     cmd->add_option("--dpi", o->dpi, "Resolution of a .png/.jpg/.webp sheet, 50..600 (default 150)");
     cmd->add_option("--date", o->date, "The title block's date, YYYY-MM-DD (default: today, UTC)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
@@ -265,6 +270,8 @@ void addSection(CLI::App& app, int& exitCode) {
         if (o->geojsonFrame != "plane" && o->geojsonFrame != "world")
             return fail("--geojson-frame must be plane or world (got \"" + o->geojsonFrame + "\")", 2);
         if (o->threads < 1 || o->threads > 2) return fail("--threads must be 1 or 2", 2);
+        if (Status s = checkExaggeration({o->exaggeration, 0.0}); !s)
+            return fail("--exaggeration (--vx): " + s.error().message, 2);
         std::optional<print::SheetOptions> sheetOptions;
         if (!o->sheet.empty()) {
             auto so = sheetOptionsFromFlags(*o, givenFrame);
@@ -280,6 +287,8 @@ void addSection(CLI::App& app, int& exitCode) {
         auto index = buildSectionIndex(model.value());
         if (!index) return fail(index.error().message, 1);
         const SectionIndex& idx = *index.value();
+        // The one default frame and pivot rule of HTTP plans (model/view_frame.hpp).
+        const VerticalExaggeration ve = VerticalExaggeration::aboutCentreOf(o->exaggeration, idx.bounds);
         SectionOptions so;
         so.threads = o->threads;
         RasterOptions ro;
@@ -296,7 +305,8 @@ void addSection(CLI::App& app, int& exitCode) {
             auto s = computePolylineSection(idx, linePoints, so);
             if (!s) return fail(s.error().message, 1);
             lineSection = std::move(s).value();
-            rect = givenFrame ? *givenFrame : fitPolylineFrame(*lineSection, width, height);
+            rect =
+                givenFrame ? *givenFrame : defaultLineFrame(lineSection->line.length(), idx.bounds, width, height, ve);
             auto img = rasterizePolylineSection(idx, *lineSection, rect, width, height, ro);
             if (!img) return fail(img.error().message, 1);
             json pts = json::array(), chain = json::array();
@@ -317,7 +327,7 @@ void addSection(CLI::App& app, int& exitCode) {
             auto s = computeSection(idx, plane, so);
             if (!s) return fail(s.error().message, 1);
             section = std::move(s).value();
-            rect = givenFrame ? *givenFrame : fitFrame(*section, width, height);
+            rect = givenFrame ? *givenFrame : defaultFrame(plane, idx.bounds, model->origin, width, height, ve);
             auto img = rasterizeSection(idx, *section, rect, width, height, ro);
             if (!img) return fail(img.error().message, 1);
             const PixelFrame& f = img->frame;
@@ -396,7 +406,7 @@ void addSection(CLI::App& app, int& exitCode) {
             info.definition = !o->plane.empty()  ? "plane=" + o->plane
                               : !o->line.empty() ? "line=" + o->line
                                                  : "elevation=" + formatNumber(o->elevation);
-            if (o->vx != 1.0) info.definition += "&vx=" + formatNumber(o->vx);
+            if (o->exaggeration != 1.0) info.definition += "&vx=" + formatNumber(o->exaggeration);
             auto sheet = polyline ? print::sectionSheet(idx, *lineSection, *sheetOptions, info)
                                   : print::sectionSheet(idx, *section, *sheetOptions, info);
             if (!sheet) return fail(sheet.error().message, sheet.error().code == ErrorCode::OutOfRange ? 2 : 1);

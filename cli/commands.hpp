@@ -7,8 +7,8 @@
 #include <CLI/CLI.hpp>
 
 #include "model/loaders.hpp"
+#include "model/plane.hpp"
 #include "model/result.hpp"
-#include "section/plane.hpp"
 
 namespace geoslice::cli {
 

@@ -34,80 +34,41 @@ glm::dvec4 planeToLocal(const WorldPlane& p, const glm::dvec3& origin) {
     return {p.x, p.y, p.z, p.w + glm::dot(glm::dvec3(p), origin)};
 }
 
-glm::dvec3 VerticalExaggeration::toDisplay(const glm::dvec3& w) const {
-    return {w.x, w.y, pivotZ + factor * (w.z - pivotZ)};
-}
-
-glm::dvec3 VerticalExaggeration::toWorld(const glm::dvec3& d) const {
-    return {d.x, d.y, pivotZ + (d.z - pivotZ) / factor};
-}
-
-WorldPlane VerticalExaggeration::planeToDisplay(const WorldPlane& p) const {
-    // n . x + d with x.z = pivot + (z' - pivot) / f: the z coefficient shrinks by f and d
-    // takes up the pivot term; then back to a unit normal.
-    const WorldPlane q(p.x, p.y, p.z / factor, p.w + p.z * pivotZ * (1.0 - 1.0 / factor));
-    return q / glm::length(glm::dvec3(q));
-}
-
-Aabb VerticalExaggeration::boundsToDisplay(const Aabb& b) const {
-    Aabb out;
-    out.extend(toDisplay(b.min));
-    out.extend(toDisplay(b.max));
-    return out;
-}
-
-Status checkExaggeration(const VerticalExaggeration& e) {
-    if (!(e.factor >= kMinExaggeration && e.factor <= kMaxExaggeration))
-        return makeError(ErrorCode::InvalidArgument, "vertical exaggeration " + std::to_string(e.factor) +
-                                                         " is outside " + std::to_string(kMinExaggeration) + ".." +
-                                                         std::to_string(kMaxExaggeration));
-    if (!std::isfinite(e.pivotZ))
-        return makeError(ErrorCode::InvalidArgument, "vertical exaggeration pivot elevation is not finite");
-    return {};
-}
-
-glm::dvec2 PlaneBasis::toPlane(const glm::dvec3& w) const { return {glm::dot(w - origin, u), glm::dot(w - origin, v)}; }
-
-PlaneBasis planeBasis(const WorldPlane& p) {
-    PlaneBasis b;
-    b.n = glm::dvec3(p);
-    b.origin = -p.w * b.n;
-    glm::dvec3 u = glm::cross(b.n, glm::dvec3(0.0, 0.0, 1.0));
-    b.u = glm::length(u) < 1e-9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::normalize(u);
-    if (glm::length(u) < 1e-9) b.u = glm::normalize(b.u - glm::dot(b.u, b.n) * b.n);
-    b.v = glm::cross(-b.n, b.u);
-    return b;
+ProfileView profileView(const Plane& plane, const FrameRect& f, const VerticalExaggeration& ve) {
+    // Exaggeration maps true plane u/v affinely onto the display plane's u/v (u' = u + a,
+    // v' = vStretch v + b): map two opposite corners of the frame through the world.
+    const SectionFrame truth = makeSectionFrame(plane, glm::dvec3(0.0));
+    const Plane display = ve.planeToDisplay(plane);
+    const SectionFrame shown = makeSectionFrame(display, glm::dvec3(0.0));
+    const glm::dvec2 a = shown.toPlane(ve.toDisplay(truth.toWorld({f.u0, f.v0})));
+    const glm::dvec2 b = shown.toPlane(ve.toDisplay(truth.toWorld({f.u1, f.v1})));
+    ProfileView v;
+    v.plane = toWorldPlane(display);
+    v.uMin = std::min(a.x, b.x);
+    v.uMax = std::max(a.x, b.x);
+    v.vMin = std::min(a.y, b.y);
+    v.vMax = std::max(a.y, b.y);
+    return v;
 }
 
 ProfileView profileAround(const WorldPlane& plane, const Aabb& bounds, int width, int height, double margin) {
-    PlaneBasis basis = planeBasis(plane);
-    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (const glm::dvec3& c : corners(bounds)) {
-        glm::dvec2 q = basis.toPlane(c);
-        lo = glm::min(lo, q);
-        hi = glm::max(hi, q);
-    }
-    glm::dvec2 size = glm::max(hi - lo, glm::dvec2(1e-3));
-    glm::dvec2 centre = 0.5 * (lo + hi);
-    size *= 1.0 + 2.0 * margin;
-    const double aspect = double(width) / double(std::max(height, 1));
-    if (size.x / size.y < aspect)
-        size.x = size.y * aspect;
-    else
-        size.y = size.x / aspect;
+    const Plane p{glm::dvec3(plane), plane.w};
+    const FrameRect tight = projectedBounds(p, bounds, glm::dvec3(0.0));
+    const FrameRect r = fitRect({tight.u0, tight.v0}, {tight.u1, tight.v1}, width, height, 1.0, margin);
     ProfileView v;
     v.plane = plane;
-    v.uMin = centre.x - 0.5 * size.x;
-    v.uMax = centre.x + 0.5 * size.x;
-    v.vMin = centre.y - 0.5 * size.y;
-    v.vMax = centre.y + 0.5 * size.y;
+    v.uMin = r.u0;
+    v.uMax = r.u1;
+    v.vMin = r.v0;
+    v.vMax = r.v1;
     return v;
 }
 
 glm::dvec3 profilePixelWorld(const ProfileView& view, int width, int height, int column, int row) {
     const double pu = view.uMin + (column + 0.5) * (view.uMax - view.uMin) / width;
     const double pv = view.vMax - (row + 0.5) * (view.vMax - view.vMin) / height;
-    return planeBasis(view.plane).world(pu, pv);
+    const Plane p{glm::dvec3(view.plane), view.plane.w};
+    return makeSectionFrame(p, glm::dvec3(0.0)).toWorld({pu, pv});
 }
 
 Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3& origin, const Aabb& worldBounds) {
@@ -115,14 +76,15 @@ Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3
     if (!unit) return unit.error();
     if (!(view.uMax > view.uMin) || !(view.vMax > view.vMin))
         return makeError(ErrorCode::InvalidArgument, "profile frame needs uMax > uMin and vMax > vMin");
-    PlaneBasis b = planeBasis(*unit);
+    const SectionFrame b = makeSectionFrame(Plane{glm::dvec3(*unit), unit->w}, glm::dvec3(0.0));
+    const glm::dvec3 planeOrigin = b.originWorld();
     // Depth: signed distance s along +n from the plane; the kept side is s >= 0. The range
     // starts a little on the removed side so that the plane itself is not at the near plane.
     // The range covers the whole model (union mode keeps material on the removed side too)
     // and starts a little before the plane, so that the plane is never at the near plane.
     double sMin = 0.0, sMax = 1.0;
     for (const glm::dvec3& c : corners(worldBounds)) {
-        const double s = glm::dot(b.n, c) + unit->w;
+        const double s = glm::dot(b.normal, c) + unit->w;
         sMin = std::min(sMin, s);
         sMax = std::max(sMax, s);
     }
@@ -130,15 +92,15 @@ Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3
     const double sNear = sMin - pad, sFar = sMax + pad;
     // Each clip coordinate is an affine function of the local position q:
     // u = q.u + uOff, v = q.v + vOff, s = q.n + sOff, with the offsets in double.
-    const double uOff = glm::dot(origin - b.origin, b.u), vOff = glm::dot(origin - b.origin, b.v);
-    const double sOff = glm::dot(b.n, origin) + unit->w;
+    const double uOff = glm::dot(origin - planeOrigin, b.u), vOff = glm::dot(origin - planeOrigin, b.v);
+    const double sOff = glm::dot(b.normal, origin) + unit->w;
     auto row = [](const glm::dvec3& axis, double off, double lo, double hi) {
         const double k = 2.0 / (hi - lo);
         return glm::dvec4(axis * k, (off - lo) * k - 1.0);
     };
     const glm::dvec4 rx = row(b.u, uOff, view.uMin, view.uMax);
     const glm::dvec4 ry = row(b.v, vOff, view.vMin, view.vMax);
-    const glm::dvec4 rz = row(b.n, sOff, sNear, sFar);
+    const glm::dvec4 rz = row(b.normal, sOff, sNear, sFar);
     ViewTransform t;
     t.orthographic = true;
     for (int c = 0; c < 4; ++c) t.viewProj[c] = glm::dvec4(rx[c], ry[c], rz[c], c == 3 ? 1.0 : 0.0);

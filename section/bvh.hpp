@@ -13,7 +13,7 @@
 // Frames: node bounds are float32 in the local frame (world - origin), rounded outward
 // from the double vertices, so a node's box always contains its triangles exactly.
 // Queries take the plane in the local frame (double) and test each candidate triangle
-// with the exact sign rule of section/plane.hpp.
+// with the exact sign rule of model/plane.hpp.
 //
 // Memory (L4, 10M triangles, leaves of <= 8, measured): 4.19M nodes x 32 B = 134 MB plus
 // 40 MB of triangle ids, 185 MB in all with the welds; the build peaks 280 MB above the
@@ -30,8 +30,8 @@
 
 #include <glm/glm.hpp>
 
+#include "model/plane.hpp"
 #include "model/result.hpp"
-#include "section/plane.hpp"
 
 namespace geoslice {
 
@@ -124,7 +124,7 @@ struct BvhQueryStats {
 };
 
 // Appends to `out` the global ids of the triangles that cross the plane under the sign
-// rule of section/plane.hpp (some vertex at distance < 0 and some at >= 0), visiting only
+// rule of model/plane.hpp (some vertex at distance < 0 and some at >= 0), visiting only
 // nodes whose box straddles the plane. Output order is deterministic (traversal order).
 void queryPlane(const Bvh& bvh, const BvhMesh* meshes, const LocalPlane& plane, std::vector<std::uint32_t>& out,
                 BvhQueryStats* stats = nullptr);

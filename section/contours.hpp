@@ -3,7 +3,7 @@
 //
 // Chaining is topological: segments meet where they share a welded mesh edge key, never
 // by comparing floats, so a closed 2-manifold body always gives closed loops (the sign
-// rule of section/plane.hpp guarantees each crossed edge is crossed by exactly its two
+// rule of model/plane.hpp guarantees each crossed edge is crossed by exactly its two
 // triangles).
 //
 // Polygons: the loops of a body's region are its own loops plus the loops of the bodies

@@ -1,7 +1,7 @@
 // Plane ∩ triangles -> oriented segments per part, in plane u/v metres.
 //
 // Every value is computed in double from the parts' double vertices in the local frame
-// (world - origin). Signs follow the rule of section/plane.hpp (distance 0 counts as
+// (world - origin). Signs follow the rule of model/plane.hpp (distance 0 counts as
 // positive), so each triangle is either uncut or crossed on exactly two edges. The point
 // on a crossed edge is a function of the edge's two positions only (computed from the
 // lexicographically smaller endpoint; exactly the vertex when its distance is 0), so the
@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "section/plane.hpp"
+#include "model/plane.hpp"
 #include "section/section_index.hpp"
 
 namespace geoslice {

@@ -245,10 +245,7 @@ Result<PolylineSection> computePolylineSection(const SectionIndex& index, const 
 }
 
 FrameRect fitPolylineFrame(const PolylineSection& section, int width, int height, double margin) {
-    Section box;  // fitFrame reads only the bounding box
-    box.lo = section.lo;
-    box.hi = section.hi;
-    return fitFrame(box, width, height, margin);
+    return fitRect(section.lo, section.hi, width, height, 1.0, margin);
 }
 
 Result<PolylineImage> rasterizePolylineSection(const SectionIndex& index, const PolylineSection& section,

@@ -5,7 +5,7 @@
 //
 // Method: each leg P[k] -> P[k+1] is cut by its vertical plane (normal = the leg's
 // direction turned 90 degrees left, so the kept side is left of the line and the leg's
-// SectionFrame has u along the leg and v = up: section/plane.hpp) with the exact engine
+// SectionFrame has u along the leg and v = up: model/plane.hpp) with the exact engine
 // (section/contours.hpp), and the leg's polygons and traces are clipped to its chainage
 // range [s_k, s_k+1] (Sutherland-Hodgman per ring against the two lines s = s_k and
 // s = s_k+1; clipped rings may run along those lines, which changes no area and no
@@ -73,9 +73,10 @@ struct PolylineSection {
 Result<PolylineSection> computePolylineSection(const SectionIndex& index, const std::vector<glm::dvec2>& points,
                                                const SectionOptions& options = {});
 
-// A rectangle around the contents (s, z), `margin` (fraction) on each side, the aspect
-// ratio of width x height (square pixels). Same rule as fitFrame.
-FrameRect fitPolylineFrame(const PolylineSection& section, int width, int height, double margin = 0.02);
+// A rectangle around the contents (s, z) by the framing rule fitRect (model/view_frame.hpp):
+// `margin` (fraction) on each side, square pixels for width x height. Views use
+// defaultLineFrame (the model's elevation range) instead.
+FrameRect fitPolylineFrame(const PolylineSection& section, int width, int height, double margin = kDefaultFrameMargin);
 
 // The image of a polyline section and its pixel -> world mapping.
 struct PolylineImage {

@@ -490,23 +490,7 @@ void sectionFill(const SectionIndex& index, const Section& section, std::vector<
 }
 
 FrameRect fitFrame(const Section& section, int width, int height, double margin) {
-    glm::dvec2 lo = section.lo, hi = section.hi;
-    glm::dvec2 size = hi - lo;
-    const double extent = std::max({size.x, size.y, 1.0});
-    lo -= margin * extent;
-    hi += margin * extent;
-    size = hi - lo;
-    const double aspect = double(std::max(width, 1)) / double(std::max(height, 1));
-    if (size.x / size.y < aspect) {
-        const double grow = 0.5 * (size.y * aspect - size.x);
-        lo.x -= grow;
-        hi.x += grow;
-    } else {
-        const double grow = 0.5 * (size.x / aspect - size.y);
-        lo.y -= grow;
-        hi.y += grow;
-    }
-    return FrameRect{lo.x, lo.y, hi.x, hi.y};
+    return fitRect(section.lo, section.hi, width, height, 1.0, margin);
 }
 
 Status rasterizeSection(const SectionIndex& index, const Section& section, const FrameRect& rect, int width, int height,

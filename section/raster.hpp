@@ -30,36 +30,14 @@
 #include <vector>
 
 #include "model/result.hpp"
+#include "model/view_frame.hpp"
 #include "model/view_limits.hpp"
 #include "section/contours.hpp"
 #include "section/section_index.hpp"
 
 namespace geoslice {
 
-// A rectangle of the section plane, u/v metres: [u0, u1] left to right, [v0, v1] bottom to top.
-struct FrameRect {
-    double u0 = 0.0, v0 = 0.0, u1 = 1.0, v1 = 1.0;
-};
-
-// Pixel <-> plane u/v <-> world.
-struct PixelFrame {
-    SectionFrame section;
-    FrameRect rect;
-    int width = 0, height = 0;
-
-    double pixelU() const { return (rect.u1 - rect.u0) / width; }   // metres per pixel along u
-    double pixelV() const { return (rect.v1 - rect.v0) / height; }  // metres per pixel along v
-    glm::dvec2 pixelToPlane(double x, double y) const { return {rect.u0 + x * pixelU(), rect.v1 - y * pixelV()}; }
-    glm::dvec2 planeToPixel(const glm::dvec2& uv) const {
-        return {(uv.x - rect.u0) / pixelU(), (rect.v1 - uv.y) / pixelV()};
-    }
-    // World point of the centre of pixel (i, j).
-    glm::dvec3 pixelCentreWorld(int i, int j) const { return section.toWorld(pixelToPlane(i + 0.5, j + 0.5)); }
-    // The same as an affine map: world = worldAtCorner + x * worldPerPixelX + y * worldPerPixelY.
-    glm::dvec3 worldAtCorner() const { return section.toWorld(pixelToPlane(0.0, 0.0)); }
-    glm::dvec3 worldPerPixelX() const { return section.u * pixelU(); }
-    glm::dvec3 worldPerPixelY() const { return -section.v * pixelV(); }
-};
+// FrameRect and PixelFrame: model/view_frame.hpp.
 
 struct SectionImage {
     PixelFrame frame;
@@ -115,9 +93,10 @@ Status rasterize(const FillRegion* regions, std::size_t regionCount, const FillL
 void sectionFill(const SectionIndex& index, const Section& section, std::vector<FillRegion>& regions,
                  std::vector<FillLine>& lines);
 
-// A rectangle around the section's contents with `margin` (fraction) on each side and the
-// aspect ratio of width x height (square pixels).
-FrameRect fitFrame(const Section& section, int width, int height, double margin = 0.02);
+// A rectangle around the section's contents (not the model: views use defaultFrame of
+// model/view_frame.hpp), by the one framing rule fitRect: `margin` (fraction) on each side
+// and square pixels for width x height.
+FrameRect fitFrame(const Section& section, int width, int height, double margin = kDefaultFrameMargin);
 
 // The full profile image of a computed section.
 Result<SectionImage> rasterizeSection(const SectionIndex& index, const Section& section, const FrameRect& rect,

@@ -28,8 +28,8 @@
 #include <vector>
 
 #include "model/model.hpp"
+#include "model/plane.hpp"
 #include "model/result.hpp"
-#include "section/plane.hpp"
 
 namespace geoslice {
 

@@ -53,7 +53,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     for (const Plane& plane : cut.planes) req.planes.push_back(WorldPlane(plane.normal, plane.d));
     req.combine = cut.mode == api::CutMode::Union ? PlaneCombine::Intersection : PlaneCombine::Union;
     // Eye and target in display space (the exaggerated model), as the renderer expects.
-    const api::DisplaySpace ds = api::displaySpace(plan.section, model.index->bounds);
+    const VerticalExaggeration ds = api::exaggerationOf(plan.section, model.index->bounds);
     const api::Camera cam = api::displayCamera(plan, model.index->bounds);
     PerspectiveView view;
     view.eye = cam.eye;
@@ -64,8 +64,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     // (renderer/slice_renderer.hpp), so by default the server draws full detail and its
     // images agree with exact ray queries; --lod trades that for speed on CPU backends.
     req.lod = lod ? SliceRequest::Lod::Auto : SliceRequest::Lod::Off;
-    req.exaggeration.factor = ds.k;
-    req.exaggeration.pivotZ = ds.pivot;
+    req.exaggeration = ds;
     req.view = view;
     req.width = plan.width;
     req.height = plan.height;

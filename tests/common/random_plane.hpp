@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "model/model.hpp"
-#include "section/plane.hpp"
+#include "model/plane.hpp"
 
 namespace geoslice::test {
 

@@ -1,4 +1,4 @@
-#include "section/plane.hpp"
+#include "model/plane.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,5 @@
-// Section planes and the section frame (plane u/v coordinates).
+// Planes and the plane frame (plane u/v coordinates): the one definition every engine
+// uses (section/ cuts, renderer/ clip planes and profile views, api/ plans, cli/).
 //
 // Frames: `world` is double (x east, y north, z up, metres, the model's CRS); `local` is
 // world - Model::origin, kept in double here (the BVH's float bounds are rounded outward
@@ -21,11 +22,17 @@
 
 namespace geoslice {
 
-// A plane in world coordinates: normal . p + d = 0; `normal` is unit.
+// A plane in world coordinates: normal . p + d = 0; `normal` is unit (dimensionless), `d`
+// metres; the kept side is normal . p + d >= 0.
 struct Plane {
     glm::dvec3 normal{0.0, 0.0, 1.0};
     double d = 0.0;
 };
+
+// The same plane as the 4-vector (a, b, c, d) that GL clip planes take (renderer/): a point
+// p is kept when dot((a, b, c), p) + d >= 0. Not necessarily unit until normalised.
+using WorldPlane = glm::dvec4;
+inline WorldPlane toWorldPlane(const Plane& p) { return {p.normal.x, p.normal.y, p.normal.z, p.d}; }
 
 // Validates (a, b, c, d): all finite, |(a, b, c)| > 0. A normal that is not unit is
 // normalised (d scaled with it), so the kept side is unchanged.
