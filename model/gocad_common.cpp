@@ -509,6 +509,18 @@ Status PropertySchema::appendVertex(Context& cx, Tokens& tokens, bool withProper
     return {};
 }
 
+Status readVertex(Context& cx, const Lines& lines, Tokens& tokens, std::string_view keyword, std::string_view object,
+                  PropertySchema& schema, VertexIds& ids, std::vector<glm::dvec3>& positions) {
+    VertexLine v;
+    if (Status s = readVertexLine(cx, tokens, keyword, v); !s) return s;
+    if (positions.size() >= std::numeric_limits<std::uint32_t>::max() - 1)
+        return lines.fail("too many vertices in one " + std::string(object) + " object");
+    if (Status s = schema.appendVertex(cx, tokens, keyword == "PVRTX", v.id); !s) return s;
+    ids.addVertex(v.id, static_cast<std::uint32_t>(positions.size()), lines.lineNo());
+    positions.push_back(v.p);
+    return {};
+}
+
 Status VertexIds::addAtom(const Lines& lines, Tokens& tokens, std::string_view keyword) {
     const std::string kw(keyword);
     Atom a;

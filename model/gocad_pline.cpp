@@ -29,13 +29,7 @@ Status readPline(Context& cx, std::size_t startLine) {
         const std::string_view line = st.line, keyword = st.keyword;
         Tokens& tokens = st.tokens;
         if (keyword == "VRTX" || keyword == "PVRTX") {
-            VertexLine v;
-            if (Status s = readVertexLine(cx, tokens, keyword, v); !s) return s;
-            if (positions.size() >= std::numeric_limits<std::uint32_t>::max() - 1)
-                return lines.fail("too many vertices in one PLine object");
-            if (Status s = schema.appendVertex(cx, tokens, keyword == "PVRTX", v.id); !s) return s;
-            ids.addVertex(v.id, static_cast<std::uint32_t>(positions.size()), lines.lineNo());
-            positions.push_back(v.p);
+            if (Status s = readVertex(cx, lines, tokens, keyword, "PLine", schema, ids, positions); !s) return s;
         } else if (keyword == "ATOM" || keyword == "PATOM") {
             if (Status s = ids.addAtom(lines, tokens, keyword); !s) return s;
         } else if (keyword == "SEG") {

@@ -197,6 +197,11 @@ struct VertexIds {
     const Key* find(std::uint64_t id) const;
 };
 
+// One VRTX / PVRTX line of an object (`object` names it in errors): its position goes to
+// `positions`, its id to `ids`, its property values (or NaN padding) to `schema`.
+Status readVertex(Context& cx, const Lines& lines, text::Tokens& tokens, std::string_view keyword,
+                  std::string_view object, PropertySchema& schema, VertexIds& ids, std::vector<glm::dvec3>& positions);
+
 // Binary sample files of Voxet and SGrid: `count` values of `esize` bytes (IEEE float 4
 // or 8, or signed/unsigned integers of 1, 2 or 4 bytes), big-endian unless `littleEndian`,
 // from byte `offset` of `path`. The file size is checked before anything is allocated.

@@ -26,7 +26,6 @@ using namespace geoslice::text;
 namespace {
 
 constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
-constexpr std::size_t kMaxVertices = std::numeric_limits<std::uint32_t>::max() - 1;
 
 struct Triangle {
     std::uint64_t ids[3] = {0, 0, 0};
@@ -74,12 +73,7 @@ Status readTsurfData(Context& cx, std::size_t startLine, TsurfData& out) {
         const std::string_view line = st.line, keyword = st.keyword;
         Tokens& tokens = st.tokens;
         if (keyword == "VRTX" || keyword == "PVRTX") {
-            VertexLine v;
-            if (Status s = readVertexLine(cx, tokens, keyword, v); !s) return s;
-            if (positions.size() >= kMaxVertices) return lines.fail("too many vertices in one TSurf object");
-            if (Status s = schema.appendVertex(cx, tokens, keyword == "PVRTX", v.id); !s) return s;
-            ids.addVertex(v.id, static_cast<std::uint32_t>(positions.size()), lines.lineNo());
-            positions.push_back(v.p);
+            if (Status s = readVertex(cx, lines, tokens, keyword, "TSurf", schema, ids, positions); !s) return s;
             continue;
         }
         if (keyword == "TRGL") {
