@@ -203,7 +203,8 @@ J openApiDocument(const std::string& serverVersion) {
                    {id, plane, queryParam("format", "string", "json (default) or csv (the same as reserves.csv)"),
                     queryParam("cutoffs", "string",
                                "c1,c2,...: grade-tonnage tables of the block model's clipping bodies (exact cell x "
-                               "body volumes); JSON adds grade_tonnage, CSV becomes the table"),
+                               "body volumes; with plane, of the kept side: cell x body x half-space); JSON adds "
+                               "grade_tonnage, CSV becomes the table"),
                     queryParam("property", "string",
                                "the grade property of the table (default: the first not "
                                "named density)")}),

@@ -147,9 +147,6 @@ Result<ReservesRequest> parseReservesRequest(const Params& params, bool csvPath)
         for (std::size_t i = 1; i < v.value().size(); ++i)
             if (!(v.value()[i] > v.value()[i - 1]))
                 return makeError(ErrorCode::InvalidArgument, "parameter 'cutoffs': values must increase strictly");
-        if (r.plane)
-            return makeError(ErrorCode::Unsupported,
-                             "parameters 'cutoffs' and 'plane': grade-tonnage tables are of whole bodies only");
         r.cutoffs = std::move(v.value());
     }
     if (const auto p = param(params, "property")) {
@@ -197,10 +194,14 @@ J gradeTonnageJson(const Model& model, const GradeTonnage& table) {
     return J{{"property", table.property},
              {"unit", table.unit},
              {"cutoffs", table.cutoffs},
+             {"plane", table.plane ? J::array({table.plane->normal.x, table.plane->normal.y, table.plane->normal.z,
+                                               table.plane->d})
+                                   : J(nullptr)},
              {"method",
               "exact cell ∩ body volumes (divergence theorem on the body clipped to each cell: 3D, then the section "
               "of the body on the cell's face, then the body's crossings of that face's edge); net of directly nested "
-              "bodies; a row counts the cells whose grade >= its cut-off"},
+              "bodies; a row counts the cells whose grade >= its cut-off; with a plane, the body's part on the kept "
+              "side closed by a fan of cap triangles on the plane, measured the same way"},
              {"bodies", std::move(bodies)}};
 }
 

@@ -45,7 +45,8 @@ std::string reservesCsv(const Model& model, const Reserves& reserves);
 // and `property=NAME` (default: the first block property not named density) ask for
 // grade-tonnage tables (section/block_reserves.hpp); JSON then carries "grade_tonnage"
 // (gradeTonnageJson) beside the bodies, and CSV is the grade-tonnage table
-// (gradeTonnageCsv) instead of the body table. Not with `plane` (refused).
+// (gradeTonnageCsv) instead of the body table. With `plane` too, the tables are of the
+// kept side only (cell ∩ body ∩ half-space volumes).
 struct ReservesRequest {
     std::optional<Plane> plane;
     bool csv = false;
@@ -59,7 +60,7 @@ Result<ReservesRequest> parseReservesRequest(const Params& params, bool csvPath)
 // The grade property a request names, or the default (first not named "density"; the
 // first property when all are). Error when the model has no block model.
 Result<std::string> gradeProperty(const Model& model, const std::string& requested);
-// {"property", "unit", "cutoffs", "method", "bodies": [{"body", "record", "volume_m3",
+// {"property", "unit", "cutoffs", "plane" ([a,b,c,d] | null), "method", "bodies": [{"body", "record", "volume_m3",
 //  "volume_without_grade_m3", "density_source", "rows": [{"cutoff", "cells", "volume_m3",
 //  "tonnage_t", "mean_grade", "metal", "metal_unit"}]}]} (null where there is no density).
 nlohmann::ordered_json gradeTonnageJson(const Model& model, const GradeTonnage& table);

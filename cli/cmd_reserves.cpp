@@ -59,10 +59,9 @@ void addReserves(CLI::App& app, int& exitCode) {
         std::optional<GradeTonnage> table;
         if (!o->cutoffs.empty() || !o->property.empty()) {
             if (o->cutoffs.empty()) return fail("--property needs --cutoffs", 2);
-            if (plane) return fail("--cutoffs: grade-tonnage tables are of whole bodies (no --plane)", 2);
             auto property = api::gradeProperty(m, o->property);
             if (!property) return fail(property.error().message, 1);
-            auto t = computeGradeTonnage(m, property.value(), o->cutoffs);
+            auto t = computeGradeTonnage(m, property.value(), o->cutoffs, plane);
             if (!t) return fail(t.error().message, 2);
             table = std::move(t.value());
         }
@@ -88,8 +87,9 @@ void addReserves(CLI::App& app, int& exitCode) {
                         b.netVolume, tonnage, metal);
         }
         if (!table) return;
-        std::printf("\ngrade-tonnage of %s%s (cells >= cut-off; exact cell x body volumes)\n", table->property.c_str(),
-                    table->unit.empty() ? "" : (" [" + table->unit + "]").c_str());
+        std::printf("\ngrade-tonnage of %s%s (cells >= cut-off; exact cell x body volumes%s)\n",
+                    table->property.c_str(), table->unit.empty() ? "" : (" [" + table->unit + "]").c_str(),
+                    table->plane ? "; kept side of the plane" : "");
         std::printf("%-32s %12s %10s %16s %14s %12s %16s\n", "body", "cutoff", "cells", "volume_m3", "tonnage_t",
                     "mean_grade", "metal");
         for (const BodyGradeTonnage& b : table->bodies)

@@ -69,7 +69,76 @@ struct Crossing {
     bool operator<(const Crossing& c) const { return line != c.line ? line < c.line : z < c.z; }
 };
 
+// The point of edge ab where the signed distance (sa at a, sb at b, of opposite kept sides)
+// is 0, from the endpoints in a fixed order (both triangles of the edge get the same point).
+glm::dvec3 cutAt(glm::dvec3 a, glm::dvec3 b, double sa, double sb) {
+    if (b.x < a.x || (b.x == a.x && (b.y < a.y || (b.y == a.y && b.z < a.z)))) {
+        std::swap(a, b);
+        std::swap(sa, sb);
+    }
+    return a + (b - a) * (sa / (sa - sb));
+}
+
 }  // namespace
+
+Mesh keptSideShell(const Mesh& body, const Plane& plane) {
+    Mesh out;
+    struct Vertex {
+        glm::dvec3 p;
+        bool on;  // on the plane: a cut point or a vertex at distance 0
+    };
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> capEdges;  // (p, q): kept piece edges on the plane
+    glm::dvec3 cutSum(0.0);
+    std::size_t cutCount = 0;
+    auto emit = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        const auto base = std::uint32_t(out.positions.size());
+        out.positions.insert(out.positions.end(), {a, b, c});
+        out.indices.insert(out.indices.end(), {base, base + 1, base + 2});
+    };
+    for (std::size_t t = 0; t < body.triangleCount(); ++t) {
+        glm::dvec3 p[3];
+        double s[3];
+        int kept = 0;
+        for (int k = 0; k < 3; ++k) {
+            p[k] = body.positions[body.indices[3 * t + std::size_t(k)]];
+            s[k] = glm::dot(plane.normal, p[k]) + plane.d;
+            kept += s[k] >= 0.0;
+        }
+        if (kept == 0) continue;
+        Vertex poly[4];
+        int n = 0;
+        for (int k = 0; k < 3; ++k) {
+            const int k1 = (k + 1) % 3;
+            if (s[k] >= 0.0) poly[n++] = {p[k], s[k] == 0.0};
+            if ((s[k] >= 0.0) != (s[k1] >= 0.0)) {
+                poly[n++] = {cutAt(p[k], p[k1], s[k], s[k1]), true};
+                cutSum += poly[n - 1].p;
+                ++cutCount;
+            }
+        }
+        for (int k = 1; k + 1 < n; ++k) emit(poly[0].p, poly[k].p, poly[k + 1].p);
+        for (int k = 0; k < n; ++k)
+            if (poly[k].on && poly[(k + 1) % n].on) {
+                capEdges.emplace_back(poly[k].p, poly[(k + 1) % n].p);
+                if (cutCount == 0) {
+                    cutSum += poly[k].p;
+                    ++cutCount;
+                }
+            }
+    }
+    if (capEdges.empty()) return out;
+    glm::dvec3 o = cutSum / double(cutCount);
+    o -= (glm::dot(plane.normal, o) + plane.d) * plane.normal;
+    for (const auto& [a, b] : capEdges) emit(o, b, a);
+    return out;
+}
+
+std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body, const Plane& plane) {
+    std::vector<CellVolume> cells = cellBodyVolumes(blocks, keptSideShell(body, plane));
+    const double floor = 1e-9 * blocks.size[0] * blocks.size[1] * blocks.size[2];
+    std::erase_if(cells, [&](const CellVolume& c) { return std::abs(c.volume) <= floor; });
+    return cells;
+}
 
 std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body) {
     std::vector<CellVolume> out;
@@ -240,9 +309,18 @@ std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& bo
 }
 
 Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& property,
-                                         const std::vector<double>& cutoffs) {
+                                         const std::vector<double>& cutoffs, const std::optional<Plane>& plane) {
+    std::optional<Plane> kept;
+    if (plane) {
+        auto p = makePlane(plane->normal.x, plane->normal.y, plane->normal.z, plane->d);
+        if (!p) return makeError(p.error().code, "parameter 'plane': " + p.error().message);
+        kept = p.value();
+    }
     if (!model.blocks) return makeError(ErrorCode::InvalidArgument, "the model has no block model");
     const BlockModel& blocks = *model.blocks;
+    auto volumes = [&](const Mesh& mesh) {
+        return kept ? cellBodyVolumes(blocks, mesh, *kept) : cellBodyVolumes(blocks, mesh);
+    };
     const int k = blocks.propertyIndex(property);
     if (k < 0)
         return makeError(ErrorCode::InvalidArgument, "parameter 'property': the block model has no property '" +
@@ -262,13 +340,14 @@ Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& 
     out.property = grade.name;
     out.unit = grade.unit;
     out.cutoffs = cutoffs;
+    out.plane = kept;
     for (std::uint32_t b : blocks.clipBodyIndex) {
         const Part& part = model.bodies[b];
-        std::vector<CellVolume> cells = cellBodyVolumes(blocks, part.mesh);
+        std::vector<CellVolume> cells = volumes(part.mesh);
         // Net: the bodies nested directly inside this one are not part of its region.
         for (std::uint32_t c = 0; c < model.bodies.size(); ++c) {
             if (model.bodies[c].report.parent != int(b) || !model.bodies[c].report.closed) continue;
-            std::vector<CellVolume> inner = cellBodyVolumes(blocks, model.bodies[c].mesh);
+            std::vector<CellVolume> inner = volumes(model.bodies[c].mesh);
             std::size_t m = 0;
             for (const CellVolume& cv : inner) {
                 while (m < cells.size() && cells[m].cell < cv.cell) ++m;

@@ -23,9 +23,24 @@
 // decide alike, so faces, edges and vertices of a body lying exactly on grid planes (a box
 // orebody on the grid) are counted once: the result is the exact volume of body ∩ cell for
 // the limit of the moved grid, which is the volume itself (volume is continuous).
-// Requires a closed, consistently outward-oriented body (validation's closed bodies).
+// Requires a closed, consistently outward-oriented surface (validation's closed bodies, or
+// keptSideShell's closed chain below): every term is linear in the surface, so overlapping
+// triangles of opposite orientation cancel.
 // Cost: the triangles' cells, plus the grid planes, lines and cells inside the body's
 // bounding box.
+//
+// Kept side of a plane (cell ∩ body ∩ {n . p + d >= 0}): keptSideShell closes the body's
+// part on the kept side into a closed surface that the same three-level sum measures
+// exactly. Each triangle is clipped to the kept side (Sutherland-Hodgman, a vertex with
+// n . p + d = 0 kept, shared/DESIGN.md's rule; the cut point of an edge computed from its
+// endpoints in a fixed order, so both triangles of an edge get the same point). Every edge
+// of a kept piece whose two ends lie on the plane (cut points, or vertices at distance 0:
+// known combinatorially, not from rounded distances) gets the cap triangle (o, q, p) that
+// runs it backwards, o one point on the plane (the mean of the cut points, projected). The
+// cap is a fan of signed triangles whose boundary cancels every on-plane edge, so pieces +
+// fan is a closed 2-cycle whose enclosed volume (winding number 1 on body ∩ half-space, 0
+// elsewhere) is the kept part; the fan's overlaps cancel in every cell up to rounding. No
+// loop building, no triangulation of the section polygons.
 //
 // Grade-tonnage: per body, for each cut-off c, the cells whose grade >= c (cells with no
 // grade value are left out and their volume reported): tonnage = sum V rho, mean grade =
@@ -42,6 +57,7 @@
 
 #include "model/block_model.hpp"
 #include "model/model.hpp"
+#include "model/plane.hpp"
 #include "model/result.hpp"
 
 namespace geoslice {
@@ -54,6 +70,15 @@ struct CellVolume {
 // The cells of `blocks` that `body` (closed, outward, world coordinates) meets, with the
 // volume of cell ∩ body (cells of zero volume left out), ascending cell order.
 std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body);
+
+// The closed surface of body ∩ {n . p + d >= 0} (see above): the kept pieces (fanned into
+// triangles) and the signed cap fan, unwelded (3 vertices per triangle). Empty when nothing
+// of the body is kept. Its meshVolume is the kept volume (section/reserves.hpp).
+Mesh keptSideShell(const Mesh& body, const Plane& plane);
+
+// cellBodyVolumes of keptSideShell(body, plane), less the cells whose |volume| is at most
+// 1e-9 of a cell (the fan's cancelling overlaps leave rounding there, ~1e-15 of a cell).
+std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body, const Plane& plane);
 
 struct GradeTonnageRow {
     double cutoff = 0.0;
@@ -77,15 +102,18 @@ struct BodyGradeTonnage {
 struct GradeTonnage {
     std::string property, unit;  // the grade property and its unit
     std::vector<double> cutoffs;
+    std::optional<Plane> plane;            // when the tables are of the kept side only (normalised)
     std::vector<BodyGradeTonnage> bodies;  // the block model's clipping bodies, Model::bodies order
 };
 
-// Grade-tonnage tables of every clipping body of the model's block model. Volumes are net:
-// a body's cells lose the volumes of the bodies nested directly inside it (validation's
-// nesting parents), as in its section region. Errors: InvalidArgument when the model has
+// Grade-tonnage tables of every clipping body of the model's block model, with `plane` of
+// each body's part on the kept side only. Volumes are net: a body's cells lose the volumes
+// of the bodies nested directly inside it (validation's nesting parents; with `plane`,
+// their kept parts), as in its section region. Errors: InvalidArgument when the model has
 // no block model, the property is unknown (listed), cut-offs are not finite and increasing
-// or more than 64.
+// or more than 64, or the plane is bad (non-finite, zero normal).
 Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& property,
-                                         const std::vector<double>& cutoffs);
+                                         const std::vector<double>& cutoffs,
+                                         const std::optional<Plane>& plane = std::nullopt);
 
 }  // namespace geoslice

@@ -887,7 +887,7 @@ struct SectionServer::Impl {
                 if (r.cutoffs) {
                     auto property = api::gradeProperty(m->model, r.property);
                     if (!property) return property.error();
-                    auto table = computeGradeTonnage(m->model, property.value(), *r.cutoffs);
+                    auto table = computeGradeTonnage(m->model, property.value(), *r.cutoffs, r.plane);
                     if (!table) return table.error();
                     if (r.csv) {
                         e->body = api::gradeTonnageCsv(m->model, table.value());
