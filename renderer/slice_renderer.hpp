@@ -29,6 +29,12 @@
 // the view are skipped; level of detail replaces clusters that no plane crosses by
 // simplified copies (see SliceRequest::lod and renderer/gpu_model.hpp).
 //
+// The pieces, one file each: the render target (framebuffers, MSAA resolve, readback, row
+// flip: renderer/render_target.hpp), the trace pass (renderer/trace_pass.hpp), the FXAA pass
+// (renderer/fxaa_pass.hpp) and the CPU-only cluster selection (renderer/cluster_selection.hpp);
+// render() is the cap algorithm above. GL objects are owned by RAII handles
+// (renderer/gl_objects.hpp) behind the private implementation: this header holds none.
+//
 // Threads: create, use and destroy on the owning GlContext's thread. GL state: render()
 // sets all the state it needs and, before returning, binds framebuffer 0, no program and no
 // vertex array, and disables depth, stencil, cull, polygon offset and clip distances.
@@ -43,11 +49,12 @@
 #include "model/result.hpp"
 #include "model/view_limits.hpp"
 #include "renderer/gl_context.hpp"
-#include "renderer/gl_program.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/views.hpp"
 
 namespace geoslice {
+
+class GlProgram;
 
 enum class ClipMethod {
     ClipDistance,  // gl_ClipDistance per plane (intersection of half-spaces only)
@@ -159,53 +166,15 @@ public:
 
     // Program variants: index 0 clip-distance, 1 discard.
     static constexpr int kProgramCount = 2;
-    const GlProgram& program(int index) const { return programs_[std::size_t(index)].program; }
+    const GlProgram& program(int index) const;
     // Helper programs: index 0 fault traces, 1 FXAA.
     static constexpr int kHelperProgramCount = 2;
-    const GlProgram& helperProgram(int index) const {
-        GS_ASSERT(index == 0 || index == 1, "helper program index out of range");
-        return index == 0 ? *traceProgram_ : *fxaaProgram_;
-    }
+    const GlProgram& helperProgram(int index) const;
 
 private:
-    explicit SliceRenderer(GlContext& context) : context_(context) {}
-    // samples > 1 adds a multisampled draw target; fxaa adds the FXAA output target.
-    Status ensureTarget(int width, int height, int samples, bool fxaa);
-    void resolveMultisample(int width, int height);
-    // Per cell of the model: the geometric error (metres) its clusters may have in this
-    // frame, 0 = full detail, -1 = skip (removed side of a plane with culls[i] != 0, or
-    // outside the view).
-    std::vector<float> clusterBudget(const GpuModel& model, const SliceRequest& request, const ViewTransform& view,
-                                     bool unionMode, const std::vector<glm::dvec4>& planesLocal,
-                                     const std::vector<std::uint8_t>& culls, SliceImage& image) const;
-    void runFxaa(int width, int height);
-
-    struct Uniforms {
-        GLint viewProj = -1, planes = -1, planeCount = -1, unionMode = -1, faceRole = -1, record = -1, colour = -1,
-              capRecord = -1, capColour = -1, lightDir = -1, shadeScale = -1, eye = -1, lodShift = -1, baked = -1,
-              fetch = -1, background = -1;
-    };
-    struct Variant {
-        GlProgram program;
-        Uniforms u;
-    };
-    GlContext& context_;
-    std::vector<Variant> programs_;
-    Status drawTraces(const SliceRequest& request, const GpuModel& model, const std::vector<glm::dvec4>& planesLocal,
-                      const glm::mat4& viewProj, std::size_t& segments);
-
-    std::unique_ptr<GlProgram> traceProgram_;
-    GLint traceViewProj_ = -1, traceColour_ = -1;
-    GLuint traceVao_ = 0, traceBuffer_ = 0;
-    std::size_t traceCapacity_ = 0;  // vertices the trace buffer holds
-    std::unique_ptr<GlProgram> fxaaProgram_;
-    GLint fxaaTexel_ = -1, fxaaColour_ = -1;
-    GLuint emptyVao_ = 0;
-    GLuint fbo_ = 0, colourTex_ = 0, idRb_ = 0, depthRb_ = 0;
-    GLuint msFbo_ = 0, msColourRb_ = 0, msIdRb_ = 0, msDepthRb_ = 0;
-    GLuint aaFbo_ = 0, aaRb_ = 0;
-    int targetWidth_ = 0, targetHeight_ = 0, targetSamples_ = 0;
-    bool targetAa_ = false;
+    struct Impl;  // programs, passes and the render target (slice_renderer.cpp)
+    explicit SliceRenderer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace geoslice
