@@ -175,23 +175,29 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
         if (svg) return toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro);
         return toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane).dump();
     };
+    // The cells' exact pieces inside the clipping bodies (plane u/v or line s/z), drawn over the
+    // bodies' own fills.
+    std::optional<PolylineSection> line;
+    std::optional<Section> planar;
+    VectorSource source;
+    Result<std::vector<BlockPiece>> pieces = std::vector<BlockPiece>();
     if (plan.section.geometry == Geometry::Line) {
-        if (classes.value())
-            return makeError(ErrorCode::Unsupported,
-                             "parameter 'colour': vector output of polyline sections is not coloured by block "
-                             "properties yet (images and planes are)");
         auto section = computePolylineSection(*model.index, plan.section.line);
         if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
-        return emit(vectorSource(section.value()));
+        line = std::move(section.value());
+        source = vectorSource(*line);
+        if (classes.value())
+            pieces = blockPieces(*model.model.blocks, *line, model.index->origin, &mapping.value().rect);
+    } else {
+        auto section = computeSection(*model.index, sectionPlane(plan.section));
+        if (!section) return section.error();
+        planar = std::move(section.value());
+        source = vectorSource(*planar);
+        if (classes.value()) pieces = blockPieces(*model.model.blocks, *planar, &mapping.value().rect);
     }
-    auto section = computeSection(*model.index, sectionPlane(plan.section));
-    if (!section) return section.error();
-    VectorSource source = vectorSource(section.value());
     if (!classes.value()) return emit(source);
-    // The cells' exact pieces inside the clipping bodies, over the bodies' own fills.
     const PropertyClasses& pc = *classes.value();
     const BlockModel& blocks = *model.model.blocks;
-    auto pieces = blockPieces(blocks, section.value(), &mapping.value().rect);
     if (!pieces) return makeError(pieces.error().code, "parameter 'colour': " + pieces.error().message);
     if (auto c = checkCancel(cancel); !c) return c.error();
     if (svg) {

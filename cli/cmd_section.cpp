@@ -369,8 +369,9 @@ void addSection(CLI::App& app, int& exitCode) {
             }
             colourPixelsByBlocks(*model->blocks, *classes, blockClipRecords(model.value(), *model->blocks), worldAt,
                                  width, height, ids.data(), rgba.data(), nullptr);
-            if (!polyline && (!o->svg.empty() || !o->geojson.empty())) {
-                auto p = blockPieces(*model->blocks, *section, &rect);
+            if (!o->svg.empty() || !o->geojson.empty()) {
+                auto p = polyline ? blockPieces(*model->blocks, *lineSection, idx.origin, &rect)
+                                  : blockPieces(*model->blocks, *section, &rect);
                 if (!p) return fail(p.error().message, 1);
                 pieces = std::move(p.value());
                 source.svgOverBodies = blockPiecesSvg(*model->blocks, *classes, pieces, rect, width, height);
@@ -384,7 +385,7 @@ void addSection(CLI::App& app, int& exitCode) {
         }
         if (!o->geojson.empty()) {
             json g = toGeoJson(idx, source, o->geojsonFrame == "world" ? VectorFrame::World : VectorFrame::Plane);
-            if (classes && !polyline)
+            if (classes)
                 for (auto& f : blockPiecesGeoJson(*model->blocks, *classes, pieces,
                                                   o->geojsonFrame == "world" ? &source.toWorld : nullptr))
                     g["features"].push_back(std::move(f));

@@ -265,11 +265,12 @@ Ring clipRingToConvex(const Ring& subject, const Ring& clip) {
     return cur;
 }
 
-Result<std::vector<BlockPiece>> blockPieces(const BlockModel& blocks, const Section& section, const FrameRect* limit) {
-    std::vector<BlockPiece> out;
-    auto cells = cellPolygons(blocks, section.frame, limit);
-    if (!cells) return cells.error();
-    for (const BodySection& body : section.bodies) {
+namespace {
+
+// The pieces of `cells` (polygons in the bodies' 2D frame) inside every clipping body of `bodies`.
+void piecesOf(const BlockModel& blocks, const std::vector<CellPolygon>& cells, const std::vector<BodySection>& bodies,
+              std::vector<BlockPiece>& out) {
+    for (const BodySection& body : bodies) {
         if (!blocks.clips(body.part)) continue;
         std::vector<const Ring*> rings;
         std::vector<std::array<glm::dvec2, 2>> boxes;
@@ -285,7 +286,7 @@ Result<std::vector<BlockPiece>> blockPieces(const BlockModel& blocks, const Sect
             }
             boxes.push_back({lo, hi});
         }
-        for (const CellPolygon& cp : cells.value()) {
+        for (const CellPolygon& cp : cells) {
             glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
             for (const auto& p : cp.ring) {
                 lo = glm::min(lo, p);
@@ -308,6 +309,47 @@ Result<std::vector<BlockPiece>> blockPieces(const BlockModel& blocks, const Sect
             if (piece.area > 0.0) out.push_back(std::move(piece));
         }
     }
+}
+
+}  // namespace
+
+Result<std::vector<BlockPiece>> blockPieces(const BlockModel& blocks, const Section& section, const FrameRect* limit) {
+    std::vector<BlockPiece> out;
+    auto cells = cellPolygons(blocks, section.frame, limit);
+    if (!cells) return cells.error();
+    piecesOf(blocks, cells.value(), section.bodies, out);
+    return out;
+}
+
+Result<std::vector<BlockPiece>> blockPieces(const BlockModel& blocks, const PolylineSection& section,
+                                            const glm::dvec3& modelOrigin, const FrameRect* limit) {
+    std::vector<BlockPiece> out;
+    std::vector<CellPolygon> cells;
+    for (const PolylineLeg& leg : section.legs) {
+        if (!leg.cut) continue;
+        // The leg's strip of the line frame (s, z), in its own plane's u/v (v = z).
+        FrameRect strip{leg.s0, -std::numeric_limits<double>::max(), leg.s1, std::numeric_limits<double>::max()};
+        if (limit) {
+            strip.u0 = std::max(strip.u0, limit->u0);
+            strip.u1 = std::min(strip.u1, limit->u1);
+            strip.v0 = limit->v0;
+            strip.v1 = limit->v1;
+            if (!(strip.u0 < strip.u1)) continue;
+        }
+        FrameRect own = strip;
+        own.u0 -= leg.uOffset;
+        own.u1 -= leg.uOffset;
+        auto legCells = cellPolygons(blocks, makeSectionFrame(leg.plane, modelOrigin), &own);
+        if (!legCells) return legCells.error();
+        for (CellPolygon& cp : legCells.value()) {
+            for (glm::dvec2& p : cp.ring) p.x += leg.uOffset;
+            cp.ring = clipRingToStrip(cp.ring, leg.s0, leg.s1);
+            if (cp.ring.size() >= 3 && ringArea(cp.ring) > 0.0) cells.push_back(std::move(cp));
+        }
+        if (cells.size() > 4000000)
+            return makeError(ErrorCode::OutOfRange, "the section line crosses more than 4,000,000 block cells");
+    }
+    piecesOf(blocks, cells, section.bodies, out);
     return out;
 }
 

@@ -33,6 +33,7 @@
 #include "model/model.hpp"
 #include "model/result.hpp"
 #include "section/contours.hpp"
+#include "section/polyline.hpp"
 #include "section/raster.hpp"
 #include "section/section_index.hpp"
 
@@ -107,6 +108,14 @@ struct BlockPiece {
 // area are dropped.
 Result<std::vector<BlockPiece>> blockPieces(const BlockModel& blocks, const Section& section,
                                             const FrameRect* limit = nullptr);
+
+// The same for a polyline section, in line coordinates (s, z): each cut leg's cells (cell ∩
+// the leg's plane, u shifted by the leg's uOffset) clipped to the leg's chainage strip
+// [s0, s1] (a strip of a convex polygon is convex), then the bodies' rings clipped to them
+// as above. A cell crossed by two legs gives a piece per leg. `modelOrigin` is the
+// section index's origin (the legs' SectionFrames).
+Result<std::vector<BlockPiece>> blockPieces(const BlockModel& blocks, const PolylineSection& section,
+                                            const glm::dvec3& modelOrigin, const FrameRect* limit = nullptr);
 
 // SVG paths of the pieces (one per piece, even-odd fill in its class colour; pieces whose
 // cell has no value are left out so the body's own fill shows), in the pixel frame of `rect`

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "../common/tet_model.hpp"
@@ -17,6 +18,7 @@
 #include "model/volume_mesh.hpp"
 #include "section/block_reserves.hpp"
 #include "section/block_section.hpp"
+#include "section/polyline.hpp"
 #include "section/reserves.hpp"
 #include "test_meshes.hpp"
 
@@ -583,4 +585,113 @@ TEST(BlockModel, ColourParametersAndVectorPieces) {
     EXPECT_NE(bad({{"elevation", "35"}, {"colour", "grade"}, {"ramp", "jet"}}).find("'ramp'"), std::string::npos);
     EXPECT_NE(bad({{"elevation", "35"}, {"breaks", "1"}}).find("need 'colour"), std::string::npos);
     EXPECT_NE(bad({{"elevation", "35"}, {"colour", "a b"}}).find("'colour'"), std::string::npos);
+}
+
+namespace {
+
+// Length of segment ab inside the rectangle [lo, hi] (Liang-Barsky).
+double lengthInRect(glm::dvec2 a, glm::dvec2 b, glm::dvec2 lo, glm::dvec2 hi) {
+    double t0 = 0.0, t1 = 1.0;
+    const glm::dvec2 d = b - a;
+    for (int k = 0; k < 2; ++k) {
+        if (d[k] == 0.0) {
+            if (a[k] < lo[k] || a[k] > hi[k]) return 0.0;
+            continue;
+        }
+        double ta = (lo[k] - a[k]) / d[k], tb = (hi[k] - a[k]) / d[k];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    return t1 > t0 ? (t1 - t0) * glm::length(d) : 0.0;
+}
+
+}  // namespace
+
+TEST(BlockModel, PolylineSectionPiecesAreExact) {
+    // The box orebody of the test above cut along A-B-C (two oblique legs, a bend inside the
+    // orebody). Oracle per (leg, cell): the piece is the vertical strip over the leg's part
+    // inside the cell's and the orebody's common map rectangle, as tall as their common z
+    // range: area = length (Liang-Barsky) x height.
+    const glm::dvec3 oreLo{20.5, 20.5, 20.5}, oreHi{70.5, 60.5, 50.5};
+    Model m = modelOf({makePart("host", PartKind::Body, 1, boxMesh({0, 0, 0}, {100, 100, 100})),
+                       makePart("ore", PartKind::Body, 2, boxMesh(oreLo, oreHi))});
+    auto blocks = blockModelFromCsv(gridCsv({0, 0, 0}, 10.0, 10, 10, 10, [](glm::dvec3 c) { return c.x / 10; }), "b");
+    ASSERT_TRUE(blocks.ok());
+    blocks->clipBodies = {"ore"};
+    ASSERT_TRUE(resolveBlockClip(m, blocks.value()).ok());
+    m.blocks = std::make_shared<const BlockModel>(std::move(blocks.value()));
+    auto cm = api::catalogModelOf("box", m, "v1");
+    ASSERT_TRUE(cm.ok());
+    const std::vector<glm::dvec2> pts{{10.3, 30.2}, {45.7, 47.1}, {83.9, 33.3}};
+    auto section = computePolylineSection(*cm.value()->index, pts);
+    ASSERT_TRUE(section.ok()) << section.error().message;
+    auto pieces = blockPieces(*m.blocks, section.value(), cm.value()->index->origin);
+    ASSERT_TRUE(pieces.ok()) << pieces.error().message;
+    const SectionLine& line = section->line;
+    std::map<std::pair<std::size_t, std::size_t>, double> got;  // (leg, cell) -> area
+    for (const BlockPiece& p : pieces.value()) {
+        EXPECT_EQ(p.record, 2u);
+        // The centroid of the piece (convex: cell ∩ orebody ∩ strip) lies in its cell.
+        glm::dvec2 c(0.0);
+        double a = 0.0;
+        for (const Ring& r : p.rings)
+            for (std::size_t i = 0; i < r.size(); ++i) {
+                const glm::dvec2 &u = r[i], &w = r[(i + 1) % r.size()];
+                const double x = u.x * w.y - w.x * u.y;
+                a += x;
+                c += (u + w) * x;
+            }
+        c /= 3.0 * a;
+        EXPECT_EQ(m.blocks->cellAt(line.worldAt(c.x, c.y)), p.cell);
+        got[{line.legAt(c.x), p.cell}] += p.area;
+    }
+    std::size_t expected = 0;
+    for (std::size_t leg = 0; leg + 1 < pts.size(); ++leg)
+        for (std::size_t cell = 0; cell < m.blocks->cellCount(); ++cell) {
+            const auto ijk = m.blocks->ijk(cell);
+            const glm::dvec3 lo = glm::max(10.0 * glm::dvec3(ijk[0], ijk[1], ijk[2]), oreLo);
+            const glm::dvec3 hi = glm::min(10.0 * glm::dvec3(ijk[0] + 1, ijk[1] + 1, ijk[2] + 1), oreHi);
+            const double area = hi.x > lo.x && hi.y > lo.y && hi.z > lo.z
+                                    ? lengthInRect(pts[leg], pts[leg + 1], {lo.x, lo.y}, {hi.x, hi.y}) * (hi.z - lo.z)
+                                    : 0.0;
+            const auto it = got.find({leg, cell});
+            const double g = it == got.end() ? 0.0 : it->second;
+            // 1e-9 m²: rounding of clipped coordinates of ~100 m (a piece is up to 140 m²).
+            EXPECT_NEAR(g, area, 1e-9) << "leg " << leg << " cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
+            expected += area > 1e-9;
+        }
+    EXPECT_EQ(got.size(), expected);
+    EXPECT_GT(expected, 20u);
+    // Over the API: GeoJSON features and SVG paths of the pieces, with the legend.
+    auto plan = api::parseViewPlan({{"line", "10.3,30.2,45.7,47.1,83.9,33.3"}, {"colour", "grade"}, {"breaks", "3,5"}},
+                                   "box", m.crs);
+    ASSERT_TRUE(plan.ok()) << plan.error().message;
+    auto geo = api::renderVector(*cm.value(), plan.value(), false, true);
+    ASSERT_TRUE(geo.ok()) << geo.error().message;
+    const auto doc = nlohmann::json::parse(geo.value());
+    double area = 0.0, oreArea = 0.0;
+    std::size_t features = 0;
+    for (const auto& f : doc["features"])
+        if (f["properties"]["kind"] == "block") {
+            area += f["properties"]["area_m2"].get<double>();
+            ++features;
+            // World coordinates: the first vertex is x, y, z, in the piece's cell (closed
+            // boxes: a vertex lies in or on it, 1e-6 m for rounding).
+            const nlohmann::json* v = &f["geometry"]["coordinates"];
+            while (v->is_array() && !v->empty() && (*v)[0].is_array()) v = &(*v)[0];
+            ASSERT_EQ(v->size(), 3u);
+            const auto cell = f["properties"]["cell"];
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_GE((*v)[k].get<double>(), 10.0 * cell[k].get<double>() - 1e-6);
+                EXPECT_LE((*v)[k].get<double>(), 10.0 * (cell[k].get<double>() + 1) + 1e-6);
+            }
+        }
+    for (const BlockPiece& p : pieces.value()) oreArea += p.area;
+    EXPECT_EQ(features, pieces->size());
+    EXPECT_NEAR(area, oreArea, 1e-9);
+    EXPECT_EQ(doc["blockLegend"]["breaks"].size(), 2u);
+    auto svg = api::renderVector(*cm.value(), plan.value(), true, false);
+    ASSERT_TRUE(svg.ok()) << svg.error().message;
+    EXPECT_NE(svg->find("data-cell=\""), std::string::npos);
 }
