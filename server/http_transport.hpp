@@ -1,6 +1,6 @@
 // The HTTP/1.1 transport of the section server: Boost.Beast over Boost.Asio (Debian's
 // header-only Boost 1.74). It owns sockets, parsing, keep-alive and timeouts; the routes
-// (server/http_server.cpp) see only HttpRequest -> HttpResponse.
+// (server/router.hpp, server/routes/) see only HttpRequest -> HttpResponse.
 //
 //   acceptor (SOMAXCONN backlog, SO_REUSEADDR, SO_REUSEPORT only when asked)
 //     -> I/O threads running one io_context: every socket operation is asynchronous, so an

@@ -1,5 +1,5 @@
 // Issue 14 (b): the GL device string of /readyz was written by a render worker and read by
-// HTTP threads without a lock. server/gl_status.hpp now guards it; this test drives it the
+// HTTP threads without a lock. workers/gl_status.hpp now guards it; this test drives it the
 // way the server does (one worker thread writes, as probeGl() does, while HTTP threads
 // read, as /readyz does) in a binary built with ThreadSanitizer, which exits non-zero
 // (halt_on_error) on any race. Built only when the tree is not already built with ASan or
@@ -10,10 +10,10 @@
 #include <thread>
 #include <vector>
 
-#include "server/gl_status.hpp"
+#include "workers/gl_status.hpp"
 
 int main() {
-    geoslice::server::GlStatus status;
+    geoslice::workers::GlStatus status;
     std::atomic<bool> done{false};
     std::atomic<long> reads{0}, consistent{0};
     std::vector<std::thread> readers;

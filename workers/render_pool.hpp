@@ -1,4 +1,4 @@
-// Render workers: N threads, each with its own state (and, for perspective views, its own
+// workers/: the render workers. N threads, each with its own state (and, for perspective views, its own
 // GL context, created on that thread and never touched by another), fed by one bounded
 // queue. HTTP handler threads never render: they submit a job and wait for its result
 // with a deadline.
@@ -14,8 +14,9 @@
 // (section/raster.hpp, renderer/slice_renderer.hpp) and stops within milliseconds.
 // stop() drops what is queued and sets the flag of what runs, then joins.
 //
-// Coalescing: identical concurrent requests (same key) share one job and one result; the
-// job is cancelled when the last of its waiters leaves.
+// Threads and locks: every member of RenderPool below `mutex_` is guarded by `mutex_`
+// (the worker threads, the janitor and submitting threads all take it); a job's own state
+// is touched only by the worker running it.
 #pragma once
 
 #include <atomic>
@@ -24,30 +25,59 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <future>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "api/catalog.hpp"
+#include "api/plan.hpp"
+#include "api/view.hpp"
 #include "model/result.hpp"
 
-namespace geoslice::server {
+namespace geoslice::workers {
 
-struct GlWorker;  // server/gl_worker.hpp
+struct GlWorker;  // workers/gl_worker.hpp: the only place that touches GL
 
 // Shared between a request (its transport sets it when the client goes away), the
 // coalescer (when every waiter left) and the running job (which reads it). Any thread.
 using CancelFlag = std::shared_ptr<std::atomic<bool>>;
 inline CancelFlag makeCancelFlag() { return std::make_shared<std::atomic<bool>>(false); }
 
-// Per-worker state, owned by its thread.
-struct WorkerState {
-    unsigned index = 0;
-    std::unique_ptr<GlWorker> gl;  // created lazily by the first GL job on this worker
-    ~WorkerState();
+// How the workers use GL, chosen at start-up (server/config.hpp's --gl and --lod).
+struct GlSettings {
+    bool enabled = false;          // false: --gl none; perspective views are refused before they queue
+    std::string backend = "auto";  // auto|egl-device|egl-surfaceless|osmesa (renderer/gl_context.hpp)
+    bool lod = false;              // simplified context geometry in 3D views (CPU backends)
+};
+
+// Per-worker state, owned by its thread: only that thread calls its members.
+class WorkerState {
+public:
+    explicit WorkerState(unsigned index, GlSettings gl);
+    ~WorkerState();  // releases the GL context on the worker's own thread
+    WorkerState(const WorkerState&) = delete;
+    WorkerState& operator=(const WorkerState&) = delete;
+
+    unsigned index() const { return index_; }
+    // Creates this worker's GL context when it has none. Returns the device it runs on
+    // ("<vendor> <renderer> ..."). Errors: GL disabled, or the backend's own, naming it.
+    Result<std::string> openGl();
+    bool hasGl() const { return gl_ != nullptr; }
+    // A perspective view (api::ViewKind::Perspective) with per-body record ids, on this
+    // worker's GL context (created on first use). `cancel` may be null.
+    Result<api::ViewImage> renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan,
+                                             const std::atomic<bool>* cancel);
+    // After an overrun: the context is thrown away and rebuilt by the next GL job.
+    void discardGl();
+    // After a large render: frees the render targets sized for it (the next render makes them again).
+    void trimGl();
+
+private:
+    unsigned index_ = 0;
+    GlSettings settings_;
+    std::unique_ptr<GlWorker> gl_;  // created lazily by the first GL job on this worker
 };
 
 struct RenderJob {
@@ -73,8 +103,8 @@ struct PoolStats {
 
 class RenderPool {
 public:
-    // memoryBudgetBytes: 0 = no memory admission.
-    RenderPool(unsigned workers, std::size_t queueCapacity, std::size_t memoryBudgetBytes = 0);
+    // memoryBudgetBytes: 0 = no memory admission. `gl`: how each worker's context is made.
+    RenderPool(unsigned workers, std::size_t queueCapacity, std::size_t memoryBudgetBytes = 0, GlSettings gl = {});
     ~RenderPool();  // stop()
     RenderPool(const RenderPool&) = delete;
     RenderPool& operator=(const RenderPool&) = delete;
@@ -100,92 +130,25 @@ private:
     void takeExpired(std::vector<RenderJob>& out, std::chrono::steady_clock::time_point now);
     mutable std::mutex mutex_;
     std::condition_variable ready_, janitorWake_;
-    std::deque<RenderJob> queue_;
-    std::vector<std::thread> threads_;
+    std::deque<RenderJob> queue_;       // guarded by mutex_
+    std::vector<std::thread> threads_;  // set in the constructor, joined by stop()
     std::thread janitor_;
     struct Running {
         CancelFlag cancel;
         std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
         bool active = false;
     };
-    std::vector<Running> running_;
-    std::size_t capacity_;
-    std::size_t budget_;
-    std::size_t reserved_ = 0;
-    std::size_t busy_ = 0;
-    std::uint64_t dropped_ = 0, overruns_ = 0, cancelledRunning_ = 0;
-    bool stopping_ = false;
-    bool joined_ = false;
-    unsigned exited_ = 0;  // worker threads that returned
+    std::vector<Running> running_;  // guarded by mutex_ (one slot per worker)
+    const std::size_t capacity_;
+    const std::size_t budget_;
+    const GlSettings gl_;
+    std::size_t reserved_ = 0;                                         // guarded by mutex_
+    std::size_t busy_ = 0;                                             // guarded by mutex_
+    std::uint64_t dropped_ = 0, overruns_ = 0, cancelledRunning_ = 0;  // guarded by mutex_
+    bool stopping_ = false;                                            // guarded by mutex_
+    bool joined_ = false;                                              // guarded by mutex_
+    unsigned exited_ = 0;  // worker threads that returned; guarded by mutex_
     std::condition_variable exitedCv_;
 };
 
-// Shares one computation among identical concurrent requests. `T` is the result type
-// (copied out to each waiter: use a shared_ptr).
-template <class T>
-class Coalescer {
-public:
-    struct Ticket {
-        std::shared_future<T> future;
-        CancelFlag cancel;     // the shared job's flag
-        std::uint64_t id = 0;  // this computation (a key may be computed again later)
-        bool leader = false;   // the caller created it: it must submit the work and make sure
-                               // finish(key, id, value) is called exactly once
-    };
-    // Joins the computation of `key` under way, or starts one. A computation whose waiters
-    // all left (cancelled) is not joined: a new one replaces it.
-    Ticket join(const std::string& key) {
-        std::lock_guard lock(mutex_);
-        if (const auto it = pending_.find(key); it != pending_.end()) {
-            if (!it->second.cancel->load()) {
-                ++coalesced_;
-                ++it->second.waiters;
-                return Ticket{it->second.future, it->second.cancel, it->second.id, false};
-            }
-            pending_.erase(it);  // its job ends on its own; finish() then finds another id
-        }
-        Entry e;
-        e.future = e.promise.get_future().share();
-        e.cancel = makeCancelFlag();
-        e.id = ++nextId_;
-        Ticket t{e.future, e.cancel, e.id, true};
-        pending_.emplace(key, std::move(e));
-        return t;
-    }
-    // A waiter gives up (deadline, client gone): the last one to leave cancels the job.
-    void leave(const std::string& key, std::uint64_t id) {
-        std::lock_guard lock(mutex_);
-        const auto it = pending_.find(key);
-        if (it == pending_.end() || it->second.id != id) return;
-        if (--it->second.waiters == 0) it->second.cancel->store(true);
-    }
-    void finish(const std::string& key, std::uint64_t id, T value) {
-        std::lock_guard lock(mutex_);
-        const auto it = pending_.find(key);
-        if (it == pending_.end() || it->second.id != id) return;
-        it->second.promise.set_value(std::move(value));
-        pending_.erase(it);
-    }
-    std::size_t inFlight() const {
-        std::lock_guard lock(mutex_);
-        return pending_.size();
-    }
-    std::uint64_t coalesced() const {
-        std::lock_guard lock(mutex_);
-        return coalesced_;
-    }
-
-private:
-    struct Entry {
-        std::promise<T> promise;
-        std::shared_future<T> future;
-        CancelFlag cancel;
-        std::uint64_t id = 0;
-        int waiters = 1;
-    };
-    mutable std::mutex mutex_;
-    std::map<std::string, Entry> pending_;
-    std::uint64_t coalesced_ = 0, nextId_ = 0;
-};
-
-}  // namespace geoslice::server
+}  // namespace geoslice::workers

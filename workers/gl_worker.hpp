@@ -1,4 +1,5 @@
-// One render worker's GL state: its context (created on, and only used by, that worker's
+// One render worker's GL state (workers/ is the only library that holds GL state; the
+// server only queues jobs): its context (created on, and only used by, that worker's
 // thread), the slicing renderer and the models uploaded to it (keyed by id@version).
 // Perspective views are drawn here; profile views and tiles never need GL.
 #pragma once
@@ -16,7 +17,7 @@
 #include "renderer/gpu_model.hpp"
 #include "renderer/slice_renderer.hpp"
 
-namespace geoslice::server {
+namespace geoslice::workers {
 
 struct GlWorker {
     std::unique_ptr<GlContext> context;
@@ -39,4 +40,4 @@ struct GlWorker {
     void trim();
 };
 
-}  // namespace geoslice::server
+}  // namespace geoslice::workers

@@ -1,15 +1,11 @@
-#include "server/render_pool.hpp"
+#include "workers/render_pool.hpp"
 
-#include "server/gl_worker.hpp"
-
-namespace geoslice::server {
+namespace geoslice::workers {
 
 using Clock = std::chrono::steady_clock;
 
-WorkerState::~WorkerState() = default;
-
-RenderPool::RenderPool(unsigned workers, std::size_t queueCapacity, std::size_t memoryBudgetBytes)
-    : capacity_(queueCapacity), budget_(memoryBudgetBytes) {
+RenderPool::RenderPool(unsigned workers, std::size_t queueCapacity, std::size_t memoryBudgetBytes, GlSettings gl)
+    : capacity_(queueCapacity), budget_(memoryBudgetBytes), gl_(std::move(gl)) {
     if (workers == 0) workers = 1;
     running_.resize(workers);
     threads_.reserve(workers);
@@ -145,8 +141,7 @@ void RenderPool::run(unsigned index) {
             pool->exitedCv_.notify_all();
         }
     } exitMark{this};
-    WorkerState state;
-    state.index = index;
+    WorkerState state(index, gl_);
     std::vector<RenderJob> expired;
     while (true) {
         RenderJob job;
@@ -176,4 +171,4 @@ void RenderPool::run(unsigned index) {
     }
 }
 
-}  // namespace geoslice::server
+}  // namespace geoslice::workers

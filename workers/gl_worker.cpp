@@ -1,8 +1,10 @@
-#include "server/gl_worker.hpp"
+#include "workers/gl_worker.hpp"
 
 #include <chrono>
 
-namespace geoslice::server {
+#include "workers/render_pool.hpp"
+
+namespace geoslice::workers {
 
 GlWorker::~GlWorker() {
     // GPU objects die with the context: release them while it is current.
@@ -87,4 +89,33 @@ void GlWorker::trim() {
     if (context->makeCurrent().ok()) renderer->releaseTarget();
 }
 
-}  // namespace geoslice::server
+WorkerState::WorkerState(unsigned index, GlSettings gl) : index_(index), settings_(std::move(gl)) {}
+
+WorkerState::~WorkerState() = default;
+
+Result<std::string> WorkerState::openGl() {
+    if (!gl_) {
+        if (!settings_.enabled) return makeError(ErrorCode::Unsupported, "GL is disabled on this server (--gl none)");
+        const auto backend = parseGlBackend(settings_.backend);
+        if (!backend) return makeError(ErrorCode::InvalidArgument, "unknown GL backend '" + settings_.backend + "'");
+        auto gl = GlWorker::create(*backend, settings_.lod);
+        if (!gl) return gl.error();
+        gl_ = std::move(gl.value());
+    }
+    return gl_->context->info().describe();
+}
+
+Result<api::ViewImage> WorkerState::renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan,
+                                                      const std::atomic<bool>* cancel) {
+    if (!gl_)
+        if (auto opened = openGl(); !opened) return opened.error();
+    return gl_->renderPerspective(model, plan, cancel);
+}
+
+void WorkerState::discardGl() { gl_.reset(); }
+
+void WorkerState::trimGl() {
+    if (gl_) gl_->trim();
+}
+
+}  // namespace geoslice::workers

@@ -7,7 +7,7 @@
 #include <mutex>
 #include <string>
 
-namespace geoslice::server {
+namespace geoslice::workers {
 
 class GlStatus {
 public:
@@ -33,4 +33,4 @@ private:
     Snapshot state_;  // guarded by mutex_
 };
 
-}  // namespace geoslice::server
+}  // namespace geoslice::workers

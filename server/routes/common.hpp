@@ -1,0 +1,58 @@
+// What several route handlers share: the model of a request, a view checked before any
+// cache is consulted, images encoded into cache entries, render memory estimates.
+#pragma once
+
+#include <atomic>
+#include <initializer_list>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "api/catalog.hpp"
+#include "api/plan.hpp"
+#include "api/view.hpp"
+#include "model/result.hpp"
+#include "renderer/image_encode.hpp"
+#include "server/http_transport.hpp"
+#include "server/render_cache.hpp"
+#include "server/server_state.hpp"
+
+namespace geoslice::server {
+
+// Estimated peak memory of one render, for admission by memory (issue 11 item 4). Per
+// pixel: the colour image and ID buffer kept until encoded (8), the fill's coverage and
+// trace buffers (5), the encoder's working copies (WebP: YUVA planes and an ARGB copy, up
+// to 12; PNG and JPEG less), and headroom for the allocator (7) = 32; GL views add their
+// render targets (RGBA8, R32UI, depth-stencil: 12) and FXAA/read-back copies (8) = 52.
+// An 8192^2 WebP was measured at about 2.1 GB (issue 11): 32 B/px gives 2.1 GiB.
+constexpr std::size_t kExactBytesPerPixel = 32, kGlBytesPerPixel = 52;
+constexpr std::size_t kVectorBytes = std::size_t(32) << 20;  // GeoJSON/SVG of one section
+constexpr std::size_t kQueryAnswerBytes = 4096;              // one pixel's answer and scratch
+inline std::size_t renderBytes(int width, int height, bool gl) {
+    return std::size_t(width) * std::size_t(height) * (gl ? kGlBytesPerPixel : kExactBytesPerPixel);
+}
+
+// The model `id` names, or null after answering: 404 for an invalid or unknown id, 503 +
+// Retry-After while models are still loading.
+std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const std::string& id, HttpResponse& res,
+                                                   const std::string& instance);
+
+// The request's query parameters (api::paramsFromQuery).
+Result<api::Params> queryParams(const HttpRequest& req);
+
+// Everything about a view that can be wrong, checked without rendering: for profile views
+// the plane against the model and the frame's pixel size (api::profileMapping), for
+// perspective views that GL is on. Errors name the parameter.
+Status validateView(const ServerState& state, const api::CatalogModel& m, const api::ViewPlan& plan);
+
+// An image encoded as a cache entry. Runs on a render worker.
+Rendered encodeEntry(const api::ViewImage& v, ImageFormat format, int quality, const std::string& etag,
+                     const std::atomic<bool>* cancel = nullptr);
+// A text or binary document as a cache entry.
+Rendered documentEntry(std::string body, std::string contentType, std::string etag);
+
+std::vector<std::string_view> withNames(std::vector<std::string_view> names,
+                                        std::initializer_list<std::string_view> more);
+
+}  // namespace geoslice::server

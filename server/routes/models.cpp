@@ -1,0 +1,69 @@
+// The model catalog: GET /v1/models (summaries without legends), /v1/models/{id} (one
+// summary), /v1/models/{id}/legend.png (the legend image, optionally with the rows of a
+// block-property colouring: colour=PROP[&breaks=..&ramp=..]).
+#include <chrono>
+
+#include "api/legend.hpp"
+#include "server/respond.hpp"
+#include "server/routes/common.hpp"
+#include "server/routes/routes.hpp"
+
+namespace geoslice::server {
+namespace {
+
+void legend(ServerState& st, const HttpRequest& req, HttpResponse& res) {
+    auto m = findModel(st, req.matches[1], res, req.path);
+    if (!m) return;
+    auto params = queryParams(req);
+    if (!params) return problem(res, params.error(), req.path);
+    if (auto s = api::checkKnownParams(params.value(), {"colour", "breaks", "ramp"}); !s)
+        return problem(res, s.error(), req.path);
+    auto colour = api::parseBlockColouring(params.value());
+    if (!colour) return problem(res, colour.error(), req.path);
+    api::SectionDef def;
+    def.colour = colour.value();
+    auto classes = api::blockClasses(*m, def);
+    if (!classes) return problem(res, classes.error(), req.path);
+    const std::string key = cache_key::legend(*m, def, classes.value() ? &*classes.value() : nullptr);
+    if (auto hit = st.cache->find(key)) return sendEncoded(req, res, *hit);
+    // Drawn and encoded on a render worker (the threading rule: HTTP threads only wait),
+    // coalesced and cached like every other image.
+    auto result = st.cache->render(
+        key,
+        [&st, m, classes = classes.value(), etag = RenderCache::etagOf(key)](
+            workers::WorkerState&, const std::atomic<bool>& cancel) -> Rendered {
+            const auto t0 = std::chrono::steady_clock::now();
+            api::LegendImage legend = api::renderLegend(*m, 2, classes ? &*classes : nullptr);
+            api::ViewImage v;
+            v.width = legend.width;
+            v.height = legend.height;
+            v.rgba = std::move(legend.rgba);
+            st.metrics.render("legend", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            return encodeEntry(v, ImageFormat::Png, 0, etag, &cancel);
+        },
+        kVectorBytes, false, *req.cancelled);
+    if (!result) return problem(res, result.error(), req.path);
+    sendEncoded(req, res, *result.value());
+}
+
+}  // namespace
+
+void addModelRoutes(Router& router, ServerState& st) {
+    router.add("GET", "/v1/models", "/v1/models", [&st](const HttpRequest&, HttpResponse& res) {
+        Json list = Json::array();
+        for (const auto& m : st.catalog.list()) {
+            Json s = m->summary();
+            s.erase("legend");
+            list.push_back(std::move(s));
+        }
+        sendJson(res, Json{{"models", std::move(list)}, {"loading", !st.loaded}});
+    });
+    router.add("GET", "/v1/models/{id}", "/v1/models/([^/]+)", [&st](const HttpRequest& req, HttpResponse& res) {
+        auto m = findModel(st, req.matches[1], res, req.path);
+        if (m) sendJson(res, m->summary());
+    });
+    router.add("GET", "/v1/models/{id}/legend.png", "/v1/models/([^/]+)/legend\\.png",
+               [&st](const HttpRequest& req, HttpResponse& res) { legend(st, req, res); });
+}
+
+}  // namespace geoslice::server

@@ -1,0 +1,83 @@
+// The operator's routes: GET /healthz (alive), /readyz (models in, GL ready, workers not
+// all overrunning; 503 otherwise), /metrics (Prometheus text), /openapi.json.
+#include "api/openapi.hpp"
+#include "model/version.hpp"
+#include "server/respond.hpp"
+#include "server/routes/routes.hpp"
+
+namespace geoslice::server {
+namespace {
+
+// Absolute file-system paths in a message, cut to their last component ("/srv/models/a.glb"
+// -> ".../a.glb"), for answers that anyone may read (/readyz).
+std::string redactPaths(const std::string& s) {
+    std::string out;
+    std::size_t i = 0;
+    while (i < s.size()) {
+        const bool starts = s[i] == '/' && (i == 0 || s[i - 1] == ' ' || s[i - 1] == '\'' || s[i - 1] == '"' ||
+                                            s[i - 1] == '(' || s[i - 1] == '=');
+        if (!starts) {
+            out += s[i++];
+            continue;
+        }
+        std::size_t end = i;
+        while (end < s.size() && s[end] != ' ' && s[end] != '\'' && s[end] != '"' && s[end] != ')' && s[end] != ':' &&
+               s[end] != ',')
+            ++end;
+        const std::string path = s.substr(i, end - i);
+        const std::size_t slash = path.find_last_of('/');
+        out += ".../" + path.substr(slash + 1);
+        i = end;
+    }
+    return out;
+}
+
+void readyz(ServerState& st, HttpResponse& res) {
+    // Ready once loading is done and at least one model is in: a broken file in the models
+    // directory is reported here and in the logs, not a reason to stay unready.
+    const bool modelsReady = st.loaded && st.catalog.size() > 0;
+    const workers::GlStatus::Snapshot gl = st.glStatus.get();
+    const bool glOk = !st.glEnabled || gl.ready;
+    Json failures;
+    {
+        std::lock_guard lock(st.failedMutex);
+        failures = st.failed;
+    }
+    if (!st.config.readyzPaths)
+        for (auto& f : failures)
+            if (f.contains("error") && f["error"].is_string()) f["error"] = redactPaths(f["error"].get<std::string>());
+    // Renders: overruns are counted; when every worker is running past its deadline the
+    // server cannot take work and says so.
+    const workers::PoolStats ps = st.pool->stats();
+    const bool workersOk = ps.overrunningNow < st.pool->workers();
+    Json renders{{"queued", ps.queued},
+                 {"busy", ps.busy},
+                 {"overruns", ps.overruns},
+                 {"overrunningNow", ps.overrunningNow},
+                 {"dropped", ps.dropped},
+                 {"cancelledWhileRunning", ps.cancelledRunning},
+                 {"memoryBudgetMiB", st.pool->memoryBudget() >> 20},
+                 {"memoryReservedMiB", ps.reservedBytes >> 20}};
+    Json j{{"ready", modelsReady && glOk && workersOk},
+           {"models", {{"loaded", st.catalog.size()}, {"done", bool(st.loaded)}, {"failed", failures}}},
+           {"gl", {{"enabled", st.glEnabled}, {"ready", gl.ready}, {"device", gl.device}}},
+           {"workers", st.pool->workers()},
+           {"renders", std::move(renders)}};
+    sendJson(res, j, modelsReady && glOk && workersOk ? 200 : 503);
+}
+
+}  // namespace
+
+void addOpsRoutes(Router& router, ServerState& st) {
+    router.add("GET", "/healthz", "/healthz", [](const HttpRequest&, HttpResponse& res) {
+        sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
+    });
+    router.add("GET", "/readyz", "/readyz", [&st](const HttpRequest&, HttpResponse& res) { readyz(st, res); });
+    router.add("GET", "/metrics", "/metrics", [&st](const HttpRequest&, HttpResponse& res) {
+        res.set_content(st.metrics.text(), "text/plain; version=0.0.4");
+    });
+    router.add("GET", "/openapi.json", "/openapi\\.json",
+               [](const HttpRequest&, HttpResponse& res) { sendJson(res, api::openApiDocument(kVersion)); });
+}
+
+}  // namespace geoslice::server

@@ -1,0 +1,108 @@
+// Stateless sections and their tiles: POST /v1/models/{id}/sections (a section definition
+// -> its id, grid and tile URL template), GET /v1/sections/{sid} (the definition back) and
+// GET /v1/sections/{sid}/tiles/{z}/{x}/{y}.{png,jpg,webp} (api/view.hpp's tile grid; CPU,
+// on a render worker). The section id carries the whole definition (api/plan.hpp).
+#include "api/request.hpp"
+#include "server/respond.hpp"
+#include "server/routes/common.hpp"
+#include "server/routes/routes.hpp"
+
+namespace geoslice::server {
+namespace {
+
+void defineSection(ServerState& st, const HttpRequest& req, HttpResponse& res) {
+    auto m = findModel(st, req.matches[1], res, req.path);
+    if (!m) return;
+    if (!requireJsonBody(req, res)) return;
+    auto params = api::parseSectionBody(req.body);
+    if (!params) return problem(res, params.error(), req.path);
+    if (auto s = api::checkKnownParams(params.value(), api::sectionParamNames()); !s)
+        return problem(res, s.error(), req.path);
+    auto def = api::parseSectionDef(params.value(), m->id, m->model.crs);
+    if (!def) return problem(res, def.error(), req.path);
+    auto grid = api::tileGrid(*m, def.value());
+    if (!grid) return problem(res, grid.error(), req.path);
+    const std::string sid = api::encodeSectionId(def.value());
+    Json j;
+    j["sid"] = sid;
+    j["model"] = m->id;
+    j["definition"] = def.value().canonical();
+    j["tiles"] = "/v1/sections/" + sid + "/tiles/{z}/{x}/{y}.png";
+    j["grid"] = grid.value().describe();
+    res.set_header("Location", "/v1/sections/" + sid);
+    sendJson(res, j, 201);
+}
+
+// The model and definition a section id names.
+Result<std::pair<std::shared_ptr<const api::CatalogModel>, api::SectionDef>> section(ServerState& st,
+                                                                                     const std::string& sid) {
+    auto def = api::decodeSectionId(sid, [&st](const std::string& id) -> const Crs* {
+        auto m = st.catalog.find(id);
+        return m ? &m->model.crs : nullptr;
+    });
+    if (!def) return def.error();
+    auto m = st.catalog.find(def.value().model);
+    if (!m) return makeError(ErrorCode::NotFound, "section names model '" + def.value().model + "', not loaded");
+    return std::make_pair(m, def.value());
+}
+
+void describeSection(ServerState& st, const HttpRequest& req, HttpResponse& res) {
+    if (auto p = queryParams(req); !p || !api::checkKnownParams(p.value(), {}).ok())
+        return problem(res, 400, "this route takes no query parameters", req.path, "invalid_argument");
+    auto s = section(st, req.matches[1]);
+    if (!s) return problem(res, s.error(), req.path);
+    auto grid = api::tileGrid(*s.value().first, s.value().second);
+    if (!grid) return problem(res, grid.error(), req.path);
+    sendJson(res, Json{{"sid", std::string(req.matches[1])},
+                       {"model", s.value().first->id},
+                       {"definition", s.value().second.canonical()},
+                       {"grid", grid.value().describe()}});
+}
+
+void tile(ServerState& st, const HttpRequest& req, HttpResponse& res) {
+    auto format = imageFormatFromName(std::string(req.matches[5]));
+    if (!format)
+        return problem(res, 404, "unknown tile format '" + std::string(req.matches[5]) + "'", req.path, "not_found");
+    auto address = api::parseTileAddress(req.matches[2], req.matches[3], req.matches[4]);
+    if (!address) return problem(res, address.error(), req.path);
+    if (auto p = queryParams(req); !p || !api::checkKnownParams(p.value(), {}).ok())
+        return problem(res, 400, "tiles take no query parameters", req.path, "invalid_argument");
+    auto s = section(st, req.matches[1]);
+    if (!s) return problem(res, s.error(), req.path);
+    const auto& [m, def] = s.value();
+    const auto [z, x, y] = address.value();
+    // Validated before any cache or ETag is consulted.
+    auto grid = api::tileGrid(*m, def);
+    if (!grid) return problem(res, grid.error(), req.path);
+    if (auto rect = grid.value().tileRect(z, x, y); !rect) return problem(res, rect.error(), req.path);
+    const std::string key = cache_key::tile(*m, def, z, x, y, extension(format.value()));
+    const std::string etag = RenderCache::etagOf(key);
+    if (answerNotModified(req, res, etag)) return;
+    if (auto hit = st.cache->find(key, "tile")) return sendEncoded(req, res, *hit);
+    auto result = st.cache->render(
+        key,
+        [&st, m = m, def = def, g = grid.value(), z = z, x = x, y = y, format = format.value(), etag](
+            workers::WorkerState&, const std::atomic<bool>& cancel) -> Rendered {
+            auto view = api::renderSectionTile(*m, def, g, z, x, y, &cancel);
+            if (!view) return view.error();
+            st.metrics.render("tile", view.value().renderMs / 1e3);
+            return encodeEntry(view.value(), format, 0, etag, &cancel);
+        },
+        renderBytes(grid.value().tileSize, grid.value().tileSize, false), false, *req.cancelled);
+    if (!result) return problem(res, result.error(), req.path);
+    sendEncoded(req, res, *result.value());
+}
+
+}  // namespace
+
+void addTileRoutes(Router& router, ServerState& st) {
+    router.add("POST", "/v1/models/{id}/sections", "/v1/models/([^/]+)/sections",
+               [&st](const HttpRequest& req, HttpResponse& res) { defineSection(st, req, res); });
+    router.add("GET", "/v1/sections/{sid}", "/v1/sections/([A-Za-z0-9_-]+)",
+               [&st](const HttpRequest& req, HttpResponse& res) { describeSection(st, req, res); });
+    router.add("GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
+               "/v1/sections/([A-Za-z0-9_-]+)/tiles/(-?[0-9]+)/(-?[0-9]+)/(-?[0-9]+)\\.([A-Za-z0-9]+)",
+               [&st](const HttpRequest& req, HttpResponse& res) { tile(st, req, res); });
+}
+
+}  // namespace geoslice::server

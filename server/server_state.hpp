@@ -1,0 +1,46 @@
+// What the route handlers share: the configuration, the model catalog, metrics, the render
+// workers and the render cache, and the server's life-cycle flags. One instance per
+// SectionServer, built by start() before the transport serves (server/http_server.cpp).
+//
+// Threads and locks: handlers read and call into it from any handler thread. `config` is
+// immutable; the catalog, metrics, GL status, render pool and render cache lock inside;
+// the flags are atomics; `failed` is guarded by `failedMutex`.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+
+#include <nlohmann/json.hpp>
+
+#include "api/catalog.hpp"
+#include "server/config.hpp"
+#include "server/metrics.hpp"
+#include "server/render_cache.hpp"
+#include "workers/gl_status.hpp"
+#include "workers/render_pool.hpp"
+
+namespace geoslice::server {
+
+struct ServerState {
+    explicit ServerState(ServerConfig c) : config(std::move(c)) {}
+
+    const ServerConfig config;
+    const bool glEnabled = config.gl != "none";
+    api::Catalog catalog;
+    Metrics metrics;
+    workers::GlStatus glStatus;  // written by the render worker that probes GL, read by /readyz
+    // Set by start() before serving: the cache first, then the pool, so that the pool (whose
+    // jobs use the cache and metrics) is destroyed first.
+    std::unique_ptr<RenderCache> cache;
+    std::unique_ptr<workers::RenderPool> pool;
+    std::atomic<bool> draining{false};  // shutdown began: new requests get 503
+    std::atomic<bool> loaded{false};    // the model loader is done
+    std::atomic<bool> loadOk{false};    // ... and every model loaded
+    std::atomic<int> inFlight{0};       // requests inside handlers (server/router.hpp)
+    std::mutex failedMutex;
+    nlohmann::ordered_json failed = nlohmann::ordered_json::array();  // guarded by failedMutex:
+                                                                      // {id, error} of models that did not load
+};
+
+}  // namespace geoslice::server
