@@ -20,6 +20,7 @@
 
 #include "model/gltf_io.hpp"
 #include "server/http_server.hpp"
+#include "tests/server/server_fixture.hpp"
 #include "tests/unit/test_meshes.hpp"
 
 namespace geoslice::server {
@@ -50,13 +51,10 @@ std::string run(const std::string& cmd) {
     return out;
 }
 
-class ServerBlocks : public ::testing::Test {
+class ServerBlocks : public InProcessServer {
 protected:
     static void SetUpTestSuite() {
-        spdlog::set_level(spdlog::level::warn);
-        dir_ = fs::temp_directory_path() / ("geoslice_blocks_" + std::to_string(::getpid()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
+        dir_ = freshTempDir("geoslice_blocks");
         Model m = test::modelOf(
             {test::makePart("host", PartKind::Body, 1, test::boxMesh(kGrid - 20.0, kGrid + glm::dvec3(140, 120, 80))),
              test::makePart("ore", PartKind::Body, 2, test::boxMesh(kOreLo, kOreHi))});
@@ -81,33 +79,13 @@ protected:
                 }
         csv.close();
         std::ofstream(dir_ / "box.blocks.json") << R"({"source": "ore_blocks.csv", "clip": ["ore"]})";
-        ServerConfig c;
-        c.host = "127.0.0.1";
-        c.port = 0;
-        c.gl = "none";
-        c.workers = 2;
+        ServerConfig c = loopbackConfig();
         c.modelsDir = dir_.string();
-        server_ = new SectionServer(c);
-        auto port = server_->start();
-        ASSERT_TRUE(port) << port.error().message;
-        ASSERT_TRUE(server_->waitUntilLoaded());
+        startServer(c);
     }
     static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
+        stopServer();
         fs::remove_all(dir_);
-    }
-    static httplib::Result get(const std::string& path) {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(60, 0);
-        return c.Get(path.c_str());
-    }
-    static json getJson(const std::string& path) {
-        auto r = get(path);
-        EXPECT_TRUE(r) << path;
-        if (!r) return json();
-        EXPECT_EQ(r->status, 200) << path << "\n" << r->body;
-        return json::parse(r->body, nullptr, false);
     }
     static void expectProblem(const std::string& path, const std::string& needle) {
         auto r = get(path);
@@ -116,7 +94,6 @@ protected:
         EXPECT_LT(r->status, 500) << path << "\n" << r->body;
         EXPECT_NE(r->body.find(needle), std::string::npos) << path << ": " << r->body;
     }
-    static inline SectionServer* server_ = nullptr;
     static inline fs::path dir_;
 };
 

@@ -25,6 +25,7 @@
 #include "renderer/image_encode.hpp"
 #include "server/http_server.hpp"
 #include "tests/common/run_command.hpp"
+#include "tests/server/server_fixture.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -54,26 +55,18 @@ std::vector<std::uint32_t> readPgm16(const fs::path& p, int& w, int& h) {
     return ids;
 }
 
-class CliHttpAgree : public ::testing::Test {
+class CliHttpAgree : public InProcessServer {
 protected:
     static void SetUpTestSuite() {
-        spdlog::set_level(spdlog::level::warn);
-        dir_ = fs::temp_directory_path() / ("geoslice_cli_http_" + std::to_string(::getpid()));
-        fs::remove_all(dir_);
+        dir_ = freshTempDir("geoslice_cli_http");
         fs::create_directories(dir_ / "models");
         model_ = (dir_ / "models" / "demo.glb").string();
         ASSERT_EQ(test::runGeoslice("generate --triangles 20000 --crs EPSG:4523 --out " + model_).exitCode, 0);
-        ServerConfig c;
-        c.host = "127.0.0.1";
-        c.port = 0;
-        c.gl = "none";
-        c.workers = 2;
+        ServerConfig c = loopbackConfig();
         c.modelsDir = (dir_ / "models").string();
         c.deadlineMs = 60000;
-        server_ = new SectionServer(c);
-        auto port = server_->start();
-        ASSERT_TRUE(port) << port.error().message;
-        ASSERT_TRUE(server_->waitUntilLoaded());
+        startServer(c, 120);
+        if (HasFatalFailure()) return;
         httplib::Client cl("127.0.0.1", server_->port());
         auto m = cl.Get("/v1/models/demo");
         ASSERT_TRUE(m && m->status == 200);
@@ -82,15 +75,8 @@ protected:
             centre_[k] = 0.5 * (j["bounds"]["min"][k].get<double>() + j["bounds"]["max"][k].get<double>());
     }
     static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
+        stopServer();
         fs::remove_all(dir_);
-    }
-
-    static httplib::Client client() {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(120, 0);
-        return c;
     }
     // The plane with unit normal direction `n` through the model's centre, as "a,b,c,d".
     static std::string planeThroughCentre(glm::dvec3 n) {
@@ -103,7 +89,6 @@ protected:
     static inline fs::path dir_;
     static inline std::string model_;
     static inline glm::dvec3 centre_{0.0};
-    static inline SectionServer* server_ = nullptr;
 };
 
 // `geoslice section` and GET section.png: identical pixels for planes (vertical, dipping,

@@ -45,6 +45,7 @@
 #include "server/http_server.hpp"
 #include "tests/common/tet_model.hpp"
 #include "tests/common/vtu_writer.hpp"
+#include "tests/server/server_fixture.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -53,9 +54,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 ServerConfig glConfig() {
-    ServerConfig c;
-    c.host = "127.0.0.1";
-    c.port = 0;
+    ServerConfig c = loopbackConfig();
     c.gl = "auto";
     c.workers = 1;
     c.demoTriangles = 20000;
@@ -124,27 +123,11 @@ bool inNeighbourhood(const std::vector<int>& ids, int w, int h, int x, int y, in
     return false;
 }
 
-class CutOutServer : public ::testing::Test {
+class CutOutServer : public InProcessServer {
 protected:
-    static void SetUpTestSuite() {
-        spdlog::set_level(spdlog::level::err);
-        server_ = new SectionServer(glConfig());
-        auto port = server_->start();
-        ASSERT_TRUE(port) << port.error().message;
-        ASSERT_TRUE(server_->waitUntilLoaded());
-    }
-    static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
-    }
-    static httplib::Client client() {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(300, 0);
-        return c;
-    }
-    static SectionServer* server_;
+    static void SetUpTestSuite() { startServer(glConfig(), 300, spdlog::level::err); }
+    static void TearDownTestSuite() { stopServer(); }
 };
-SectionServer* CutOutServer::server_ = nullptr;
 
 // The demo model's centre (metres, EPSG:4523) and a camera from the south-east, above.
 const std::string kCentreX = "35504794", kCentreY = "3388846", kCentreZ = "700";

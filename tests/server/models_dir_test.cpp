@@ -13,6 +13,7 @@
 #include "model/gltf_io.hpp"
 #include "server/http_server.hpp"
 #include "tests/common/synthetic_model.hpp"
+#include "tests/server/server_fixture.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -31,11 +32,7 @@ struct TempDir {
 };
 
 ServerConfig config(const fs::path& models, const std::string& bakeDir = "") {
-    ServerConfig c;
-    c.host = "127.0.0.1";
-    c.port = 0;
-    c.gl = "none";
-    c.workers = 2;
+    ServerConfig c = loopbackConfig();
     c.modelsDir = models.string();
     c.bakeDir = bakeDir;
     return c;

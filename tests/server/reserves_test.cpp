@@ -23,6 +23,7 @@
 
 #include "model/gltf_io.hpp"
 #include "server/http_server.hpp"
+#include "tests/server/server_fixture.hpp"
 #include "tests/unit/test_meshes.hpp"
 
 namespace geoslice::server {
@@ -52,13 +53,10 @@ std::string run(const std::string& cmd) {
     return out;
 }
 
-class ServerReserves : public ::testing::Test {
+class ServerReserves : public InProcessServer {
 protected:
     static void SetUpTestSuite() {
-        spdlog::set_level(spdlog::level::warn);
-        dir_ = fs::temp_directory_path() / ("geoslice_reserves_" + std::to_string(::getpid()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
+        dir_ = freshTempDir("geoslice_reserves");
         Model m = test::modelOf({test::makePart("host", PartKind::Body, 1, test::boxMesh(kLo - kMargin, kHi + kMargin)),
                                  test::makePart("ore, main lens", PartKind::Body, 2, test::boxMesh(kLo, kHi))});
         AttributeRecord host;
@@ -75,27 +73,15 @@ protected:
         ore.gradeUnit = "% Cu";
         m.attributes.put(ore);
         ASSERT_TRUE(writeGlb(m, (dir_ / "box.glb").string()));
-        ServerConfig c;
-        c.host = "127.0.0.1";
-        c.port = 0;
-        c.gl = "none";
-        c.workers = 2;
+        ServerConfig c = loopbackConfig();
         c.modelsDir = dir_.string();
-        server_ = new SectionServer(c);
-        auto port = server_->start();
-        ASSERT_TRUE(port) << port.error().message;
-        ASSERT_TRUE(server_->waitUntilLoaded());
+        startServer(c);
     }
     static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
+        stopServer();
         fs::remove_all(dir_);
     }
-    static httplib::Result get(const std::string& path) {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(60, 0);
-        return c.Get(path.c_str());
-    }
+    // The fixture's getJson, and the answer is plain JSON.
     static json getJson(const std::string& path) {
         auto r = get(path);
         EXPECT_TRUE(r) << path;
@@ -115,7 +101,6 @@ protected:
         EXPECT_NE(j["detail"].get<std::string>().find(needle), std::string::npos)
             << path << ": detail " << j["detail"] << " lacks " << needle;
     }
-    static inline SectionServer* server_ = nullptr;
     static inline fs::path dir_;
 };
 

@@ -22,6 +22,7 @@
 #include "model/crs.hpp"
 #include "model/version.hpp"
 #include "server/http_server.hpp"
+#include "tests/server/server_fixture.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -32,46 +33,18 @@ using nlohmann::json;
 const std::string kPlane = "plane=0,1,0,-3388846";
 
 ServerConfig testConfig() {
-    ServerConfig c;
-    c.host = "127.0.0.1";
-    c.port = 0;
-    c.gl = "none";
-    c.workers = 2;
+    ServerConfig c = loopbackConfig();
     c.demoTriangles = 20000;
     c.cacheMiB = 64;
     c.deadlineMs = 20000;
     return c;
 }
 
-class Server : public ::testing::Test {
+class Server : public InProcessServer {
 protected:
-    static void SetUpTestSuite() {
-        spdlog::set_level(spdlog::level::warn);
-        server_ = new SectionServer(testConfig());
-        auto port = server_->start();
-        ASSERT_TRUE(port) << port.error().message;
-        ASSERT_TRUE(server_->waitUntilLoaded());
-    }
-    static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
-    }
-    static httplib::Client client() {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(60, 0);
-        return c;
-    }
-    static httplib::Result get(const std::string& path) { return client().Get(path.c_str()); }
-    static json getJson(const std::string& path, int expectStatus = 200) {
-        auto r = get(path);
-        EXPECT_TRUE(r) << path;
-        if (!r) return json();
-        EXPECT_EQ(r->status, expectStatus) << path << "\n" << r->body;
-        return json::parse(r->body, nullptr, false);
-    }
-    static SectionServer* server_;
+    static void SetUpTestSuite() { startServer(testConfig()); }
+    static void TearDownTestSuite() { stopServer(); }
 };
-SectionServer* Server::server_ = nullptr;
 
 bool startsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 

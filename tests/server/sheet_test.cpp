@@ -9,6 +9,7 @@
 #include <pugixml.hpp>
 
 #include "server/http_server.hpp"
+#include "tests/server/server_fixture.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -18,35 +19,17 @@ using nlohmann::json;
 const std::string kBase = "/v1/models/demo/section.";
 const std::string kPlane = "plane=0,1,0,-3388846";
 
-class Sheets : public ::testing::Test {
+class Sheets : public InProcessServer {
 protected:
     static void SetUpTestSuite() {
-        spdlog::set_level(spdlog::level::warn);
-        ServerConfig c;
-        c.host = "127.0.0.1";
-        c.port = 0;
-        c.gl = "none";
-        c.workers = 2;
+        ServerConfig c = loopbackConfig();
         c.demoTriangles = 20000;
         c.cacheMiB = 64;
         c.deadlineMs = 20000;
-        server_ = new SectionServer(c);
-        auto port = server_->start();
-        ASSERT_TRUE(port) << port.error().message;
-        ASSERT_TRUE(server_->waitUntilLoaded());
+        startServer(c);
     }
-    static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
-    }
-    static httplib::Result get(const std::string& path) {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(60, 0);
-        return c.Get(path.c_str());
-    }
-    static SectionServer* server_;
+    static void TearDownTestSuite() { stopServer(); }
 };
-SectionServer* Sheets::server_ = nullptr;
 
 void expectProblem(const httplib::Result& r, const std::string& parameter, const std::string& needle = "") {
     ASSERT_TRUE(r);
