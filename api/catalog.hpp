@@ -100,7 +100,7 @@ public:
 
 private:
     mutable std::mutex mutex_;
-    std::map<std::string, std::shared_ptr<const CatalogModel>> models_;
+    std::map<std::string, std::shared_ptr<const CatalogModel>> models_;  // guarded by mutex_
 };
 
 }  // namespace geoslice::api

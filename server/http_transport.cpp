@@ -219,10 +219,10 @@ private:
     }
     mutable std::mutex mutex_;
     std::condition_variable ready_;
-    std::deque<std::function<void()>> queue_;
-    std::vector<std::thread> threads_;
-    std::size_t busy_ = 0;
-    bool stopping_ = false;
+    std::deque<std::function<void()>> queue_;  // guarded by mutex_
+    std::vector<std::thread> threads_;         // set by the constructor, joined by stop()
+    std::size_t busy_ = 0;                     // guarded by mutex_
+    bool stopping_ = false;                    // guarded by mutex_
 };
 
 // What a connection is doing; Idle, Header and Body are "waiting for a request" (evictable).
@@ -254,8 +254,8 @@ struct Core {
     // Every open connection (declared before the io_context: connections destroyed with
     // it unregister themselves here).
     mutable std::mutex registryMutex;
-    std::unordered_map<std::uint64_t, std::weak_ptr<Connection>> registry;
-    std::uint64_t nextId = 0;
+    std::unordered_map<std::uint64_t, std::weak_ptr<Connection>> registry;  // guarded by registryMutex
+    std::uint64_t nextId = 0;                                               // guarded by registryMutex
 
     net::io_context ioc;
     std::optional<net::executor_work_guard<net::io_context::executor_type>> work;
@@ -265,7 +265,7 @@ struct Core {
     std::vector<std::thread> ioThreads;
     std::optional<HandlerPool> pool;
     std::mutex stopMutex;
-    bool started = false, stopped = false;
+    bool started = false, stopped = false;  // guarded by stopMutex
 
     Core(TransportConfig c, Handler h, ErrorBody e)
         : config(std::move(c)),

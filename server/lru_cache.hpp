@@ -73,10 +73,10 @@ private:
         std::size_t size;
     };
     mutable std::mutex mutex_;
-    std::list<Node> order_;  // most recent first
-    std::unordered_map<std::string, typename std::list<Node>::iterator> map_;
-    std::size_t budget_;
-    std::size_t used_ = 0;
+    std::list<Node> order_;                                                    // guarded by mutex_; most recent first
+    std::unordered_map<std::string, typename std::list<Node>::iterator> map_;  // guarded by mutex_
+    const std::size_t budget_;
+    std::size_t used_ = 0;  // guarded by mutex_
     std::atomic<std::uint64_t> hits_{0}, misses_{0}, evictions_{0};
 };
 

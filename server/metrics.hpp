@@ -37,6 +37,7 @@ public:
     std::string text() const;
 
 private:
+    // Every member below is guarded by mutex_.
     mutable std::mutex mutex_;
     std::map<std::string, std::uint64_t> requests_;                         // labels -> count
     std::map<std::string, Histogram> latency_;                              // labels -> histogram
