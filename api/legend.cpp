@@ -60,23 +60,6 @@ void drawText(Canvas& canvas, int x, int y, const std::string& text, int scale, 
 
 }  // namespace
 
-namespace {
-
-std::string number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
-
-std::string classLabel(const PropertyClasses& c, std::size_t k) {
-    if (c.breaks.empty()) return "all values";
-    if (k == 0) return "< " + number(c.breaks[0]);
-    if (k == c.breaks.size()) return ">= " + number(c.breaks.back());
-    return number(c.breaks[k - 1]) + " - " + number(c.breaks[k]);
-}
-
-}  // namespace
-
 nlohmann::ordered_json blockLegendJson(const BlockModel& blocks, const PropertyClasses& classes) {
     const BlockProperty& p = blocks.properties[std::size_t(classes.property)];
     nlohmann::ordered_json rows = nlohmann::ordered_json::array();
@@ -87,7 +70,7 @@ nlohmann::ordered_json blockLegendJson(const BlockModel& blocks, const PropertyC
              {"to",
               k == classes.breaks.size() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(classes.breaks[k])},
              {"colour", formatColour(classes.colours[k])},
-             {"label", classLabel(classes, k)}});
+             {"label", classes.label(k)}});
     return {{"property", p.name},
             {"unit", p.unit},
             {"ramp", classes.ramp},
@@ -123,7 +106,7 @@ LegendImage renderLegend(const CatalogModel& model, int scale, const PropertyCla
         rows.push_back({Rgba8{255, 255, 255, 0},
                         p.name + (p.unit.empty() ? "" : " (" + p.unit + ")") + ", " + classes->ramp + ":", false});
         for (std::size_t k = 0; k < classes->colours.size(); ++k)
-            rows.push_back({classes->colours[k], "  " + classLabel(*classes, k), false});
+            rows.push_back({classes->colours[k], "  " + classes->label(k), false});
     }
 
     const int pad = 4 * scale, rowH = 12 * scale, swatch = 10 * scale;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "api/view.hpp"
 #include "print/cairo_output.hpp"
 #include "print/map_scale.hpp"
 #include "print/section_sheet.hpp"
@@ -146,6 +147,9 @@ Result<SheetOutput> renderSheet(const CatalogModel& model, const SheetRequest& r
     o.dpi = request.dpi;
     o.cancel = cancel;
     o.scaleName = "parameter 'scale'";
+    auto classes = blockClasses(model, def);
+    if (!classes) return classes.error();
+    if (classes.value()) o.blocks = print::SheetBlocks{model.model.blocks.get(), *classes.value(), model.blockRecords};
     print::SheetInfo info;
     info.model = model.id;
     info.version = model.version;

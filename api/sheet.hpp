@@ -8,7 +8,9 @@
 //   dpi=50..600                   decorated images only: the sheet's resolution (default 150)
 //   date=YYYY-MM-DD               the title block's date (default: today, UTC)
 // `size` and `bg` do not apply (the paper sizes a sheet; it is printed on white), nor do
-// perspective views. Errors name the parameter. Pure functions, any thread.
+// perspective views. With colour= (api/plan.hpp BlockColouring) the sheet is coloured by the
+// block property and its legend shows the ramp (print/section_sheet.hpp SheetBlocks).
+// Errors name the parameter. Pure functions, any thread.
 #pragma once
 
 #include <atomic>

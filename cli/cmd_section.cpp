@@ -408,6 +408,11 @@ void addSection(CLI::App& app, int& exitCode) {
                               : !o->line.empty() ? "line=" + o->line
                                                  : "elevation=" + formatNumber(o->elevation);
             if (o->exaggeration != 1.0) info.definition += "&vx=" + formatNumber(o->exaggeration);
+            if (classes) {
+                info.definition += "&colour=" + o->colour;
+                sheetOptions->blocks =
+                    print::SheetBlocks{model->blocks.get(), *classes, blockClipRecords(model.value(), *model->blocks)};
+            }
             auto sheet = polyline ? print::sectionSheet(idx, *lineSection, *sheetOptions, info)
                                   : print::sectionSheet(idx, *section, *sheetOptions, info);
             if (!sheet) return fail(sheet.error().message, sheet.error().code == ErrorCode::OutOfRange ? 2 : 1);

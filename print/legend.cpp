@@ -1,5 +1,6 @@
 #include "print/legend.hpp"
 
+#include <algorithm>
 #include <set>
 
 #include "print/text_metrics.hpp"
@@ -42,12 +43,27 @@ std::vector<LegendEntry> sectionLegend(const SectionIndex& index, const VectorSo
     return out;
 }
 
-double drawLegend(Sheet& sheet, const PageRect& area, const std::vector<LegendEntry>& entries) {
+LegendRamp legendRamp(const BlockModel& blocks, const PropertyClasses& classes) {
+    LegendRamp r;
+    const BlockProperty& p = blocks.properties[std::size_t(classes.property)];
+    r.title = p.name + (p.unit.empty() ? "" : " (" + p.unit + ")") + ", " + classes.ramp + " classes";
+    for (std::size_t k = 0; k < classes.colours.size(); ++k)
+        r.classes.emplace_back(classes.colours[k], classes.label(k));
+    return r;
+}
+
+std::size_t legendRows(const std::vector<LegendEntry>& entries, const LegendRamp* ramp) {
+    return entries.size() + (ramp ? 1 + ramp->classes.size() : 0);
+}
+
+double drawLegend(Sheet& sheet, const PageRect& area, const std::vector<LegendEntry>& entries, const LegendRamp* ramp) {
     constexpr double kHeadingMm = 8.0, kRowMm = 7.6, kSwatchW = 10.0, kSwatchH = 5.6, kGap = 2.5;
-    constexpr double kNamePt = 7.2, kDetailPt = 6.0;
+    constexpr double kNamePt = 7.2, kDetailPt = 6.0, kRampRowMm = 5.6;
     TextItem head{{area.x, area.y + 5.0}, "Legend", 10.0, true};
     sheet.add(std::move(head));
-    const std::size_t fit = area.height <= kHeadingMm ? 0 : std::size_t((area.height - kHeadingMm) / kRowMm);
+    const double rampMm = ramp ? kRowMm + kRampRowMm * double(ramp->classes.size()) : 0.0;
+    const double unitsMm = std::max(0.0, area.height - rampMm);
+    const std::size_t fit = unitsMm <= kHeadingMm ? 0 : std::size_t((unitsMm - kHeadingMm) / kRowMm);
     const std::size_t shown = entries.size() <= fit ? entries.size() : (fit == 0 ? 0 : fit - 1);
     const double textX = area.x + kSwatchW + kGap, textW = area.right() - textX;
     for (std::size_t i = 0; i < shown; ++i) {
@@ -89,6 +105,28 @@ double drawLegend(Sheet& sheet, const PageRect& area, const std::vector<LegendEn
         more.baseline = TextBaseline::Hanging;
         sheet.add(std::move(more));
         used += kRowMm;
+    }
+    if (!ramp) return used;
+    TextItem title{{area.x, area.y + used + 2.0}, fitText(ramp->title, area.width, kNamePt, true), kNamePt, true};
+    title.baseline = TextBaseline::Hanging;
+    sheet.add(std::move(title));
+    used += kRowMm;
+    for (const auto& [colour, label] : ramp->classes) {
+        PathItem swatch;
+        const double y = area.y + used;
+        swatch.subpaths = {{{area.x, y},
+                            {area.x + kSwatchW, y},
+                            {area.x + kSwatchW, y + kRampRowMm - 1.0},
+                            {area.x, y + kRampRowMm - 1.0}}};
+        swatch.fill = colour;
+        swatch.stroke = Rgba8{40, 40, 40, 255};
+        swatch.strokeMm = 0.15;
+        swatch.title = label;
+        sheet.add(std::move(swatch));
+        TextItem t{{textX, y + 0.5 * (kRampRowMm - 1.0)}, fitText(label, area.right() - textX, kNamePt), kNamePt};
+        t.baseline = TextBaseline::Middle;
+        sheet.add(std::move(t));
+        used += kRampRowMm;
     }
     return used;
 }

@@ -1,13 +1,17 @@
 // The legend of a printed section: one entry per geological unit the section shows, with
 // its colour and the record's name, lithology and age (model/attributes.hpp), bodies cut
 // first (in the model's body order, which is the loaders' stratigraphic order), then the
-// surfaces traced (faults, horizons), drawn as lines. Pure functions, any thread.
+// surfaces traced (faults, horizons), drawn as lines; with a block-property colouring, then
+// the property (name, unit, ramp) and one swatch per class with its range
+// (PropertyClasses::label, the same text as legend.png and blockLegend JSON).
+// Pure functions, any thread.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "print/sheet.hpp"
+#include "section/block_section.hpp"
 #include "section/section_index.hpp"
 #include "section/vector_export.hpp"
 
@@ -25,9 +29,22 @@ struct LegendEntry {
 // Entries for the parts `source` shows; one per record (parts sharing a record share an entry).
 std::vector<LegendEntry> sectionLegend(const SectionIndex& index, const VectorSource& source);
 
+// The ramp of a block-property colouring: a title ("grade (g/t Au), viridis classes") and
+// one (colour, range) per class, lowest first.
+struct LegendRamp {
+    std::string title;
+    std::vector<std::pair<Rgba8, std::string>> classes;
+};
+LegendRamp legendRamp(const BlockModel& blocks, const PropertyClasses& classes);
+
+// Rows drawLegend needs for `entries` and `ramp` (its title row and a row per class).
+std::size_t legendRows(const std::vector<LegendEntry>& entries, const LegendRamp* ramp);
+
 // Appends a "Legend" heading and a row per entry (swatch, name, lithology and age) from the
-// top of `area`; entries that do not fit are counted in a last "... and N more" line.
-// Returns the height used (mm).
-double drawLegend(Sheet& sheet, const PageRect& area, const std::vector<LegendEntry>& entries);
+// top of `area`, then the ramp's title and a swatch row per class; the ramp is drawn whole
+// (units that do not fit above it are counted in a "... and N more" line). Returns the
+// height used (mm).
+double drawLegend(Sheet& sheet, const PageRect& area, const std::vector<LegendEntry>& entries,
+                  const LegendRamp* ramp = nullptr);
 
 }  // namespace geoslice::print

@@ -38,8 +38,12 @@ struct Shape {
     std::vector<End> ends;
     std::vector<TitleRow> rows;       // shape-specific title block rows (section, ends, azimuth...)
     std::optional<double> trueNorth;  // horizontal slices in a projected CRS: from grid north, degrees
-    // The engine's raster of a section rectangle, for rasterGeometry.
-    std::function<Result<std::vector<std::uint8_t>>(const FrameRect&, int, int, const RasterOptions&)> raster;
+    // The engine's raster of a section rectangle, for rasterGeometry (with ids when asked).
+    std::function<Result<SectionImage>(const FrameRect&, int, int, const RasterOptions&)> raster;
+    // Section coordinates (u, v) -> world, for colouring a raster by block cells.
+    std::function<glm::dvec3(double, double)> toWorld;
+    // The block pieces of the section (SheetOptions::blocks), for vector geometry.
+    std::function<Result<std::vector<BlockPiece>>()> pieces;
 };
 
 std::string metres(double v) { return formatGrouped(v, std::abs(v) < 100.0 ? 1 : 0); }
@@ -101,7 +105,8 @@ PathItem rect(const PageRect& r, std::optional<Rgba8> stroke, double widthMm) {
 }
 
 // The section's polygons and traces as page paths clipped to the map box.
-void vectorGeometry(Sheet& sheet, const SectionIndex& index, const VectorSource& src, const MapFrame& f) {
+void vectorGeometry(Sheet& sheet, const SectionIndex& index, const VectorSource& src, const MapFrame& f,
+                    const std::vector<BlockPiece>* blockPieces, const SheetBlocks* blocks) {
     std::vector<const BodySection*> order;
     for (const BodySection& b : *src.bodies) order.push_back(&b);
     std::stable_sort(order.begin(), order.end(), [&](const BodySection* a, const BodySection* b) {
@@ -126,6 +131,45 @@ void vectorGeometry(Sheet& sheet, const SectionIndex& index, const VectorSource&
         p.clip = f.box;
         p.title = part.part ? part.part->name : "";
         sheet.add(std::move(p));
+    }
+    if (blockPieces && blocks) {
+        const BlockProperty& prop = blocks->blocks->properties[std::size_t(blocks->classes.property)];
+        for (const BlockPiece& piece : *blockPieces) {
+            const double value = prop.values[piece.cell];
+            if (blocks->classes.classOf(value) < 0) continue;  // no value: the body's fill shows
+            PathItem p;
+            for (const Ring& r : piece.rings) {
+                std::vector<PagePoint> sub;
+                sub.reserve(r.size());
+                for (const glm::dvec2& q : r) sub.push_back(f.toPage(q));
+                p.subpaths.push_back(std::move(sub));
+            }
+            const Rgba8 c = blocks->classes.colourOf(value);
+            p.fill = c;
+            p.stroke = c;  // hides the hairline seams anti-aliasing leaves between neighbours
+            p.strokeMm = 0.05;
+            p.clip = f.box;
+            p.title = prop.name + " " + blocks->classes.label(std::size_t(blocks->classes.classOf(value)));
+            sheet.add(std::move(p));
+        }
+        // The clipping bodies' contacts again, over their cells.
+        for (const BodySection* b : order) {
+            if (!blocks->blocks->clips(b->part)) continue;
+            PathItem p;
+            for (const SectionPolygon& poly : b->polygons) {
+                auto ring = [&](const Ring& r) {
+                    std::vector<PagePoint> sub;
+                    for (const glm::dvec2& q : r) sub.push_back(f.toPage(q));
+                    p.subpaths.push_back(std::move(sub));
+                };
+                ring(poly.outer);
+                for (const Ring& h : poly.holes) ring(h);
+            }
+            p.stroke = kContact;
+            p.strokeMm = 0.12;
+            p.clip = f.box;
+            sheet.add(std::move(p));
+        }
     }
     for (const SectionTrace& t : *src.traces) {
         PathItem p;
@@ -159,11 +203,18 @@ Status rasterGeometry(Sheet& sheet, const Shape& shape, const MapFrame& f, const
     r.v0 = f.shown.v1 - (y1 - f.box.y) / f.mmPerMetreY();
     RasterOptions ro;
     ro.background = Rgba8{0, 0, 0, 0};
-    ro.ids = false;
+    ro.ids = o.blocks.has_value();
     ro.cancel = o.cancel;
-    auto rgba = shape.raster(r, im.width, im.height, ro);
-    if (!rgba) return rgba.error();
-    im.rgba = std::move(rgba.value());
+    auto image = shape.raster(r, im.width, im.height, ro);
+    if (!image) return image.error();
+    im.rgba = std::move(image.value().rgba);
+    if (o.blocks) {
+        const double pu = (r.u1 - r.u0) / im.width, pv = (r.v1 - r.v0) / im.height;
+        colourPixelsByBlocks(
+            *o.blocks->blocks, o.blocks->classes, o.blocks->clipRecords,
+            [&](int i, int j) { return shape.toWorld(r.u0 + (i + 0.5) * pu, r.v1 - (j + 0.5) * pv); }, im.width,
+            im.height, image.value().ids.data(), im.rgba.data(), nullptr);
+    }
     sheet.add(std::move(im));
     return {};
 }
@@ -189,7 +240,9 @@ void drawEnds(Sheet& sheet, const Shape& shape, const MapFrame& f) {
 
 Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOptions& o, const SheetInfo& info) {
     const std::vector<LegendEntry> legend = sectionLegend(index, shape.source);
-    const SheetLayout l = layoutFor(o.paper, legend.size());
+    std::optional<LegendRamp> ramp;
+    if (o.blocks) ramp = legendRamp(*o.blocks->blocks, o.blocks->classes);
+    const SheetLayout l = layoutFor(o.paper, legendRows(legend, ramp ? &*ramp : nullptr));
     if (o.frame) shape.extent = *o.frame;
     FitRequest fit;
     fit.extent = shape.extent;
@@ -215,7 +268,13 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
     if (o.rasterGeometry) {
         if (Status s = rasterGeometry(sheet, shape, f, o); !s) return s.error();
     } else {
-        vectorGeometry(sheet, index, shape.source, f);
+        std::optional<std::vector<BlockPiece>> pieces;
+        if (o.blocks) {
+            auto p = shape.pieces();
+            if (!p) return p.error();
+            pieces = std::move(p.value());
+        }
+        vectorGeometry(sheet, index, shape.source, f, pieces ? &*pieces : nullptr, o.blocks ? &*o.blocks : nullptr);
     }
     drawAxes(sheet, f, shape.axes);
     drawEnds(sheet, shape, f);
@@ -260,6 +319,12 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
     rows.push_back({"Paper", o.paper.describe()});
     rows.push_back({"Geometry", o.rasterGeometry ? "exact section engine, raster at " + formatGrouped(o.dpi, 0) + " dpi"
                                                  : "exact section engine, vector polygons"});
+    if (o.blocks) {
+        const BlockProperty& p = o.blocks->blocks->properties[std::size_t(o.blocks->classes.property)];
+        rows.push_back({"Colour", "block property " + p.name + (p.unit.empty() ? "" : " [" + p.unit + "]") + " of " +
+                                      o.blocks->blocks->source + ", " + o.blocks->classes.ramp + " classes" +
+                                      (o.rasterGeometry ? " (cell under each pixel centre)" : " (exact cell pieces)")});
+    }
     rows.push_back({"Date", info.date});
     const double pad = 4.0;
     const PageRect inner{l.panel.x + pad, l.panel.y + pad, l.panel.width - 2 * pad, l.panel.height - 2 * pad};
@@ -274,7 +339,7 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
         drawNorthArrow(sheet, {legendArea.right() - 12.0, legendArea.y + 12.0}, 16.0, shape.trueNorth);
     }
     if (o.paper.orientation == Orientation::Landscape) legendArea.height -= blockHeight + pad;
-    drawLegend(sheet, legendArea, legend);
+    drawLegend(sheet, legendArea, legend, ramp ? &*ramp : nullptr);
     return sheet;
 }
 
@@ -287,12 +352,11 @@ Result<Sheet> sectionSheet(const SectionIndex& index, const Section& section, co
     const SectionFrame& fr = section.frame;
     const glm::dvec3 n = section.plane.normal;
     const bool empty = section.empty();
-    s.raster = [&index, &section](const FrameRect& r, int w, int h,
-                                  const RasterOptions& ro) -> Result<std::vector<std::uint8_t>> {
-        auto img = rasterizeSection(index, section, r, w, h, ro);
-        if (!img) return img.error();
-        return std::move(img.value().rgba);
+    s.raster = [&index, &section](const FrameRect& r, int w, int h, const RasterOptions& ro) {
+        return rasterizeSection(index, section, r, w, h, ro);
     };
+    s.toWorld = [&section](double u, double v) { return section.frame.toWorld({u, v}); };
+    s.pieces = [&section, &o] { return blockPieces(*o.blocks->blocks, section); };
     // Projected model bounds, the extent of an empty section.
     glm::dvec2 blo{INFINITY}, bhi{-INFINITY};
     for (int c = 0; c < 8; ++c) {
@@ -356,12 +420,16 @@ Result<Sheet> sectionSheet(const SectionIndex& index, const PolylineSection& sec
     Shape s;
     s.kind = Shape::Polyline;
     s.source = vectorSource(section);
-    s.raster = [&index, &section](const FrameRect& r, int w, int h,
-                                  const RasterOptions& ro) -> Result<std::vector<std::uint8_t>> {
+    s.raster = [&index, &section](const FrameRect& r, int w, int h, const RasterOptions& ro) -> Result<SectionImage> {
         auto img = rasterizePolylineSection(index, section, r, w, h, ro);
         if (!img) return img.error();
-        return std::move(img.value().rgba);
+        SectionImage out;
+        out.rgba = std::move(img.value().rgba);
+        out.ids = std::move(img.value().ids);
+        return out;
     };
+    s.toWorld = [&section](double u, double v) { return section.line.worldAt(u, v); };
+    s.pieces = [&index, &section, &o] { return blockPieces(*o.blocks->blocks, section, index.origin); };
     const SectionLine& line = section.line;
     s.extent.u0 = 0.0;
     s.extent.u1 = std::max(line.length(), 1e-3);

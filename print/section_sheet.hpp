@@ -20,12 +20,26 @@
 #include "print/map_frame.hpp"
 #include "print/paper.hpp"
 #include "print/sheet.hpp"
+#include "section/block_section.hpp"
 #include "section/contours.hpp"
 #include "section/polyline.hpp"
 #include "section/raster.hpp"
 #include "section/section_index.hpp"
 
 namespace geoslice::print {
+
+// Colouring by a block property (section/block_section.hpp): vector sheets draw each cell's
+// exact piece (cell ∩ plane ∩ clipping body; polyline legs alike) in its class colour over
+// the bodies' fills, with the clipping bodies' contacts drawn again over the pieces; raster
+// sheets colour a pixel by the cell under its centre where its record is a clipping body's
+// (the profile images' rule, colourPixelsByBlocks); the legend ends with the ramp (the
+// property, its unit and a swatch per class with its range) and the title block names the
+// colouring. Cells with no value keep the body's colour.
+struct SheetBlocks {
+    const BlockModel* blocks = nullptr;  // outlives the sheet call
+    PropertyClasses classes;
+    std::vector<RecordId> clipRecords;  // blockClipRecords(model, *blocks)
+};
 
 struct SheetOptions {
     Paper paper;
@@ -36,6 +50,7 @@ struct SheetOptions {
     double dpi = 150.0;                         // with rasterGeometry: the resolution the sheet is drawn at
     std::string scaleName = "scale";            // how errors name the scale (parameter or flag)
     const std::atomic<bool>* cancel = nullptr;  // read by the raster fill
+    std::optional<SheetBlocks> blocks;          // colour by a block property
 };
 
 // What the title block says about where the section came from (the caller knows).

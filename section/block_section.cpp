@@ -61,6 +61,18 @@ Rgba8 rampColour(std::string_view name, double t) {
     return Rgba8{channel(16), channel(8), channel(0), 255};
 }
 
+std::string PropertyClasses::label(std::size_t k) const {
+    auto number = [](double v) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", v);
+        return std::string(buf);
+    };
+    if (breaks.empty()) return "all values";
+    if (k == 0) return "< " + number(breaks[0]);
+    if (k == breaks.size()) return ">= " + number(breaks.back());
+    return number(breaks[k - 1]) + " - " + number(breaks[k]);
+}
+
 int PropertyClasses::classOf(double value) const {
     if (std::isnan(value)) return -1;
     return int(std::upper_bound(breaks.begin(), breaks.end(), value) - breaks.begin());

@@ -56,6 +56,9 @@ struct PropertyClasses {
     std::vector<Rgba8> colours;  // breaks.size() + 1
 
     int classOf(double value) const;  // -1 for NaN (no value)
+    // Class k's range as text, the one form of every legend: "< b0", "b0 - b1", ..., ">= bn"
+    // (%g numbers), "all values" with no breaks.
+    std::string label(std::size_t k) const;
     Rgba8 colourOf(double value) const { return colours[std::size_t(classOf(value))]; }
 };
 // Checks the breaks (finite, increasing, at most 64) and fills the colours.

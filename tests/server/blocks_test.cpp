@@ -205,6 +205,24 @@ TEST_F(ServerBlocks, GradeTonnageOnTheKeptSideOfAPlane) {
     expectProblem("/v1/models/box/reserves?cutoffs=0&plane=0,0,0,1", "plane");
 }
 
+TEST_F(ServerBlocks, PrintSheetsAreColouredWithTheRampInTheLegend) {
+    const std::string view = "elevation=" + std::to_string(kGrid.z + 27.5) + "&colour=grade&breaks=0.5&date=2026-11-24";
+    auto svg = get("/v1/models/box/section.svg?layout=print&paper=A4&" + view);
+    ASSERT_TRUE(svg);
+    ASSERT_EQ(svg->status, 200) << svg->body;
+    // The ramp's title and class labels are text; the pieces carry their class as a title.
+    for (const char* s : {"grade (g/t Au), viridis classes", "&lt; 0.5", "&gt;= 0.5", "<title>grade &gt;= 0.5</title>"})
+        EXPECT_NE(svg->body.find(s), std::string::npos) << s;
+    auto pdf = get("/v1/models/box/section.pdf?paper=A4&" + view);
+    ASSERT_TRUE(pdf);
+    ASSERT_EQ(pdf->status, 200) << pdf->body;
+    EXPECT_EQ(pdf->body.rfind("%PDF-", 0), 0u);
+    auto png = get("/v1/models/box/section.png?decorate=1&paper=A5&dpi=50&" + view);
+    ASSERT_TRUE(png);
+    EXPECT_EQ(png->status, 200) << png->body;
+    expectProblem("/v1/models/box/section.pdf?elevation=0&colour=gold", "gold");
+}
+
 TEST_F(ServerBlocks, ColouredImageQuerySvgAndLegend) {
     const std::string view = "elevation=" + std::to_string(kGrid.z + 27.5) + "&size=200x160&colour=grade&breaks=0.5";
     auto img = get("/v1/models/box/section.png?" + view);

@@ -11,10 +11,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <set>
 #include <sstream>
 
+#include "model/block_model.hpp"
 #include "model/loaders.hpp"
 #include "model/validate.hpp"
 #include "print/axes.hpp"
@@ -30,6 +32,7 @@
 #include "print/svg_output.hpp"
 #include "print/text_metrics.hpp"
 #include "renderer/image_encode.hpp"
+#include "section/block_section.hpp"
 #include "section/contours.hpp"
 #include "section/polyline.hpp"
 #include "section/section_index.hpp"
@@ -337,6 +340,41 @@ TEST(PrintSvg, ParsesAsXmlAndKeepsTextAsText) {
     EXPECT_GE(paths, fx.section.bodies.size());
 }
 
+// Compares a rendering with tests/data/goldens/<name>.png (UPDATE_GOLDENS=1 rewrites it).
+void expectGolden(const DecodedImage& actual, const std::string& name) {
+    const std::string golden = std::string(GEOSLICE_TEST_DATA_DIR) + "/goldens/" + name + ".png";
+    const char* update = std::getenv("UPDATE_GOLDENS");
+    if (update && std::string(update) == "1") {
+        ASSERT_TRUE(writeImage(golden, actual.rgba.data(), actual.width, actual.height).ok());
+        std::printf("rewrote %s\n", golden.c_str());
+        return;
+    }
+    auto expected = readPngRgba(golden);
+    ASSERT_TRUE(expected.ok()) << expected.error().message << " (UPDATE_GOLDENS=1 makes it)";
+    ASSERT_EQ(expected->width, actual.width);
+    ASSERT_EQ(expected->height, actual.height);
+    // Tolerance: a pixel fails when a channel differs by more than 64 of 255, and at most
+    // 0.5 % of pixels may fail. Geometry and layout are deterministic; what may move is
+    // anti-aliasing and glyph rasterisation, which depend on the poppler, cairo and
+    // FreeType builds (CI runs the same Debian 12 packages, where the difference is 0).
+    std::size_t failing = 0;
+    int maxDiff = 0;
+    for (std::size_t i = 0; i < actual.rgba.size(); i += 4) {
+        int d = 0;
+        for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(actual.rgba[i + c]) - int(expected->rgba[i + c])));
+        maxDiff = std::max(maxDiff, d);
+        failing += d > 64;
+    }
+    const double fraction = double(failing) / double(actual.width * actual.height);
+    std::printf("[ golden   ] %s: %zu failing pixels (%.3f%%), max channel diff %d\n", name.c_str(), failing,
+                100.0 * fraction, maxDiff);
+    if (fraction > 0.005) {
+        const std::string out = tempPath(name + ".actual.png");
+        EXPECT_TRUE(writeImage(out, actual.rgba.data(), actual.width, actual.height).ok());
+        ADD_FAILURE() << failing << " pixels differ from " << golden << "; the rendering is in " << out;
+    }
+}
+
 // The PDF: opened by poppler (pdftoppm), its rendering compared with a golden image, and
 // its text extracted (pdftotext) -- text stays text.
 TEST(PrintPdf, OpensInPopplerAndMatchesItsGolden) {
@@ -362,36 +400,7 @@ TEST(PrintPdf, OpensInPopplerAndMatchesItsGolden) {
     EXPECT_EQ(actual->width, 468);  // 297 mm at 40 dpi
     EXPECT_EQ(actual->height, 331);
 
-    const std::string golden = std::string(GEOSLICE_TEST_DATA_DIR) + "/goldens/print_section_a4.png";
-    const char* update = std::getenv("UPDATE_GOLDENS");
-    if (update && std::string(update) == "1") {
-        ASSERT_TRUE(writeImage(golden, actual->rgba.data(), actual->width, actual->height).ok());
-        GTEST_SKIP() << "rewrote " << golden;
-    }
-    auto expected = readPngRgba(golden);
-    ASSERT_TRUE(expected.ok()) << expected.error().message << " (UPDATE_GOLDENS=1 makes it)";
-    ASSERT_EQ(expected->width, actual->width);
-    ASSERT_EQ(expected->height, actual->height);
-    // Tolerance: a pixel fails when a channel differs by more than 64 of 255, and at most
-    // 0.5 % of pixels may fail. Geometry and layout are deterministic; what may move is
-    // anti-aliasing and glyph rasterisation, which depend on the poppler, cairo and
-    // FreeType builds (CI runs the same Debian 12 packages, where the difference is 0).
-    std::size_t failing = 0;
-    int maxDiff = 0;
-    for (std::size_t i = 0; i < actual->rgba.size(); i += 4) {
-        int d = 0;
-        for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(actual->rgba[i + c]) - int(expected->rgba[i + c])));
-        maxDiff = std::max(maxDiff, d);
-        failing += d > 64;
-    }
-    const double fraction = double(failing) / double(actual->width * actual->height);
-    std::printf("[ golden   ] print_section_a4: %zu failing pixels (%.3f%%), max channel diff %d\n", failing,
-                100.0 * fraction, maxDiff);
-    if (fraction > 0.005) {
-        const std::string out = tempPath("print_section_a4.actual.png");
-        EXPECT_TRUE(writeImage(out, actual->rgba.data(), actual->width, actual->height).ok());
-        ADD_FAILURE() << failing << " pixels differ from " << golden << "; the rendering is in " << out;
-    }
+    expectGolden(actual.value(), "print_section_a4");
 
     const std::string text = runText("pdftotext -layout '" + path + "' -");
     for (const char* s : {"Geological section W", "Legend", "Elevation (m)", "2026-11-24", "Scale 1:"})
@@ -400,6 +409,118 @@ TEST(PrintPdf, OpensInPopplerAndMatchesItsGolden) {
 
 // Chinese unit names (a Geo3DML model's records, "雾迷山组"): set in WenQuanYi Micro Hei, whose glyphs
 // the PDF embeds, so the names print instead of empty boxes; pdftotext reads them back.
+// A block model over the fixture's orebodies: a 16 x 16 x 8 grid over the model's bounds,
+// grade = 0.25 i + 0.1 k g/t Au, clipped by the bodies whose record is an orebody; classes
+// < 1, 1 - 2, 2 - 3, >= 3 on viridis.
+struct BlockFixture : Fixture {
+    BlockModel blocks;
+    SheetBlocks sheetBlocks() {
+        const Aabb& b = index->bounds;
+        blocks.source = "test grid";
+        blocks.origin = b.min;
+        blocks.dims = {16, 16, 8};
+        for (int a = 0; a < 3; ++a)
+            blocks.size[std::size_t(a)] = (b.max[a] - b.min[a]) / double(blocks.dims[std::size_t(a)]);
+        BlockProperty grade{"grade", "g/t Au", std::vector<double>(blocks.cellCount())};
+        for (std::size_t c = 0; c < blocks.cellCount(); ++c) {
+            const auto ijk = blocks.ijk(c);
+            grade.values[c] = 0.25 * double(ijk[0]) + 0.1 * double(ijk[2]);
+        }
+        blocks.properties.push_back(std::move(grade));
+        for (const Part& p : model.bodies)
+            if (const AttributeRecord* r = model.attributes.find(p.record); r && r->kind == "orebody")
+                blocks.clipBodies.push_back(p.name);
+        EXPECT_FALSE(blocks.clipBodies.empty());
+        EXPECT_TRUE(resolveBlockClip(model, blocks).ok());
+        auto classes = makePropertyClasses(0, "viridis", {1.0, 2.0, 3.0});
+        EXPECT_TRUE(classes.ok());
+        return SheetBlocks{&blocks, classes.value(), blockClipRecords(model, blocks)};
+    }
+};
+
+TEST(PrintSheet, BlockColouredSheetShowsItsRamp) {
+    BlockFixture fx;
+    SheetOptions o = fx.options();
+    o.blocks = fx.sheetBlocks();
+    const PropertyClasses& classes = o.blocks->classes;
+    // Vector: one path per piece with a value, in its class colour; the ramp in the legend.
+    auto sheet = sectionSheet(*fx.index, fx.section, o, fx.info());
+    ASSERT_TRUE(sheet.ok()) << sheet.error().message;
+    const auto t = texts(sheet.value());
+    EXPECT_TRUE(contains(t, "grade (g/t Au), viridis classes"));
+    for (const char* label : {"< 1", "1 - 2", "2 - 3", ">= 3"}) EXPECT_TRUE(contains(t, label)) << label;
+    auto pieces = blockPieces(fx.blocks, fx.section);
+    ASSERT_TRUE(pieces.ok());
+    std::map<int, std::size_t> expected, got;  // class -> pieces
+    for (const BlockPiece& p : pieces.value()) ++expected[classes.classOf(fx.blocks.properties[0].values[p.cell])];
+    ASSERT_GE(expected.size(), 2u) << "the section should show several classes";
+    for (const SheetItem& item : sheet->items)
+        if (const auto* p = std::get_if<PathItem>(&item); p && p->title.rfind("grade ", 0) == 0) {
+            ASSERT_TRUE(p->fill);
+            for (std::size_t k = 0; k < classes.colours.size(); ++k)
+                if (p->title == "grade " + classes.label(k)) {
+                    EXPECT_EQ(p->fill->r, classes.colours[k].r);
+                    EXPECT_EQ(p->fill->g, classes.colours[k].g);
+                    EXPECT_EQ(p->fill->b, classes.colours[k].b);
+                    ++got[int(k)];
+                }
+        }
+    EXPECT_EQ(got, expected);
+    // The title block names the colouring (its value wraps over lines).
+    std::string all;
+    for (const std::string& s : t) all += s + " ";
+    EXPECT_NE(all.find("block property grade"), std::string::npos) << all;
+    EXPECT_NE(all.find("test grid"), std::string::npos) << all;
+    // Polyline sheets are coloured too.
+    const Aabb& b = fx.index->bounds;
+    auto line = computePolylineSection(*fx.index, {{b.min.x + 100.0, 0.5 * (b.min.y + b.max.y)},
+                                                   {0.5 * (b.min.x + b.max.x), b.max.y - 500.0},
+                                                   {b.max.x - 100.0, 0.5 * (b.min.y + b.max.y)}});
+    ASSERT_TRUE(line.ok());
+    auto lineSheet = sectionSheet(*fx.index, line.value(), o, fx.info());
+    ASSERT_TRUE(lineSheet.ok()) << lineSheet.error().message;
+    auto linePieces = blockPieces(fx.blocks, line.value(), fx.index->origin);
+    ASSERT_TRUE(linePieces.ok());
+    std::size_t linePaths = 0;
+    for (const SheetItem& item : lineSheet->items)
+        if (const auto* p = std::get_if<PathItem>(&item); p && p->title.rfind("grade ", 0) == 0) ++linePaths;
+    EXPECT_EQ(linePaths, linePieces->size());
+    EXPECT_GT(linePaths, 0u);
+    // Raster: the map box's pixels take the class colours (the profile images' rule).
+    SheetOptions ro = o;
+    ro.rasterGeometry = true;
+    ro.dpi = 60.0;
+    auto raster = sectionSheet(*fx.index, fx.section, ro, fx.info());
+    ASSERT_TRUE(raster.ok()) << raster.error().message;
+    std::map<int, std::size_t> classPixels;
+    for (const SheetItem& item : raster->items)
+        if (const auto* im = std::get_if<ImageItem>(&item))
+            for (std::size_t i = 0; i < im->rgba.size(); i += 4)
+                for (std::size_t k = 0; k < classes.colours.size(); ++k)
+                    if (im->rgba[i] == classes.colours[k].r && im->rgba[i + 1] == classes.colours[k].g &&
+                        im->rgba[i + 2] == classes.colours[k].b && im->rgba[i + 3] == 255)
+                        ++classPixels[int(k)];
+    for (const auto& [k, n] : expected) EXPECT_GT(classPixels[k], 0u) << "class " << k;
+    // The PDF: poppler opens it; its rendering matches a golden (the tolerance of the plain
+    // sheet's golden above); the ramp's text is text.
+    auto pdf = renderPdf(sheet.value());
+    ASSERT_TRUE(pdf.ok()) << pdf.error().message;
+    const std::string path = tempPath("blocks.pdf"), base = tempPath("blocks");
+    {
+        std::ofstream f(path, std::ios::binary);
+        f << pdf.value();
+    }
+    ASSERT_EQ(std::system(("pdftoppm -r 40 -png -singlefile '" + path + "' '" + base + "'").c_str()), 0);
+    auto actual = readPngRgba(base + ".png");
+    ASSERT_TRUE(actual.ok()) << actual.error().message;
+    expectGolden(actual.value(), "print_section_blocks_a4");
+    // pdftotext drops the spaces of short labels ("2-3"): compare without spaces.
+    std::string text = runText("pdftotext -layout '" + path + "' -");
+    std::erase(text, ' ');
+    for (const char* s : {"grade(g/tAu),viridisclasses", ">=3", "2-3", "<1"})
+        EXPECT_NE(text.find(s), std::string::npos) << s << " not found in the PDF's text:\n" << text;
+}
+
 TEST(PrintPdf, ChineseUnitNamesGetACjkFont) {
     EXPECT_STREQ(fontFamilyFor("Maokou Formation (P2m)"), kFontFamily);
     EXPECT_STREQ(fontFamilyFor("\u5730\u5c42C"), kCjkFontFamily);
