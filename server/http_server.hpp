@@ -1,10 +1,12 @@
-// The HTTP section server: routes (api/openapi.hpp lists them), render workers, caches,
-// metrics and graceful shutdown. HTTP/1.1 (keep-alive, pipelining, deadlines, connection
-// cap) through server/http_transport.hpp (Boost.Beast); gzip for JSON when the client
-// accepts it; errors as RFC 9457 problem details.
+// The HTTP section server: start-up, the model loader, the GL probe and graceful shutdown.
+// Routes live in server/routes/ (one family per file, registered with server/router.hpp;
+// api/openapi.hpp documents them); renders go through server/render_cache.hpp to the render
+// workers (workers/). HTTP/1.1 (keep-alive, pipelining, deadlines, connection cap) through
+// server/http_transport.hpp (Boost.Beast); gzip for JSON when the client accepts it; errors
+// as RFC 9457 problem details (server/respond.hpp).
 //
 // Threads: HTTP handler threads parse, look up caches and answer queries (no GL); image
-// and tile renders go to the RenderPool, whose workers own any GL context. Models load on
+// and tile renders go to the render pool, whose workers own any GL context. Models load on
 // a background thread after start(); /readyz says when they are in.
 #pragma once
 

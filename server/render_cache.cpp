@@ -17,8 +17,6 @@ using Clock = std::chrono::steady_clock;
 // kept 1.47 GB after an 8192^2 view): render targets, then the heap's free pages.
 constexpr std::size_t kTrimAfterBytes = std::size_t(256) << 20;
 
-std::string mib(std::size_t bytes) { return std::to_string((bytes + (std::size_t(1) << 20) - 1) >> 20); }
-
 }  // namespace
 
 namespace cache_key {
@@ -106,14 +104,16 @@ Error RenderCache::refusal(workers::Admission admission, std::size_t memoryBytes
                              "the render queue is full (" + std::to_string(pool_.capacity()) + " jobs); retry shortly");
         case Admission::OverMemory:
             metrics_.count("geoslice_queue_rejections_total", "reason=\"memory\"");
-            return makeError(ErrorCode::Unavailable, "this render needs about " + mib(memoryBytes) +
-                                                         " MiB and the memory budget (" + mib(pool_.memoryBudget()) +
+            return makeError(ErrorCode::Unavailable, "this render needs about " + roundedMiB(memoryBytes) +
+                                                         " MiB and the memory budget (" +
+                                                         roundedMiB(pool_.memoryBudget()) +
                                                          " MiB) is taken by renders under way; retry shortly");
         case Admission::TooLarge:
             metrics_.count("geoslice_queue_rejections_total", "reason=\"too_large\"");
-            return makeError(ErrorCode::OutOfRange, "parameter 'size': this render needs about " + mib(memoryBytes) +
-                                                        " MiB, more than the server's whole memory budget of " +
-                                                        mib(pool_.memoryBudget()) + " MiB; ask for fewer pixels");
+            return makeError(ErrorCode::OutOfRange,
+                             "parameter 'size': this render needs about " + roundedMiB(memoryBytes) +
+                                 " MiB, more than the server's whole memory budget of " +
+                                 roundedMiB(pool_.memoryBudget()) + " MiB; ask for fewer pixels");
         case Admission::Stopping:
             return makeError(ErrorCode::Unavailable, "the server is shutting down");
     }

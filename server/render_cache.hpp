@@ -50,6 +50,9 @@ struct IdBuffer {
 };
 
 using Rendered = Result<std::shared_ptr<const Encoded>>;
+
+// Bytes as whole MiB rounded up, for messages ("this render needs about 12 MiB").
+inline std::string roundedMiB(std::size_t bytes) { return std::to_string((bytes + (std::size_t(1) << 20) - 1) >> 20); }
 // Runs on a render worker; `cancel` is set when every request waiting for it left.
 using RenderFn = std::function<Rendered(workers::WorkerState&, const std::atomic<bool>& cancel)>;
 

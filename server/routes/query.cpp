@@ -11,8 +11,6 @@
 namespace geoslice::server {
 namespace {
 
-std::string mib(std::size_t bytes) { return std::to_string((bytes + (std::size_t(1) << 20) - 1) >> 20); }
-
 void queryGet(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     auto m = findModel(st, req.matches[1], res, req.path);
     if (!m) return;
@@ -64,8 +62,8 @@ void queryPost(ServerState& st, const HttpRequest& req, HttpResponse& res) {
                 api::writeQueryAnswer(*m, a.value(), out);
                 if (out.size() > kMaxBatchAnswerBytes)
                     return makeError(ErrorCode::OutOfRange,
-                                     "field 'pixels': the answer passed " + mib(kMaxBatchAnswerBytes) + " MiB after " +
-                                         std::to_string(i + 1) + " pixels; ask for fewer pixels");
+                                     "field 'pixels': the answer passed " + roundedMiB(kMaxBatchAnswerBytes) +
+                                         " MiB after " + std::to_string(i + 1) + " pixels; ask for fewer pixels");
             }
             out += "]}";
             e->contentType = "application/json";
