@@ -13,6 +13,7 @@
 #include "model/synthetic.hpp"
 #include "model/validate.hpp"
 #include "section/block_section.hpp"
+#include "section/leaf_order.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -255,6 +256,8 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
             auto bakeInto = [&]() -> Status {
                 auto model = loadModel(path);
                 if (!model) return model.error();
+                // The package stores the mesh in the section BVH's leaf order (section/leaf_order.hpp).
+                if (auto s = reorderForSection(model.value()); !s) return s.error();
                 auto baked = bake::bakeModel(model.value());
                 if (!baked) return makeError(baked.error().code, "baking model '" + id + "': " + baked.error().message);
                 if (auto s = bake::writePackage(model.value(), baked.value(), dir); !s) return s.error();

@@ -46,7 +46,10 @@ namespace geoslice::bake {
 // 2: the manifest carries the validation of the package's own mesh ("validation"), so a
 // package that passes its checksums is not validated again when it is loaded, and the
 // package holds the section BVH (section.bvh).
-constexpr int kPackageVersion = 2;
+// 3: the mesh is stored in the section BVH's leaf order and the BVH's leaves list their
+// triangle ids in ascending order (section/leaf_order.hpp), so a version-2 package, which
+// would still cut correctly but slower, is baked again.
+constexpr int kPackageVersion = 3;
 constexpr const char* kPackageFormat = "geoslice-baked-model";
 constexpr const char* kManifestFile = "manifest.json";
 constexpr const char* kMeshFile = "mesh.glb";

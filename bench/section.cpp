@@ -8,10 +8,14 @@
 // reserves of every body (whole, and on one side of a plane). Prints JSON
 // with medians (ms) and the per-size build figures. --oracle N also compares an N x N ID
 // buffer per plane with the Embree oracle (section/classify.hpp) at every pixel centre.
+// --leaf-order 1 (default) puts the model in the BVH's leaf order first, as a baked package
+// stores it (section/leaf_order.hpp), and times the cut on a generator-ordered copy beside
+// it, plane by plane (leaf_order_vs_generator_order); --leaf-order 0 skips both.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -25,6 +29,7 @@
 #include "section/borehole.hpp"
 #include "section/classify.hpp"
 #include "section/contours.hpp"
+#include "section/leaf_order.hpp"
 #include "section/plane_cut.hpp"
 #include "section/polyline.hpp"
 #include "section/raster.hpp"
@@ -46,6 +51,7 @@ int main(int argc, char** argv) {
     int planes = 50, side = 1024, tileSide = 256;
     unsigned leaf = 8;
     int oracleSide = 0;
+    bool leafOrder = true;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--sizes"))
             sizes = argv[i + 1];
@@ -59,6 +65,8 @@ int main(int argc, char** argv) {
             oracleSide = std::stoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--leaf"))
             leaf = static_cast<unsigned>(std::stoul(argv[i + 1]));
+        else if (!std::strcmp(argv[i], "--leaf-order"))
+            leafOrder = std::stoi(argv[i + 1]) != 0;
     }
     json results = json::array();
     std::stringstream list(sizes);
@@ -75,6 +83,18 @@ int main(int argc, char** argv) {
         }
         validate(model.value());
         const double genS = bench::nowSeconds() - t;
+        // A baked package stores its mesh in the section BVH's leaf order (section/leaf_order.hpp).
+        double reorderS = 0.0;
+        std::optional<Model> plain;  // generator order, for the interleaved comparison
+        if (leafOrder) {
+            plain = model.value();
+            t = bench::nowSeconds();
+            if (auto s = reorderForSection(model.value()); !s) {
+                std::fprintf(stderr, "%s\n", s.error().message.c_str());
+                return 1;
+            }
+            reorderS = bench::nowSeconds() - t;
+        }
         const double rssBefore = bench::currentRssMiB();
         bench::resetPeakRss();
         BvhOptions bo;
@@ -91,6 +111,16 @@ int main(int argc, char** argv) {
         const double rssAfter = bench::currentRssMiB();
         const double rssPeakBuild = bench::peakRssSinceResetMiB();
         const SectionIndex& idx = *index.value();
+        std::unique_ptr<SectionIndex> plainIndex;
+        if (plain) {
+            auto pi = buildSectionIndex(*plain, bo);
+            if (!pi) {
+                std::fprintf(stderr, "%s\n", pi.error().message.c_str());
+                return 1;
+            }
+            plainIndex = std::move(pi).value();
+        }
+        std::vector<double> abPlain, abLeaf, abRatio;
 
         std::vector<double> cSection1, cSection2, tSection1;
         std::vector<double> tQueryTris, tContours2, tEnd2, cCut, cAssemble, cFill, cEnd, nodesVisited, trisTested,
@@ -166,6 +196,28 @@ int main(int argc, char** argv) {
                 tEnd2.push_back(ms(s));
             }
             for (const auto& b : section.bodies) openChains += b.openChains;
+            // The same cut on the generator-ordered copy and on the leaf-ordered model,
+            // alternating which goes first (thread CPU: the machine may be shared).
+            if (plainIndex) {
+                double cpu[2];
+                for (int j = 0; j < 2; ++j) {
+                    const bool leafFirst = (k & 1) != 0;
+                    const bool leafNow = leafFirst == (j == 0);
+                    const SectionIndex& which = leafNow ? idx : *plainIndex;
+                    PlaneCut ab;
+                    beginCut(which, p, ab);
+                    const double c0 = bench::threadCpuSeconds();
+                    cutWithBvh(which, nullptr, ab, 1);
+                    cpu[leafNow ? 1 : 0] = 1000.0 * (bench::threadCpuSeconds() - c0);
+                    if (ab.segments != cut.segments) {
+                        std::fprintf(stderr, "plane %d: leaf order changed the segment count\n", k);
+                        return 1;
+                    }
+                }
+                abPlain.push_back(cpu[0]);
+                abLeaf.push_back(cpu[1]);
+                abRatio.push_back(cpu[1] / cpu[0]);
+            }
 
             const FrameRect full = fitFrame(section, side, side);
             // Fill into fresh buffers (allocation and page faults included).
@@ -288,6 +340,8 @@ int main(int argc, char** argv) {
             {"model", size},
             {"triangles", model->triangleCount()},
             {"generate_and_validate_s", genS},
+            {"leaf_order", leafOrder},
+            {"leaf_order_s", reorderS},
             {"index_build_s", buildS},
             {"index_build_cpu_s", buildCpuS},
             {"index_bytes_mib", double(idx.memoryBytes()) / (1024.0 * 1024.0)},
@@ -335,6 +389,11 @@ int main(int argc, char** argv) {
               {"median_ms_end_to_end_" + std::to_string(side) + "x" + std::to_string(side / 2),
                bench::median(tLineEnd)}}},
             {"reserves_ms", {{"whole_model", reservesMs}, {"kept_side_of_a_plane", reservesPlaneMs}}},
+            {"leaf_order_vs_generator_order",
+             {{"planes", abRatio.size()},
+              {"cut_cpu_ms_generator_order", bench::median(abPlain)},
+              {"cut_cpu_ms_leaf_order", bench::median(abLeaf)},
+              {"median_ratio", bench::median(abRatio)}}},
             {"median_nodes_visited", bench::median(nodesVisited)},
             {"median_leaf_triangles_cut", bench::median(trisTested)},
         });

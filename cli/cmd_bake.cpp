@@ -13,6 +13,7 @@
 #include "bake/package.hpp"
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
+#include "section/leaf_order.hpp"
 
 namespace geoslice::cli {
 namespace {
@@ -90,6 +91,11 @@ int runBake(const BakeArgs& a) {
             return 1;
         }
         blocks = std::move(parsed).value();
+    }
+    // The package stores the mesh in the section BVH's leaf order (section/leaf_order.hpp).
+    if (auto s = reorderForSection(model.value()); !s) {
+        std::fprintf(stderr, "geoslice bake: %s\n", s.error().message.c_str());
+        return 1;
     }
     bake::BakeOptions o;
     if (!a.field.empty() || !a.vertexField.empty()) {

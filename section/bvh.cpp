@@ -91,6 +91,9 @@ struct Builder {
         BvhNode& node = nodes[index];
         const std::size_t n = end - begin;
         if (n <= leafSize) {
+            // Ascending ids: a mesh stored in leaf order (section/leaf_order.hpp) is then read
+            // forwards, leaf by leaf (measured on L4: 0.82x the cut's CPU time).
+            std::sort(items + begin, items + end, [](const Item& a, const Item& b) { return a.id < b.id; });
             node.first = static_cast<std::uint32_t>(begin);
             node.count = static_cast<std::uint32_t>(n);
             leafBounds(node, begin, end);
@@ -141,16 +144,6 @@ struct NodeTest {
     }
 };
 
-// Can the box hold a triangle with a vertex at distance < 0 and one at >= 0? The margin
-// covers rounding in this double arithmetic only (the box itself is conservative).
-bool straddles(const NodeTest& t, const LocalPlane& plane) {
-    const double s = glm::dot(plane.n, t.centre) + plane.d;
-    const double r = t.radius(plane.n);
-    const double tol =
-        1e-12 * (std::abs(plane.d) + std::abs(t.centre.x) + std::abs(t.centre.y) + std::abs(t.centre.z) + r);
-    return s - r < tol && s + r > -tol;
-}
-
 bool overlapsRect(const NodeTest& t, const PlaneRect& rect) {
     const glm::dvec3 c = t.centre - rect.originLocal;
     const double cu = glm::dot(c, rect.u), cv = glm::dot(c, rect.v);
@@ -159,13 +152,39 @@ bool overlapsRect(const NodeTest& t, const PlaneRect& rect) {
     return cu + ru >= rect.u0 - tol && cu - ru <= rect.u1 + tol && cv + rv >= rect.v0 - tol && cv - rv <= rect.v1 + tol;
 }
 
+// The same question for many boxes of one tree: the box's lowest and highest distances are
+// at the corners picked by the normal's signs (hi where n_k >= 0 for the highest), so the
+// test is six multiply-adds and no absolute values. The tolerance covers rounding for any
+// box inside `root` (the tree's root box, which holds every node), so it is computed once.
+struct PlaneStraddle {
+    double n[3], d, tol;
+    bool up[3];  // n_k >= 0
+    PlaneStraddle(const LocalPlane& plane, const BvhNode& root) : n{plane.n.x, plane.n.y, plane.n.z}, d(plane.d) {
+        double mag = std::abs(d);
+        for (int k = 0; k < 3; ++k) {
+            up[k] = n[k] >= 0.0;
+            const double extent = std::max(std::abs(double(root.lo[k])), std::abs(double(root.hi[k])));
+            mag += std::abs(n[k]) * extent + extent;
+        }
+        tol = 1e-12 * mag;
+    }
+    bool operator()(const BvhNode& nd) const {
+        double lo = d, hi = d;
+        for (int k = 0; k < 3; ++k) {
+            const double a = n[k] * double(nd.lo[k]), b = n[k] * double(nd.hi[k]);
+            lo += up[k] ? a : b;
+            hi += up[k] ? b : a;
+        }
+        return lo < tol && hi > -tol;
+    }
+};
+
 template <bool kRect>
-bool hitNode(const BvhNode& nd, const LocalPlane& plane, const PlaneRect* rect, BvhQueryStats& st) {
+bool hitNode(const BvhNode& nd, const PlaneStraddle& straddle, const PlaneRect* rect, BvhQueryStats& st) {
     ++st.nodesVisited;
-    const NodeTest t(nd);
-    if (!straddles(t, plane)) return false;
+    if (!straddle(nd)) return false;
     if constexpr (kRect) {
-        if (!overlapsRect(t, *rect)) return false;
+        if (!overlapsRect(NodeTest(nd), *rect)) return false;
     }
     return true;
 }
@@ -176,7 +195,8 @@ template <bool kRect, class OnLeaf>
 void traverse(const Bvh& bvh, std::uint32_t start, const LocalPlane& plane, const PlaneRect* rect, BvhQueryStats& st,
               OnLeaf&& onLeaf) {
     if (bvh.nodes.empty()) return;
-    auto hit = [&](const BvhNode& nd) { return hitNode<kRect>(nd, plane, rect, st); };
+    const PlaneStraddle straddle(plane, bvh.nodes[0]);
+    auto hit = [&](const BvhNode& nd) { return hitNode<kRect>(nd, straddle, rect, st); };
     const BvhNode& root = bvh.nodes[start];
     if (!hit(root)) return;
     if (root.count) {
@@ -353,8 +373,9 @@ void queryPlaneUnits(const Bvh& bvh, const LocalPlane& plane, const PlaneRect* r
     units.clear();
     if (bvh.nodes.empty()) return;
     BvhQueryStats st;
+    const PlaneStraddle straddle(plane, bvh.nodes[0]);
     auto hit = [&](const BvhNode& nd) {
-        return rect ? hitNode<true>(nd, plane, rect, st) : hitNode<false>(nd, plane, nullptr, st);
+        return rect ? hitNode<true>(nd, straddle, rect, st) : hitNode<false>(nd, straddle, nullptr, st);
     };
     if (!hit(bvh.nodes[0])) return;
     units.push_back(0);

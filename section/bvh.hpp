@@ -71,7 +71,7 @@ struct Bvh {
     // nodes[0] is the root (absent when empty), nodes[1] unused padding; every pair of
     // siblings starts at an even index, so it fills one 64-byte cache line.
     std::vector<BvhNode, CacheLineAllocator<BvhNode>> nodes;
-    std::vector<std::uint32_t> triangles;  // global triangle ids in leaf order
+    std::vector<std::uint32_t> triangles;  // global triangle ids in leaf order, ascending within a leaf
     std::vector<std::uint32_t> meshFirst;  // mesh m owns global ids [meshFirst[m], meshFirst[m + 1])
     glm::dvec3 origin{0.0};                // world point of the local frame
 

@@ -131,6 +131,13 @@ TEST(SectionBvh, DeterministicAcrossThreadCounts) {
             }
         }
     }
+    // Each leaf lists its triangle ids in ascending order (a leaf-ordered mesh is read forwards).
+    for (std::size_t ni = 2; ni < a->nodes.size(); ++ni) {
+        const BvhNode& n = a->nodes[ni];
+        if (n.count == 0) continue;
+        EXPECT_TRUE(std::is_sorted(a->triangles.begin() + n.first, a->triangles.begin() + n.first + n.count))
+            << "leaf " << ni;
+    }
     BvhOptions bad;
     bad.maxLeafSize = 0;
     EXPECT_FALSE(buildBvh(meshes.data(), meshes.size(), m.origin, bad).ok());
