@@ -142,7 +142,9 @@ private:
 class RenderCache {
 public:
     // budgetBytes: 3/4 for encoded answers, 1/4 for ID buffers. deadlineMs: how long a
-    // request waits for its render. `pool` and `metrics` must outlive every render.
+    // request waits for its render. `metrics` must outlive this cache, and `pool` must be
+    // stopped (its workers joined) before this cache is destroyed: a job still does its
+    // bookkeeping here after its waiters have their answer.
     RenderCache(std::size_t budgetBytes, int deadlineMs, workers::RenderPool& pool, Metrics& metrics);
 
     // The ETag of a key (quoted, strong).
