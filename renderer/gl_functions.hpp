@@ -65,6 +65,8 @@ namespace geoslice {
     X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                   \
     X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                       \
     X(PFNGLPROGRAMUNIFORM1UIPROC, ProgramUniform1ui)                                     \
+    X(PFNGLPROGRAMUNIFORM1UIVPROC, ProgramUniform1uiv)                                   \
+    X(PFNGLPROGRAMUNIFORM3IPROC, ProgramUniform3i)                                       \
     X(PFNGLPROGRAMUNIFORM1FPROC, ProgramUniform1f)                                       \
     X(PFNGLPROGRAMUNIFORM2FVPROC, ProgramUniform2fv)                                     \
     X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                     \

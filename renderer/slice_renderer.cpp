@@ -7,6 +7,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "renderer/block_texture.hpp"
 #include "renderer/cluster_selection.hpp"
 #include "renderer/fxaa_pass.hpp"
 #include "renderer/gl_program.hpp"
@@ -267,6 +268,10 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         gl.BindTextureUnit(0, model.idTexture());  // binding 0: uIdTexture (shaders/slice.frag)
         gl.BindTextureUnit(1, model.colourTable());
     }
+    if (request.blocks)
+        request.blocks->apply(prog, model.origin());
+    else
+        BlockTexture::disable(gl, prog);
     gl.BindVertexArray(model.vertexArray());
 
     // Which clusters to draw at which level (renderer/cluster_selection.hpp, CPU only). A
@@ -404,6 +409,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         gl.BindTextureUnit(0, 0);
         gl.BindTextureUnit(1, 0);
     }
+    if (request.blocks) request.blocks->release();
     if (request.drawTraces && planeCount > 0 && !model.surfaceTriangles().empty())
         image.traceSegments = impl.trace.draw(model.surfaceTriangles(), planesLocalD, unionMode, viewProj,
                                               request.traceColour, request.traceWidth, kMaxPlanes);

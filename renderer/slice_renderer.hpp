@@ -55,6 +55,7 @@
 namespace geoslice {
 
 class GlProgram;
+class BlockTexture;
 
 enum class ClipMethod {
     ClipDistance,  // gl_ClipDistance per plane (intersection of half-spaces only)
@@ -121,6 +122,9 @@ struct SliceRequest {
     // pass and the read-back; when set, the draw calls left are skipped and render()
     // returns DeadlineExceeded. A single draw call already submitted is not interrupted.
     const std::atomic<bool>* cancel = nullptr;
+    // Caps of the clipping bodies coloured by block-model class (renderer/block_texture.hpp);
+    // null: none. Must outlive the call.
+    const BlockTexture* blocks = nullptr;
 };
 
 struct SliceImage {

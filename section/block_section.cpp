@@ -132,6 +132,13 @@ std::vector<RecordId> blockClipRecords(const Model& model, const BlockModel& blo
     return r;
 }
 
+std::vector<std::uint8_t> cellClassIndex(const BlockModel& blocks, const PropertyClasses& classes) {
+    const std::vector<double>& values = blocks.properties[std::size_t(classes.property)].values;
+    std::vector<std::uint8_t> out(values.size());
+    for (std::size_t c = 0; c < values.size(); ++c) out[c] = std::uint8_t(classes.classOf(values[c]) + 1);
+    return out;
+}
+
 void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& classes,
                           const std::vector<RecordId>& clipRecords, const std::function<glm::dvec3(int, int)>& worldAt,
                           int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells) {

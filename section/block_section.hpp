@@ -70,6 +70,10 @@ std::vector<double> defaultBreaks(const BlockProperty& property);
 Result<PropertyClasses> propertyClasses(const BlockModel& blocks, const std::string& name, const std::string& ramp,
                                         const std::optional<std::vector<double>>& breaks);
 
+// Every cell's class as one byte for GPU textures (renderer/block_texture.hpp): 0 = no value,
+// k + 1 = class k (classOf). At most 64 breaks, so it fits.
+std::vector<std::uint8_t> cellClassIndex(const BlockModel& blocks, const PropertyClasses& classes);
+
 // Sorted records of the bodies that clip `blocks` (BlockModel::clipBodyIndex) in `model`.
 std::vector<RecordId> blockClipRecords(const Model& model, const BlockModel& blocks);
 

@@ -50,6 +50,16 @@ uniform vec4 uBackground;  // straight RGBA, for fragments past a convex cut's e
 layout(binding = 0) uniform usampler2DArray uIdTexture;
 layout(binding = 1) uniform sampler2D uColourTable;  // record r at (r % width, r / width)
 
+// Block-model colouring of caps (renderer/block_texture.hpp): uBlocks = 1 when bound.
+uniform int uBlocks;
+uniform vec3 uBlockOrigin;     // local frame
+uniform vec3 uBlockToGrid[3];  // axis[a] / size[a]: local offset -> cell units
+uniform ivec3 uBlockDims;
+uniform vec4 uBlockColours[65];
+uniform uint uBlockClip[32];
+uniform int uBlockClipCount;
+layout(binding = 2) uniform usampler3D uBlockClasses;  // 0 = no value, k + 1 = class k
+
 layout(location = 0) out vec4 oColour;
 layout(location = 1) out uint oRecord;
 
@@ -60,6 +70,32 @@ uint fetchId(vec2 uv) {
     ivec3 t = ivec3(ivec2(floor(vec2(uv.x - page, uv.y) * vec2(size.xy))), int(page));
     if (any(lessThan(t, ivec3(0))) || any(greaterThanEqual(t, size))) return 0u;
     return texelFetch(uIdTexture, t, 0).r;
+}
+
+// The colour of a cap fragment of `record` by the block cell at the point where its view ray
+// crosses the cut: the entry into the kept region (intersection: the last plane crossed;
+// union: the first), or `colour` when the record does not clip the block model, the point
+// is outside the grid or its cell has no value.
+vec4 blockColour(uint record, vec4 colour) {
+    bool clips = false;
+    for (int i = 0; i < uBlockClipCount; ++i) clips = clips || uBlockClip[i] == record;
+    if (!clips) return colour;
+    vec3 dir = uEye.w != 0.0 ? normalize(vLocal - uEye.xyz) : uEye.xyz;
+    float l = uUnion != 0 ? 3.0e38 : -3.0e38;
+    bool crossed = false;
+    for (int i = 0; i < uPlaneCount; ++i) {
+        float ds = dot(uPlanes[i].xyz, dir);
+        if (ds <= 0.0) continue;
+        float li = -(dot(uPlanes[i].xyz, vLocal) + uPlanes[i].w) / ds;
+        l = uUnion != 0 ? min(l, li) : max(l, li);
+        crossed = true;
+    }
+    if (!crossed) return colour;
+    vec3 d = vLocal + l * dir - uBlockOrigin;
+    ivec3 cell = ivec3(floor(vec3(dot(uBlockToGrid[0], d), dot(uBlockToGrid[1], d), dot(uBlockToGrid[2], d))));
+    if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, uBlockDims))) return colour;
+    uint k = texelFetch(uBlockClasses, cell, 0).r;
+    return k == 0u ? colour : uBlockColours[k - 1u];
 }
 
 void main() {
@@ -105,6 +141,7 @@ void main() {
         ivec2 at = ivec2(int(record % uint(table.x)), int(record / uint(table.x)));
         if (at.y < table.y) colour = texelFetch(uColourTable, at, 0);
     }
+    if (uBlocks != 0 && uFaceRole == 1) colour = blockColour(record, colour);
     if (pastExit && uFaceRole != 1) {
         oRecord = 0u;
         oColour = uBackground;

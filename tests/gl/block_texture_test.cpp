@@ -1,0 +1,135 @@
+// GL caps coloured by a block model (renderer/block_texture.hpp) against the profile
+// engine's rule: a box orebody nested in a box host, a 20 x 20 x 20 grid of 10 m cells with
+// grade = i + 0.5 j - 0.3 k clipped by the orebody, classes < 3, 3 - 6, 6 - 9, 9 - 12, >= 12.
+// A perspective view cut by one oblique plane, no anti-aliasing. Oracle for every one of
+// 1,000 random pixels whose id is the orebody: the pixel's view ray (from the image's own
+// viewProj, in double) meets the plane at a world point; BlockModel::cellAt and
+// PropertyClasses::colourOf there (colourPixelsByBlocks' rule) give the expected colour,
+// compared exactly. Tolerance: pixels whose point lies within 1 % of a cell (0.1 m) of a cell
+// face, or within 0.1 m of the orebody's outline, are skipped (the shader interpolates the
+// point in float; the rasteriser's coverage at the outline is not the polygon's).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "model/block_model.hpp"
+#include "renderer/block_texture.hpp"
+#include "renderer/gpu_model.hpp"
+#include "renderer/slice_renderer.hpp"
+#include "section/block_section.hpp"
+#include "tests/gl/gl_test_util.hpp"
+#include "tests/unit/test_meshes.hpp"
+
+using namespace geoslice;
+
+TEST(BlockTexture, CapColoursAreTheProfileEnginesClasses) {
+    const glm::dvec3 base(35500000.0, 3380000.0, 100.0);
+    const glm::dvec3 oreLo = base + glm::dvec3(40.5, 35.5, 45.5), oreHi = base + glm::dvec3(160.5, 170.5, 150.5);
+    Model m = test::modelOf({test::makePart("host", PartKind::Body, 1, test::boxMesh(base, base + 200.0)),
+                             test::makePart("ore", PartKind::Body, 2, test::boxMesh(oreLo, oreHi))});
+    ASSERT_EQ(m.bodies[1].report.parent, 0);
+    BlockModel blocks;
+    blocks.source = "test grid";
+    blocks.origin = base;
+    blocks.size = {10.0, 10.0, 10.0};
+    blocks.dims = {20, 20, 20};
+    BlockProperty grade{"grade", "g/t Au", std::vector<double>(blocks.cellCount())};
+    for (std::size_t c = 0; c < blocks.cellCount(); ++c) {
+        const auto ijk = blocks.ijk(c);
+        grade.values[c] = double(ijk[0]) + 0.5 * double(ijk[1]) - 0.3 * double(ijk[2]);
+    }
+    // No value in the cell at the orebody's centre (on the cut): there the body's colour.
+    grade.values[blocks.linear(10, 10, 9)] = std::nan("");
+    blocks.properties.push_back(std::move(grade));
+    blocks.clipBodies = {"ore"};
+    ASSERT_TRUE(resolveBlockClip(m, blocks).ok());
+    auto classes = makePropertyClasses(0, "viridis", {3.0, 6.0, 9.0, 12.0});
+    ASSERT_TRUE(classes.ok());
+
+    auto ctx = test::makeContext();
+    ASSERT_TRUE(ctx);
+    auto gpu = GpuModel::upload(*ctx, m);
+    ASSERT_TRUE(gpu.ok()) << gpu.error().message;
+    auto renderer = SliceRenderer::create(*ctx);
+    ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+    auto texture = BlockTexture::upload(*ctx, blocks, cellClassIndex(blocks, classes.value()), classes->colours,
+                                        blockClipRecords(m, blocks));
+    ASSERT_TRUE(texture.ok()) << texture.error().message;
+
+    // The eye on the removed side of an oblique plane through the orebody.
+    const glm::dvec3 centre = 0.5 * (oreLo + oreHi);
+    const glm::dvec3 n = glm::normalize(glm::dvec3(0.45, 0.6, -0.66));
+    const WorldPlane plane(n.x, n.y, n.z, -glm::dot(n, centre));
+    constexpr int kSize = 320;
+    SliceRequest req;
+    req.width = req.height = kSize;
+    req.planes = {plane};
+    req.view = PerspectiveView{centre - 320.0 * n + glm::dvec3(25.0, -15.0, 0.0), centre, {0.0, 0.0, 1.0}, 40.0};
+    req.antiAlias = AntiAlias::None;
+    req.drawTraces = false;
+    req.blocks = texture.value().get();
+    auto image = (*renderer)->render(*gpu.value(), req);
+    ASSERT_TRUE(image.ok()) << image.error().message;
+
+    const glm::dmat4 inv = glm::inverse(image->viewProj);  // clip -> true local frame
+    const glm::dvec3 origin = m.origin;
+    std::mt19937 rng(15);
+    std::uniform_int_distribution<int> px(0, kSize - 1);
+    int compared = 0, skipped = 0, noValue = 0, tries = 0;
+    std::set<int> seenClasses;
+    while (compared + skipped < 1000 && ++tries < 200000) {
+        const int i = px(rng), j = px(rng);
+        if (image->idAt(i, j) != 2u) continue;
+        // The pixel centre's ray in the local frame, then its crossing of the plane (world).
+        const double x = 2.0 * (i + 0.5) / kSize - 1.0, y = 1.0 - 2.0 * (j + 0.5) / kSize;
+        glm::dvec4 a = inv * glm::dvec4(x, y, -1.0, 1.0), b = inv * glm::dvec4(x, y, 1.0, 1.0);
+        const glm::dvec3 p0 = glm::dvec3(a) / a.w + origin, p1 = glm::dvec3(b) / b.w + origin;
+        const double s0 = glm::dot(n, p0) + plane.w, s1 = glm::dot(n, p1) + plane.w;
+        const glm::dvec3 w = p0 + (p1 - p0) * (s0 / (s0 - s1));
+        const glm::dvec3 g = blocks.toGrid(w) / 10.0;
+        const glm::dvec3 f = glm::abs(g - glm::round(g));
+        const double edge =
+            std::min({w.x - oreLo.x, oreHi.x - w.x, w.y - oreLo.y, oreHi.y - w.y, w.z - oreLo.z, oreHi.z - w.z});
+        if (std::min({f.x, f.y, f.z}) < 0.01 || edge < 0.1) {
+            ++skipped;
+            continue;
+        }
+        ++compared;
+        const std::size_t cell = blocks.cellAt(w);
+        ASSERT_NE(cell, BlockModel::kNoCell);
+        const double value = blocks.properties[0].values[cell];
+        const int k = classes->classOf(value);
+        const std::uint8_t* got = &image->rgba[4 * (std::size_t(j) * kSize + std::size_t(i))];
+        if (k < 0) {
+            ++noValue;  // the orebody's own cap colour, not a class colour
+            for (const Rgba8& c : classes->colours)
+                EXPECT_FALSE(got[0] == c.r && got[1] == c.g && got[2] == c.b) << "pixel " << i << "," << j;
+            continue;
+        }
+        seenClasses.insert(k);
+        const Rgba8 want = classes->colours[std::size_t(k)];
+        EXPECT_TRUE(got[0] == want.r && got[1] == want.g && got[2] == want.b)
+            << "pixel " << i << "," << j << " world " << w.x << "," << w.y << "," << w.z << ": got " << int(got[0])
+            << "," << int(got[1]) << "," << int(got[2]) << ", class " << k << " is " << int(want.r) << ","
+            << int(want.g) << "," << int(want.b);
+    }
+    std::printf(
+        "[ blocks   ] %d cap pixels compared, %d skipped at cell faces or the outline, %d without value, "
+        "%zu classes seen\n",
+        compared, skipped, noValue, seenClasses.size());
+    EXPECT_GE(compared, 800);
+    EXPECT_GE(seenClasses.size(), 3u);
+    EXPECT_GT(noValue, 0);
+    // Without the texture the same caps are the orebody's own colour.
+    req.blocks = nullptr;
+    auto plain = (*renderer)->render(*gpu.value(), req);
+    ASSERT_TRUE(plain.ok());
+    EXPECT_EQ(plain->ids, image->ids);
+    // Bad inputs are errors naming the problem.
+    EXPECT_FALSE(BlockTexture::upload(*ctx, blocks, {1, 2, 3}, classes->colours, {}).ok());
+    EXPECT_FALSE(BlockTexture::upload(*ctx, blocks, cellClassIndex(blocks, classes.value()), classes->colours,
+                                      std::vector<RecordId>(kMaxBlockClipRecords + 1, 2u))
+                     .ok());
+}
