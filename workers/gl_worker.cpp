@@ -1,7 +1,9 @@
 #include "workers/gl_worker.hpp"
 
 #include <chrono>
+#include <cstdio>
 
+#include "section/block_section.hpp"
 #include "workers/render_pool.hpp"
 
 namespace geoslice::workers {
@@ -38,6 +40,8 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
         // One resident copy per model: drop other versions of the same id.
         for (auto m = models.begin(); m != models.end();)
             m = m->first.rfind(model.id + "@", 0) == 0 ? models.erase(m) : std::next(m);
+        for (auto b = blockTextures.begin(); b != blockTextures.end();)
+            b = b->first.rfind(model.id + "@", 0) == 0 ? blockTextures.erase(b) : std::next(b);
         GpuUploadOptions upload;
         upload.lod = lod ? GpuUploadOptions::Lod::Auto : GpuUploadOptions::Lod::Off;
         // A baked model draws its own mesh with UVs and fetches record ids from the
@@ -74,6 +78,25 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     req.readColour = true;
     req.readIds = true;
     req.cancel = cancel;
+    if (plan.section.colour) {
+        auto classes = api::blockClasses(model, plan.section);
+        if (!classes) return classes.error();
+        std::string colourKey = key + "|" + plan.section.colour->property + "|" + plan.section.colour->ramp + "|";
+        for (double b : classes.value()->breaks) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.17g,", b);
+            colourKey += buf;
+        }
+        auto tex = blockTextures.find(colourKey);
+        if (tex == blockTextures.end()) {
+            const PropertyClasses& pc = *classes.value();
+            auto uploaded = BlockTexture::upload(*context, *model.model.blocks, cellClassIndex(*model.model.blocks, pc),
+                                                 pc.colours, model.blockRecords);
+            if (!uploaded) return uploaded.error();
+            tex = blockTextures.emplace(colourKey, std::move(uploaded.value())).first;
+        }
+        req.blocks = tex->second.get();
+    }
     auto image = renderer->render(*it->second, req);
     if (!image) return image.error();
     api::ViewImage v;

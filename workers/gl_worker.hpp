@@ -13,6 +13,7 @@
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "model/result.hpp"
+#include "renderer/block_texture.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/slice_renderer.hpp"
@@ -23,6 +24,9 @@ struct GlWorker {
     std::unique_ptr<GlContext> context;
     std::unique_ptr<SliceRenderer> renderer;
     std::map<std::string, std::unique_ptr<GpuModel>> models;
+    // Block-model class textures (renderer/block_texture.hpp), keyed by id@version and the
+    // colouring (property, ramp, breaks); dropped with their model's version.
+    std::map<std::string, std::unique_ptr<BlockTexture>> blockTextures;
     bool lod = false;  // simplified context geometry in 3D views (CPU backends)
 
     // Creates the context on the calling thread. Errors: the backend's, naming it.
@@ -30,7 +34,9 @@ struct GlWorker {
     ~GlWorker();
 
     // A perspective view of the plan's section (the half-space a.x + b.y + c.z + d >= 0 kept,
-    // cut faces filled) with per-body record ids. Uploads the model on first use.
+    // cut faces filled) with per-body record ids. Uploads the model on first use. With the
+    // plan's colour= the clipping bodies' caps take their block cells' class colours (the
+    // profile engine's rule; the class texture is uploaded on first use).
     // `cancel` (may be null): see SliceRequest::cancel.
     Result<api::ViewImage> renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan,
                                              const std::atomic<bool>* cancel = nullptr);

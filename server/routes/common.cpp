@@ -30,10 +30,6 @@ Status validateView(const ServerState& state, const api::CatalogModel& m, const 
     if (auto classes = api::blockClasses(m, plan.section); !classes) return classes.error();
     if (plan.view == api::ViewKind::Perspective) {
         if (auto s = api::checkPerspectiveCut(m, plan); !s) return s;
-        if (plan.section.colour)
-            return makeError(ErrorCode::Unsupported,
-                             "parameter 'colour': perspective (GL) views are not coloured by block properties "
-                             "yet; profile views, tiles, GeoJSON and SVG are");
         if (!state.glEnabled)
             return makeError(ErrorCode::Unsupported,
                              "parameter 'view': perspective views need GL, which is disabled on this server (--gl "
