@@ -228,7 +228,10 @@ Result<BlockModel> blockModelFromGrid(const Grid& grid) {
     const std::string name = grid.type + " '" + grid.name + "'";
     if (grid.type != "Voxet" || !grid.points.empty())
         return makeError(ErrorCode::Unsupported,
-                         name + ": only regular grids (Voxet) can be block models; an SGrid's cells are not boxes");
+                         name +
+                             ": only regular grids (Voxet) can be block models; an SGrid's cells are curvilinear "
+                             "hexahedra, and block models need box cells (exact cell x plane polygons, O(1) cell "
+                             "lookup for pixels and queries, grid-plane volume sums for grade-tonnage)");
     if (grid.properties.empty()) return makeError(ErrorCode::Unsupported, name + ": the grid has no properties");
     BlockModel b;
     b.source = name;

@@ -88,6 +88,21 @@ TEST(BlockModel, CsvGridUnitsAndErrors) {
     EXPECT_NE(err("x,y,z,dx,dy,dz,\"g\n1").find("unterminated quote"), std::string::npos);
 }
 
+TEST(BlockModel, SGridsAreRefusedSayingWhy) {
+    Grid g;
+    g.name = "curved";
+    g.type = "SGrid";
+    g.dims[0] = g.dims[1] = g.dims[2] = 2;
+    for (int c = 0; c < 8; ++c)
+        g.points.push_back({double(c & 1), double((c >> 1) & 1) + 0.1 * (c & 1), double(c >> 2)});
+    g.properties.push_back({"grade", "g/t", std::nullopt, std::vector<float>(8, 1.0f)});
+    auto b = blockModelFromGrid(g);
+    ASSERT_FALSE(b.ok());
+    EXPECT_EQ(b.error().code, ErrorCode::Unsupported);
+    EXPECT_NE(b.error().message.find("SGrid 'curved'"), std::string::npos) << b.error().message;
+    EXPECT_NE(b.error().message.find("need box cells"), std::string::npos) << b.error().message;
+}
+
 TEST(BlockModel, VoxetPointSamplesBecomeCellCentres) {
     Grid g;
     g.type = "Voxet";
