@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
-#include <random>
 #include <string>
 #include <thread>
 
@@ -197,30 +196,6 @@ void emitChart(const Flattened& f, const Placement& pl, const Mesh& mesh, const 
     for (std::size_t k = 0; k < f.triangles.size(); ++k)
         for (int e = 0; e < 3; ++e) bp.indices[3 * std::size_t(f.triangles[k]) + e] = base + f.uv.corners[3 * k + e];
 }
-
-// Record ids of a field bake: one per (part record, class), from `base` up.
-struct FieldIds {
-    const BlockIndex* index = nullptr;  // block field only
-    const FieldOptions* options = nullptr;
-    std::vector<RecordId> partRecords;  // sorted, unique, no 0
-    RecordId base = 0;
-    // The record of a part record's class of `value`; the part record itself for NaN values
-    // and records without classes.
-    RecordId classRecord(RecordId partRecord, double value) const {
-        if (partRecord == kNoRecord || std::isnan(value)) return partRecord;
-        const auto it = std::lower_bound(partRecords.begin(), partRecords.end(), partRecord);
-        if (it == partRecords.end() || *it != partRecord) return partRecord;
-        const int k = fieldClass(options->breaks, value);
-        return base + RecordId(it - partRecords.begin()) * RecordId(options->breaks.size() + 1) + RecordId(k);
-    }
-    // Block field: the record at a world point.
-    RecordId at(RecordId partRecord, const glm::dvec3& world) const {
-        if (partRecord == kNoRecord) return partRecord;
-        const int b = index->find(world);
-        if (b < 0) return partRecord;
-        return classRecord(partRecord, options->blocks->values[std::size_t(b)]);
-    }
-};
 
 // Closest point of a triangle to p (2D), as barycentric weights; returns the squared distance.
 double closestBarycentric(const glm::dvec2 t[3], const glm::dvec2& p, glm::dvec3& bary) {
@@ -519,51 +494,7 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options, con
         field.partRecords.erase(std::unique(field.partRecords.begin(), field.partRecords.end()),
                                 field.partRecords.end());
         field.base = model.attributes.nextId();
-        const auto& br = options.field.breaks;
-        for (std::size_t r = 0; r < field.partRecords.size(); ++r)
-            for (std::size_t k = 0; k <= br.size(); ++k) {
-                const AttributeRecord* parent = model.attributes.find(field.partRecords[r]);
-                AttributeRecord rec = parent ? *parent : AttributeRecord{};
-                rec.id = field.base + RecordId(r * (br.size() + 1) + k);
-                const double lo = k ? br[k - 1] : -std::numeric_limits<double>::infinity();
-                const double hi = k < br.size() ? br[k] : std::numeric_limits<double>::infinity();
-                char range[96];
-                if (k == 0 && br.empty())
-                    std::snprintf(range, sizeof range, "all");
-                else if (k == 0)
-                    std::snprintf(range, sizeof range, "< %g", hi);
-                else if (k == br.size())
-                    std::snprintf(range, sizeof range, ">= %g", lo);
-                else
-                    std::snprintf(range, sizeof range, "%g - %g", lo, hi);
-                const std::string fieldName =
-                    options.field.blocks ? options.field.blocks->name : options.field.vertexProperty;
-                rec.name = (parent ? parent->name : "record " + std::to_string(field.partRecords[r])) + ", " +
-                           fieldName + " " + range;
-                rec.grade = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : (std::isfinite(lo) ? lo : hi);
-                if (br.empty()) rec.grade.reset();
-                if (!options.field.unit.empty()) rec.gradeUnit = options.field.unit;
-                rec.extra["field"] = fieldName;
-                rec.extra["class"] = k;
-                if (std::isfinite(lo)) rec.extra["min"] = lo;
-                if (std::isfinite(hi)) rec.extra["max"] = hi;
-                rec.extra["parent"] = field.partRecords[r];
-                // Classes must look different, not only carry different ids: blend the parent's
-                // colour from dark (lowest class) to a bright warm tint (highest), so a
-                // grade map reads low -> high like a heat scale over the stratum's own hue.
-                if (br.size() > 0) {
-                    const double t = double(k) / double(br.size());
-                    const double dark = 0.55, tint[3] = {255.0, 210.0, 60.0};
-                    auto mix = [&](std::uint8_t c, double warm) {
-                        const double base = double(c) * (dark + (1.0 - dark) * (1.0 - t));
-                        return std::uint8_t(std::lround(std::clamp(base + t * 0.6 * warm, 0.0, 255.0)));
-                    };
-                    rec.colour.r = mix(rec.colour.r, tint[0]);
-                    rec.colour.g = mix(rec.colour.g, tint[1]);
-                    rec.colour.b = mix(rec.colour.b, tint[2]);
-                }
-                out.fieldRecords.push_back(std::move(rec));
-            }
+        out.fieldRecords = fieldClassRecords(model.attributes, field);
     }
     parallelFor(charts.size(), threads, "raster", progress, [&](std::size_t c) {
         const BakedPart& bp = out.parts[charts[c].part];
@@ -608,84 +539,20 @@ Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const
     for (auto& s : slots)
         for (auto& f : s) charts.push_back(std::move(f));
 
-    // Free space (x1, y1 exclusive; a chart of w x h cells needs (w + margin) x (h + margin)).
-    struct Free {
-        std::uint32_t page, x0, y0, x1, y1;
-    };
-    const std::uint32_t m = po.margin, border = po.margin / 2;
-    struct Shelf {
-        std::uint32_t page, y, height = 0, end = 0;
-    };
-    std::vector<Shelf> shelves;
-    auto shelfOf = [&](std::uint32_t page, std::uint32_t y) -> Shelf& {
-        for (auto& s : shelves)
-            if (s.page == page && s.y == y) return s;
-        shelves.push_back({page, y});
-        return shelves.back();
-    };
-    for (const auto& c : baked.charts) {
-        Shelf& s = shelfOf(c.rect.page, c.rect.y);
-        s.height = std::max(s.height, c.rect.h);
-        s.end = std::max(s.end, c.rect.x + c.rect.w);
+    std::vector<Placement> placed(baked.charts.size());
+    std::vector<std::uint8_t> replaced(baked.charts.size());
+    for (std::size_t c = 0; c < baked.charts.size(); ++c) {
+        placed[c] = baked.charts[c].rect;
+        replaced[c] = baked.charts[c].part == p32;
     }
-    std::vector<Free> free;
-    for (const auto& c : baked.charts) {
-        const Shelf& s = shelfOf(c.rect.page, c.rect.y);
-        const std::uint32_t x1 = c.rect.x + c.rect.w + m, top = c.rect.y + s.height + m;
-        if (c.part == p32)
-            free.push_back({c.rect.page, c.rect.x, c.rect.y, x1, top});
-        else if (c.rect.y + c.rect.h + m < top)
-            free.push_back({c.rect.page, c.rect.x, c.rect.y + c.rect.h + m, x1, top});
-    }
-    std::vector<std::uint32_t> pageTop(baked.pages, border);
-    for (const auto& s : shelves) {
-        if (s.end + m < po.width - border + m)
-            free.push_back({s.page, s.end + m, s.y, po.width - border + m, s.y + s.height + m});
-        pageTop[s.page] = std::max(pageTop[s.page], s.y + s.height + m);
-    }
-    for (std::uint32_t pg = 0; pg < baked.pages; ++pg)
-        if (pageTop[pg] < po.height - border)
-            free.push_back({pg, border, pageTop[pg], po.width - border + m, po.height - border + m});
-    std::sort(free.begin(), free.end(), [](const Free& a, const Free& b) {
-        return a.page != b.page ? a.page < b.page : (a.y0 != b.y0 ? a.y0 < b.y0 : a.x0 < b.x0);
-    });
-
-    std::vector<std::size_t> order(charts.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return charts[a].extent.y != charts[b].extent.y ? charts[a].extent.y > charts[b].extent.y : a < b;
-    });
-    std::vector<Placement> placements(charts.size());
-    std::uint32_t pages = baked.pages;
-    for (std::size_t i : order) {
-        const std::uint32_t cw = chartCells(charts[i].extent.x, baked.density);
-        const std::uint32_t ch = chartCells(charts[i].extent.y, baked.density);
-        auto it = std::find_if(free.begin(), free.end(),
-                               [&](const Free& f) { return f.x1 - f.x0 >= cw + m && f.y1 - f.y0 >= ch + m; });
-        if (it == free.end()) {
-            // No room: open a new page, within the page budget.
-            if (pages >= po.maxPages || border + cw > po.width - border || border + ch > po.height - border)
-                return makeError(ErrorCode::OutOfRange, "re-bake of \"" + source->name +
-                                                            "\": its new charts do not fit the free texture space " +
-                                                            "within " + std::to_string(po.maxPages) +
-                                                            " pages; bake the model in full again");
-            free.push_back({pages++, border, border, po.width - border + m, po.height - border + m});
-            it = free.end() - 1;
-        }
-        const Free f = *it;
-        placements[i] = {f.page, f.x0, f.y0, cw, ch};
-        free.erase(it);
-        const Free right{f.page, f.x0 + cw + m, f.y0, f.x1, f.y0 + ch + m},
-            top{f.page, f.x0, f.y0 + ch + m, f.x1, f.y1};
-        for (const Free& r : {right, top})
-            if (r.x1 > r.x0 && r.y1 > r.y0)
-                free.insert(std::upper_bound(free.begin(), free.end(), r,
-                                             [](const Free& a, const Free& b) {
-                                                 return a.page != b.page ? a.page < b.page
-                                                                         : (a.y0 != b.y0 ? a.y0 < b.y0 : a.x0 < b.x0);
-                                             }),
-                            r);
-    }
+    std::vector<glm::dvec2> extents(charts.size());
+    for (std::size_t c = 0; c < charts.size(); ++c) extents[c] = charts[c].extent;
+    auto packing = packIntoFreeSpace(placed.data(), replaced.data(), placed.size(), baked.pages, extents.data(),
+                                     extents.size(), baked.density, po);
+    if (!packing)
+        return makeError(packing.error().code, "re-bake of \"" + source->name + "\": " + packing.error().message);
+    const std::vector<Placement>& placements = packing->placements;
+    const std::uint32_t pages = packing->pages;
 
     if (pages > baked.pages) {
         const std::uint64_t bytes = std::uint64_t(pages) * baked.width * baked.height * 4;
@@ -724,24 +591,6 @@ Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const
         rasterChart(charts[c], placements[c], bp, baked.width, baked.height, baked.texels.data());
     finishStats(baked);
     return {};
-}
-
-double partIdAccuracy(const BakedModel& b, std::size_t p, std::size_t samples, std::uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const auto& part = b.parts[p];
-    std::uniform_int_distribution<std::size_t> pick(0, part.indices.size() / 3 - 1);
-    std::size_t good = 0;
-    for (std::size_t i = 0; i < samples; ++i) {
-        const std::size_t t = pick(rng);
-        double r1 = unit(rng), r2 = unit(rng);
-        if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
-        const float w1 = float(r1), w2 = float(r2), w0 = 1.0f - w1 - w2;
-        const glm::vec2 uv = w0 * part.uvs[part.indices[3 * t]] + w1 * part.uvs[part.indices[3 * t + 1]] +
-                             w2 * part.uvs[part.indices[3 * t + 2]];
-        good += fetchId(b.texels.data(), b.width, b.height, b.pages, glm::dvec2(uv)) == part.record;
-    }
-    return double(good) / double(samples);
 }
 
 }  // namespace geoslice::bake

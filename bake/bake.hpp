@@ -150,6 +150,21 @@ std::uint32_t chartCells(double extent, double density);
 // OutOfRange when a chart cannot fit a page at minDensity or more than maxPages are needed.
 Result<Packing> packCharts(const glm::dvec2* extents, std::size_t count, const PackOptions& options);
 
+// The incremental re-bake's packer (rebakePart): places `count` charts of `extents` metres at
+// `density` into the free space of an existing packing of `placedCount` rectangles on `pages`
+// pages made by packCharts with the same options, or by packCharts and earlier calls of this.
+// Free space: the rectangles of the charts with replaced[c] != 0, the room above charts
+// shorter than their shelf, the ends of shelves and the top of each page; first fit, tallest
+// chart first (ties by index), guillotine splits, a place taken only where it keeps
+// options.margin from every chart that stays and every chart placed before it; when that is
+// full, new pages (within options.maxPages). Charts not replaced keep their rectangles.
+// Result: the new charts' placements (input order), `pages` = the page count after, `density`.
+// Errors: OutOfRange when more than options.maxPages pages would be needed or a chart is larger
+// than a page ("its new charts do not fit ..."; the caller names the part).
+Result<Packing> packIntoFreeSpace(const Placement* placed, const std::uint8_t* replaced, std::size_t placedCount,
+                                  std::uint32_t pages, const glm::dvec2* extents, std::size_t count, double density,
+                                  const PackOptions& options);
+
 // ---- 4. Index texture (raster.cpp) -----------------------------------------------------
 
 // Conservative rasterization: sets mask[y * w + x] = 1 for every texel cell [x,x+1]x[y,y+1]
@@ -272,9 +287,36 @@ Result<BakedModel> bakeModel(const Model& model, const BakeOptions& options = {}
 // `options` gives the chart options and threads; page size, margin and budget are baked.pack.
 Status rebakePart(const Model& model, std::size_t part, BakedModel& baked, const BakeOptions& options = {});
 
-// The fraction of `samples` random points on baked part `p` (a uniform triangle, then
-// uniform barycentrics; UVs interpolated in float, as a GPU does) whose nearest texel holds
-// the part's record: the paper's "attribute mapping accuracy" for one part of a per-body bake.
+// ---- 6. Attribute mapping accuracy (accuracy.cpp) ----------------------------------------
+
+// One part's UV mesh as the sampler reads it: 2 floats per vertex (page + u, v), 3 vertex
+// indices per triangle, and the record its texels should hold.
+struct UvPart {
+    const float* uvs = nullptr;
+    const std::uint32_t* indices = nullptr;
+    std::size_t indexCount = 0;
+    RecordId record = kNoRecord;
+};
+
+struct IdAccuracy {
+    std::size_t points = 0, correct = 0;
+    double fraction() const { return points ? double(correct) / double(points) : 0.0; }
+};
+
+// The paper's "attribute mapping accuracy" of a per-body bake: about `points` random surface
+// points, spread over the parts in proportion to their triangles (ceil(points x t / total),
+// at least one per part with triangles); per point a uniform triangle of its part, then
+// uniform barycentrics (r1 + r2 > 1 folded back), the UV interpolated in float as a GPU does;
+// a point is correct when the nearest texel (fetchId) holds its part's record. Deterministic
+// for a seed. The benchmark's figure and the tests' 100 % come from this one function.
+IdAccuracy sampleIdAccuracy(const UvPart* parts, std::size_t count, const std::uint32_t* texels, std::uint32_t width,
+                            std::uint32_t height, std::uint32_t pages, std::size_t points, std::uint64_t seed);
+// Over every part of a fresh bake, or of a loaded package (bake/package.hpp).
+IdAccuracy sampleIdAccuracy(const BakedModel& baked, std::size_t points, std::uint64_t seed);
+struct Package;
+IdAccuracy sampleIdAccuracy(const Package& package, std::size_t points, std::uint64_t seed);
+
+// The same for baked part `p` alone (`samples` points): the accuracy a re-bake keeps.
 double partIdAccuracy(const BakedModel& baked, std::size_t p, std::size_t samples, std::uint64_t seed);
 
 // The record id stored at a texture coordinate (page + u, v), nearest texel; 0 outside.

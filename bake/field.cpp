@@ -1,8 +1,10 @@
-// Spatially varying attributes (issue 4, section 5): a block model of grades, its classes,
-// a uniform-grid index (cell = median block size) that finds the block holding a point, and
-// the barycentric interpolation of a per-vertex property (TSurf PVRTX).
+// Spatially varying attributes (issue 4, section 5): a block model of grades, its classes and
+// their attribute records (one per part record and class, named, tinted low -> high), a
+// uniform-grid index (cell = median block size) that finds the block holding a point, and the
+// barycentric interpolation of a per-vertex property (TSurf PVRTX).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <unordered_map>
@@ -94,6 +96,56 @@ double interpolateProperty(const Mesh& mesh, int column, std::size_t triangle, c
         sum += bary[e] * value;
     }
     return sum;
+}
+
+std::vector<AttributeRecord> fieldClassRecords(const AttributeTable& table, const FieldIds& field) {
+    std::vector<AttributeRecord> records;
+    const auto& br = field.options->breaks;
+    for (std::size_t r = 0; r < field.partRecords.size(); ++r)
+        for (std::size_t k = 0; k <= br.size(); ++k) {
+            const AttributeRecord* parent = table.find(field.partRecords[r]);
+            AttributeRecord rec = parent ? *parent : AttributeRecord{};
+            rec.id = field.base + RecordId(r * (br.size() + 1) + k);
+            const double lo = k ? br[k - 1] : -std::numeric_limits<double>::infinity();
+            const double hi = k < br.size() ? br[k] : std::numeric_limits<double>::infinity();
+            char range[96];
+            if (k == 0 && br.empty())
+                std::snprintf(range, sizeof range, "all");
+            else if (k == 0)
+                std::snprintf(range, sizeof range, "< %g", hi);
+            else if (k == br.size())
+                std::snprintf(range, sizeof range, ">= %g", lo);
+            else
+                std::snprintf(range, sizeof range, "%g - %g", lo, hi);
+            const std::string fieldName =
+                field.options->blocks ? field.options->blocks->name : field.options->vertexProperty;
+            rec.name = (parent ? parent->name : "record " + std::to_string(field.partRecords[r])) + ", " + fieldName +
+                       " " + range;
+            rec.grade = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : (std::isfinite(lo) ? lo : hi);
+            if (br.empty()) rec.grade.reset();
+            if (!field.options->unit.empty()) rec.gradeUnit = field.options->unit;
+            rec.extra["field"] = fieldName;
+            rec.extra["class"] = k;
+            if (std::isfinite(lo)) rec.extra["min"] = lo;
+            if (std::isfinite(hi)) rec.extra["max"] = hi;
+            rec.extra["parent"] = field.partRecords[r];
+            // Classes must look different, not only carry different ids: blend the parent's
+            // colour from dark (lowest class) to a bright warm tint (highest), so a
+            // grade map reads low -> high like a heat scale over the stratum's own hue.
+            if (br.size() > 0) {
+                const double t = double(k) / double(br.size());
+                const double dark = 0.55, tint[3] = {255.0, 210.0, 60.0};
+                auto mix = [&](std::uint8_t c, double warm) {
+                    const double base = double(c) * (dark + (1.0 - dark) * (1.0 - t));
+                    return std::uint8_t(std::lround(std::clamp(base + t * 0.6 * warm, 0.0, 255.0)));
+                };
+                rec.colour.r = mix(rec.colour.r, tint[0]);
+                rec.colour.g = mix(rec.colour.g, tint[1]);
+                rec.colour.b = mix(rec.colour.b, tint[2]);
+            }
+            records.push_back(std::move(rec));
+        }
+    return records;
 }
 
 }  // namespace geoslice::bake

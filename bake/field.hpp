@@ -1,7 +1,9 @@
-// Internal to bake/: the block index and the per-vertex property lookups used while
-// rasterizing a field. Not part of the API.
+// Internal to bake/: the block index, the per-vertex property lookups used while rasterizing a
+// field, and the field's class record ids and attribute records. Not part of the API.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -38,5 +40,38 @@ int propertyColumn(const Mesh& mesh, const std::string& name);
 // column < propertyNames.size(), propertyValues holds vertexCount() x propertyNames.size()
 // values, indices are in range.
 double interpolateProperty(const Mesh& mesh, int column, std::size_t triangle, const glm::dvec3& bary);
+
+// Record ids of a field bake: one per (part record, class), from `base` up.
+struct FieldIds {
+    const BlockIndex* index = nullptr;  // block field only
+    const FieldOptions* options = nullptr;
+    std::vector<RecordId> partRecords;  // sorted, unique, no 0
+    RecordId base = 0;
+    // The record of a part record's class of `value`; the part record itself for NaN values
+    // and records without classes.
+    RecordId classRecord(RecordId partRecord, double value) const {
+        if (partRecord == kNoRecord || std::isnan(value)) return partRecord;
+        const auto it = std::lower_bound(partRecords.begin(), partRecords.end(), partRecord);
+        if (it == partRecords.end() || *it != partRecord) return partRecord;
+        const int k = fieldClass(options->breaks, value);
+        return base + RecordId(it - partRecords.begin()) * RecordId(options->breaks.size() + 1) + RecordId(k);
+    }
+    // Block field: the record at a world point.
+    RecordId at(RecordId partRecord, const glm::dvec3& world) const {
+        if (partRecord == kNoRecord) return partRecord;
+        const int b = index->find(world);
+        if (b < 0) return partRecord;
+        return classRecord(partRecord, options->blocks->values[std::size_t(b)]);
+    }
+};
+
+// The attribute records of a field bake's classes (BakedModel::fieldRecords): for each of
+// field.partRecords (r) and each class k of field.options->breaks, id field.base + r x
+// (breaks + 1) + k, a copy of the part record's row in `table` (or an empty row) named
+// "<record name>, <field name> <range>", its grade the class's midpoint (its one finite end for
+// the first and last class; none without breaks), gradeUnit the field's unit, extra {field,
+// class, min, max, parent}, and its colour blended from dark (lowest class) to a warm tint
+// (highest) over the record's own hue.
+std::vector<AttributeRecord> fieldClassRecords(const AttributeTable& table, const FieldIds& field);
 
 }  // namespace geoslice::bake

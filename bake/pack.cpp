@@ -1,12 +1,20 @@
-// Shelf packing of chart rectangles (paper section 2.2: "shelf-packing ... with a mandatory
-// 2-texel interchart margin"); the classic next-fit decreasing-height shelf algorithm (Coffman,
-// Garey, Johnson, Tarjan 1980, "Performance bounds for level-oriented two-dimensional packing
-// algorithms"), at one uniform texel density found by bisection.
+// The two chart packers of bake/, both over plain arrays of chart extents:
+// - packCharts: shelf packing of chart rectangles (paper section 2.2: "shelf-packing ... with a
+//   mandatory 2-texel interchart margin"); the classic next-fit decreasing-height shelf
+//   algorithm (Coffman, Garey, Johnson, Tarjan 1980, "Performance bounds for level-oriented
+//   two-dimensional packing algorithms"), at one uniform texel density found by bisection.
+// - packIntoFreeSpace: the incremental re-bake's packer, first fit (tallest chart first) into
+//   the free rectangles a shelf packing leaves, kept sorted by page, y, x; a placed chart splits
+//   its free rectangle in two, guillotine style (the GUILLOTINE family of Jylanki 2010, "A
+//   thousand ways to pack the bin"): the part to its right, as tall as the chart plus margin,
+//   and the part above it, as wide as the free rectangle.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "bake/bake.hpp"
 
@@ -116,6 +124,148 @@ Result<Packing> packCharts(const glm::dvec2* extents, std::size_t count, const P
                              std::to_string(options.maxPages) +
                              " pages (raise the texture size or the page budget, or lower the minimum density)");
     }
+    return out;
+}
+
+namespace {
+
+// Free space (x1, y1 exclusive; a chart of w x h cells needs (w + margin) x (h + margin)).
+struct Free {
+    std::uint32_t page, x0, y0, x1, y1;
+};
+
+bool freeBefore(const Free& a, const Free& b) {
+    return a.page != b.page ? a.page < b.page : (a.y0 != b.y0 ? a.y0 < b.y0 : a.x0 < b.x0);
+}
+
+// The charts on the pages, each as its rectangle plus its trailing margin ([x, x + w + margin)
+// x [y, y + h + margin)): two charts keep `margin` texels apart exactly when these are
+// disjoint. A uniform grid of kCell texels finds the ones near a candidate.
+class Occupancy {
+public:
+    explicit Occupancy(std::uint32_t margin) : margin_(margin) {}
+    void add(const Placement& p) {
+        const auto id = static_cast<std::uint32_t>(rects_.size());
+        rects_.push_back(p);
+        forCells(p.page, p.x, p.y, p.w, p.h, [&](std::uint64_t key) {
+            cells_[key].push_back(id);
+            return true;
+        });
+    }
+    bool isFree(std::uint32_t page, std::uint32_t x, std::uint32_t y, std::uint32_t w, std::uint32_t h) const {
+        return forCells(page, x, y, w, h, [&](std::uint64_t key) {
+            const auto it = cells_.find(key);
+            if (it == cells_.end()) return true;
+            for (std::uint32_t id : it->second) {
+                const Placement& r = rects_[id];
+                if (x < r.x + r.w + margin_ && r.x < x + w + margin_ && y < r.y + r.h + margin_ &&
+                    r.y < y + h + margin_)
+                    return false;
+            }
+            return true;
+        });
+    }
+
+private:
+    static constexpr std::uint32_t kCell = 128;
+    // Calls fn(cell key) for the cells the padded rectangle touches while fn returns true.
+    template <class Fn>
+    bool forCells(std::uint32_t page, std::uint32_t x, std::uint32_t y, std::uint32_t w, std::uint32_t h,
+                  Fn&& fn) const {
+        const std::uint64_t x1 = (std::uint64_t(x) + w + margin_ - 1) / kCell,
+                            y1 = (std::uint64_t(y) + h + margin_ - 1) / kCell;
+        for (std::uint64_t cy = y / kCell; cy <= y1; ++cy)
+            for (std::uint64_t cx = x / kCell; cx <= x1; ++cx)
+                if (!fn(std::uint64_t(page) << 32 | cy << 16 | cx)) return false;
+        return true;
+    }
+    std::uint32_t margin_;
+    std::vector<Placement> rects_;
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+};
+
+}  // namespace
+
+Result<Packing> packIntoFreeSpace(const Placement* placed, const std::uint8_t* replaced, std::size_t placedCount,
+                                  std::uint32_t pages, const glm::dvec2* extents, std::size_t count, double density,
+                                  const PackOptions& po) {
+    const std::uint32_t m = po.margin, border = po.margin / 2;
+    struct Shelf {
+        std::uint32_t page, y, height = 0, end = 0;
+    };
+    std::vector<Shelf> shelves;
+    auto shelfOf = [&](std::uint32_t page, std::uint32_t y) -> Shelf& {
+        for (auto& s : shelves)
+            if (s.page == page && s.y == y) return s;
+        shelves.push_back({page, y});
+        return shelves.back();
+    };
+    for (std::size_t c = 0; c < placedCount; ++c) {
+        const Placement& r = placed[c];
+        Shelf& s = shelfOf(r.page, r.y);
+        s.height = std::max(s.height, r.h);
+        s.end = std::max(s.end, r.x + r.w);
+    }
+    std::vector<Free> free;
+    for (std::size_t c = 0; c < placedCount; ++c) {
+        const Placement& r = placed[c];
+        const Shelf& s = shelfOf(r.page, r.y);
+        const std::uint32_t x1 = r.x + r.w + m, top = r.y + s.height + m;
+        if (replaced[c])
+            free.push_back({r.page, r.x, r.y, x1, top});
+        else if (r.y + r.h + m < top)
+            free.push_back({r.page, r.x, r.y + r.h + m, x1, top});
+    }
+    // The free rectangles above assume a shelf layout, which an earlier re-bake breaks (its
+    // charts sit in the room above shorter charts and at shelf ends): a place is taken only
+    // where it keeps the margin from every chart that stays and every chart placed here.
+    Occupancy occupied(m);
+    for (std::size_t c = 0; c < placedCount; ++c)
+        if (!replaced[c]) occupied.add(placed[c]);
+    std::vector<std::uint32_t> pageTop(pages, border);
+    for (const auto& s : shelves) {
+        if (s.end + m < po.width - border + m)
+            free.push_back({s.page, s.end + m, s.y, po.width - border + m, s.y + s.height + m});
+        pageTop[s.page] = std::max(pageTop[s.page], s.y + s.height + m);
+    }
+    for (std::uint32_t pg = 0; pg < pages; ++pg)
+        if (pageTop[pg] < po.height - border)
+            free.push_back({pg, border, pageTop[pg], po.width - border + m, po.height - border + m});
+    std::sort(free.begin(), free.end(), freeBefore);
+
+    std::vector<std::size_t> order(count);
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return extents[a].y != extents[b].y ? extents[a].y > extents[b].y : a < b;
+    });
+    Packing out;
+    out.density = density;
+    out.placements.resize(count);
+    for (std::size_t i : order) {
+        const std::uint32_t cw = chartCells(extents[i].x, density);
+        const std::uint32_t ch = chartCells(extents[i].y, density);
+        auto it = std::find_if(free.begin(), free.end(), [&](const Free& f) {
+            return f.x1 - f.x0 >= cw + m && f.y1 - f.y0 >= ch + m && occupied.isFree(f.page, f.x0, f.y0, cw, ch);
+        });
+        if (it == free.end()) {
+            // No room: open a new page, within the page budget.
+            if (pages >= po.maxPages || border + cw > po.width - border || border + ch > po.height - border)
+                return makeError(ErrorCode::OutOfRange, "its new charts do not fit the free texture space within " +
+                                                            std::to_string(po.maxPages) +
+                                                            " pages; bake the model in full again");
+            free.push_back({pages++, border, border, po.width - border + m, po.height - border + m});
+            it = free.end() - 1;
+        }
+        const Free f = *it;
+        out.placements[i] = {f.page, f.x0, f.y0, cw, ch};
+        occupied.add(out.placements[i]);
+        free.erase(it);
+        const Free right{f.page, f.x0 + cw + m, f.y0, f.x1, f.y0 + ch + m},
+            top{f.page, f.x0, f.y0 + ch + m, f.x1, f.y1};
+        for (const Free& r : {right, top})
+            if (r.x1 > r.x0 && r.y1 > r.y0) free.insert(std::upper_bound(free.begin(), free.end(), r, freeBefore), r);
+    }
+    out.pages = pages;
     return out;
 }
 

@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <random>
 #include <sstream>
 #include <string>
 
@@ -28,36 +27,11 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
-// Accuracy over the loaded package; parts are sampled in proportion to their triangles.
+// Accuracy over the loaded package (bake::sampleIdAccuracy, the function the tests check);
+// parts are sampled in proportion to their triangles.
 json accuracy(const bake::Package& pkg, std::size_t points, std::uint64_t seed) {
-    std::size_t triangles = 0;
-    for (const auto& p : pkg.parts) triangles += p.indexCount / 3;
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    std::size_t good = 0, total = 0;
-    for (const auto& part : pkg.parts) {
-        const std::size_t tris = part.indexCount / 3;
-        if (!tris) continue;
-        const std::size_t n = std::max<std::size_t>(1, (points * tris + triangles - 1) / triangles);
-        std::uniform_int_distribution<std::size_t> pick(0, tris - 1);
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t t = pick(rng);
-            double r1 = unit(rng), r2 = unit(rng);
-            if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
-            const float w1 = float(r1), w2 = float(r2), w0 = 1.0f - w1 - w2;
-            glm::vec2 uv(0.0f);
-            const float w[3] = {w0, w1, w2};
-            for (int k = 0; k < 3; ++k) {
-                const std::uint32_t v = part.indices[3 * t + k];
-                uv += w[k] * glm::vec2(part.uvs[2 * v], part.uvs[2 * v + 1]);
-            }
-            good += pkg.fetch(glm::dvec2(uv)) == part.record;
-            ++total;
-        }
-    }
-    return {{"points", total},
-            {"correct", good},
-            {"percent", 100.0 * double(good) / double(std::max<std::size_t>(1, total))}};
+    const bake::IdAccuracy a = bake::sampleIdAccuracy(pkg, points, seed);
+    return {{"points", a.points}, {"correct", a.correct}, {"percent", 100.0 * a.fraction()}};
 }
 
 }  // namespace

@@ -4,37 +4,25 @@
 // that does not fit the texture budget gives a clear error.
 #include <gtest/gtest.h>
 
-#include <random>
+#include <filesystem>
+
+#include <unistd.h>
 
 #include "bake/bake.hpp"
+#include "bake/package.hpp"
 #include "tests/common/synthetic_model.hpp"
 
 using namespace geoslice;
 
 namespace {
 
-// Fraction of `samples` random points (area-uniform per part, then parts by triangle count)
-// whose fetched id equals the part's record. Interpolation in float, as a GPU does.
+// The benchmark's sampler (bake::sampleIdAccuracy): the fraction of about `samples` random
+// points (area-uniform per part, parts by triangle count) whose fetched id equals the part's
+// record. Interpolation in float, as a GPU does.
 double fetchAccuracy(const bake::BakedModel& b, std::size_t samples, std::uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    std::size_t good = 0, total = 0;
-    for (const auto& part : b.parts) {
-        const std::size_t tris = part.indices.size() / 3;
-        const std::size_t n = std::max<std::size_t>(1, samples * tris / b.stats.triangles);
-        std::uniform_int_distribution<std::size_t> pick(0, tris - 1);
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t t = pick(rng);
-            double r1 = unit(rng), r2 = unit(rng);
-            if (r1 + r2 > 1.0) r1 = 1.0 - r1, r2 = 1.0 - r2;
-            const float w1 = float(r1), w2 = float(r2), w0 = 1.0f - w1 - w2;
-            const glm::vec2 uv = w0 * part.uvs[part.indices[3 * t]] + w1 * part.uvs[part.indices[3 * t + 1]] +
-                                 w2 * part.uvs[part.indices[3 * t + 2]];
-            good += bake::fetchId(b.texels.data(), b.width, b.height, b.pages, glm::dvec2(uv)) == part.record;
-            ++total;
-        }
-    }
-    return double(good) / double(total);
+    const bake::IdAccuracy a = bake::sampleIdAccuracy(b, samples, seed);
+    EXPECT_GE(a.points, samples);
+    return a.fraction();
 }
 
 }  // namespace
@@ -81,6 +69,46 @@ TEST(BakeAccuracy, SeveralPagesKeepFullAccuracy) {
     EXPECT_GT(b->pages, 1u);
     EXPECT_DOUBLE_EQ(b->density, 0.05);
     EXPECT_EQ(fetchAccuracy(b.value(), 50000, 9), 1.0);
+}
+
+// The benchmark samples the loaded package, the tests the fresh bake: the one sampler gives
+// the same points and answers on both (the package keeps the float UVs and texels bit for
+// bit), and it can fail: a cleared texture, or one part's texels cleared, is counted exactly.
+TEST(BakeAccuracy, OneSamplerForBakeAndPackageThatCountsWrongIds) {
+    Model m = test::syntheticModel(4000);
+    bake::BakeOptions o;
+    o.pack.width = o.pack.height = 512;
+    auto b = bake::bakeModel(m, o);
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    const auto dir = std::filesystem::temp_directory_path() / ("geoslice_accuracy_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    ASSERT_TRUE(bake::writePackage(m, b.value(), dir.string()).ok());
+    auto pkg = bake::loadPackage(dir.string());
+    ASSERT_TRUE(pkg.ok()) << pkg.error().message;
+    const bake::IdAccuracy fromBake = bake::sampleIdAccuracy(b.value(), 30000, 5);
+    const bake::IdAccuracy fromPackage = bake::sampleIdAccuracy(pkg.value(), 30000, 5);
+    EXPECT_EQ(fromBake.points, fromPackage.points);
+    EXPECT_EQ(fromBake.correct, fromBake.points);
+    EXPECT_EQ(fromPackage.correct, fromPackage.points);
+
+    // Clearing the texels of part 0's record fails exactly the points drawn on the parts with
+    // that record: ceil(30000 x triangles / all triangles) each.
+    ASSERT_GE(b->parts.size(), 2u);
+    const RecordId cleared = b->parts[0].record;
+    std::size_t triangles = 0, lost = 0;
+    for (const auto& p : b->parts) triangles += p.indices.size() / 3;
+    for (const auto& p : b->parts)
+        if (p.record == cleared) lost += (30000 * (p.indices.size() / 3) + triangles - 1) / triangles;
+    bake::BakedModel copy = b.value();
+    for (auto& t : copy.texels)
+        if (t == cleared) t = kNoRecord;
+    const bake::IdAccuracy afterClear = bake::sampleIdAccuracy(copy, 30000, 5);
+    EXPECT_EQ(afterClear.points, fromBake.points);
+    EXPECT_EQ(afterClear.correct, fromBake.points - lost);
+    EXPECT_GT(lost, 0u);
+    std::fill(pkg->texels.begin(), pkg->texels.end(), kNoRecord);
+    EXPECT_EQ(bake::sampleIdAccuracy(pkg.value(), 30000, 5).correct, 0u);
+    std::filesystem::remove_all(dir);
 }
 
 TEST(BakeAccuracy, ModelOverBudgetIsAClearError) {

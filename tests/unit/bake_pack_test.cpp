@@ -98,3 +98,51 @@ TEST(BakePack, CellsHaveHalfATexelOfSlack) {
     EXPECT_EQ(bake::chartCells(1.0, 2.0), 3u);  // spans [0.5, 2.5]: cells 0..2
     EXPECT_EQ(bake::chartCells(1.2, 2.0), 4u);  // spans [0.5, 2.9]
 }
+
+// The re-bake packer, three times in a row on the same layout (each time a random third of the
+// charts replaced by new ones): every rectangle stays on its page inside the border and at
+// least `margin` texels from every other. Before the packer checked what it places against
+// the charts that stay, the second round put charts on top of the first round's (found by
+// tests/fuzz/fuzz_pack.cpp): an earlier re-bake's charts do not sit in shelves.
+TEST(BakePack, RepeatedFreeSpacePackingNeverOverlaps) {
+    bake::PackOptions o;
+    o.width = o.height = 512;
+    o.maxPages = 8;
+    o.minDensity = 0.5;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        const auto first = randomExtents(60, seed);
+        auto packed = bake::packCharts(first.data(), first.size(), o);
+        ASSERT_TRUE(packed.ok()) << packed.error().message;
+        std::vector<bake::Placement> placed = packed->placements;
+        std::uint32_t pages = packed->pages;
+        std::mt19937_64 rng(seed);
+        for (int round = 0; round < 3; ++round) {
+            std::vector<std::uint8_t> replaced(placed.size());
+            for (auto& r : replaced) r = rng() % 3 == 0;
+            const auto next = randomExtents(25, seed * 100 + std::uint64_t(round));
+            auto more = bake::packIntoFreeSpace(placed.data(), replaced.data(), placed.size(), pages, next.data(),
+                                                next.size(), packed->density, o);
+            ASSERT_TRUE(more.ok()) << more.error().message;
+            std::vector<bake::Placement> kept;
+            for (std::size_t i = 0; i < placed.size(); ++i)
+                if (!replaced[i]) kept.push_back(placed[i]);
+            kept.insert(kept.end(), more->placements.begin(), more->placements.end());
+            placed = std::move(kept);
+            pages = more->pages;
+            ASSERT_LE(pages, o.maxPages);
+            for (std::size_t i = 0; i < placed.size(); ++i) {
+                const auto& a = placed[i];
+                ASSERT_LT(a.page, pages);
+                ASSERT_GE(a.x, o.margin / 2);
+                ASSERT_GE(a.y, o.margin / 2);
+                ASSERT_LE(a.x + a.w, o.width - o.margin / 2);
+                ASSERT_LE(a.y + a.h, o.height - o.margin / 2);
+                for (std::size_t j = 0; j < i; ++j) {
+                    if (placed[j].page != a.page) continue;
+                    ASSERT_GE(gap(a, placed[j]), long(o.margin))
+                        << "seed " << seed << " round " << round << ": charts " << j << " and " << i;
+                }
+            }
+        }
+    }
+}
