@@ -12,29 +12,18 @@
 namespace geoslice {
 namespace {
 
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r' || s.front() == '\n'))
-        s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '\n'))
-        s.remove_suffix(1);
-    return s;
-}
+using text::trimSpace;
 
+// A finite number, white space around it ignored; else nullopt.
 std::optional<double> parseDouble(std::string_view s) {
-    s = trim(s);
-    if (s.empty()) return std::nullopt;
-    if (s.front() == '+') s.remove_prefix(1);
-    double v = 0.0;
-    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || p != s.data() + s.size() || !std::isfinite(v)) return std::nullopt;
+    const std::optional<double> v = text::parseDouble(trimSpace(s));
+    if (!v || !std::isfinite(*v)) return std::nullopt;
     return v;
 }
 
 std::optional<RecordId> parseId(std::string_view s) {
-    s = trim(s);
     std::uint64_t v = 0;
-    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || p != s.data() + s.size() || v == 0 || v > 0xFFFFFFFEull) return std::nullopt;
+    if (text::parseUnsigned(trimSpace(s), v) != text::IntStatus::Ok || v == 0 || v > 0xFFFFFFFEull) return std::nullopt;
     return static_cast<RecordId>(v);
 }
 
@@ -58,7 +47,7 @@ void appendField(nlohmann::ordered_json& object, const std::string& key, V&& val
 }  // namespace
 
 std::optional<Rgba8> parseColour(std::string_view text) {
-    text = trim(text);
+    text = trimSpace(text);
     if (text.empty()) return std::nullopt;
     if (text.front() == '#') {
         text.remove_prefix(1);
@@ -247,7 +236,7 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
     if (badQuote) return makeError(ErrorCode::ParseError, source + ": line 1: unterminated quote");
     int idCol = -1;
     for (std::size_t c = 0; c < header.size(); ++c) {
-        header[c] = std::string(trim(header[c]));
+        header[c] = std::string(trimSpace(header[c]));
         if (header[c] == "id") idCol = static_cast<int>(c);
     }
     if (idCol < 0) return makeError(ErrorCode::ParseError, source + ": line 1: the header has no \"id\" column");
@@ -266,7 +255,7 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
         std::vector<std::string> f = text::csvRecord(text, pos, badQuote);
         std::string where = source + ": line " + std::to_string(line);
         if (badQuote) return makeError(ErrorCode::ParseError, where + ": unterminated quote");
-        if (f.size() == 1 && trim(f[0]).empty()) continue;
+        if (f.size() == 1 && trimSpace(f[0]).empty()) continue;
         if (f.size() != header.size())
             return makeError(ErrorCode::ParseError, where + ": " + std::to_string(f.size()) + " fields, header has " +
                                                         std::to_string(header.size()));
@@ -279,7 +268,7 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
         if (table.find(r.id)) return makeError(ErrorCode::ParseError, where + ": duplicate id " + std::to_string(r.id));
         for (std::size_t c = 0; c < header.size(); ++c) {
             const std::string& key = header[c];
-            std::string value(trim(f[c]));
+            std::string value(trimSpace(f[c]));
             if (static_cast<int>(c) == idCol) continue;
             if (key == "name")
                 r.name = value;

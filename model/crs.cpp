@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "model/proj_pool.hpp"
+#include "model/text_scan.hpp"
 
 namespace geoslice {
 namespace {
@@ -75,13 +76,8 @@ std::string num(double v) {
     return std::string(buf, end);
 }
 
-std::string_view trim(std::string_view s) {
-    const char* ws = " \t\r\n\f\v";
-    const auto b = s.find_first_not_of(ws);
-    if (b == std::string_view::npos) return {};
-    const auto e = s.find_last_not_of(ws);
-    return s.substr(b, e - b + 1);
-}
+// C's isspace in the "C" locale: what CRS text (codes, WKT, PROJ strings) may be padded with.
+std::string_view trim(std::string_view s) { return text::trim(s, " \t\r\n\f\v"); }
 
 bool equalsIgnoreCase(std::string_view a, std::string_view b) {
     if (a.size() != b.size()) return false;

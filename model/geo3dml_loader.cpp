@@ -60,6 +60,7 @@
 #include <pugixml.hpp>
 
 #include "model/loaders.hpp"
+#include "model/text_scan.hpp"
 #include "model/volume_mesh.hpp"
 
 namespace geoslice {
@@ -77,13 +78,8 @@ constexpr double kMaxNorthingM = 10002000.0;
 
 // --- small string helpers ------------------------------------------------------------------
 
-bool isXmlSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
-
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && isXmlSpace(s.front())) s.remove_prefix(1);
-    while (!s.empty() && isXmlSpace(s.back())) s.remove_suffix(1);
-    return s;
-}
+using text::isSpace;
+using text::trimSpace;
 
 char asciiLower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
@@ -104,39 +100,9 @@ bool isDigits(std::string_view s) {
     return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-// Length of the valid UTF-8 sequence starting at s[i], or 0 when it is not valid (overlong
-// forms, surrogates and code points above U+10FFFF are invalid).
-std::size_t utf8SequenceLength(std::string_view s, std::size_t i) {
-    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
-    const unsigned char c = byte(i);
-    if (c < 0x80) return 1;
-    std::size_t len = 0;
-    std::uint32_t cp = 0;
-    if (c >= 0xC2 && c <= 0xDF) {
-        len = 2;
-        cp = c & 0x1Fu;
-    } else if (c >= 0xE0 && c <= 0xEF) {
-        len = 3;
-        cp = c & 0x0Fu;
-    } else if (c >= 0xF0 && c <= 0xF4) {
-        len = 4;
-        cp = c & 0x07u;
-    } else {
-        return 0;
-    }
-    if (i + len > s.size()) return 0;
-    for (std::size_t k = 1; k < len; ++k) {
-        if ((byte(i + k) & 0xC0u) != 0x80u) return 0;
-        cp = (cp << 6) | (byte(i + k) & 0x3Fu);
-    }
-    if ((len == 3 && cp < 0x800) || (len == 4 && (cp < 0x10000 || cp > 0x10FFFF))) return 0;
-    if (cp >= 0xD800 && cp <= 0xDFFF) return 0;
-    return len;
-}
-
 bool isValidUtf8(std::string_view s) {
     for (std::size_t i = 0; i < s.size();) {
-        const std::size_t len = utf8SequenceLength(s, i);
+        const std::size_t len = text::utf8Length(s, i);
         if (len == 0) return false;
         i += len;
     }
@@ -153,7 +119,7 @@ std::string quoted(std::string_view s, std::size_t maxBytes = kMaxQuotedBytes) {
             out += "...";
             break;
         }
-        const std::size_t len = utf8SequenceLength(s, i);
+        const std::size_t len = text::utf8Length(s, i);
         const auto c = static_cast<unsigned char>(s[i]);
         if (len == 0 || c < 0x20 || c == 0x7F) {
             static constexpr char kHex[] = "0123456789abcdef";
@@ -282,39 +248,11 @@ template <class F>
 void forEachToken(std::string_view text, F&& f) {
     std::size_t i = 0;
     while (i < text.size()) {
-        while (i < text.size() && isXmlSpace(text[i])) ++i;
+        while (i < text.size() && isSpace(text[i])) ++i;
         const std::size_t start = i;
-        while (i < text.size() && !isXmlSpace(text[i])) ++i;
+        while (i < text.size() && !isSpace(text[i])) ++i;
         if (i > start && !f(text.substr(start, i - start))) return;
     }
-}
-
-// A whole token as a double (GML xs:double; a leading '+' is allowed). nullopt if it is
-// not a number; NaN and infinities parse and are rejected by the caller.
-std::optional<double> parseDouble(std::string_view token) {
-    if (token.size() > 1 && token.front() == '+' && token[1] != '-' && token[1] != '+') token.remove_prefix(1);
-    double v = 0.0;
-    const char* end = token.data() + token.size();
-    const auto [ptr, ec] = std::from_chars(token.data(), end, v, std::chars_format::general);
-    if (ptr != end) return std::nullopt;
-    if (ec == std::errc::result_out_of_range) {
-        // from_chars leaves v untouched when the value is beyond a double: a negative exponent
-        // underflows towards 0, anything else overflows (and is then rejected as infinite).
-        const std::size_t e = token.find_first_of("eE");
-        if (e != std::string_view::npos && e + 1 < token.size() && token[e + 1] == '-') return 0.0;
-        return std::numeric_limits<double>::infinity();
-    }
-    if (ec != std::errc()) return std::nullopt;
-    return v;
-}
-
-std::optional<std::int64_t> parseInt(std::string_view token) {
-    if (token.size() > 1 && token.front() == '+' && token[1] != '-' && token[1] != '+') token.remove_prefix(1);
-    std::int64_t v = 0;
-    const char* end = token.data() + token.size();
-    const auto [ptr, ec] = std::from_chars(token.data(), end, v);
-    if (ec != std::errc() || ptr != end) return std::nullopt;
-    return v;
 }
 
 // --- the reader ------------------------------------------------------------------------------
@@ -560,7 +498,7 @@ std::variant<std::string, std::size_t> gb18030ToUtf8(std::string_view in) {
 // Parses text (GB18030 converted first when declared) into doc; sets converted_.
 std::optional<Error> Reader::parseDocument(std::string_view text, pugi::xml_document& doc, std::string& storage) {
     converted_.clear();
-    if (trim(text).empty()) return fail({}, "empty input, not a Geo3DML document");
+    if (trimSpace(text).empty()) return fail({}, "empty input, not a Geo3DML document");
     pugi::xml_encoding encoding = pugi::encoding_auto;
     if (declaresGbEncoding(text)) {
         auto conv = gb18030ToUtf8(text);
@@ -631,7 +569,7 @@ Result<Model> Reader::run(std::string_view text) {
 std::optional<Error> Reader::readProject(pugi::xml_node root, Model& model) {
     std::string projectName;
     if (auto err = readText(childNamed(root, "Name"), projectName)) return err;
-    model.name = std::string(trim(projectName));
+    model.name = std::string(trimSpace(projectName));
     std::optional<Error> error;
     std::vector<std::string> hrefs;
     walkElements(root, [&](pugi::xml_node n) {
@@ -660,7 +598,7 @@ std::optional<Error> Reader::readInclude(std::string_view href, Model& model) {
         return std::nullopt;
     }
     namespace fs = std::filesystem;
-    const std::string h(trim(href));
+    const std::string h(trimSpace(href));
     const fs::path rel(h);
     if (h.empty()) {
         warn("", "an xi:include without an href is skipped");
@@ -722,10 +660,10 @@ std::optional<Error> Reader::readModelElement(pugi::xml_node modelNode, Model& m
     {
         std::string name;
         if (auto err = readText(childNamed(modelNode, "Name"), name)) return err;
-        currentModelName_ = std::string(trim(name));
+        currentModelName_ = std::string(trimSpace(name));
         if (model.name.empty()) model.name = currentModelName_;
     }
-    if (modelType_.empty()) modelType_ = quoted(trim(textOf(childNamed(modelNode, "Type"))));
+    if (modelType_.empty()) modelType_ = quoted(trimSpace(textOf(childNamed(modelNode, "Type"))));
 
     // Metadata/SpatialReferenceSystem/CoordinateReferenceSystem: <Identifier>EPSG</Identifier>
     // <Parameter>4526</Parameter> in the samples.
@@ -735,7 +673,7 @@ std::optional<Error> Reader::readModelElement(pugi::xml_node modelNode, Model& m
         std::string identifier, parameter;
         if (auto err = readText(childNamed(crsNode, "Identifier"), identifier)) return err;
         if (auto err = readText(childNamed(crsNode, "Parameter"), parameter)) return err;
-        const std::string_view id = trim(identifier), param = trim(parameter);
+        const std::string_view id = trimSpace(identifier), param = trimSpace(parameter);
         if (isDigits(param) && (id.empty() || asciiLowerCopy(id) == "epsg"))
             declaredCrs_ = "EPSG:" + std::string(param);
         else if (!id.empty())
@@ -749,7 +687,7 @@ std::optional<Error> Reader::readModelElement(pugi::xml_node modelNode, Model& m
         std::string className;
         if ((error = readText(childNamed(featureClass, "name"), className))) return;
         forEachWrapped(childNamed(featureClass, "Features"), "Feature", "GeoFeature", [&](pugi::xml_node feature) {
-            if (!error) error = readFeature(feature, trim(className), model);
+            if (!error) error = readFeature(feature, trimSpace(className), model);
         });
     });
     return error;
@@ -763,7 +701,7 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
     }
     std::string featureName;
     if (auto err = readText(childNamed(feature, "name"), featureName)) return err;
-    featureName = std::string(trim(featureName));
+    featureName = std::string(trimSpace(featureName));
     if (featureName.empty()) featureName = quoted(attributeNamed(feature, "id").value(), 200);
     if (featureName.empty()) featureName = "feature " + std::to_string(model.bodies.size() + model.surfaces.size() + 1);
 
@@ -861,7 +799,7 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
 
 std::optional<Error> Reader::checkSrsDimension(pugi::xml_node n) const {
     const pugi::xml_attribute dim = attributeNamed(n, "srsDimension");
-    if (dim && trim(dim.value()) != "3")
+    if (dim && trimSpace(dim.value()) != "3")
         return fail(n, "srsDimension=\"" + quoted(dim.value()) + "\"; only 3D coordinates (x y z) are supported");
     return std::nullopt;
 }
@@ -870,7 +808,7 @@ std::optional<Error> Reader::checkDeclaredCount(pugi::xml_node n, std::string_vi
                                                 std::string_view what) const {
     const pugi::xml_attribute a = attributeNamed(n, attr);
     if (!a) return std::nullopt;
-    const std::optional<std::int64_t> declared = parseInt(trim(a.value()));
+    const std::optional<std::int64_t> declared = text::parseNumber<std::int64_t>(trimSpace(a.value()));
     if (!declared || *declared < 0) return fail(n, std::string(attr) + "=\"" + quoted(a.value()) + "\" is not a count");
     if (static_cast<std::uint64_t>(*declared) != actual)
         return fail(n, std::string(attr) + "=" + std::to_string(*declared) + " but it holds " + std::to_string(actual) +
@@ -886,7 +824,7 @@ std::optional<Error> Reader::appendLineString(pugi::xml_node ls, Polyline& line)
     std::optional<Error> error;
     const auto take = [&](pugi::xml_node at, std::string_view text) {
         forEachToken(text, [&](std::string_view token) {
-            const std::optional<double> value = parseDouble(token);
+            const std::optional<double> value = text::parseXsDouble(token);
             if (!value)
                 error = fail(at, "'" + quoted(token) + "' is not a number");
             else if (!std::isfinite(*value))
@@ -939,7 +877,7 @@ std::optional<Error> Reader::readVertices(pugi::xml_node owner, VertexTable& tab
         std::size_t n = 0;
         std::optional<Error> error;
         forEachToken(textOf(v), [&](std::string_view token) {
-            const std::optional<double> value = parseDouble(token);
+            const std::optional<double> value = text::parseXsDouble(token);
             if (!value)
                 error = fail(v, "'" + quoted(token) + "' is not a number");
             else if (!std::isfinite(*value))
@@ -954,7 +892,7 @@ std::optional<Error> Reader::readVertices(pugi::xml_node owner, VertexTable& tab
 
         std::uint64_t indexNo = count;
         if (const pugi::xml_attribute a = attributeNamed(v, "IndexNo")) {
-            const std::optional<std::int64_t> parsed = parseInt(trim(a.value()));
+            const std::optional<std::int64_t> parsed = text::parseNumber<std::int64_t>(trimSpace(a.value()));
             if (!parsed || *parsed < 0) return fail(v, "IndexNo=\"" + quoted(a.value()) + "\" is not a vertex index");
             indexNo = static_cast<std::uint64_t>(*parsed);
         }
@@ -991,7 +929,7 @@ std::optional<Error> Reader::appendGeoTin(pugi::xml_node tin, Mesh& mesh) const 
         std::size_t n = 0;
         std::optional<Error> error;
         forEachToken(textOf(list), [&](std::string_view token) {
-            const std::optional<std::int64_t> value = parseInt(token);
+            const std::optional<std::int64_t> value = text::parseNumber<std::int64_t>(token);
             if (!value)
                 error = fail(list, "'" + quoted(token) + "' is not a vertex index");
             else if (*value < 0)
@@ -1023,7 +961,7 @@ std::string readIndices(pugi::xml_node list, std::vector<std::uint64_t>& out) {
     out.clear();
     std::string problem;
     forEachToken(textOf(list), [&](std::string_view token) {
-        const std::optional<std::int64_t> value = parseInt(token);
+        const std::optional<std::int64_t> value = text::parseNumber<std::int64_t>(token);
         if (!value || *value < 0) {
             problem = "'" + quoted(token) + "' is not an index";
             return false;
@@ -1043,13 +981,13 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
         std::size_t nl = 0, nh = 0;
         const pugi::xml_node env = childNamed(childNamed(volume, "limits"), "GridEnvelope");
         forEachToken(textOf(childNamed(env, "low")), [&](std::string_view t) {
-            auto v = parseInt(t);
+            auto v = text::parseNumber<std::int64_t>(t);
             if (!v || nl >= 3) return nl = 4, false;
             low[nl++] = *v;
             return true;
         });
         forEachToken(textOf(childNamed(env, "high")), [&](std::string_view t) {
-            auto v = parseInt(t);
+            auto v = text::parseNumber<std::int64_t>(t);
             if (!v || nh >= 3) return nh = 4, false;
             high[nh++] = *v;
             return true;
@@ -1061,7 +999,7 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
         pugi::xml_node point = childNamed(originNode, "Point");
         pugi::xml_node pos = point ? (childNamed(point, "pos") ? childNamed(point, "pos") : point) : originNode;
         forEachToken(textOf(pos), [&](std::string_view t) {
-            auto v = parseDouble(t);
+            auto v = text::parseXsDouble(t);
             if (!v || !std::isfinite(*v) || no >= 3) return no = 4, false;
             origin[no++] = *v;
             return true;
@@ -1073,7 +1011,7 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
             std::array<double, 3> v{};
             std::size_t n = 0;
             forEachToken(textOf(o), [&](std::string_view t) {
-                auto d = parseDouble(t);
+                auto d = text::parseXsDouble(t);
                 if (!d || !std::isfinite(*d) || n >= 3) return n = 4, false;
                 v[n++] = *d;
                 return true;
@@ -1174,7 +1112,8 @@ std::string Reader::appendVolume(pugi::xml_node volume, VolumeMesh& vm) const {
                 break;
             }
             std::uint64_t no = faces.size();
-            if (auto parsed = parseInt(trim(attributeNamed(f, "IndexNo").value())); parsed && *parsed >= 0)
+            if (auto parsed = text::parseNumber<std::int64_t>(trimSpace(attributeNamed(f, "IndexNo").value()));
+                parsed && *parsed >= 0)
                 no = std::uint64_t(*parsed);
             faceByIndexNo.emplace(no, faces.size());
             faces.push_back(cell);
@@ -1239,7 +1178,7 @@ std::optional<Error> Reader::appendGmlTriangles(pugi::xml_node surface, Mesh& me
         std::size_t n = 0;
         const auto take = [&](pugi::xml_node at, std::string_view text) {
             forEachToken(text, [&](std::string_view token) {
-                const std::optional<double> value = parseDouble(token);
+                const std::optional<double> value = text::parseXsDouble(token);
                 if (!value)
                     error = fail(at, "'" + quoted(token) + "' is not a number");
                 else if (!std::isfinite(*value))
@@ -1439,11 +1378,12 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
         if (valueNode) {
             if (auto err = readText(valueNode, text)) return std::move(*err);
             value = text;
-            const std::string_view t = trim(text);
+            const std::string_view t = trimSpace(text);
             if (componentName == "Quantity" || componentName == "Count") {
-                if (const std::optional<std::int64_t> i = parseInt(t); i && componentName == "Count")
+                if (const std::optional<std::int64_t> i = text::parseNumber<std::int64_t>(t);
+                    i && componentName == "Count")
                     value = *i;
-                else if (const std::optional<double> d = parseDouble(t); d && std::isfinite(*d))
+                else if (const std::optional<double> d = text::parseXsDouble(t); d && std::isfinite(*d))
                     value = *d;
             } else if (componentName == "Boolean") {
                 if (t == "true" || t == "1")
@@ -1455,7 +1395,7 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
         extra.put(key, std::move(value));
         if (!uom.empty()) extra.put(key + ":uom", uom);
 
-        const std::string_view t = trim(text);
+        const std::string_view t = trimSpace(text);
         if (t.empty()) continue;
         switch (fieldRole(key)) {
             case FieldRole::Name:
@@ -1471,8 +1411,8 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
                 if (rec.era.empty()) rec.era = std::string(t);
                 break;
             case FieldRole::Density: {
-                const std::optional<double> d = parseDouble(t);
-                const std::string unit = asciiLowerCopy(trim(uom));
+                const std::optional<double> d = text::parseXsDouble(t);
+                const std::string unit = asciiLowerCopy(trimSpace(uom));
                 double scale = 0.0;  // to t/m3; 0 = unknown unit, not mapped
                 if (unit.empty() || unit == "t/m3" || unit == "g/cm3" || unit == "t/m^3" || unit == "g/cm^3")
                     scale = 1.0;
@@ -1482,10 +1422,10 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
                 break;
             }
             case FieldRole::Grade: {
-                const std::optional<double> d = parseDouble(t);
+                const std::optional<double> d = text::parseXsDouble(t);
                 if (d && std::isfinite(*d) && !rec.grade) {
                     rec.grade = *d;
-                    rec.gradeUnit = std::string(trim(uom));
+                    rec.gradeUnit = std::string(trimSpace(uom));
                 }
                 break;
             }
@@ -1503,7 +1443,7 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
 // "EPSG:4526", "urn:ogc:def:crs:EPSG::4526", "urn:ogc:def:crs:EPSG:6.6:4526",
 // "http://www.opengis.net/def/crs/EPSG/0/4526" -> "EPSG:4526"; anything else unchanged.
 std::string normaliseCrsText(std::string_view text) {
-    text = trim(text);
+    text = trimSpace(text);
     const std::string lower = asciiLowerCopy(text);
     std::size_t codeStart = std::string::npos;
     if (lower.starts_with("urn:ogc:def:crs:epsg:"))
@@ -1522,7 +1462,7 @@ std::string normaliseCrsText(std::string_view text) {
 // not lost. For a projected CRS the coordinates are checked against it (fixAxisOrder inside).
 void Reader::applyCrs(Model& model) const {
     const std::string declared = declaredCrs_.empty() ? srsName_ : declaredCrs_;
-    if (trim(declared).empty()) return;
+    if (trimSpace(declared).empty()) return;
     const auto note = [&](const char* key, const std::string& value) { model.notes.emplace(key, quoted(value, 400)); };
     const Result<Crs> crs = Crs::parse(normaliseCrsText(declared));
     if (!crs) {

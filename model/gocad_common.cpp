@@ -43,13 +43,8 @@ Lines::Lines(std::string_view text, const std::string& source) : text_(text), so
 }
 
 bool Lines::next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    std::size_t end = text_.find('\n', pos_);
-    if (end == std::string_view::npos) end = text_.size();
-    line = text_.substr(pos_, end - pos_);
-    pos_ = end < text_.size() ? end + 1 : text_.size();
+    if (!text::nextLine(text_, pos_, line)) return false;
     ++lineNo_;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     return true;
 }
 
@@ -96,14 +91,6 @@ Status Lines::checkText(std::string_view line, bool utf8) const {
 void Context::warn(std::size_t line, const std::string& what, const std::string& key) {
     if (!key.empty() && !warned.insert(key).second) return;
     warnings.push_back(lines.source() + ": line " + std::to_string(line) + ": " + what);
-}
-
-IdStatus parseId(std::string_view tok, std::uint64_t& out) {
-    if (tok.empty() || tok[0] < '0' || tok[0] > '9') return IdStatus::NotInteger;
-    auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), out);
-    if (ec == std::errc::result_out_of_range) return IdStatus::TooLarge;
-    if (ec != std::errc() || end != tok.data() + tok.size()) return IdStatus::NotInteger;
-    return IdStatus::Ok;
 }
 
 Status readId(const Lines& lines, Tokens& tokens, const std::string& what, std::uint64_t& out) {

@@ -72,8 +72,9 @@ private:
     bool endsWithNewline_ = true;
 };
 
-enum class IdStatus { Ok, NotInteger, TooLarge };
-IdStatus parseId(std::string_view tok, std::uint64_t& out);
+// GOCAD ids are unsigned decimal integers: text::parseUnsigned.
+using IdStatus = text::IntStatus;
+inline IdStatus parseId(std::string_view tok, std::uint64_t& out) { return text::parseUnsigned(tok, out); }
 // Reads a non-negative integer token into `out`, or returns an error naming `what`.
 Status readId(const Lines& lines, text::Tokens& tokens, const std::string& what, std::uint64_t& out);
 std::string_view unquote(std::string_view s);

@@ -46,16 +46,6 @@ constexpr std::uint32_t kUnset = std::numeric_limits<std::uint32_t>::max();
 
 using namespace geoslice::text;
 
-enum class IntStatus { Ok, NotInteger, TooLarge };
-
-IntStatus parseInt(std::string_view tok, std::int64_t& out) {
-    if (tok.size() > 1 && tok[0] == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
-    auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), out);
-    if (ec == std::errc::result_out_of_range) return IntStatus::TooLarge;
-    if (ec != std::errc() || end != tok.data() + tok.size()) return IntStatus::NotInteger;
-    return IntStatus::Ok;
-}
-
 struct PartBuild {
     std::string name;
     std::vector<std::uint32_t> corners;  // global vertex indices, 3 per triangle
@@ -96,13 +86,8 @@ private:
 // Returns the next logical line: a physical line, or several joined by a trailing '\'.
 bool ObjParser::nextLine(std::string_view& line) {
     auto physical = [&](std::string_view& out) {
-        if (pos_ >= text_.size()) return false;
-        std::size_t end = text_.find('\n', pos_);
-        if (end == std::string_view::npos) end = text_.size();
-        out = text_.substr(pos_, end - pos_);
-        pos_ = end < text_.size() ? end + 1 : text_.size();
+        if (!text::nextLine(text_, pos_, out)) return false;
         ++nextLineNo_;
-        if (!out.empty() && out.back() == '\r') out.remove_suffix(1);
         return true;
     };
     if (!physical(line)) return false;

@@ -1,6 +1,7 @@
 #include "model/text_scan.hpp"
 
 #include <charconv>
+#include <limits>
 #include <system_error>
 
 namespace geoslice::text {
@@ -11,6 +12,30 @@ std::string_view trim(std::string_view s) {
     while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
     while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
     return s;
+}
+
+bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+
+std::string_view trimSpace(std::string_view s) {
+    while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+    while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+    return s;
+}
+
+std::string_view trim(std::string_view s, std::string_view set) {
+    const auto b = s.find_first_not_of(set);
+    if (b == std::string_view::npos) return {};
+    return s.substr(b, s.find_last_not_of(set) - b + 1);
+}
+
+bool nextLine(std::string_view text, std::size_t& pos, std::string_view& line) {
+    if (pos >= text.size()) return false;
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    line = text.substr(pos, end - pos);
+    pos = end < text.size() ? end + 1 : text.size();
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    return true;
 }
 
 // Length of the well-formed UTF-8 sequence at s[i], or 0 when it is not one.
@@ -84,9 +109,9 @@ std::string lower(std::string_view s) {
 }
 
 // A short, printable rendering of a token for error messages.
-std::string quoteToken(std::string_view tok) {
+std::string printable(std::string_view tok) {
     constexpr std::size_t kMax = 40;
-    std::string out = "'";
+    std::string out;
     for (std::size_t i = 0; i < tok.size() && i < kMax; ++i) {
         unsigned char c = static_cast<unsigned char>(tok[i]);
         if (c < 0x20 || c >= 0x7F) {
@@ -99,15 +124,43 @@ std::string quoteToken(std::string_view tok) {
         }
     }
     if (tok.size() > kMax) out += "...";
-    return out + "'";
+    return out;
 }
 
-std::optional<double> parseDouble(std::string_view tok) {
+std::string quoteToken(std::string_view tok) { return "'" + printable(tok) + "'"; }
+
+std::optional<double> parseDouble(std::string_view tok) { return parseNumber<double>(tok); }
+
+std::optional<double> parseXsDouble(std::string_view tok) {
     if (tok.size() > 1 && tok[0] == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
     double v = 0.0;
-    auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (ec != std::errc() || end != tok.data() + tok.size()) return std::nullopt;
+    const char* end = tok.data() + tok.size();
+    const auto [ptr, ec] = std::from_chars(tok.data(), end, v);
+    if (ptr != end) return std::nullopt;
+    if (ec == std::errc::result_out_of_range) {
+        // from_chars leaves v untouched when the value is beyond a double.
+        const std::size_t e = tok.find_first_of("eE");
+        if (e != std::string_view::npos && e + 1 < tok.size() && tok[e + 1] == '-') return 0.0;
+        return std::numeric_limits<double>::infinity();
+    }
+    if (ec != std::errc()) return std::nullopt;
     return v;
+}
+
+IntStatus parseInt(std::string_view tok, std::int64_t& out) {
+    if (tok.size() > 1 && tok[0] == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
+    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), out);
+    if (ec == std::errc::result_out_of_range) return IntStatus::TooLarge;
+    if (ec != std::errc() || end != tok.data() + tok.size()) return IntStatus::NotInteger;
+    return IntStatus::Ok;
+}
+
+IntStatus parseUnsigned(std::string_view tok, std::uint64_t& out) {
+    if (tok.empty() || tok[0] < '0' || tok[0] > '9') return IntStatus::NotInteger;
+    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), out);
+    if (ec == std::errc::result_out_of_range) return IntStatus::TooLarge;
+    if (ec != std::errc() || end != tok.data() + tok.size()) return IntStatus::NotInteger;
+    return IntStatus::Ok;
 }
 
 bool Tokens::next(std::string_view& tok) {

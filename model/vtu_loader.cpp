@@ -96,31 +96,9 @@ std::size_t scalarSize(Scalar t) {
 
 bool isIntegerScalar(Scalar t) { return t != Scalar::Float32 && t != Scalar::Float64; }
 
-bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
-
-std::string_view trimView(std::string_view s) {
-    while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-    while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
-    return s;
-}
-
-// A printable, bounded rendering of file text for messages.
-std::string shown(std::string_view s) {
-    std::string out;
-    for (char c : s.substr(0, 40)) {
-        const auto u = static_cast<unsigned char>(c);
-        if (u < 0x20 || u >= 0x7F) {
-            static constexpr char kHex[] = "0123456789abcdef";
-            out += "\\x";
-            out += kHex[u >> 4];
-            out += kHex[u & 15];
-        } else {
-            out += c;
-        }
-    }
-    if (s.size() > 40) out += "...";
-    return out;
-}
+using text::isSpace;
+using text::printable;
+using text::trimSpace;
 
 // Checked a * b for sizes.
 std::optional<std::uint64_t> mulChecked(std::uint64_t a, std::uint64_t b) {
@@ -195,7 +173,7 @@ private:
             }
             const int s = sextet(c);
             if (s < 0 || pad > 0) {
-                error_ = "character '" + shown(std::string_view(&c, 1)) + "' is not base64";
+                error_ = "character '" + printable(std::string_view(&c, 1)) + "' is not base64";
                 return false;
             }
             v[got++] = s;
@@ -247,7 +225,7 @@ private:
         return makeError(code, source_ + ": " + what);
     }
     Error failArray(const ArrayDecl& a, const std::string& what) const {
-        return fail("array '" + shown(a.name) + "' (" + where(a.node) + "): " + what);
+        return fail("array '" + printable(a.name) + "' (" + where(a.node) + "): " + what);
     }
     std::string where(pugi::xml_node n) const;
 
@@ -294,14 +272,13 @@ Result<ArrayDecl> VtuReader::declare(pugi::xml_node node, std::string_view role)
     a.name = text::toUtf8(node.attribute("Name") ? std::string_view(node.attribute("Name").value()) : role);
     const char* type = node.attribute("type").value();
     auto t = scalarFromName(type);
-    if (!t) return failArray(a, "type '" + shown(type) + "' is not a VTK scalar type (Int8..UInt64, Float32, Float64)");
+    if (!t)
+        return failArray(a, "type '" + printable(type) + "' is not a VTK scalar type (Int8..UInt64, Float32, Float64)");
     a.type = *t;
     if (pugi::xml_attribute nc = node.attribute("NumberOfComponents")) {
         std::uint64_t n = 0;
-        std::string_view s = trimView(nc.value());
-        auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), n);
-        if (ec != std::errc() || p != s.data() + s.size() || n == 0 || n > 64)
-            return failArray(a, "NumberOfComponents '" + shown(nc.value()) + "' is not a number from 1 to 64");
+        if (text::parseUnsigned(trimSpace(nc.value()), n) != text::IntStatus::Ok || n == 0 || n > 64)
+            return failArray(a, "NumberOfComponents '" + printable(nc.value()) + "' is not a number from 1 to 64");
         a.components = static_cast<std::size_t>(n);
     }
     const std::string_view format = node.attribute("format").value();
@@ -312,15 +289,14 @@ Result<ArrayDecl> VtuReader::declare(pugi::xml_node node, std::string_view role)
     } else if (format == "appended") {
         a.format = ArrayDecl::Format::Appended;
         if (!haveAppended_) return failArray(a, "format is appended but the file has no <AppendedData>");
-        std::string_view s = trimView(node.attribute("offset").value());
-        auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), a.offset);
-        if (s.empty() || ec != std::errc() || p != s.data() + s.size())
-            return failArray(a, "appended array without a valid offset ('" + shown(s) + "')");
+        std::string_view s = trimSpace(node.attribute("offset").value());
+        if (text::parseUnsigned(s, a.offset) != text::IntStatus::Ok)
+            return failArray(a, "appended array without a valid offset ('" + printable(s) + "')");
         if (a.offset >= appended_.size())
             return failArray(a, "offset " + std::to_string(a.offset) + " is past the end of the appended data (" +
                                     std::to_string(appended_.size()) + " bytes)");
     } else {
-        return failArray(a, "format '" + shown(format) + "' is not ascii, binary or appended");
+        return failArray(a, "format '" + printable(format) + "' is not ascii, binary or appended");
     }
     return a;
 }
@@ -482,15 +458,12 @@ Status VtuReader::read(const ArrayDecl& a, std::uint64_t count, std::vector<T>& 
             while (tokEnd < end && !isSpace(*tokEnd)) ++tokEnd;
             if (out.size() == count)
                 return failArray(a, "more than the " + std::to_string(count) + " values the declared counts need");
-            T v{};
-            std::string_view tok(p, static_cast<std::size_t>(tokEnd - p));
-            if (!tok.empty() && tok.front() == '+') tok.remove_prefix(1);
-            auto [q, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-            if (ec != std::errc() || q != tok.data() + tok.size())
+            const std::optional<T> v = text::parseNumber<T>({p, static_cast<std::size_t>(tokEnd - p)});
+            if (!v)
                 return failArray(a, "value " + std::to_string(out.size() + 1) + " '" +
-                                        shown({p, std::size_t(tokEnd - p)}) + "' is not " +
+                                        printable({p, std::size_t(tokEnd - p)}) + "' is not " +
                                         (std::is_integral_v<T> ? "an integer" : "a number"));
-            out.push_back(v);
+            out.push_back(*v);
             p = tokEnd;
         }
         if (out.size() != count)
@@ -511,10 +484,9 @@ Status VtuReader::read(const ArrayDecl& a, std::uint64_t count, std::vector<T>& 
 
 Status VtuReader::readPiece(pugi::xml_node piece) {
     auto count = [&](const char* attr, std::uint64_t& n) -> Status {
-        std::string_view s = trimView(piece.attribute(attr).value());
-        auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), n);
-        if (s.empty() || ec != std::errc() || p != s.data() + s.size())
-            return fail("<Piece> (" + where(piece) + ") " + attr + " '" + shown(s) + "' is not a count");
+        std::string_view s = trimSpace(piece.attribute(attr).value());
+        if (text::parseUnsigned(s, n) != text::IntStatus::Ok)
+            return fail("<Piece> (" + where(piece) + ") " + attr + " '" + printable(s) + "' is not a count");
         return {};
     };
     std::uint64_t nPoints = 0, nCells = 0;
@@ -656,27 +628,27 @@ Result<Model> VtuReader::run() {
         return fail("byte " + std::to_string(parsed.offset) + ": not well-formed XML: " + parsed.description());
     const pugi::xml_node root = doc.document_element();
     if (std::string_view(root.name()) != "VTKFile")
-        return fail("root element is <" + shown(root.name()) + ">, not <VTKFile>");
+        return fail("root element is <" + printable(root.name()) + ">, not <VTKFile>");
     const std::string_view type = root.attribute("type").value();
     if (type != "UnstructuredGrid")
-        return fail("VTKFile type '" + shown(type) + "' is not UnstructuredGrid (only .vtu volume grids are read)",
+        return fail("VTKFile type '" + printable(type) + "' is not UnstructuredGrid (only .vtu volume grids are read)",
                     ErrorCode::Unsupported);
     const std::string_view byteOrder = root.attribute("byte_order").value();
     if (byteOrder == "BigEndian")
         bigEndian_ = true;
     else if (!byteOrder.empty() && byteOrder != "LittleEndian")
-        return fail("byte_order '" + shown(byteOrder) + "' is not LittleEndian or BigEndian");
+        return fail("byte_order '" + printable(byteOrder) + "' is not LittleEndian or BigEndian");
     const std::string_view header = root.attribute("header_type").value();
     if (header == "UInt64")
         header64_ = true;
     else if (!header.empty() && header != "UInt32")
-        return fail("header_type '" + shown(header) + "' is not UInt32 or UInt64");
+        return fail("header_type '" + printable(header) + "' is not UInt32 or UInt64");
     const std::string_view compressor = root.attribute("compressor").value();
     if (compressor == "vtkZLibDataCompressor")
         zlib_ = true;
     else if (!compressor.empty())
         return fail(
-            "compressor '" + shown(compressor) +
+            "compressor '" + printable(compressor) +
                 "' is not supported (only vtkZLibDataCompressor; re-save the file with zlib or without compression)",
             ErrorCode::Unsupported);
     if (haveAppended_) {
@@ -685,7 +657,7 @@ Result<Model> VtuReader::run() {
         if (enc == "base64")
             appendedBase64_ = true;
         else if (enc != "raw")
-            return fail("<AppendedData> encoding '" + shown(enc) + "' is not raw or base64");
+            return fail("<AppendedData> encoding '" + printable(enc) + "' is not raw or base64");
     }
 
     const pugi::xml_node grid = root.child("UnstructuredGrid");
@@ -785,13 +757,13 @@ Result<Model> VtuReader::run() {
         if (!region) {
             std::string names;
             for (const auto& a : cellArrays_)
-                names += (names.empty() ? "" : ", ") + std::string("'") + shown(a.name) + "'";
-            return fail("no cell-data array named '" + shown(options_.regionArray) + "' (the file has " +
+                names += (names.empty() ? "" : ", ") + std::string("'") + printable(a.name) + "'";
+            return fail("no cell-data array named '" + printable(options_.regionArray) + "' (the file has " +
                             (names.empty() ? std::string("none") : names) + ")",
                         ErrorCode::NotFound);
         }
         if (region->components != 1)
-            return fail("cell-data array '" + shown(region->name) + "' has " + std::to_string(region->components) +
+            return fail("cell-data array '" + printable(region->name) + "' has " + std::to_string(region->components) +
                             " components; a formation array has one",
                         ErrorCode::InvalidArgument);
     } else {
@@ -817,7 +789,7 @@ Result<Model> VtuReader::run() {
         for (std::size_t i = 0; i < keptCells.size(); ++i) {
             const double x = region->values[keptCells[i]];
             if (!std::isfinite(x) || x != std::floor(x) || std::abs(x) >= 9e15)
-                return fail("cell-data array '" + shown(region->name) + "': cell " + std::to_string(keptCells[i]) +
+                return fail("cell-data array '" + printable(region->name) + "': cell " + std::to_string(keptCells[i]) +
                             " has value " + std::to_string(x) + ", not a whole number naming a formation");
             cellValue[i] = static_cast<std::int64_t>(x);
         }
@@ -831,7 +803,7 @@ Result<Model> VtuReader::run() {
         values = {1};
     }
     if (values.size() > 1000000)
-        return fail("cell-data array '" + shown(region->name) + "' has " + std::to_string(values.size()) +
+        return fail("cell-data array '" + printable(region->name) + "' has " + std::to_string(values.size()) +
                         " distinct values; a formation array has few (choose another with --region-array)",
                     ErrorCode::InvalidArgument);
 
