@@ -30,7 +30,6 @@ namespace fs = std::filesystem;
 
 constexpr std::uint32_t kChunkJson = kGlbChunkJson;
 constexpr std::uint32_t kChunkBin = kGlbChunkBin;
-constexpr int kFloat = 5126, kUint = 5125;
 // zstd stores a 128 KiB block of one repeated byte in 4 bytes: no frame expands more than
 // this, so a header that claims more is a lie and nothing is allocated for it.
 constexpr std::uint64_t kMaxZstdRatio = 32768;
@@ -125,18 +124,7 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
     if (features && baked.pages != 1)
         return makeError(ErrorCode::Unsupported, "EXT_mesh_features export needs a one-page bake (this one has " +
                                                      std::to_string(baked.pages) + " pages: raise the texture size)");
-    std::vector<std::uint8_t> bin;
-    json accessors = json::array(), views = json::array(), meshes = json::array(), nodes = json::array();
-    json children = json::array();
-    nodes.push_back(json::object());
-    auto addView = [&](const void* bytes, std::size_t n, int target, std::size_t align = 4) {
-        while (bin.size() % align) bin.push_back(0);
-        views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", n}});
-        if (target) views.back()["target"] = target;
-        const auto* p = static_cast<const std::uint8_t*>(bytes);
-        bin.insert(bin.end(), p, p + n);
-        return views.size() - 1;
-    };
+    GlbBuilder glb("geoslice bake");
     // Property-table rows: every record of the table and every part's record, by id.
     std::vector<RecordId> rows;
     if (features) {
@@ -148,40 +136,31 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
     }
     for (const BakedPart& part : baked.parts) {
         std::vector<float> pos(part.positions.size() * 3);
-        glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
         for (std::size_t i = 0; i < part.positions.size(); ++i) {
-            const glm::vec3 g(part.positions[i].x, part.positions[i].z, -part.positions[i].y);
+            const glm::vec3 g = worldToGltf(part.positions[i]);
             std::memcpy(&pos[3 * i], &g, sizeof g);
-            lo = glm::min(lo, g);
-            hi = glm::max(hi, g);
         }
-        const std::size_t pv = addView(pos.data(), pos.size() * 4, 34962);
-        const std::size_t uv = addView(part.uvs.data(), part.uvs.size() * 8, 34962);
-        const std::size_t iv = addView(part.indices.data(), part.indices.size() * 4, 34963);
-        accessors.push_back({{"bufferView", pv},
-                             {"componentType", kFloat},
-                             {"count", part.positions.size()},
-                             {"type", "VEC3"},
-                             {"min", {lo.x, lo.y, lo.z}},
-                             {"max", {hi.x, hi.y, hi.z}}});
-        accessors.push_back(
-            {{"bufferView", uv}, {"componentType", kFloat}, {"count", part.uvs.size()}, {"type", "VEC2"}});
-        accessors.push_back(
-            {{"bufferView", iv}, {"componentType", kUint}, {"count", part.indices.size()}, {"type", "SCALAR"}});
-        const std::size_t a = accessors.size() - 3;
-        json prim = {{"attributes", {{"POSITION", a}, {"TEXCOORD_0", a + 1}}}, {"indices", a + 2}, {"mode", 4}};
+        const std::size_t pa = glb.addPositions(pos.data(), part.positions.size());
+        const std::size_t uv = glb.addView(part.uvs.data(), part.uvs.size() * 8, kGltfArrayBuffer);
+        const std::size_t iv = glb.addView(part.indices.data(), part.indices.size() * 4, kGltfElementArrayBuffer);
+        const std::size_t ua = glb.addAccessor(
+            {{"bufferView", uv}, {"componentType", kGltfFloat}, {"count", part.uvs.size()}, {"type", "VEC2"}});
+        const std::size_t ia = glb.addAccessor(
+            {{"bufferView", iv}, {"componentType", kGltfUint}, {"count", part.indices.size()}, {"type", "SCALAR"}});
+        json prim = {{"attributes", {{"POSITION", pa}, {"TEXCOORD_0", ua}}}, {"indices", ia}, {"mode", kGltfTriangles}};
         if (residuals && floatMergesVertices(part)) {
             // What float32 lost, for readers that want double (model/gltf_io reads it): an
             // application-specific attribute (glTF 2.0 3.7.2.1: names start with '_').
             std::vector<float> residual(part.positionsLo.size() * 3);
             for (std::size_t i = 0; i < part.positionsLo.size(); ++i) {
-                const glm::vec3 g(part.positionsLo[i].x, part.positionsLo[i].z, -part.positionsLo[i].y);
+                const glm::vec3 g = worldToGltf(part.positionsLo[i]);
                 std::memcpy(&residual[3 * i], &g, sizeof g);
             }
-            const std::size_t lv = addView(residual.data(), residual.size() * 4, 34962);
-            accessors.push_back(
-                {{"bufferView", lv}, {"componentType", kFloat}, {"count", part.positionsLo.size()}, {"type", "VEC3"}});
-            prim["attributes"][kPositionResidualAttribute] = accessors.size() - 1;
+            const std::size_t lv = glb.addView(residual.data(), residual.size() * 4, kGltfArrayBuffer);
+            prim["attributes"][kPositionResidualAttribute] = glb.addAccessor({{"bufferView", lv},
+                                                                              {"componentType", kGltfFloat},
+                                                                              {"count", part.positionsLo.size()},
+                                                                              {"type", "VEC3"}});
         }
         if (features)
             prim["extensions"]["EXT_mesh_features"] = {
@@ -190,26 +169,20 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
                                              {"label", "record"},
                                              {"texture", {{"index", 0}, {"texCoord", 0}, {"channels", {0, 1, 2, 3}}}},
                                              {"propertyTable", 0}}})}};
-        meshes.push_back({{"name", part.name}, {"primitives", json::array({prim})}});
-        nodes.push_back(
-            {{"name", part.name},
-             {"mesh", meshes.size() - 1},
-             {"extras",
-              {{"geoslice", {{"kind", part.kind == PartKind::Body ? "body" : "surface"}, {"record", part.record}}}}}});
-        children.push_back(nodes.size() - 1);
+        glb.addPart(part.name, part.kind, part.record, std::move(prim));
     }
     json metadata;
     std::size_t imageView = 0;
     if (features) {
         auto png = encodeFeaturePng(baked, rows);
         if (!png) return png.error();
-        imageView = addView(png->data(), png->size(), 0);
+        imageView = glb.addView(png->data(), png->size(), 0);
         // EXT_structural_metadata property table: one row per record; strings as UTF-8 values
         // plus UINT32 offsets, numbers as FLOAT64 with -1 for "not given". 8-byte aligned views.
         json schemaProps = {{"id", {{"type", "SCALAR"}, {"componentType", "UINT32"}, {"required", true}}}};
         json tableProps = json::object();
         std::vector<std::uint32_t> ids(rows.begin(), rows.end());
-        tableProps["id"] = {{"values", addView(ids.data(), ids.size() * 4, 0, 8)}};
+        tableProps["id"] = {{"values", glb.addView(ids.data(), ids.size() * 4, 0, 8)}};
         using Getter = std::string (*)(const AttributeRecord&);
         const std::pair<const char*, Getter> strings[] = {
             {"name", [](const AttributeRecord& r) { return r.name; }},
@@ -226,8 +199,8 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
                 offsets.push_back(static_cast<std::uint32_t>(values.size()));
             }
             schemaProps[key] = {{"type", "STRING"}};
-            const std::size_t vv = addView(values.data(), values.size(), 0, 8);
-            const std::size_t ov = addView(offsets.data(), offsets.size() * 4, 0, 8);
+            const std::size_t vv = glb.addView(values.data(), values.size(), 0, 8);
+            const std::size_t ov = glb.addView(offsets.data(), offsets.size() * 4, 0, 8);
             tableProps[key] = {{"values", vv}, {"stringOffsets", ov}, {"stringOffsetType", "UINT32"}};
         }
         for (const char* key : {"density", "grade"}) {
@@ -239,25 +212,13 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
                 v.push_back(x ? *x : -1.0);
             }
             schemaProps[key] = {{"type", "SCALAR"}, {"componentType", "FLOAT64"}, {"noData", -1.0}};
-            tableProps[key] = {{"values", addView(v.data(), v.size() * 8, 0, 8)}};
+            tableProps[key] = {{"values", glb.addView(v.data(), v.size() * 8, 0, 8)}};
         }
         metadata = {{"schema", {{"id", "geoslice"}, {"classes", {{"geology", {{"properties", schemaProps}}}}}}},
                     {"propertyTables",
                      json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
     }
-    while (bin.size() % 4) bin.push_back(0);
-    const glm::dvec3 o(model.origin.x, model.origin.z, -model.origin.y);
-    nodes[0] = {
-        {"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}, {"children", children}};
-    json doc;
-    doc["asset"] = {{"version", "2.0"}, {"generator", "geoslice bake"}};
-    doc["scene"] = 0;
-    doc["scenes"] = {{{"name", model.name}, {"nodes", {0}}, {"extras", {{"geoslice", sceneExtras(model, table)}}}}};
-    doc["nodes"] = nodes;
-    doc["meshes"] = meshes;
-    doc["accessors"] = accessors;
-    doc["bufferViews"] = views;
-    doc["buffers"] = {{{"byteLength", bin.size()}}};
+    json& doc = glb.finishDocument(model, table);
     if (features) {
         doc["images"] = {{{"bufferView", imageView}, {"mimeType", "image/png"}}};
         // Nearest sampling, clamped: ids must never be filtered.
@@ -266,7 +227,7 @@ Result<std::vector<std::uint8_t>> encodeMesh(const Model& model, const BakedMode
         doc["extensionsUsed"] = {"EXT_mesh_features", "EXT_structural_metadata"};
         doc["extensions"]["EXT_structural_metadata"] = metadata;
     }
-    return packGlb(doc.dump(), bin, "baked mesh");
+    return glb.pack("baked mesh");
 }
 
 // A read-only file mapping (or nothing, for an empty file).
@@ -395,20 +356,20 @@ Status parseMesh(std::span<const std::uint8_t> mesh, const std::string& source, 
         part.record = record <= 0xFFFFFFFEu ? static_cast<RecordId>(record) : kNoRecord;
         const auto& prim = doc.at("meshes").at(meshIndex).at("primitives").at(0);
         std::size_t nPos = 0, nUv = 0;
-        auto pos = accessorData<float>(doc, prim.at("attributes").at("POSITION").get<std::size_t>(), kFloat, "VEC3", 3,
-                                       bin, nPos, where);
+        auto pos = accessorData<float>(doc, prim.at("attributes").at("POSITION").get<std::size_t>(), kGltfFloat, "VEC3",
+                                       3, bin, nPos, where);
         if (!pos) return pos.error();
-        auto uv = accessorData<float>(doc, prim.at("attributes").at("TEXCOORD_0").get<std::size_t>(), kFloat, "VEC2", 2,
-                                      bin, nUv, where);
+        auto uv = accessorData<float>(doc, prim.at("attributes").at("TEXCOORD_0").get<std::size_t>(), kGltfFloat,
+                                      "VEC2", 2, bin, nUv, where);
         if (!uv) return uv.error();
-        auto idx = accessorData<std::uint32_t>(doc, prim.at("indices").get<std::size_t>(), kUint, "SCALAR", 1, bin,
+        auto idx = accessorData<std::uint32_t>(doc, prim.at("indices").get<std::size_t>(), kGltfUint, "SCALAR", 1, bin,
                                                part.indexCount, where);
         if (!idx) return idx.error();
         if (nPos != nUv) return makeError(ErrorCode::ParseError, where + ": POSITION and TEXCOORD_0 counts differ");
         if (prim.at("attributes").contains(kPositionResidualAttribute)) {
             std::size_t nLo = 0;
             auto lo = accessorData<float>(doc, prim.at("attributes").at(kPositionResidualAttribute).get<std::size_t>(),
-                                          kFloat, "VEC3", 3, bin, nLo, where);
+                                          kGltfFloat, "VEC3", 3, bin, nLo, where);
             if (!lo) return lo.error();
             if (nLo != nPos)
                 return makeError(ErrorCode::ParseError,
@@ -563,7 +524,7 @@ Result<Model> unvalidatedModel(const Package& pkg) {
             const double gx = (double(f[0]) + (r ? double(r[0]) : 0.0)) + t.x;
             const double gy = (double(f[1]) + (r ? double(r[1]) : 0.0)) + t.y;
             const double gz = (double(f[2]) + (r ? double(r[2]) : 0.0)) + t.z;
-            part.mesh.positions.emplace_back(gx, -gz, gy);  // glTF (X east, Y up, Z -north) to world
+            part.mesh.positions.push_back(gltfToWorld(glm::dvec3(gx, gy, gz)));
         }
         part.mesh.indices.assign(pp.indices, pp.indices + pp.indexCount);
         (part.kind == PartKind::Body ? model.bodies : model.surfaces).push_back(std::move(part));

@@ -25,7 +25,7 @@ namespace {
 
 constexpr std::uint32_t kChunkJson = kGlbChunkJson;
 constexpr std::uint32_t kChunkBin = kGlbChunkBin;
-constexpr int kTriangles = 4;
+constexpr int kTriangles = kGltfTriangles;
 constexpr int kTriangleStrip = 5;
 constexpr int kTriangleFan = 6;
 // glTF's own JSON nests about 6 levels deep. tinygltf converts extras and extensions to its
@@ -45,10 +45,6 @@ constexpr const char* kDracoExtension = "KHR_draco_mesh_compression";
 // tinygltf 2.7 (which indexes bufferViews, accessors and Draco attributes straight from the
 // file, unchecked) never decodes it; appendPrimitive() decodes it with bounds checks.
 constexpr const char* kDracoDeferred = "GEOSLICE_draco_deferred";
-
-// World (x east, y north, z up) <-> glTF (X, Y up, Z = -north).
-glm::dvec3 worldToGltf(const glm::dvec3& w) { return {w.x, w.z, -w.y}; }
-glm::dvec3 gltfToWorld(const glm::dvec3& g) { return {g.x, -g.z, g.y}; }
 
 std::uint32_t readU32(const std::uint8_t* p) {
     std::uint32_t v;
@@ -774,46 +770,86 @@ Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::s
     }
 }
 
+GlbBuilder::GlbBuilder(const std::string& generator) { doc_["asset"] = {{"version", "2.0"}, {"generator", generator}}; }
+
+std::size_t GlbBuilder::addView(const void* bytes, std::size_t n, int target, std::size_t align) {
+    while (bin_.size() % align) bin_.push_back(0);
+    views_.push_back({{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", n}});
+    if (target) views_.back()["target"] = target;
+    const auto* p = static_cast<const std::uint8_t*>(bytes);
+    bin_.insert(bin_.end(), p, p + n);
+    return views_.size() - 1;
+}
+
+std::size_t GlbBuilder::addAccessor(json accessor) {
+    accessors_.push_back(std::move(accessor));
+    return accessors_.size() - 1;
+}
+
+std::size_t GlbBuilder::addPositions(const float* xyz, std::size_t count, bool inView) {
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (std::size_t i = 0; i < count; ++i) {
+        const glm::vec3 g(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+        lo = glm::min(lo, g);
+        hi = glm::max(hi, g);
+    }
+    json a = json::object();
+    if (inView) a["bufferView"] = addView(xyz, count * 3 * sizeof(float), kGltfArrayBuffer);
+    a["componentType"] = kGltfFloat;
+    a["count"] = count;
+    a["type"] = "VEC3";
+    a["min"] = {lo.x, lo.y, lo.z};
+    a["max"] = {hi.x, hi.y, hi.z};
+    return addAccessor(std::move(a));
+}
+
+void GlbBuilder::addPart(const std::string& name, PartKind kind, RecordId record, json primitive) {
+    meshes_.push_back({{"name", name}, {"primitives", json::array({std::move(primitive)})}});
+    nodes_.push_back(
+        {{"name", name},
+         {"mesh", meshes_.size() - 1},
+         {"extras", {{"geoslice", {{"kind", kind == PartKind::Body ? "body" : "surface"}, {"record", record}}}}}});
+    children_.push_back(nodes_.size() - 1);
+}
+
+GlbBuilder::json& GlbBuilder::finishDocument(const Model& model, const AttributeTable& attributes) {
+    while (bin_.size() % 4) bin_.push_back(0);
+    const glm::dvec3 o = worldToGltf(model.origin);
+    nodes_[0] = {
+        {"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}, {"children", children_}};
+    doc_["scene"] = 0;
+    doc_["scenes"] = {
+        {{"name", model.name}, {"nodes", {0}}, {"extras", {{"geoslice", sceneExtras(model, attributes)}}}}};
+    doc_["nodes"] = nodes_;
+    doc_["meshes"] = meshes_;
+    doc_["accessors"] = accessors_;
+    doc_["bufferViews"] = views_;
+    doc_["buffers"] = {{{"byteLength", bin_.size()}}};
+    return doc_;
+}
+
+Result<std::vector<std::uint8_t>> GlbBuilder::pack(const std::string& what) const {
+    return packGlb(doc_.dump(), bin_, what);
+}
+
 Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOptions& options) {
     using json = nlohmann::ordered_json;
-    std::vector<std::uint8_t> bin;
-    auto align4 = [&] {
-        while (bin.size() % 4) bin.push_back(0);
-    };
-    json accessors = json::array(), views = json::array(), meshes = json::array(), nodes = json::array();
-    json rootChildren = json::array();
-    nodes.push_back(json::object());  // root, filled below
-
-    auto addView = [&](const void* bytes, std::size_t n, int target) {
-        align4();
-        json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", n}};
-        if (target) v["target"] = target;
-        const auto* p = static_cast<const std::uint8_t*>(bytes);
-        bin.insert(bin.end(), p, p + n);
-        views.push_back(v);
-        return static_cast<int>(views.size() - 1);
-    };
-
+    GlbBuilder glb(kGeneratorName);
+    if (options.draco) {
+        glb.doc()["extensionsUsed"] = {kDracoExtension};
+        glb.doc()["extensionsRequired"] = {kDracoExtension};
+    }
     auto addPart = [&](const Part& part) -> Status {
         const Mesh& mesh = part.mesh;
         if (mesh.positions.empty() || mesh.indices.empty()) return {};
         std::vector<float> pos(mesh.positions.size() * 3);
-        glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
         for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-            glm::vec3 g(worldToGltf(mesh.positions[i] - model.origin));
+            const glm::vec3 g(worldToGltf(mesh.positions[i] - model.origin));
             pos[3 * i] = g.x;
             pos[3 * i + 1] = g.y;
             pos[3 * i + 2] = g.z;
-            lo = glm::min(lo, g);
-            hi = glm::max(hi, g);
         }
-        json posAcc = {{"componentType", 5126},
-                       {"count", mesh.positions.size()},
-                       {"type", "VEC3"},
-                       {"min", {lo.x, lo.y, lo.z}},
-                       {"max", {hi.x, hi.y, hi.z}}};
-        json idxAcc = {{"componentType", 5125}, {"count", mesh.indices.size()}, {"type", "SCALAR"}};
-        json prim = {{"mode", kTriangles}};
+        json prim = {{"mode", kGltfTriangles}};
         if (options.draco) {
             draco::Mesh dm;
             draco::GeometryAttribute ga;
@@ -833,51 +869,27 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
             if (!st.ok())
                 return makeError(ErrorCode::Internal,
                                  "Draco encoding of \"" + part.name + "\" failed: " + st.error_msg_string());
-            int view = addView(out.data(), out.size(), 0);
-            prim["extensions"]["KHR_draco_mesh_compression"] = {
-                {"bufferView", view}, {"attributes", {{"POSITION", dm.attribute(att)->unique_id()}}}};
+            const std::size_t view = glb.addView(out.data(), out.size(), 0);
+            prim["extensions"][kDracoExtension] = {{"bufferView", view},
+                                                   {"attributes", {{"POSITION", dm.attribute(att)->unique_id()}}}};
+            prim["attributes"] = {{"POSITION", glb.addPositions(pos.data(), mesh.positions.size(), false)}};
+            prim["indices"] =
+                glb.addAccessor({{"componentType", kGltfUint}, {"count", mesh.indices.size()}, {"type", "SCALAR"}});
         } else {
-            posAcc["bufferView"] = addView(pos.data(), pos.size() * sizeof(float), 34962);
-            idxAcc["bufferView"] = addView(mesh.indices.data(), mesh.indices.size() * 4, 34963);
+            prim["attributes"] = {{"POSITION", glb.addPositions(pos.data(), mesh.positions.size())}};
+            const std::size_t iv = glb.addView(mesh.indices.data(), mesh.indices.size() * 4, kGltfElementArrayBuffer);
+            prim["indices"] = glb.addAccessor(
+                {{"bufferView", iv}, {"componentType", kGltfUint}, {"count", mesh.indices.size()}, {"type", "SCALAR"}});
         }
-        accessors.push_back(posAcc);
-        prim["attributes"] = {{"POSITION", accessors.size() - 1}};
-        accessors.push_back(idxAcc);
-        prim["indices"] = accessors.size() - 1;
-        meshes.push_back({{"name", part.name}, {"primitives", json::array({prim})}});
-        nodes.push_back(
-            {{"name", part.name},
-             {"mesh", meshes.size() - 1},
-             {"extras",
-              {{"geoslice", {{"kind", part.kind == PartKind::Body ? "body" : "surface"}, {"record", part.record}}}}}});
-        rootChildren.push_back(nodes.size() - 1);
+        glb.addPart(part.name, part.kind, part.record, std::move(prim));
         return {};
     };
     for (const auto& p : model.bodies)
         if (auto s = addPart(p); !s) return s.error();
     for (const auto& p : model.surfaces)
         if (auto s = addPart(p); !s) return s.error();
-    align4();
-
-    glm::dvec3 o = worldToGltf(model.origin);
-    nodes[0] = {{"name", model.name.empty() ? "model" : model.name},
-                {"translation", {o.x, o.y, o.z}},
-                {"children", rootChildren}};
-    json doc;
-    doc["asset"] = {{"version", "2.0"}, {"generator", kGeneratorName}};
-    if (options.draco) {
-        doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
-        doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-    }
-    doc["scene"] = 0;
-    doc["scenes"] = {
-        {{"name", model.name}, {"nodes", {0}}, {"extras", {{"geoslice", sceneExtras(model, model.attributes)}}}}};
-    doc["nodes"] = nodes;
-    doc["meshes"] = meshes;
-    doc["accessors"] = accessors;
-    doc["bufferViews"] = views;
-    doc["buffers"] = {{{"byteLength", bin.size()}}};
-    return packGlb(doc.dump(), bin, "model");
+    glb.finishDocument(model, model.attributes);
+    return glb.pack("model");
 }
 
 Status writeGlb(const Model& model, const std::string& path, const GlbWriteOptions& options) {

@@ -31,6 +31,56 @@ Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOp
 // `attributes` may differ from model.attributes (a bake adds its grade-class records).
 nlohmann::ordered_json sceneExtras(const Model& model, const AttributeTable& attributes);
 
+// The one axis swap between world (x east, y north, z up) and glTF (X east, Y up, Z = -north),
+// for double and float vectors alike.
+template <class V>
+V worldToGltf(const V& w) {
+    return {w.x, w.z, -w.y};
+}
+template <class V>
+V gltfToWorld(const V& g) {
+    return {g.x, -g.z, g.y};
+}
+
+// glTF 2.0 constants geoslice writes (glTF 2.0 spec, accessor.componentType, bufferView.target,
+// primitive.mode).
+constexpr int kGltfFloat = 5126, kGltfUint = 5125;
+constexpr int kGltfArrayBuffer = 34962, kGltfElementArrayBuffer = 34963;
+constexpr int kGltfTriangles = 4;
+
+// The one GLB builder: every GLB geoslice writes (encodeGlb's model, bake/'s package mesh) is
+// built by it, in the layout at the top of this file. Use: the constructor writes "asset"; add
+// top-level members that go before the scene through doc() (e.g. extensionsUsed); add buffer
+// views, accessors and one part per mesh; finishDocument() appends scene, scenes (the root
+// node's translation = the model origin in glTF axes, scene extras.geoslice = sceneExtras),
+// nodes, meshes, accessors, bufferViews and buffers; add what goes after; pack().
+class GlbBuilder {
+public:
+    using json = nlohmann::ordered_json;
+    explicit GlbBuilder(const std::string& generator);
+    json& doc() { return doc_; }
+    // Appends n bytes as a buffer view, first padding the binary chunk to `align` bytes;
+    // target: kGltfArrayBuffer, kGltfElementArrayBuffer or 0 (none). Returns its index.
+    std::size_t addView(const void* bytes, std::size_t n, int target, std::size_t align = 4);
+    // Appends an accessor; returns its index.
+    std::size_t addAccessor(json accessor);
+    // The POSITION accessor of `count` float32 glTF-axis positions (3 per vertex, metres, the
+    // local frame) with its min and max; in a buffer view unless `inView` is false (Draco keeps
+    // them in its own). Returns the accessor index.
+    std::size_t addPositions(const float* xyz, std::size_t count, bool inView = true);
+    // One mesh of one primitive and its node, a child of the root, with extras.geoslice {kind,
+    // record}.
+    void addPart(const std::string& name, PartKind kind, RecordId record, json primitive);
+    json& finishDocument(const Model& model, const AttributeTable& attributes);
+    // The GLB of the document (finishDocument first); OutOfRange naming `what` past 4 GiB.
+    Result<std::vector<std::uint8_t>> pack(const std::string& what) const;
+
+private:
+    std::vector<std::uint8_t> bin_;
+    json doc_, accessors_ = json::array(), views_ = json::array(), meshes_ = json::array(),
+               nodes_ = json::array({json::object()}), children_ = json::array();
+};
+
 // GLB container constants (glTF 2.0 spec, "Binary glTF Layout").
 constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr std::uint32_t kGlbChunkJson = 0x4E4F534A;
