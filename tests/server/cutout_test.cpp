@@ -16,10 +16,12 @@
 //     either side) and its world point within 1 mm (Embree's float32 hit distance at 100 m
 //     from the local origin is ~1e-5 m; 1 mm leaves room for the tracer's tolerance band), and
 //     the GL ID buffer agrees at >= 99 % of them (rasterisation at edges).
-//  3. A golden image of a wedge cut-out of the demo model through the whole HTTP path, compared
-//     like tests/gl/golden_test.cpp: a pixel fails when a channel differs by more than 24, at
-//     most 0.5 % failing pixels (lighting rounding and one-pixel edge moves between Mesa
-//     versions). UPDATE_GOLDENS=1 rewrites it; a failure writes the actual image beside it.
+//  3. The golden cases with "runner": "http" (tests/data/goldens/api_wedge_cutout: a wedge
+//     cut-out of the demo model) through the whole HTTP path, compared by the shared comparator
+//     (tests/common/golden.hpp) with the tolerance and reason in the case's request.json (24 of
+//     255 per channel, at most 0.5 % failing pixels: lighting rounding and one-pixel edge moves
+//     between Mesa versions). UPDATE_GOLDENS=1 rewrites it; a failure writes the actual and a
+//     diff image into the temp folder's geoslice_golden_failures/.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -43,6 +45,7 @@
 #include "api/view.hpp"
 #include "renderer/image_encode.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/golden.hpp"
 #include "tests/common/tet_model.hpp"
 #include "tests/common/vtu_writer.hpp"
 #include "tests/server/server_fixture.hpp"
@@ -531,46 +534,32 @@ TEST(CutOutOracle, TetModelRayQueriesAndIdBufferAgainstTheOracle) {
 
 // ---- golden image ------------------------------------------------------------------------
 
-TEST_F(CutOutServer, GoldenWedgeCutOut) {
+// Every golden case with "runner": "http" (tests/data/goldens/<case>/request.json: the model
+// id, path and query) through the whole HTTP path, compared by the shared comparator.
+TEST_F(CutOutServer, GoldenCases) {
     auto cl = client();
-    json view = demoView("-1,0,0," + kCentreX + ";0,1,0,-" + kCentreY, "intersection", 192, 144);
-    view["bg"] = "#28405aff";
-    auto r = cl.Get(("/v1/models/demo/section.png?" + queryString(view)).c_str());
-    ASSERT_TRUE(r);
-    ASSERT_EQ(r->status, 200) << r->body;
-    const std::string golden = std::string(GEOSLICE_GOLDEN_DIR) + "/api_wedge_cutout.colour.png";
-    const std::string actualPath =
-        fs::temp_directory_path() / ("geoslice_wedge_" + std::to_string(::getpid()) + ".png");
-    {
-        std::ofstream f(actualPath, std::ios::binary);
-        f << r->body;
+    const std::vector<std::string> cases = test::goldenCases("http");
+    ASSERT_FALSE(cases.empty());
+    for (const std::string& name : cases) {
+        SCOPED_TRACE(name);
+        const json request = test::goldenRequest(name);
+        ASSERT_EQ(request.value("model", ""), "demo") << "this fixture serves the demo model only";
+        auto r = cl.Get((request.at("path").get<std::string>() + "?" + queryString(request.at("query"))).c_str());
+        ASSERT_TRUE(r);
+        ASSERT_EQ(r->status, 200) << r->body;
+        const std::string actualPath =
+            fs::temp_directory_path() / ("geoslice_golden_" + name + "_" + std::to_string(::getpid()) + ".png");
+        {
+            std::ofstream f(actualPath, std::ios::binary);
+            f << r->body;
+        }
+        auto actual = readPngRgba(actualPath);
+        fs::remove(actualPath);
+        ASSERT_TRUE(actual) << actual.error().message;
+        test::compareGolden(name, "colour", actual->rgba.data(), actual->width, actual->height,
+                            test::goldenTolerance(request, "colour"),
+                            (fs::temp_directory_path() / "geoslice_golden_failures").string());
     }
-    const char* update = std::getenv("UPDATE_GOLDENS");
-    if (update && std::string(update) == "1") {
-        fs::copy_file(actualPath, golden, fs::copy_options::overwrite_existing);
-        std::printf("[ golden   ] rewrote %s\n", golden.c_str());
-        return;
-    }
-    auto actual = readPngRgba(actualPath);
-    ASSERT_TRUE(actual) << actual.error().message;
-    auto expected = readPngRgba(golden);
-    ASSERT_TRUE(expected) << expected.error().message << " (run with UPDATE_GOLDENS=1 to create it)";
-    ASSERT_EQ(actual->width, expected->width);
-    ASSERT_EQ(actual->height, expected->height);
-    std::size_t failing = 0;
-    int maxDiff = 0;
-    for (std::size_t i = 0; i < actual->rgba.size(); i += 4) {
-        int d = 0;
-        for (int ch = 0; ch < 4; ++ch)
-            d = std::max(d, std::abs(int(actual->rgba[i + ch]) - int(expected->rgba[i + ch])));
-        maxDiff = std::max(maxDiff, d);
-        failing += d > 24;
-    }
-    const double fraction = double(failing) / double(actual->width * actual->height);
-    std::printf("[ golden   ] api_wedge_cutout: %zu failing pixels (%.3f%%), max channel diff %d\n", failing,
-                100.0 * fraction, maxDiff);
-    EXPECT_LE(fraction, 0.005) << "actual image: " << actualPath;
-    if (fraction <= 0.005) fs::remove(actualPath);
 }
 
 }  // namespace

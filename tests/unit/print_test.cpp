@@ -36,6 +36,7 @@
 #include "section/contours.hpp"
 #include "section/polyline.hpp"
 #include "section/section_index.hpp"
+#include "tests/common/golden.hpp"
 #include "tests/common/synthetic_model.hpp"
 
 namespace geoslice::print {
@@ -340,39 +341,17 @@ TEST(PrintSvg, ParsesAsXmlAndKeepsTextAsText) {
     EXPECT_GE(paths, fx.section.bodies.size());
 }
 
-// Compares a rendering with tests/data/goldens/<name>.png (UPDATE_GOLDENS=1 rewrites it).
+// Compares a rendering with the golden case tests/data/goldens/<name>/ (request.json: the
+// sheet, the raster dpi and the tolerance of output "page" with its reason: a pixel fails when
+// an RGB channel differs by more than 64 of 255, at most 0.5 % may fail; anti-aliasing and
+// glyph rasterisation depend on the poppler, cairo and FreeType builds) by the shared
+// comparator (tests/common/golden.hpp); UPDATE_GOLDENS=1 rewrites it.
 void expectGolden(const DecodedImage& actual, const std::string& name) {
-    const std::string golden = std::string(GEOSLICE_TEST_DATA_DIR) + "/goldens/" + name + ".png";
-    const char* update = std::getenv("UPDATE_GOLDENS");
-    if (update && std::string(update) == "1") {
-        ASSERT_TRUE(writeImage(golden, actual.rgba.data(), actual.width, actual.height).ok());
-        std::printf("rewrote %s\n", golden.c_str());
-        return;
-    }
-    auto expected = readPngRgba(golden);
-    ASSERT_TRUE(expected.ok()) << expected.error().message << " (UPDATE_GOLDENS=1 makes it)";
-    ASSERT_EQ(expected->width, actual.width);
-    ASSERT_EQ(expected->height, actual.height);
-    // Tolerance: a pixel fails when a channel differs by more than 64 of 255, and at most
-    // 0.5 % of pixels may fail. Geometry and layout are deterministic; what may move is
-    // anti-aliasing and glyph rasterisation, which depend on the poppler, cairo and
-    // FreeType builds (CI runs the same Debian 12 packages, where the difference is 0).
-    std::size_t failing = 0;
-    int maxDiff = 0;
-    for (std::size_t i = 0; i < actual.rgba.size(); i += 4) {
-        int d = 0;
-        for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(actual.rgba[i + c]) - int(expected->rgba[i + c])));
-        maxDiff = std::max(maxDiff, d);
-        failing += d > 64;
-    }
-    const double fraction = double(failing) / double(actual.width * actual.height);
-    std::printf("[ golden   ] %s: %zu failing pixels (%.3f%%), max channel diff %d\n", name.c_str(), failing,
-                100.0 * fraction, maxDiff);
-    if (fraction > 0.005) {
-        const std::string out = tempPath(name + ".actual.png");
-        EXPECT_TRUE(writeImage(out, actual.rgba.data(), actual.width, actual.height).ok());
-        ADD_FAILURE() << failing << " pixels differ from " << golden << "; the rendering is in " << out;
-    }
+    const nlohmann::json request = test::goldenRequest(name);
+    EXPECT_EQ(request.value("runner", ""), "print");
+    EXPECT_EQ(request.value("rasterDpi", 0), 40) << "the dpi pdftoppm is run with here";
+    test::compareGolden(name, "page", actual.rgba.data(), actual.width, actual.height,
+                        test::goldenTolerance(request, "page"), tempPath("golden_failures"));
 }
 
 // The PDF: opened by poppler (pdftoppm), its rendering compared with a golden image, and
