@@ -420,26 +420,26 @@ Result<std::unique_ptr<GpuModel>> GpuModel::build(GlContext& context, const Mode
     indices.insert(indices.end(), lodIndices.begin(), lodIndices.end());
     g->lodBuildMs_ = lodMs;
 
-    gl.CreateBuffers(1, &g->vertexBuffer_);
-    gl.NamedBufferStorage(g->vertexBuffer_, GLsizeiptr(positions.size() * sizeof(glm::vec3)), positions.data(), 0);
-    gl.CreateBuffers(1, &g->indexBuffer_);
-    gl.NamedBufferStorage(g->indexBuffer_, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(), 0);
-    gl.CreateVertexArrays(1, &g->vao_);
-    gl.VertexArrayVertexBuffer(g->vao_, 0, g->vertexBuffer_, 0, sizeof(glm::vec3));
-    gl.VertexArrayElementBuffer(g->vao_, g->indexBuffer_);
-    gl.EnableVertexArrayAttrib(g->vao_, 0);
-    gl.VertexArrayAttribFormat(g->vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    gl.VertexArrayAttribBinding(g->vao_, 0, 0);
+    g->vertexBuffer_ = GlBuffer::create(gl);
+    gl.NamedBufferStorage(g->vertexBuffer_.id(), GLsizeiptr(positions.size() * sizeof(glm::vec3)), positions.data(), 0);
+    g->indexBuffer_ = GlBuffer::create(gl);
+    gl.NamedBufferStorage(g->indexBuffer_.id(), GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(), 0);
+    g->vao_ = GlVertexArray::create(gl);
+    gl.VertexArrayVertexBuffer(g->vao_.id(), 0, g->vertexBuffer_.id(), 0, sizeof(glm::vec3));
+    gl.VertexArrayElementBuffer(g->vao_.id(), g->indexBuffer_.id());
+    gl.EnableVertexArrayAttrib(g->vao_.id(), 0);
+    gl.VertexArrayAttribFormat(g->vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+    gl.VertexArrayAttribBinding(g->vao_.id(), 0, 0);
     if (baked) {
         // Attribute 1: the bake's UV (page + u, v). Without a bake it stays disabled and reads
         // the constant (0, 0, 0, 1), which the shader ignores.
         g->uvBytes_ = uvs.size() * sizeof(glm::vec2);
-        gl.CreateBuffers(1, &g->uvBuffer_);
-        gl.NamedBufferStorage(g->uvBuffer_, GLsizeiptr(g->uvBytes_), uvs.data(), 0);
-        gl.VertexArrayVertexBuffer(g->vao_, 1, g->uvBuffer_, 0, sizeof(glm::vec2));
-        gl.EnableVertexArrayAttrib(g->vao_, 1);
-        gl.VertexArrayAttribFormat(g->vao_, 1, 2, GL_FLOAT, GL_FALSE, 0);
-        gl.VertexArrayAttribBinding(g->vao_, 1, 1);
+        g->uvBuffer_ = GlBuffer::create(gl);
+        gl.NamedBufferStorage(g->uvBuffer_.id(), GLsizeiptr(g->uvBytes_), uvs.data(), 0);
+        gl.VertexArrayVertexBuffer(g->vao_.id(), 1, g->uvBuffer_.id(), 0, sizeof(glm::vec2));
+        gl.EnableVertexArrayAttrib(g->vao_.id(), 1);
+        gl.VertexArrayAttribFormat(g->vao_.id(), 1, 2, GL_FLOAT, GL_FALSE, 0);
+        gl.VertexArrayAttribBinding(g->vao_.id(), 1, 1);
     }
     if (GLenum e = gl.GetError(); e != GL_NO_ERROR)
         return makeError(
@@ -482,24 +482,25 @@ Status GpuModel::uploadIdTexture(const Model& model, const BakeSource& baked) {
     for (const AttributeRecord* r : baked.records) table[r->id] = r->colour;
 
     gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    gl.CreateTextures(GL_TEXTURE_2D_ARRAY, 1, &idTexture_);
-    gl.TextureParameteri(idTexture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    gl.TextureParameteri(idTexture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    gl.TextureParameteri(idTexture_, GL_TEXTURE_MAX_LEVEL, 0);
-    gl.TextureStorage3D(idTexture_, 1, GL_R32UI, GLsizei(baked.width), GLsizei(baked.height), GLsizei(baked.pages));
+    idTexture_ = GlTexture::create(gl, GL_TEXTURE_2D_ARRAY);
+    gl.TextureParameteri(idTexture_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TextureParameteri(idTexture_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TextureParameteri(idTexture_.id(), GL_TEXTURE_MAX_LEVEL, 0);
+    gl.TextureStorage3D(idTexture_.id(), 1, GL_R32UI, GLsizei(baked.width), GLsizei(baked.height),
+                        GLsizei(baked.pages));
     // One page per call: a page is at most GL_MAX_TEXTURE_SIZE^2 * 4 bytes.
     for (std::uint32_t page = 0; page < baked.pages; ++page)
-        gl.TextureSubImage3D(idTexture_, 0, 0, 0, GLint(page), GLsizei(baked.width), GLsizei(baked.height), 1,
+        gl.TextureSubImage3D(idTexture_.id(), 0, 0, 0, GLint(page), GLsizei(baked.width), GLsizei(baked.height), 1,
                              GL_RED_INTEGER, GL_UNSIGNED_INT,
                              baked.texels.data() + std::size_t(page) * baked.width * baked.height);
     idTextureBytes_ = baked.texels.size() * sizeof(std::uint32_t);
 
-    gl.CreateTextures(GL_TEXTURE_2D, 1, &colourTable_);
-    gl.TextureParameteri(colourTable_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    gl.TextureParameteri(colourTable_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    gl.TextureParameteri(colourTable_, GL_TEXTURE_MAX_LEVEL, 0);
-    gl.TextureStorage2D(colourTable_, 1, GL_RGBA8, kColourTableWidth, GLsizei(rows));
-    gl.TextureSubImage2D(colourTable_, 0, 0, 0, kColourTableWidth, GLsizei(rows), GL_RGBA, GL_UNSIGNED_BYTE,
+    colourTable_ = GlTexture::create(gl, GL_TEXTURE_2D);
+    gl.TextureParameteri(colourTable_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TextureParameteri(colourTable_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TextureParameteri(colourTable_.id(), GL_TEXTURE_MAX_LEVEL, 0);
+    gl.TextureStorage2D(colourTable_.id(), 1, GL_RGBA8, kColourTableWidth, GLsizei(rows));
+    gl.TextureSubImage2D(colourTable_.id(), 0, 0, 0, kColourTableWidth, GLsizei(rows), GL_RGBA, GL_UNSIGNED_BYTE,
                          table.data());
     colourTableBytes_ = table.size() * sizeof(Rgba8);
     if (GLenum e = gl.GetError(); e != GL_NO_ERROR)
@@ -508,14 +509,6 @@ Status GpuModel::uploadIdTexture(const Model& model, const BakeSource& baked) {
     return {};
 }
 
-GpuModel::~GpuModel() {
-    const GlFunctions& gl = context_.gl();
-    if (vao_) gl.DeleteVertexArrays(1, &vao_);
-    if (vertexBuffer_) gl.DeleteBuffers(1, &vertexBuffer_);
-    if (indexBuffer_) gl.DeleteBuffers(1, &indexBuffer_);
-    if (uvBuffer_) gl.DeleteBuffers(1, &uvBuffer_);
-    if (idTexture_) gl.DeleteTextures(1, &idTexture_);
-    if (colourTable_) gl.DeleteTextures(1, &colourTable_);
-}
+GpuModel::~GpuModel() = default;
 
 }  // namespace geoslice

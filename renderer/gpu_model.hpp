@@ -38,6 +38,7 @@
 #include "model/model.hpp"
 #include "model/result.hpp"
 #include "renderer/gl_context.hpp"
+#include "renderer/gl_objects.hpp"
 
 namespace geoslice {
 
@@ -127,7 +128,7 @@ public:
     GpuModel(const GpuModel&) = delete;
     GpuModel& operator=(const GpuModel&) = delete;
 
-    GLuint vertexArray() const { return vao_; }
+    GLuint vertexArray() const { return vao_.id(); }
     const std::vector<DrawPart>& parts() const { return parts_; }
     const glm::dvec3& origin() const { return origin_; }
     const Aabb& worldBounds() const { return bounds_; }
@@ -139,9 +140,9 @@ public:
     const std::vector<Aabb>& cellBounds() const { return cellBounds_; }
     bool hasLod() const { return hasLod_; }
     // Baked ids: 0 when uploaded without a bake.
-    GLuint idTexture() const { return idTexture_; }
-    GLuint colourTable() const { return colourTable_; }
-    bool hasIdTexture() const { return idTexture_ != 0; }
+    GLuint idTexture() const { return idTexture_.id(); }
+    GLuint colourTable() const { return colourTable_.id(); }
+    bool hasIdTexture() const { return bool(idTexture_); }
     // GPU bytes of the bake: the id texture (width * height * pages * 4), the UV attribute
     // (8 per vertex) and the colour table (4 per entry).
     std::size_t idTextureBytes() const { return idTextureBytes_; }
@@ -156,8 +157,9 @@ private:
                                                    const UploadOptions& options);
     Status uploadIdTexture(const Model& model, const BakeSource& baked);
     GlContext& context_;
-    GLuint vao_ = 0, vertexBuffer_ = 0, indexBuffer_ = 0, uvBuffer_ = 0;
-    GLuint idTexture_ = 0, colourTable_ = 0;
+    GlBuffer vertexBuffer_, indexBuffer_, uvBuffer_;
+    GlTexture idTexture_, colourTable_;
+    GlVertexArray vao_;  // last member: deleted first
     std::size_t idTextureBytes_ = 0, uvBytes_ = 0, colourTableBytes_ = 0;
     std::vector<DrawPart> parts_;
     glm::dvec3 origin_{0.0};
