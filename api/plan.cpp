@@ -87,8 +87,9 @@ std::string ViewPlan::canonical() const {
     } else {
         s += "&view=perspective";
         if (camera) {
-            const double v[10] = {camera->eye.x,    camera->eye.y, camera->eye.z, camera->target.x, camera->target.y,
-                                  camera->target.z, camera->up.x,  camera->up.y,  camera->up.z,     camera->fovDeg};
+            const double v[10] = {camera->eye.x,    camera->eye.y,      camera->eye.z, camera->target.x,
+                                  camera->target.y, camera->target.z,   camera->up.x,  camera->up.y,
+                                  camera->up.z,     camera->fovYDegrees};
             s += "&camera=" + join(v, 10);
         }
     }
@@ -301,7 +302,7 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
         if (param(params, "eye") || param(params, "target")) {
             if (!param(params, "eye") || !param(params, "target"))
                 return makeError(ErrorCode::InvalidArgument, "perspective view: give both 'eye' and 'target'");
-            Camera cam;
+            PerspectiveCamera cam;
             auto eye = parseVec3(params, "eye", {});
             if (!eye) return eye.error();
             auto target = parseVec3(params, "target", {});
@@ -331,7 +332,7 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
                 if (!(f.value() >= kMinFovDeg && f.value() <= kMaxFovDeg))
                     return makeError(ErrorCode::OutOfRange,
                                      "parameter 'fov': " + std::string(*fov) + " is outside 1..170 degrees");
-                cam.fovDeg = f.value();
+                cam.fovYDegrees = f.value();
             }
             plan.camera = cam;
         }
@@ -351,24 +352,14 @@ CutOut sectionCut(const SectionDef& def) {
     return CutOut{def.cutPlanes, def.cut};
 }
 
-Camera defaultCamera(const Aabb& bounds) {
-    Camera c;
-    const glm::dvec3 size = bounds.size();
-    const double radius = 0.5 * glm::length(size);
-    c.target = bounds.centre();
-    const glm::dvec3 dir = glm::normalize(glm::dvec3(1.0, -1.0, 0.8));
-    c.eye = c.target + dir * (radius / std::tan(glm::radians(c.fovDeg) * 0.5) * 1.05);
-    return c;
-}
-
 VerticalExaggeration exaggerationOf(const SectionDef& def, const Aabb& bounds) {
     return VerticalExaggeration::aboutCentreOf(def.exaggeration, bounds);
 }
 
-Camera displayCamera(const ViewPlan& plan, const Aabb& bounds) {
+PerspectiveCamera displayCamera(const ViewPlan& plan, const Aabb& bounds) {
     const VerticalExaggeration ds = exaggerationOf(plan.section, bounds);
     if (plan.camera) {
-        Camera c = *plan.camera;
+        PerspectiveCamera c = *plan.camera;
         c.eye = ds.toDisplay(c.eye);
         c.target = ds.toDisplay(c.target);
         return c;

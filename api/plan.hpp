@@ -33,6 +33,7 @@
 #include "api/cut.hpp"
 #include "api/params.hpp"
 #include "model/attributes.hpp"
+#include "model/camera.hpp"
 #include "model/crs.hpp"
 #include "model/exaggeration.hpp"
 #include "model/model.hpp"
@@ -78,16 +79,11 @@ struct SectionDef {
     std::string canonical() const;
 };
 
-struct Camera {
-    glm::dvec3 eye{0.0}, target{0.0}, up{0.0, 0.0, 1.0};
-    double fovDeg = 45.0;
-};
-
 struct ViewPlan {
     SectionDef section;
     ViewKind view = ViewKind::Profile;
-    std::optional<FrameRect> frame;  // profile; nullopt = default frame
-    std::optional<Camera> camera;    // perspective; nullopt = default camera
+    std::optional<FrameRect> frame;           // profile; nullopt = default frame
+    std::optional<PerspectiveCamera> camera;  // perspective, world; nullopt = default camera
     int width = 1024, height = 1024;
 
     std::string canonical() const;  // the section's canonical text plus the view's fields
@@ -112,8 +108,7 @@ Plane sectionPlane(const SectionDef& def);
 CutOut sectionCut(const SectionDef& def);
 
 // Profile frames (FrameRect, defaultFrame, projectedBounds): model/view_frame.hpp.
-// The default perspective camera: from the south-east, above, looking at the bounds' centre.
-Camera defaultCamera(const Aabb& bounds);
+// The perspective camera, its pixel rays and the default camera: model/camera.hpp.
 
 // The section's vertical exaggeration: SectionDef::exaggeration about the centre elevation
 // of the model's bounds (the one pivot rule, model/exaggeration.hpp). Perspective cameras
@@ -121,7 +116,7 @@ Camera defaultCamera(const Aabb& bounds);
 VerticalExaggeration exaggerationOf(const SectionDef& def, const Aabb& bounds);
 // The camera of a perspective plan in display space: the request's camera mapped, or the
 // default camera around the display-space bounds.
-Camera displayCamera(const ViewPlan& plan, const Aabb& bounds);
+PerspectiveCamera displayCamera(const ViewPlan& plan, const Aabb& bounds);
 
 // Stateless section ids: base64url (no padding) of SectionDef::canonical(), and back.
 std::string encodeSectionId(const SectionDef& def);

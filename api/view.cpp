@@ -295,18 +295,6 @@ Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan) {
     return checkCutKeepsSomething(name, cut, model.index->bounds);
 }
 
-PixelRay perspectiveRay(const Camera& camera, int width, int height, double x, double y) {
-    const glm::dvec3 f = glm::normalize(camera.target - camera.eye);
-    const glm::dvec3 r = glm::normalize(glm::cross(f, camera.up));
-    const glm::dvec3 u = glm::cross(r, f);
-    const double t = std::tan(glm::radians(camera.fovDeg) * 0.5);
-    const double ndcX = 2.0 * x / width - 1.0, ndcY = 1.0 - 2.0 * y / height;
-    PixelRay ray;
-    ray.origin = camera.eye;
-    ray.direction = glm::normalize(f + ndcX * t * (double(width) / double(height)) * r + ndcY * t * u);
-    return ray;
-}
-
 namespace {
 
 // What a perspective view shows along the ray through a pixel centre, by the renderer's
@@ -323,8 +311,8 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
     // The pixel's ray in display space, mapped to world (the exaggeration is affine: a line
     // stays a line). Distances along it are world metres.
     const VerticalExaggeration display = exaggerationOf(plan.section, model.index->bounds);
-    const Camera cam = displayCamera(plan, model.index->bounds);
-    const PixelRay displayRay = perspectiveRay(cam, plan.width, plan.height, double(px) + 0.5, double(py) + 0.5);
+    const PerspectiveCamera cam = displayCamera(plan, model.index->bounds);
+    const PixelRay displayRay = pixelRay(cam, plan.width, plan.height, double(px) + 0.5, double(py) + 0.5);
     PixelRay ray;
     ray.origin = display.toWorld(displayRay.origin);
     ray.direction = glm::normalize(display.toWorld(displayRay.origin + displayRay.direction) - ray.origin);

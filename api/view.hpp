@@ -113,13 +113,7 @@ struct QueryAnswer {
 // InvalidArgument naming the parameter ('plane', 'planes' or 'elevation') when the cut of a
 // perspective view keeps no part of the model's bounds (api/cut.hpp).
 Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan);
-// The ray through pixel coordinates (x, y) (x right, y down; the centre of pixel (i, j) is
-// (i + 0.5, j + 0.5)) of a perspective view, as the renderer projects (fov vertical,
-// aspect width / height). World coordinates; unit direction.
-struct PixelRay {
-    glm::dvec3 origin{0.0}, direction{0.0, 0.0, -1.0};
-};
-PixelRay perspectiveRay(const Camera& camera, int width, int height, double x, double y);
+// The ray through a pixel of a perspective view: pixelRay of model/camera.hpp.
 Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
                                 const ViewImage* cached);
 // The answer as JSON (appended to `out`): record and attributes, body, world point,

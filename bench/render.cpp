@@ -158,7 +158,7 @@ int main(int argc, char** argv) {
         const glm::dvec3 c = b.centre();
         const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, 1.0, 0.1));
         const WorldPlane plane(n.x, n.y, n.z, -glm::dot(n, c));
-        PerspectiveView persp;
+        PerspectiveCamera persp;
         persp.target = c;
         persp.eye = c - n * (1.5 * glm::length(b.size())) + glm::dvec3(1500.0, 0.0, 2500.0);
         persp.fovYDegrees = 40.0;

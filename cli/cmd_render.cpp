@@ -150,7 +150,7 @@ int run(const RenderArgs& a) {
     const VerticalExaggeration& ve = req.exaggeration;
     const bool perspective = !a.eye.empty();
     if (perspective) {
-        PerspectiveView pv;
+        PerspectiveCamera pv;
         if (!parseNumbers(a.eye, 3, v)) return fail("--eye: expected x,y,z");
         pv.eye = ve.toDisplay({v[0], v[1], v[2]});
         if (!parseNumbers(a.target.empty() ? std::string() : a.target, 3, v)) return fail("--target: expected x,y,z");
@@ -172,7 +172,7 @@ int run(const RenderArgs& a) {
             if (!(frame.u1 > frame.u0) || !(frame.v1 > frame.v0))
                 return fail("--frame " + a.frame + ": needs u0 < u1 and v0 < v1");
         }
-        req.view = profileView(*plane, frame, ve);
+        req.view = profileCamera(*plane, frame, ve);
     }
 
     GlContextOptions o;

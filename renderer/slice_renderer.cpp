@@ -171,10 +171,10 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     const glm::dvec3 displayOrigin = ve.toDisplay(model.origin());
     const Aabb displayBounds = ve.boundsToDisplay(model.worldBounds());
     Result<ViewTransform> view =
-        std::holds_alternative<ProfileView>(request.view)
-            ? profileTransform(std::get<ProfileView>(request.view), displayOrigin, displayBounds)
-            : perspectiveTransform(std::get<PerspectiveView>(request.view), displayOrigin, displayBounds, request.width,
-                                   request.height);
+        std::holds_alternative<ProfileCamera>(request.view)
+            ? profileTransform(std::get<ProfileCamera>(request.view), displayOrigin, displayBounds)
+            : perspectiveTransform(std::get<PerspectiveCamera>(request.view), displayOrigin, displayBounds,
+                                   request.width, request.height);
     if (!view) return view.error();
     if (!ve.identity()) {
         glm::dmat4 stretch(1.0);
@@ -251,10 +251,10 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     gl.ProgramUniform3fv(prog, v.u.shadeScale, 1, shadeScale);
     // The eye in the true local frame (the exaggeration is linear, so view rays stay lines).
     glm::vec4 eyeUniform(0.0f);
-    if (const auto* pv = std::get_if<PerspectiveView>(&request.view)) {
+    if (const auto* pv = std::get_if<PerspectiveCamera>(&request.view)) {
         eyeUniform = glm::vec4(glm::vec3(ve.toWorld(pv->eye) - model.origin()), 1.0f);
     } else {
-        const glm::dvec3 n(normalizePlane(std::get<ProfileView>(request.view).plane).value());
+        const glm::dvec3 n(normalizePlane(std::get<ProfileCamera>(request.view).plane).value());
         glm::dvec3 dir(n.x, n.y, n.z / ve.factor);  // display direction +n back to the true frame
         eyeUniform = glm::vec4(glm::vec3(glm::normalize(dir)), 0.0f);
     }
@@ -278,7 +278,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     // convex cut keeps the clusters past its exit (see above): only a plane with the eye on
     // its removed side may cull (a fragment on its removed side is in front of the kept
     // region, or on a ray that misses it); in a profile no plane culls.
-    const auto* perspectiveView = std::get_if<PerspectiveView>(&request.view);
+    const auto* perspectiveView = std::get_if<PerspectiveCamera>(&request.view);
     ClusterFrame frame;
     frame.viewProj = view->viewProj;
     frame.planes = planesLocalD;
@@ -300,8 +300,9 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         frame.perspPixelsPerMetre = 0.5 * request.height / std::tan(glm::radians(perspectiveView->fovYDegrees) * 0.5);
         frame.eyeDisplayLocal = perspectiveView->eye - ve.toDisplay(model.origin());
     } else {
-        const ProfileView& pv = std::get<ProfileView>(request.view);
-        frame.orthoPixelsPerMetre = std::max(request.width / (pv.uMax - pv.uMin), request.height / (pv.vMax - pv.vMin));
+        const ProfileCamera& pv = std::get<ProfileCamera>(request.view);
+        frame.orthoPixelsPerMetre =
+            std::max(request.width / (pv.rect.u1 - pv.rect.u0), request.height / (pv.rect.v1 - pv.rect.v0));
     }
     const std::vector<float> allowed = cellBudgets(model.cellBounds(), frame);
     // Ranges of one part go out as one glMultiDrawElementsBaseVertex: llvmpipe pays its

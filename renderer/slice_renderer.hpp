@@ -92,7 +92,7 @@ struct SliceRequest {
     // The view is in display space (see VerticalExaggeration): for a profile of a cut plane
     // P use exaggeration.planeToDisplay(P) and boundsToDisplay(bounds); eye and target of a
     // perspective view are display points (toDisplay of world points).
-    std::variant<ProfileView, PerspectiveView> view = ProfileView{};
+    std::variant<ProfileCamera, PerspectiveCamera> view = ProfileCamera{};
     VerticalExaggeration exaggeration;  // factor 1: none
     int width = 512, height = 512;      // pixels
     Rgba8 background{0, 0, 0, 0};

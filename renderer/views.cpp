@@ -34,48 +34,12 @@ glm::dvec4 planeToLocal(const WorldPlane& p, const glm::dvec3& origin) {
     return {p.x, p.y, p.z, p.w + glm::dot(glm::dvec3(p), origin)};
 }
 
-ProfileView profileView(const Plane& plane, const FrameRect& f, const VerticalExaggeration& ve) {
-    // Exaggeration maps true plane u/v affinely onto the display plane's u/v (u' = u + a,
-    // v' = vStretch v + b): map two opposite corners of the frame through the world.
-    const SectionFrame truth = makeSectionFrame(plane, glm::dvec3(0.0));
-    const Plane display = ve.planeToDisplay(plane);
-    const SectionFrame shown = makeSectionFrame(display, glm::dvec3(0.0));
-    const glm::dvec2 a = shown.toPlane(ve.toDisplay(truth.toWorld({f.u0, f.v0})));
-    const glm::dvec2 b = shown.toPlane(ve.toDisplay(truth.toWorld({f.u1, f.v1})));
-    ProfileView v;
-    v.plane = toWorldPlane(display);
-    v.uMin = std::min(a.x, b.x);
-    v.uMax = std::max(a.x, b.x);
-    v.vMin = std::min(a.y, b.y);
-    v.vMax = std::max(a.y, b.y);
-    return v;
-}
-
-ProfileView profileAround(const WorldPlane& plane, const Aabb& bounds, int width, int height, double margin) {
-    const Plane p{glm::dvec3(plane), plane.w};
-    const FrameRect tight = projectedBounds(p, bounds, glm::dvec3(0.0));
-    const FrameRect r = fitRect({tight.u0, tight.v0}, {tight.u1, tight.v1}, width, height, 1.0, margin);
-    ProfileView v;
-    v.plane = plane;
-    v.uMin = r.u0;
-    v.uMax = r.u1;
-    v.vMin = r.v0;
-    v.vMax = r.v1;
-    return v;
-}
-
-glm::dvec3 profilePixelWorld(const ProfileView& view, int width, int height, int column, int row) {
-    const double pu = view.uMin + (column + 0.5) * (view.uMax - view.uMin) / width;
-    const double pv = view.vMax - (row + 0.5) * (view.vMax - view.vMin) / height;
-    const Plane p{glm::dvec3(view.plane), view.plane.w};
-    return makeSectionFrame(p, glm::dvec3(0.0)).toWorld({pu, pv});
-}
-
-Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3& origin, const Aabb& worldBounds) {
+Result<ViewTransform> profileTransform(const ProfileCamera& view, const glm::dvec3& origin, const Aabb& worldBounds) {
     auto unit = normalizePlane(view.plane);
     if (!unit) return unit.error();
-    if (!(view.uMax > view.uMin) || !(view.vMax > view.vMin))
-        return makeError(ErrorCode::InvalidArgument, "profile frame needs uMax > uMin and vMax > vMin");
+    const FrameRect& r = view.rect;
+    if (!(r.u1 > r.u0) || !(r.v1 > r.v0))
+        return makeError(ErrorCode::InvalidArgument, "profile frame needs u0 < u1 and v0 < v1");
     const SectionFrame b = makeSectionFrame(Plane{glm::dvec3(*unit), unit->w}, glm::dvec3(0.0));
     const glm::dvec3 planeOrigin = b.originWorld();
     // Depth: signed distance s along +n from the plane; the kept side is s >= 0. The range
@@ -98,8 +62,8 @@ Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3
         const double k = 2.0 / (hi - lo);
         return glm::dvec4(axis * k, (off - lo) * k - 1.0);
     };
-    const glm::dvec4 rx = row(b.u, uOff, view.uMin, view.uMax);
-    const glm::dvec4 ry = row(b.v, vOff, view.vMin, view.vMax);
+    const glm::dvec4 rx = row(b.u, uOff, r.u0, r.u1);
+    const glm::dvec4 ry = row(b.v, vOff, r.v0, r.v1);
     const glm::dvec4 rz = row(b.normal, sOff, sNear, sFar);
     ViewTransform t;
     t.orthographic = true;
@@ -108,7 +72,7 @@ Result<ViewTransform> profileTransform(const ProfileView& view, const glm::dvec3
     return t;
 }
 
-Result<ViewTransform> perspectiveTransform(const PerspectiveView& view, const glm::dvec3& origin,
+Result<ViewTransform> perspectiveTransform(const PerspectiveCamera& view, const glm::dvec3& origin,
                                            const Aabb& worldBounds, int width, int height) {
     const glm::dvec3 dir = view.target - view.eye;
     if (!(glm::length(dir) > 0.0) || !std::isfinite(glm::length(dir)))

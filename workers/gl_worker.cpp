@@ -60,12 +60,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     req.combine = cut.mode == api::CutMode::Union ? PlaneCombine::Intersection : PlaneCombine::Union;
     // Eye and target in display space (the exaggerated model), as the renderer expects.
     const VerticalExaggeration ds = api::exaggerationOf(plan.section, model.index->bounds);
-    const api::Camera cam = api::displayCamera(plan, model.index->bounds);
-    PerspectiveView view;
-    view.eye = cam.eye;
-    view.target = cam.target;
-    view.up = cam.up;
-    view.fovYDegrees = cam.fovDeg;
+    const PerspectiveCamera view = api::displayCamera(plan, model.index->bounds);
     // Level of detail is exact at the cut but may swap a thin layer just behind a cut face
     // (renderer/slice_renderer.hpp), so by default the server draws full detail and its
     // images agree with exact ray queries; --lod trades that for speed on CPU backends.

@@ -339,7 +339,7 @@ int main(int argc, char** argv) {
         const Classifier& cls = *oracle.value();
 
         // Pixel frames shared by every method: the profile around the model for each plane.
-        std::vector<ProfileView> views, oracleViews;
+        std::vector<ProfileCamera> views, oracleViews;
         std::vector<std::vector<glm::dvec3>> oraclePts(planeList.size());
         std::vector<std::vector<RecordId>> oracleIds(planeList.size());
         for (std::size_t k = 0; k < planeList.size(); ++k) {
@@ -352,7 +352,7 @@ int main(int argc, char** argv) {
             for (int y = 0; y < oracleSide; ++y)
                 for (int x = 0; x < oracleSide; ++x)
                     pts[std::size_t(y) * std::size_t(oracleSide) + std::size_t(x)] =
-                        profilePixelWorld(oracleViews[k], oracleSide, oracleSide, x, y);
+                        pixelRay(oracleViews[k], oracleSide, oracleSide, x + 0.5, y + 0.5).origin;
             oracleIds[k].resize(pts.size());
             cls.classifyBatch(pts.data(), pts.size(), oracleIds[k].data());
         }
@@ -375,8 +375,8 @@ int main(int argc, char** argv) {
             SectionImage reused;
             PlaneCut cut, brute;
             for (std::size_t k = 0; k < planeList.size(); ++k) {
-                const ProfileView& v = views[k];
-                const FrameRect rect{v.uMin, v.vMin, v.uMax, v.vMax};
+                const ProfileCamera& v = views[k];
+                const FrameRect rect = v.rect;
                 double s = bench::nowSeconds();
                 auto sec = computeSection(idx, planeList[k]);
                 slice.push_back(msSince(s));
@@ -387,11 +387,10 @@ int main(int argc, char** argv) {
                 if (!rasterizeSection(idx, sec.value(), rect, side, side, RasterOptions{}, reused).ok()) return 1;
                 image.push_back(msSince(s));
                 // Accuracy on the oracle's pixel centres.
-                const ProfileView& ov = oracleViews[k];
+                const ProfileCamera& ov = oracleViews[k];
                 RasterOptions idsOnly;
                 idsOnly.colour = false;
-                auto small = rasterizeSection(idx, sec.value(), FrameRect{ov.uMin, ov.vMin, ov.uMax, ov.vMax},
-                                              oracleSide, oracleSide, idsOnly);
+                auto small = rasterizeSection(idx, sec.value(), ov.rect, oracleSide, oracleSide, idsOnly);
                 if (!small) return 1;
                 acc.add(oracleIds[k], small->ids, oracleSide);
                 // Reference outputs for the peers.
@@ -504,11 +503,11 @@ int main(int argc, char** argv) {
             Accuracy acc;
             std::size_t sink = 0;
             for (std::size_t k = 0; k < planeList.size(); ++k) {
-                const ProfileView& v = views[k];
+                const ProfileCamera& v = views[k];
                 const double s = bench::nowSeconds();
-                const glm::dvec3 c0 = profilePixelWorld(v, side, side, 0, 0);
-                const glm::dvec3 dx = profilePixelWorld(v, side, side, 1, 0) - c0;
-                const glm::dvec3 dy = profilePixelWorld(v, side, side, 0, 1) - c0;
+                const glm::dvec3 c0 = pixelRay(v, side, side, 0.5, 0.5).origin;
+                const glm::dvec3 dx = pixelRay(v, side, side, 1.5, 0.5).origin - c0;
+                const glm::dvec3 dy = pixelRay(v, side, side, 0.5, 1.5).origin - c0;
                 for (int y = 0; y < side; ++y)
                     for (int x = 0; x < side; ++x)
                         img[std::size_t(y) * std::size_t(side) + std::size_t(x)] =

@@ -82,7 +82,7 @@ protected:
     static SliceRequest perspectiveRequest(bool cut) {
         const Aabb b = model->bounds();
         const glm::dvec3 n = glm::normalize(glm::dvec3(0.2, 1.0, 0.15));
-        PerspectiveView pv;
+        PerspectiveCamera pv;
         pv.target = b.centre();
         pv.eye = b.centre() - n * (1.6 * glm::length(b.size())) + glm::dvec3(900.0, 0.0, 1500.0);
         pv.fovYDegrees = 35.0;

@@ -69,7 +69,7 @@ TEST(BlockTexture, CapColoursAreTheProfileEnginesClasses) {
     SliceRequest req;
     req.width = req.height = kSize;
     req.planes = {plane};
-    req.view = PerspectiveView{centre - 320.0 * n + glm::dvec3(25.0, -15.0, 0.0), centre, {0.0, 0.0, 1.0}, 40.0};
+    req.view = PerspectiveCamera{centre - 320.0 * n + glm::dvec3(25.0, -15.0, 0.0), centre, {0.0, 0.0, 1.0}, 40.0};
     req.antiAlias = AntiAlias::None;
     req.drawTraces = false;
     req.blocks = texture.value().get();

@@ -36,7 +36,7 @@ TEST(EnginesAgree, RendererAndExactSectionGiveTheSameIds) {
     for (int k = 0; k < 6; ++k) {
         const Plane plane = test::randomPlane(model.bounds(), rng, k);
         const WorldPlane wp(plane.normal.x, plane.normal.y, plane.normal.z, plane.d);
-        const ProfileView view = profileAround(wp, model.bounds(), kSize, kSize);
+        const ProfileCamera view = profileAround(wp, model.bounds(), kSize, kSize);
 
         SliceRequest req;
         req.width = req.height = kSize;
@@ -50,7 +50,7 @@ TEST(EnginesAgree, RendererAndExactSectionGiveTheSameIds) {
         ASSERT_TRUE(section.ok()) << section.error().message;
         RasterOptions ro;
         ro.colour = false;
-        const FrameRect rect{view.uMin, view.vMin, view.uMax, view.vMax};
+        const FrameRect rect = view.rect;
         auto exact = rasterizeSection(*index.value(), section.value(), rect, kSize, kSize, ro);
         ASSERT_TRUE(exact.ok()) << exact.error().message;
 

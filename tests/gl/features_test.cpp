@@ -96,12 +96,12 @@ TEST(VerticalExaggeration, ProfileIdsMatchTheOracleAtTrueWorldPoints) {
         req.readColour = false;
         auto img = s.renderer->render(*s.gpu, req);
         ASSERT_TRUE(img.ok()) << img.error().message;
-        const ProfileView& view = std::get<ProfileView>(req.view);
+        const ProfileCamera& view = std::get<ProfileCamera>(req.view);
         std::vector<glm::dvec3> pts(std::size_t(kW) * kH);
         for (int r = 0; r < kH; ++r)
             for (int c = 0; c < kW; ++c)
                 pts[std::size_t(r) * kW + std::size_t(c)] =
-                    req.exaggeration.toWorld(profilePixelWorld(view, kW, kH, c, r));
+                    req.exaggeration.toWorld(pixelRay(view, kW, kH, c + 0.5, r + 0.5).origin);
         std::vector<RecordId> oracle(pts.size());
         (*classifier)->classifyBatch(pts.data(), pts.size(), oracle.data(), 2);
         std::size_t compared = 0, agree = 0;
@@ -129,13 +129,13 @@ TEST(VerticalExaggeration, StretchesThePictureVertically) {
     // The same display frame for both factors: the section's vertical extent in pixels
     // grows with the factor (the frame is fitted to factor 1 with room above and below).
     SliceRequest one = profileRequest(s.model, 1.0);
-    ProfileView frame = std::get<ProfileView>(one.view);
-    const double vc = 0.5 * (frame.vMin + frame.vMax), vh = frame.vMax - frame.vMin;
-    frame.vMin = vc - 1.5 * vh, frame.vMax = vc + 1.5 * vh;
+    ProfileCamera frame = std::get<ProfileCamera>(one.view);
+    const double vc = 0.5 * (frame.rect.v0 + frame.rect.v1), vh = frame.rect.v1 - frame.rect.v0;
+    frame.rect.v0 = vc - 1.5 * vh, frame.rect.v1 = vc + 1.5 * vh;
     auto rows = [&](double f) {
         SliceRequest req = profileRequest(s.model, f);
-        ProfileView v = frame;
-        v.plane = std::get<ProfileView>(req.view).plane;  // vertical plane: unchanged by f
+        ProfileCamera v = frame;
+        v.plane = std::get<ProfileCamera>(req.view).plane;  // vertical plane: unchanged by f
         req.view = v;
         auto img = s.renderer->render(*s.gpu, req);
         EXPECT_TRUE(img.ok());
@@ -424,9 +424,9 @@ TEST(Clusters, PartitionTheMeshAndCullingIsExact) {
     const Aabb bb = model.bounds();
     const glm::dvec3 c = bb.centre();
     for (int view = 0; view < 3; ++view) {
-        if (view == 1) req.view = PerspectiveView{c + glm::dvec3(-3000, -9000, 4000), c, {0, 0, 1}, 35.0};
+        if (view == 1) req.view = PerspectiveCamera{c + glm::dvec3(-3000, -9000, 4000), c, {0, 0, 1}, 35.0};
         if (view == 2)  // zoomed in: most cells are outside the view
-            req.view = PerspectiveView{c + glm::dvec3(-300, -1500, 300), c, {0, 0, 1}, 20.0};
+            req.view = PerspectiveCamera{c + glm::dvec3(-300, -1500, 300), c, {0, 0, 1}, 20.0};
         auto ia = (*renderer)->render(**a, req);
         auto ib = (*renderer)->render(**b, req);
         ASSERT_TRUE(ia.ok() && ib.ok());
@@ -438,7 +438,7 @@ TEST(Clusters, PartitionTheMeshAndCullingIsExact) {
         EXPECT_EQ(ia->rgba, ib->rgba) << "view " << view;
     }
     // Level of detail on the same 3D view: fewer triangles, ids nearly all equal.
-    req.view = PerspectiveView{c + glm::dvec3(-3000, -9000, 4000), c, {0, 0, 1}, 35.0};
+    req.view = PerspectiveCamera{c + glm::dvec3(-3000, -9000, 4000), c, {0, 0, 1}, 35.0};
     auto full = (*renderer)->render(**a, req);
     req.lod = SliceRequest::Lod::On;
     auto lod = (*renderer)->render(**a, req);

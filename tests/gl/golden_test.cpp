@@ -76,7 +76,8 @@ TEST_P(Slice, Case) {
     } else {
         const nlohmann::json& p = r.at("view").at("perspective");
         const glm::dvec3 c = req.exaggeration.toDisplay(centre);
-        req.view = PerspectiveView{c + vec3(p.at("eyeOffset")), c, vec3(p.at("up")), p.at("fovDegrees").get<double>()};
+        req.view =
+            PerspectiveCamera{c + vec3(p.at("eyeOffset")), c, vec3(p.at("up")), p.at("fovDegrees").get<double>()};
     }
     if (r.contains("background")) req.background = rgba(r.at("background"));
     req.antiAlias = r.value("antiAlias", "none") == "fxaa" ? AntiAlias::Fxaa : AntiAlias::None;

@@ -104,7 +104,7 @@ TEST(Limits, UnionWithClipDistanceFallsBackToDiscard) {
     req.width = req.height = 32;
     req.planes = {WorldPlane(1, 0, 0, -c.x), WorldPlane(0, 1, 0, -c.y)};
     req.combine = PlaneCombine::Union;
-    req.view = PerspectiveView{c + glm::dvec3(-5000, -5000, 3000), c, {0, 0, 1}, 40.0};
+    req.view = PerspectiveCamera{c + glm::dvec3(-5000, -5000, 3000), c, {0, 0, 1}, 40.0};
     auto img = (*renderer)->render(**gpu, req);
     ASSERT_TRUE(img.ok()) << img.error().message;
     EXPECT_EQ(img->clipUsed, ClipMethod::Discard);

@@ -40,11 +40,11 @@ void writePgm(const std::string& path, const std::vector<RecordId>& ids, int w, 
 }
 
 // World points of the pixel centres of a profile image, row 0 at the top.
-std::vector<RecordId> oracleProfile(const Classifier& c, const ProfileView& view, int w, int h) {
+std::vector<RecordId> oracleProfile(const Classifier& c, const ProfileCamera& view, int w, int h) {
     std::vector<glm::dvec3> pts(std::size_t(w) * std::size_t(h));
     for (int r = 0; r < h; ++r)
         for (int col = 0; col < w; ++col)
-            pts[std::size_t(r) * std::size_t(w) + std::size_t(col)] = profilePixelWorld(view, w, h, col, r);
+            pts[std::size_t(r) * std::size_t(w) + std::size_t(col)] = pixelRay(view, w, h, col + 0.5, r + 0.5).origin;
     std::vector<RecordId> ids(pts.size());
     c.classifyBatch(pts.data(), pts.size(), ids.data(), 2);
     return ids;
@@ -110,7 +110,7 @@ protected:
         req.width = req.height = kSize;
         req.planes = {plane};
         req.clip = clip;
-        const ProfileView view = profileAround(plane, frame, kSize, kSize);
+        const ProfileCamera view = profileAround(plane, frame, kSize, kSize);
         req.view = view;
         req.readColour = false;
         auto img = renderer->render(*gpu, req);
@@ -224,7 +224,7 @@ TEST_F(SliceOracle, PerspectiveCutMatchesTheOracle) {
     const glm::dvec3 n = glm::normalize(glm::dvec3(0.2, 1.0, 0.15));
     const glm::dvec3 centre = b.centre();
     const WorldPlane plane(n.x, n.y, n.z, -glm::dot(n, centre));
-    PerspectiveView pv;
+    PerspectiveCamera pv;
     pv.target = centre;
     pv.eye = centre - n * (1.6 * glm::length(b.size())) + glm::dvec3(900.0, 0.0, 1500.0);
     pv.fovYDegrees = 35.0;
@@ -287,7 +287,7 @@ TEST_F(SliceOracle, L1TwentyRandomPlanesProfileAndPerspective) {
         const glm::dvec3 side =
             glm::normalize(glm::cross(n, std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
         const double diag = glm::length(b.size());
-        PerspectiveView pv;
+        PerspectiveCamera pv;
         pv.target = foot;
         pv.eye = foot - n * (1.3 * diag) + side * (0.25 * diag);
         pv.up = std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);

@@ -462,10 +462,10 @@ TEST(CutOutOracle, TetModelRayQueriesAndIdBufferAgainstTheOracle) {
     std::mt19937 rng(5);
     std::vector<std::array<int, 2>> pixels;
     for (int i = 0; i < 1500; ++i) pixels.push_back({int(rng() % unsigned(w)), int(rng() % unsigned(h))});
-    api::Camera cam;
+    PerspectiveCamera cam;
     cam.eye = centre + glm::dvec3(110.0, -95.0, 80.0);
     cam.target = centre;
-    cam.fovDeg = 45.0;
+    cam.fovYDegrees = 45.0;
     for (const Case& k : cases) {
         SCOPED_TRACE(k.name);
         std::string planes;
@@ -492,8 +492,7 @@ TEST(CutOutOracle, TetModelRayQueriesAndIdBufferAgainstTheOracle) {
         double worstWorld = 0.0;
         for (std::size_t i = 0; i < pixels.size(); ++i) {
             auto at = [&](double dx, double dy) {
-                const api::PixelRay r =
-                    api::perspectiveRay(cam, w, h, pixels[i][0] + 0.5 + dx, pixels[i][1] + 0.5 + dy);
+                const PixelRay r = pixelRay(cam, w, h, pixels[i][0] + 0.5 + dx, pixels[i][1] + 0.5 + dy);
                 return std::make_pair(r, oracle(tm.mesh, k.planes, keepAll, r.origin, r.direction));
             };
             const auto [r, o] = at(0.0, 0.0);

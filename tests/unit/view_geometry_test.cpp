@@ -10,6 +10,7 @@
 #include <cmath>
 #include <random>
 
+#include "model/camera.hpp"
 #include "model/exaggeration.hpp"
 #include "model/plane.hpp"
 #include "model/view_frame.hpp"
@@ -133,12 +134,96 @@ TEST(DefaultFrame, DisplayProfileShowsTheSameWorldPointsAsThePixelFrame) {
             exact.rect = defaultFrame(p, b, glm::dvec3(0.0), w, h, ve);
             exact.width = w;
             exact.height = h;
-            const ProfileView shown = profileView(p, exact.rect, ve);
+            const ProfileCamera shown = profileCamera(p, exact.rect, ve);
             for (int j = 0; j < h; j += 7)
                 for (int i = 0; i < w; i += 9) {
                     const glm::dvec3 a = exact.pixelCentreWorld(i, j);
-                    const glm::dvec3 g = ve.toWorld(profilePixelWorld(shown, w, h, i, j));
+                    const glm::dvec3 g = ve.toWorld(pixelRay(shown, w, h, i + 0.5, j + 0.5).origin);
                     EXPECT_NEAR(glm::length(a - g), 0.0, 1e-6) << "k " << k << " pixel " << i << "," << j;
                 }
         }
+}
+
+// The perspective camera's pixel rays (model/camera.hpp): the image centre looks at the
+// target, the top edge's centre is fov/2 above it, the right edge's centre at the
+// horizontal half-angle atan(aspect tan(fov/2)); the default camera's distance rule. Angles
+// to 1e-12 rad (a few double steps of unit vectors).
+TEST(PerspectiveCameraRays, CentreEdgesAndDefault) {
+    PerspectiveCamera cam;
+    cam.eye = {35'504'000.0, 3'380'000.0, 2000.0};
+    cam.target = {35'504'500.0, 3'388'000.0, -100.0};
+    cam.fovYDegrees = 50.0;
+    const int w = 300, h = 200;
+    const glm::dvec3 f = glm::normalize(cam.target - cam.eye);
+    auto angle = [](const glm::dvec3& a, const glm::dvec3& b) {
+        return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+    };
+    const PixelRay centre = pixelRay(cam, w, h, 150.0, 100.0);
+    EXPECT_EQ(centre.origin, cam.eye);
+    EXPECT_NEAR(angle(centre.direction, f), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(centre.direction), 1.0, 1e-15);
+    const double half = glm::radians(25.0);
+    EXPECT_NEAR(angle(pixelRay(cam, w, h, 150.0, 0.0).direction, f), half, 1e-12);
+    EXPECT_NEAR(angle(pixelRay(cam, w, h, 300.0, 100.0).direction, f), std::atan(1.5 * std::tan(half)), 1e-12);
+    // Up is up: the top edge's ray climbs more steeply than the centre's.
+    EXPECT_GT(pixelRay(cam, w, h, 150.0, 0.0).direction.z, centre.direction.z);
+
+    const Aabb b = gkBounds();
+    const PerspectiveCamera d = defaultCamera(b);
+    const double radius = 0.5 * glm::length(b.size());
+    EXPECT_EQ(d.target, b.centre());
+    // At the target's distance the image's half-height is 1.05 bounding radii (relative 1e-12:
+    // a few double steps). The sphere's silhouette from the eye is a little wider (asin, not
+    // atan): its near half may reach past the frame's edge.
+    const double halfHeight = glm::length(d.eye - d.target) * std::tan(glm::radians(0.5 * d.fovYDegrees));
+    EXPECT_NEAR(halfHeight / radius, 1.05, 1e-12);
+    EXPECT_GT(d.eye.z, d.target.z);
+}
+
+// The CPU pixel ray (what pixel queries trace) and the GL view matrix (what the renderer
+// draws, renderer/views.hpp) are one camera: every point of a pixel's ray projects to that
+// pixel's centre, for perspective and profile cameras (the latter exaggerated), in the local
+// frame of a Gauss-Kruger model. Tolerance 1e-6 px: the matrices and rays are double; a
+// double step at 3.5e7 m is 7.5e-9 m against pixels of 5-50 m.
+TEST(CameraPixelRays, ProjectToTheirPixelThroughTheRenderersMatrices) {
+    const Aabb b = gkBounds();
+    const glm::dvec3 origin = b.centre();
+    const int w = 320, h = 200;
+    auto toPixel = [&](const glm::dmat4& viewProj, const glm::dvec3& world) {
+        const glm::dvec4 c = viewProj * glm::dvec4(world - origin, 1.0);
+        return glm::dvec2((c.x / c.w + 1.0) * 0.5 * w, (1.0 - c.y / c.w) * 0.5 * h);
+    };
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> px(0.0, w), py(0.0, h), t(10.0, 5000.0);
+
+    const PerspectiveCamera cam{b.centre() + glm::dvec3(-7000.0, -9000.0, 6000.0), b.centre(), {0, 0, 1}, 40.0};
+    auto persp = perspectiveTransform(cam, origin, b, w, h);
+    ASSERT_TRUE(persp.ok()) << persp.error().message;
+    for (int i = 0; i < 200; ++i) {
+        const double x = px(rng), y = py(rng);
+        const PixelRay r = pixelRay(cam, w, h, x, y);
+        const glm::dvec2 p = toPixel(persp->viewProj, r.origin + t(rng) * r.direction);
+        EXPECT_NEAR(p.x, x, 1e-6);
+        EXPECT_NEAR(p.y, y, 1e-6);
+    }
+
+    const VerticalExaggeration ve = VerticalExaggeration::aboutCentreOf(3.0, b);
+    const Plane plane = planeThrough(glm::normalize(glm::dvec3(0.3, 1.0, 0.2)), b.centre());
+    const FrameRect frame = defaultFrame(plane, b, origin, w, h, ve);
+    const ProfileCamera shown = profileCamera(plane, frame, ve);  // display space
+    const glm::dvec3 displayOrigin = ve.toDisplay(origin);
+    auto ortho = profileTransform(shown, displayOrigin, ve.boundsToDisplay(b));
+    ASSERT_TRUE(ortho.ok()) << ortho.error().message;
+    const PixelFrame pf = pixelFrame(shown, w, h);
+    for (int i = 0; i < 200; ++i) {
+        const double x = px(rng), y = py(rng);
+        const PixelRay r = pixelRay(shown, w, h, x, y);
+        EXPECT_NEAR(glm::dot(r.direction, glm::dvec3(shown.plane)), 1.0, 1e-12);  // along +n
+        const glm::dvec4 c = ortho->viewProj * glm::dvec4(r.origin + t(rng) * r.direction - displayOrigin, 1.0);
+        EXPECT_NEAR((c.x / c.w + 1.0) * 0.5 * w, x, 1e-6);
+        EXPECT_NEAR((1.0 - c.y / c.w) * 0.5 * h, y, 1e-6);
+        // The same point through the pixel frame (the exact engine's mapping).
+        const glm::dvec3 q = pf.section.toWorld(pf.pixelToPlane(x, y));
+        EXPECT_NEAR(glm::length(q - r.origin), 0.0, 1e-6);
+    }
 }
