@@ -6,15 +6,11 @@
 
 namespace geoslice::text {
 
-bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-
 std::string_view trim(std::string_view s) {
     while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
     while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
     return s;
 }
-
-bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
 std::string_view trimSpace(std::string_view s) {
     while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
