@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <iterator>
 #include <string_view>
-#include <thread>
 
 #include "api/plan.hpp"
 #include "model/loaders.hpp"
@@ -22,11 +21,12 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// CatalogModel::toWgs84 / wgs84Note for the model's CRS and extent.
+// CatalogModel::toWgs84 / wgs84Note for the model's CRS and extent (the section index's
+// bounds: the model's, already computed).
 void chooseWgs84Transform(CatalogModel& m) {
     const Crs& crs = m.model.crs;
     if (crs.isLocal()) return;
-    const Aabb b = m.model.bounds();
+    const Aabb b = m.index->bounds;
     auto box = lonLatBoxOf(crs, {b.min.x, b.min.y}, {b.max.x, b.max.y});
     if (!box) {
         m.wgs84Note = "no WGS 84 coordinates: the model's extent has no lon/lat (" + box.error().message + ")";
@@ -48,7 +48,7 @@ void chooseWgs84Transform(CatalogModel& m) {
     }
 }
 
-Status indexModel(CatalogModel& m) {
+Status indexModel(CatalogModel& m, RayBuild rays) {
     if (m.model.validation.hasErrors()) {
         std::string first;
         for (const auto& issue : m.model.validation.issues)
@@ -61,39 +61,31 @@ Status indexModel(CatalogModel& m) {
     }
     if (m.model.triangleCount() == 0)
         return makeError(ErrorCode::InvalidArgument, "model '" + m.id + "' (" + m.source + ") has no triangles");
-    // The section index (the package's BVH when there is one) on a second thread while Embree
-    // builds the one ray scene that every ray query of the model shares (classifier, tracer).
+    // The section index: the package's BVH when there is one, else built.
     Result<std::unique_ptr<SectionIndex>> index = makeError(ErrorCode::Internal, "not built");
-    std::thread indexer([&] {
-        if (m.package && !m.package->sectionBvh.empty()) {
-            index = loadSectionIndex(m.model, m.package->sectionBvh, m.source + "/" + bake::kSectionBvhFile);
-            if (index) return;
+    if (m.package && !m.package->sectionBvh.empty()) {
+        index = loadSectionIndex(m.model, m.package->sectionBvh, m.source + "/" + bake::kSectionBvhFile);
+        if (!index)
             m.loadWarning = "the package's section BVH was not used (" + index.error().message + "); built instead";
-        }
-        index = buildSectionIndex(m.model);
-    });
+    }
+    if (!index) index = buildSectionIndex(m.model);
+    if (!index) return index.error();
+    m.index = std::move(index.value());
+    // The one ray scene that every ray query of the model shares (classifier, tracer), built
+    // after the model is served: it was 2.9 of the 3.3 CPU-s of a baked L4's start.
     // Low build quality (Morton-code BVH): measured on a baked L4 (bench_coldstart, load
     // 15-17), 2.8-2.9 CPU-s to build instead of 4.8 s at medium, the same answers, rays as
     // fast to 3x slower (a classify 27-85 us against 29 us, a vertical borehole 77-235 us
     // against 65 us under that load): microseconds on a query that costs a tenth of a
-    // millisecond over HTTP, seconds on every replica's start.
+    // millisecond over HTTP.
     RaySceneOptions sceneOptions;
     sceneOptions.quality = RTC_BUILD_QUALITY_LOW;
-    auto scene = RayScene::build(m.model, sceneOptions);
-    indexer.join();
-    if (!index) return index.error();
-    m.index = std::move(index.value());
-    if (!scene) return scene.error();
-    auto classifier = Classifier::build(m.model, scene.value());
-    if (!classifier) return classifier.error();
-    m.classifier = std::move(classifier.value());
-    auto tracer = BoreholeTracer::build(m.model, std::move(scene.value()));
-    if (!tracer) return tracer.error();
-    m.tracer = std::move(tracer.value());
+    m.rays = RayQueries::create(m.model, sceneOptions);
     for (const auto& [id, record] : m.model.attributes.records()) m.recordJson[id] = record.toJson().dump();
     for (const Part& p : m.model.bodies) m.bodyName.emplace(p.record, p.name);
     if (m.model.blocks) m.blockRecords = blockClipRecords(m.model, *m.model.blocks);
     chooseWgs84Transform(m);
+    if (rays == RayBuild::Now) m.rays->start();
     return {};
 }
 
@@ -203,7 +195,7 @@ Result<std::shared_ptr<const bake::Package>> openPackage(const std::string& dir)
 }  // namespace
 
 Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
-                                                             const std::string& bakeDir, bool mayBake) {
+                                                             const std::string& bakeDir, bool mayBake, RayBuild rays) {
     namespace fs = std::filesystem;
     if (!isValidModelId(id)) return makeError(ErrorCode::InvalidArgument, "model id '" + id + "' is not valid");
     const auto t0 = std::chrono::steady_clock::now();
@@ -317,7 +309,7 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
             m->package = std::move(pkg.value());
         }
     }
-    if (auto s = indexModel(*m); !s) return s.error();
+    if (auto s = indexModel(*m, rays); !s) return s.error();
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }
@@ -340,20 +332,20 @@ Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles)
     m->model = std::move(model.value());
     m->model.name = "demo";
     validate(m->model);  // closed flags and nesting, as every loader does
-    if (auto s = indexModel(*m); !s) return s.error();
+    if (auto s = indexModel(*m, RayBuild::Now); !s) return s.error();
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }
 
 Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
-                                                           const std::string& version) {
+                                                           const std::string& version, RayBuild rays) {
     const auto t0 = std::chrono::steady_clock::now();
     auto m = std::make_shared<CatalogModel>();
     m->id = id;
     m->source = model.source.empty() ? "(in memory)" : model.source;
     m->version = version;
     m->model = std::move(model);
-    if (auto s = indexModel(*m); !s) return s.error();
+    if (auto s = indexModel(*m, rays); !s) return s.error();
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }

@@ -10,6 +10,8 @@
 // Catalog::add/find/list are guarded by a mutex.
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -22,8 +24,7 @@
 #include "bake/package.hpp"
 #include "model/model.hpp"
 #include "model/result.hpp"
-#include "section/borehole.hpp"
-#include "section/classify.hpp"
+#include "section/ray_queries.hpp"
 #include "section/section_index.hpp"
 
 namespace geoslice::api {
@@ -34,8 +35,11 @@ struct CatalogModel {
     std::string version;  // 16 hex digits
     Model model;
     std::unique_ptr<SectionIndex> index;
-    std::unique_ptr<Classifier> classifier;
-    std::unique_ptr<BoreholeTracer> tracer;
+    // The point classifier and borehole tracer (one Embree scene), built on a background
+    // thread after the model is served (section/ray_queries.hpp): pixel queries without a
+    // cached ID buffer, perspective pixel queries and boreholes wait for it (rays->wait).
+    // Declared after `model`, which it reads: destroyed first (a build under way is cancelled).
+    std::unique_ptr<RayQueries> rays;
     // The baked package (index texture, UVs) when the model came from one or was baked on
     // load; null for a raw model.
     std::shared_ptr<const bake::Package> package;
@@ -66,24 +70,34 @@ struct CatalogModel {
 
 bool isValidModelId(std::string_view id);
 
-// Loads, validates and indexes a model: a file (glTF/GLB, OBJ, TSurf, Geo3DML), or a baked
-// package directory (bake/package.hpp: checksums verified, its mesh.glb is the geometry with
-// the validation stored at bake time (bake::packageModel), its manifest checksum the version).
-// With `bakeDir` non-empty a raw model is served from bakeDir/<id>/, baked there on first
-// load and again when the source's version, the package format or its checksums change
-// (a corrupt package is moved aside to <id>.corrupt-N); while the package is current the
-// source is read only for its version hash, never parsed.
-// `mayBake` false (serve --no-bake: replicas on a read-only models volume): nothing is
-// baked; a raw model without a current package is refused (Unsupported, naming why:
-// missing, baked from another source version, stale format, failing its checks).
-// Errors: the loader's or the package reader's, and InvalidArgument when validation found
-// errors (named).
+// When the model's ray scene is built (CatalogModel::rays): Now starts the background build
+// as the model is loaded; Deferred leaves it to the caller (rays->start()), e.g. a server
+// that starts every model's build once all its models are loaded.
+enum class RayBuild { Now, Deferred };
+
+// How long a query may wait for CatalogModel::rays: until `deadline`, or until *cancel turns
+// true (then DeadlineExceeded); the default waits as long as the build takes (CLI, tests).
+struct RayWait {
+    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+// Loads, validates and indexes a model (the ray scene on a background thread, see `rays`): a file (glTF/GLB, OBJ,
+// TSurf, Geo3DML), or a baked package directory (bake/package.hpp: checksums verified, its mesh.glb is the geometry
+// with the validation stored at bake time (bake::packageModel), its manifest checksum the version). With `bakeDir`
+// non-empty a raw model is served from bakeDir/<id>/, baked there on first load and again when the source's version,
+// the package format or its checksums change (a corrupt package is moved aside to <id>.corrupt-N); while the package is
+// current the source is read only for its version hash, never parsed. `mayBake` false (serve --no-bake: replicas on a
+// read-only models volume): nothing is baked; a raw model without a current package is refused (Unsupported, naming
+// why: missing, baked from another source version, stale format, failing its checks). Errors: the loader's or the
+// package reader's, and InvalidArgument when validation found errors (named).
 Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
-                                                             const std::string& bakeDir = "", bool mayBake = true);
+                                                             const std::string& bakeDir = "", bool mayBake = true,
+                                                             RayBuild rays = RayBuild::Now);
 // A loaded, validated model indexed as the server does (tests and benchmarks build models
 // in memory); `version` as the caller chooses.
 Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
-                                                           const std::string& version);
+                                                           const std::string& version, RayBuild rays = RayBuild::Now);
 // The built-in demo mine (synthetic, EPSG:4523 at 105.05 E 30.62 N), `triangles` in total.
 Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles = 200000);
 // Model files directly in `dir` whose stem is a valid id, and package directories (holding a

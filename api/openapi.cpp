@@ -133,8 +133,10 @@ J openApiDocument(const std::string& serverVersion) {
            J{{"description", "the asset; ETag, Cache-Control"},
              {"content", {{"text/javascript", J::object()}, {"text/css", J::object()}, {"image/png", J::object()}}}}));
     get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok")));
-    get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found)", J::array(),
-                      jsonResponse("ready; 503 while loading")));
+    get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found); `rays` gives each "
+                      "model's ray scene (pending, building, ready, failed), which queries without a cached image, "
+                      "perspective queries and boreholes wait for up to their deadline (504 past it)",
+                      J::array(), jsonResponse("ready; 503 while loading")));
     get("/metrics", op("Prometheus text format: requests and latency per route, queue depth, cache hits, render times",
                        J::array(), J{{"description", "metrics"}, {"content", {{"text/plain", J::object()}}}}));
     get("/openapi.json", op("this document", J::array(), jsonResponse("OpenAPI 3 document")));

@@ -305,7 +305,7 @@ namespace {
 // never cover. With one plane no open surface can lie in front of a cap; with a cut-out
 // one can (kept, removed, kept again along the ray), and the image shows the cap there.
 Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                                      const ViewImage* cached) {
+                                      const ViewImage* cached, const RayWait& wait) {
     if (auto s = checkPerspectiveCut(model, plan); !s) return s.error();
     const CutOut cut = sectionCut(plan.section);
     // The pixel's ray in display space, mapped to world (the exaggeration is affine: a line
@@ -329,7 +329,9 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
     a.world = glm::dvec3(std::numeric_limits<double>::quiet_NaN());
     double hitT = std::numeric_limits<double>::infinity();
     if (!kept.empty()) {
-        auto hole = model.tracer->traceRay(ray.origin, ray.direction);
+        auto rays = model.rays->wait(wait.deadline, wait.cancel);
+        if (!rays) return rays.error();
+        auto hole = rays.value().tracer->traceRay(ray.origin, ray.direction);
         if (hole) {
             bool cap = false;
             // Body intervals are disjoint and in order: the first with a kept part holds the
@@ -368,13 +370,13 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
 }  // namespace
 
 Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                                const ViewImage* cached) {
+                                const ViewImage* cached, const RayWait& wait) {
     if (px < 0 || py < 0 || px >= plan.width || py >= plan.height)
         return makeError(ErrorCode::OutOfRange, "parameters 'px', 'py': pixel (" + std::to_string(px) + ", " +
                                                     std::to_string(py) + ") is outside the " +
                                                     std::to_string(plan.width) + "x" + std::to_string(plan.height) +
                                                     " image");
-    if (plan.view == ViewKind::Perspective) return answerPerspective(model, plan, px, py, cached);
+    if (plan.view == ViewKind::Perspective) return answerPerspective(model, plan, px, py, cached, wait);
     std::optional<PixelMapping> fresh;
     const PixelMapping* mapping = cached && cached->mapping ? &*cached->mapping : nullptr;
     if (!mapping) {
@@ -399,12 +401,13 @@ Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan,
             a.cell = cached->cells[p] == 0 ? BlockModel::kNoCell : std::size_t(cached->cells[p] - 1);
             return a;
         }
-    } else if (a.line) {
+    } else if (a.line && !(a.section.x >= 0.0 && a.section.x < mapping->line.length())) {
         // Like the polyline fill: nothing before the first vertex or past the last one.
-        a.record = a.section.x >= 0.0 && a.section.x < mapping->line.length() ? model.classifier->classify(a.world)
-                                                                              : kNoRecord;
+        a.record = kNoRecord;
     } else {
-        a.record = model.classifier->classify(a.world);
+        auto rays = model.rays->wait(wait.deadline, wait.cancel);
+        if (!rays) return rays.error();
+        a.record = rays.value().classifier->classify(a.world);
     }
     a.cell = blockCellAt(model, a.record, a.world);
     return a;
@@ -553,8 +556,8 @@ void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::stri
 }
 
 Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                               const ViewImage* cached) {
-    auto a = answerPixel(model, plan, px, py, cached);
+                               const ViewImage* cached, const RayWait& wait) {
+    auto a = answerPixel(model, plan, px, py, cached, wait);
     if (!a) return a.error();
     std::string out;
     out.reserve(1536);
@@ -569,7 +572,7 @@ nlohmann::ordered_json worldPointJson(const CatalogModel& model, const glm::dvec
     return nlohmann::ordered_json::parse(s);
 }
 
-Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params) {
+Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params, const RayWait& wait) {
     double x = 0.0, y = 0.0;
     if (param(params, "lon") || param(params, "lat")) {
         const auto lon = param(params, "lon"), lat = param(params, "lat");
@@ -597,7 +600,9 @@ Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Param
         x = xv.value();
         y = yv.value();
     }
-    auto hole = model.tracer->traceVertical(x, y);
+    auto rays = model.rays->wait(wait.deadline, wait.cancel);
+    if (!rays) return rays.error();
+    auto hole = rays.value().tracer->traceVertical(x, y);
     if (!hole) return hole.error();
     const Borehole& b = hole.value();
     nlohmann::ordered_json out;

@@ -114,20 +114,23 @@ struct QueryAnswer {
 // perspective view keeps no part of the model's bounds (api/cut.hpp).
 Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan);
 // The ray through a pixel of a perspective view: pixelRay of model/camera.hpp.
+// A query that needs the model's rays (perspective, or no cached ID buffer) waits for them
+// (CatalogModel::rays) as `wait` allows: DeadlineExceeded when they are not built in time.
 Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                                const ViewImage* cached);
+                                const ViewImage* cached, const RayWait& wait = {});
 // The answer as JSON (appended to `out`): record and attributes, body, world point,
 // distance along the section, CGCS2000 projected (easting, northing, zone) and geodetic
 // (lon, lat, height) coordinates with their axis order named.
 void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& answer, std::string& out);
 // answerPixel + writeQueryAnswer.
 Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                               const ViewImage* cached);
+                               const ViewImage* cached, const RayWait& wait = {});
 
 // A virtual borehole: `x`, `y` (world metres; or `lon`, `lat` degrees) -> the intervals
 // with from/to depth below the collar and elevation, record and attributes, and the open
-// surfaces crossed. Errors name the parameter; a point outside the model is OutOfRange.
-Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params);
+// surfaces crossed. Errors name the parameter; a point outside the model is OutOfRange;
+// DeadlineExceeded when the model's rays are not built within `wait`.
+Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params, const RayWait& wait = {});
 
 // The JSON of a world point: {x, y, z, crs, axes, projected: {...}, geodetic: {...},
 // wgs84: {...} or wgs84Note} (README "Query answer coordinates").

@@ -7,6 +7,7 @@
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <xxhash.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -642,47 +643,7 @@ bool sameMeshes(const Model& a, const Model& b) {
 
 }  // namespace
 
-std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed) {
-    constexpr std::uint64_t p1 = 0x9E3779B185EBCA87ull, p2 = 0xC2B2AE3D27D4EB4Full, p3 = 0x165667B19E3779F9ull,
-                            p4 = 0x85EBCA77C2B2AE63ull, p5 = 0x27D4EB2F165667C5ull;
-    auto rotl = [](std::uint64_t x, int r) { return (x << r) | (x >> (64 - r)); };
-    auto round = [&](std::uint64_t acc, std::uint64_t in) { return rotl(acc + in * p2, 31) * p1; };
-    auto merge = [&](std::uint64_t acc, std::uint64_t v) { return (acc ^ round(0, v)) * p1 + p4; };
-    auto r64 = [](const std::uint8_t* p) {
-        std::uint64_t v;
-        std::memcpy(&v, p, 8);
-        return v;
-    };
-    const auto* p = static_cast<const std::uint8_t*>(data);
-    const std::uint8_t* end = p + size;
-    std::uint64_t h;
-    if (size >= 32) {
-        std::uint64_t v1 = seed + p1 + p2, v2 = seed + p2, v3 = seed, v4 = seed - p1;
-        for (; p + 32 <= end; p += 32) {
-            v1 = round(v1, r64(p));
-            v2 = round(v2, r64(p + 8));
-            v3 = round(v3, r64(p + 16));
-            v4 = round(v4, r64(p + 24));
-        }
-        h = rotl(v1, 1) + rotl(v2, 7) + rotl(v3, 12) + rotl(v4, 18);
-        h = merge(merge(merge(merge(h, v1), v2), v3), v4);
-    } else {
-        h = seed + p5;
-    }
-    h += size;
-    for (; p + 8 <= end; p += 8) h = rotl(h ^ round(0, r64(p)), 27) * p1 + p4;
-    if (p + 4 <= end) {
-        h = rotl(h ^ (std::uint64_t(readU32(p)) * p1), 23) * p2 + p3;
-        p += 4;
-    }
-    for (; p < end; ++p) h = rotl(h ^ (std::uint64_t(*p) * p5), 11) * p1;
-    h ^= h >> 33;
-    h *= p2;
-    h ^= h >> 29;
-    h *= p3;
-    h ^= h >> 32;
-    return h;
-}
+std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed) { return XXH64(data, size, seed); }
 
 std::size_t Package::residentBytes() const {
     std::size_t n = texels.size() * 4;

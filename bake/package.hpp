@@ -64,7 +64,7 @@ constexpr const char* kVertexMapFile = "vertices.map";
 // mesh.glb primitive attribute (float VEC3, glTF axes) with position - float(position).
 constexpr const char* kPositionResidualAttribute = "_POSITION_LO";
 
-// XXH64 (Yann Collet's xxHash, 64-bit variant, as specified in xxhash's doc/xxhash_spec.md).
+// XXH64 (Yann Collet's xxHash, 64-bit variant), from Debian's libxxhash.
 std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed = 0);
 
 // Writes the package into `dir` (created if missing; files written under temporary names and

@@ -13,6 +13,9 @@ find_package(zstd REQUIRED)  # libzstd-dev: the baked index texture's lossless e
 find_package(PNG REQUIRED)   # libpng-dev
 find_package(Boost 1.74 REQUIRED)  # libboost-dev: Beast/Asio (header-only), the HTTP transport
 find_package(ZLIB REQUIRED)  # zlib1g-dev: gzip of JSON answers, zlib-compressed VTK .vtu data
+# libxxhash-dev: XXH64, the baked package's file checksums (pkg-config only on Debian 12).
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 
 # GeographicLib ships only a find-module on Debian.
 list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)

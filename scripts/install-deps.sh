@@ -22,6 +22,7 @@ build=(
   libtinygltf-dev libdraco-dev libpugixml-dev nlohmann-json3-dev libstb-dev
   # images
   libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev libwebp-dev zlib1g-dev libzstd-dev
+  libxxhash-dev                       # XXH64 checksums of the baked package's files
   # geodesy: GeographicLib (CGCS2000), PROJ for every other CRS (library + its EPSG
   # database and grids in proj-data)
   libgeographiclib-dev libproj-dev proj-data
@@ -64,7 +65,7 @@ runtime=(
   libgnutls30 libnettle8 libhogweed6 libgmp10 libp11-kit0 libffi8 libtasn1-6 libssl3
   libgssapi-krb5-2 libkrb5-3 libk5crypto3 libkrb5support0 libcom-err2 libkeyutils1
   libldap-2.5-0 libsasl2-2
-  libturbojpeg0 libpng16-16 libwebp7 libzstd1
+  libturbojpeg0 libpng16-16 libwebp7 libzstd1 libxxhash0
   # GL through glvnd: Mesa's EGL (device + surfaceless) and llvmpipe, OSMesa (dlopen)
   libegl1 libglvnd0 libegl-mesa0 libgl1-mesa-dri libosmesa6
   # print sheets: cairo and what it loads (pixman, fontconfig + FreeType, its X11/xcb

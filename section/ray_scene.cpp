@@ -24,6 +24,10 @@ Result<std::shared_ptr<const RayScene>> RayScene::build(const Model& model, cons
     rtcSetSceneFlags(rs->scene_, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
                                                (options.compact ? RTC_SCENE_FLAG_COMPACT : 0)));
     rtcSetSceneBuildQuality(rs->scene_, options.quality);
+    if (options.cancel)
+        rtcSetSceneProgressMonitorFunction(
+            rs->scene_, [](void* flag, double) { return !static_cast<const std::atomic<bool>*>(flag)->load(); },
+            const_cast<std::atomic<bool>*>(options.cancel));
     constexpr float kInf = std::numeric_limits<float>::infinity();
     rs->boxes_.assign(model.bodies.size(), {glm::vec3(kInf), glm::vec3(-kInf)});
     auto attach = [&](const Part& part, int tag) {
@@ -61,8 +65,12 @@ Result<std::shared_ptr<const RayScene>> RayScene::build(const Model& model, cons
     for (std::size_t b = 0; b < model.bodies.size(); ++b)
         if (model.bodies[b].report.closed) attach(model.bodies[b], static_cast<int>(b));
     for (std::size_t s = 0; s < model.surfaces.size(); ++s) attach(model.surfaces[s], -static_cast<int>(s) - 1);
+    if (options.cancel && options.cancel->load())
+        return makeError(ErrorCode::DeadlineExceeded, "Embree: the scene build was cancelled");
     rtcCommitScene(rs->scene_);
-    if (RTCError e = rtcGetDeviceError(rs->device_); e != RTC_ERROR_NONE)
+    if (RTCError e = rtcGetDeviceError(rs->device_); e == RTC_ERROR_CANCELLED)
+        return makeError(ErrorCode::DeadlineExceeded, "Embree: the scene build was cancelled");
+    else if (e != RTC_ERROR_NONE)
         return makeError(ErrorCode::Internal, "Embree: scene build failed (error " + std::to_string(e) + ")");
     return std::shared_ptr<const RayScene>(std::move(rs));
 }

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -34,6 +35,9 @@ struct RaySceneOptions {
     RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
     // RTC_SCENE_FLAG_COMPACT: a smaller tree (less memory to allocate and zero), slower rays.
     bool compact = false;
+    // When set and turned true during the build, Embree stops building (its progress monitor,
+    // polled by the build threads) and build() returns DeadlineExceeded ("cancelled").
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 class RayScene {

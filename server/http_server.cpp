@@ -63,7 +63,7 @@ struct SectionServer::Impl {
                 if (files.value().empty()) spdlog::warn("event=models_dir_empty dir=\"{}\"", config.modelsDir);
                 for (const auto& [id, path] : files.value()) {
                     if (st.draining) break;
-                    auto m = api::loadCatalogModel(id, path, config.bakeDir, !config.noBake);
+                    auto m = api::loadCatalogModel(id, path, config.bakeDir, !config.noBake, api::RayBuild::Deferred);
                     if (m) {
                         spdlog::info("event=model_loaded id={} triangles={} ms={:.0f} version={}", id,
                                      m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version);
@@ -90,6 +90,9 @@ struct SectionServer::Impl {
             st.loaded = true;
         }
         loadDone.notify_all();
+        // Every model is served: now build their ray scenes, each on a thread of its own
+        // (queries that need one wait for it; /readyz and /metrics say where they are).
+        for (const auto& m : st.catalog.list()) m->rays->start();
     }
 
     void probeGl() {
@@ -154,6 +157,19 @@ Result<int> SectionServer::start() {
     st.metrics.gauge("geoslice_renders_coalesced", "Requests that shared another request's render (total).",
                      [&st] { return double(st.cache->coalesced()); });
     st.metrics.gauge("geoslice_models_loaded", "Models loaded.", [&st] { return double(st.catalog.size()); });
+    auto raysIn = [&st](RayQueries::State s) {
+        double n = 0;
+        for (const auto& m : st.catalog.list()) n += m->rays->state() == s ? 1.0 : 0.0;
+        return n;
+    };
+    st.metrics.gauge("geoslice_ray_scenes_building",
+                     "Models whose ray scene (pixel queries without a cached image, perspective queries, boreholes) "
+                     "is still to be built.",
+                     [raysIn] { return raysIn(RayQueries::State::Building) + raysIn(RayQueries::State::NotStarted); });
+    st.metrics.gauge("geoslice_ray_scenes_ready", "Models whose ray scene is built.",
+                     [raysIn] { return raysIn(RayQueries::State::Ready); });
+    st.metrics.gauge("geoslice_ray_scenes_failed", "Models whose ray scene failed to build.",
+                     [raysIn] { return raysIn(RayQueries::State::Failed); });
 
     TransportConfig tc;
     tc.host = config_.host;

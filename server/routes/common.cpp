@@ -1,5 +1,7 @@
 #include "server/routes/common.hpp"
 
+#include <chrono>
+
 #include "api/request.hpp"
 #include "server/respond.hpp"
 
@@ -25,6 +27,10 @@ std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const std
 }
 
 Result<api::Params> queryParams(const HttpRequest& req) { return api::paramsFromQuery(req.params); }
+
+api::RayWait rayWait(const ServerState& state, const HttpRequest& req) {
+    return {std::chrono::steady_clock::now() + std::chrono::milliseconds(state.config.deadlineMs), req.cancelled.get()};
+}
 
 Status validateView(const ServerState& state, const api::CatalogModel& m, const api::ViewPlan& plan) {
     if (auto classes = api::blockClasses(m, plan.section); !classes) return classes.error();

@@ -38,6 +38,11 @@ inline std::size_t renderBytes(int width, int height, bool gl) {
 std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const std::string& id, HttpResponse& res,
                                                    const std::string& instance);
 
+// How long a request handled on an HTTP thread waits for a model's ray scene (built after
+// /readyz, api::CatalogModel::rays): the request deadline (config deadlineMs), or until its
+// client goes away; then DeadlineExceeded (504).
+api::RayWait rayWait(const ServerState& state, const HttpRequest& req);
+
 // The request's query parameters (api::paramsFromQuery).
 Result<api::Params> queryParams(const HttpRequest& req);
 

@@ -58,8 +58,19 @@ void readyz(ServerState& st, HttpResponse& res) {
                  {"cancelledWhileRunning", ps.cancelledRunning},
                  {"memoryBudgetMiB", st.pool->memoryBudget() >> 20},
                  {"memoryReservedMiB", ps.reservedBytes >> 20}};
+    // Ray scenes (pixel queries without a cached image, perspective queries, boreholes) build
+    // after the models are served: reported, not a reason to be unready (those queries wait
+    // for them up to their deadline).
+    Json rays = Json::object();
+    for (const auto& m : st.catalog.list()) {
+        const RayQueries::State s = m->rays->state();
+        Json r{{"state", RayQueries::stateName(s)}, {"seconds", m->rays->buildSeconds()}};
+        if (s == RayQueries::State::Failed) r["error"] = m->rays->error();
+        rays[m->id] = std::move(r);
+    }
     Json j{{"ready", modelsReady && glOk && workersOk},
            {"models", {{"loaded", st.catalog.size()}, {"done", bool(st.loaded)}, {"failed", failures}}},
+           {"rays", std::move(rays)},
            {"gl", {{"enabled", st.glEnabled}, {"ready", gl.ready}, {"device", gl.device}}},
            {"workers", st.pool->workers()},
            {"renders", std::move(renders)}};

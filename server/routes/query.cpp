@@ -1,5 +1,6 @@
 // Pixel queries: GET /v1/models/{id}/query?<view>&px=&py= (one pixel, on the handler
-// thread: one exact ray, or a lookup in the view's cached ID buffer) and POST (a batch of
+// thread: one exact ray, or a lookup in the view's cached ID buffer; a ray waits for the
+// model's ray scene within the request deadline, routes/common.hpp rayWait) and POST (a batch of
 // pixels of one view, on a render worker like a render: queue, deadline, cancellation,
 // memory admission; at most kMaxBatchPixels pixels and kMaxBatchAnswerBytes of answer).
 #include "api/request.hpp"
@@ -23,7 +24,8 @@ void queryGet(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     auto pixel = api::parseQueryPixel(params.value());
     if (!pixel) return problem(res, pixel.error(), req.path);
     auto cached = st.cache->findIds(cache_key::view(*m, plan.value()));
-    auto j = api::queryPixel(*m, plan.value(), pixel.value().x, pixel.value().y, cached ? &cached->view : nullptr);
+    auto j = api::queryPixel(*m, plan.value(), pixel.value().x, pixel.value().y, cached ? &cached->view : nullptr,
+                             rayWait(st, req));
     if (!j) return problem(res, j.error(), req.path);
     res.status = 200;
     res.set_content(j.value(), "application/json");
@@ -48,13 +50,17 @@ void queryPost(ServerState& st, const HttpRequest& req, HttpResponse& res) {
         [&st, m, plan = plan.value(), pixels = std::move(pixels.value())](workers::WorkerState&,
                                                                           const std::atomic<bool>& cancel) -> Rendered {
             auto cached = st.cache->findIds(cache_key::view(*m, plan));
+            // Waits for the model's rays at most a deadline (cancel turns true when the last
+            // request waiting for this answer leaves).
+            const api::RayWait wait{std::chrono::steady_clock::now() + std::chrono::milliseconds(st.config.deadlineMs),
+                                    &cancel};
             auto e = std::make_shared<Encoded>();
             std::string& out = e->body;
             out = "{\"results\":[";
             for (std::size_t i = 0; i < pixels.size(); ++i) {
                 if ((i & 63) == 0)
                     if (auto c = checkCancel(&cancel); !c) return c.error();
-                auto a = api::answerPixel(*m, plan, pixels[i].x, pixels[i].y, cached ? &cached->view : nullptr);
+                auto a = api::answerPixel(*m, plan, pixels[i].x, pixels[i].y, cached ? &cached->view : nullptr, wait);
                 if (!a)
                     return makeError(a.error().code,
                                      "field 'pixels': pixels[" + std::to_string(i) + "]: " + a.error().message);

@@ -68,6 +68,13 @@ TEST(ModelsDir, RawFilesPackagesAndACorruptPackage) {
     ASSERT_EQ(ready["models"]["failed"].size(), 1u);
     EXPECT_EQ(ready["models"]["failed"][0]["id"], "broken");
     EXPECT_NE(ready["models"]["failed"][0]["error"].get<std::string>().find(bake::kTextureFile), std::string::npos);
+    // Ray scenes build after the models are served (section/ray_queries.hpp): /readyz reports
+    // each served model's, whatever its state when asked.
+    ASSERT_EQ(ready["rays"].size(), 2u) << ready.dump();
+    for (const char* id : {"pkg", "raw"}) {
+        const std::string st = ready["rays"][id]["state"];
+        EXPECT_TRUE(st == "pending" || st == "building" || st == "ready") << id << ": " << st;
+    }
 
     const json models = getJson(port.value(), "/v1/models");
     ASSERT_EQ(models["models"].size(), 2u);
@@ -89,6 +96,15 @@ TEST(ModelsDir, RawFilesPackagesAndACorruptPackage) {
             hits += a["hit"].get<bool>();
         }
     EXPECT_GT(hits, 10);
+    // Those queries needed the rays (no cached image) and waited for them: built now.
+    const json after = getJson(port.value(), "/readyz");
+    EXPECT_EQ(after["rays"]["pkg"]["state"], "ready");
+    EXPECT_EQ(after["rays"]["raw"]["state"], "ready");
+    httplib::Client c("127.0.0.1", port.value());
+    auto metrics = c.Get("/metrics");
+    ASSERT_TRUE(metrics);
+    EXPECT_NE(metrics->body.find("\ngeoslice_ray_scenes_ready 2\n"), std::string::npos);
+    EXPECT_NE(metrics->body.find("\ngeoslice_ray_scenes_building 0\n"), std::string::npos);
 }
 
 TEST(ModelsDir, ADeclaredVolumeThatIsNotClosedIsAFailedModel) {
