@@ -542,7 +542,14 @@ TEST(ServerLifecycle, GracefulShutdown) {
         auto r = cl.Get("/v1/models/demo/section.png?plane=0,1,0,-3388846&size=3000x3000");
         status = r ? r->status : -1;
     });
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    // Stop once the render is under way (a fixed 30 ms was not always enough under load: the
+    // request then arrived after stop() and was refused with 503, as it should be).
+    httplib::Client probe("127.0.0.1", port.value());
+    for (int i = 0; i < 1000; ++i) {
+        auto m = probe.Get("/metrics");
+        if (m && m->body.find("\ngeoslice_workers_busy 0\n") == std::string::npos) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
     s.stop();
     inflight.join();
     EXPECT_EQ(status, 200);
