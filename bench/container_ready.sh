@@ -5,7 +5,7 @@
 # read-only root and the baked package mounted read-only as /models/<its name>, as a replica
 # does (`serve --models /models --no-bake --gl none`), and prints one JSON line: seconds from
 # `run` to the first /readyz 200 (polled every 20 ms), then to every model's ray scene built
-# (/readyz "rays"), and the load average before and after. --binary mounts another geoslice
+# (/readyz "rays"; images without it built them before /readyz), and the load average before and after. --binary mounts another geoslice
 # binary over the image's (the image's libraries must hold what it links). Removes the
 # container. Example:
 #   GEOSLICE_PODMAN_DIR=/var/cache/geoslice/podman bash bench/container_ready.sh \
@@ -40,7 +40,7 @@ done
 ready=$(elapsed)
 load1=$(cut -d' ' -f1-3 /proc/loadavg)
 while ! curl -s "http://127.0.0.1:$port/readyz" |
-    python3 -c 'import json,sys; r=json.load(sys.stdin)["rays"]; sys.exit(0 if r and all(v["state"] in ("ready","failed") for v in r.values()) else 1)'; do
+    python3 -c 'import json,sys; r=json.load(sys.stdin).get("rays"); sys.exit(0 if r is None or all(v["state"] in ("ready","failed") for v in r.values()) else 1)'; do
     sleep 0.05
 done
 rays=$(elapsed)
