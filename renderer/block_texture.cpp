@@ -71,8 +71,7 @@ Result<std::unique_ptr<BlockTexture>> BlockTexture::upload(GlContext& context, c
 void BlockTexture::apply(GLuint program, const glm::dvec3& modelOrigin) const {
     const GlFunctions& gl = *impl_->gl;
     auto at = [&](const char* name) { return gl.GetUniformLocation(program, name); };
-    gl.BindTextureUnit(2, impl_->texture.id());  // binding 2: uBlockClasses (shaders/slice.frag)
-    gl.ProgramUniform1i(program, at("uBlocks"), 1);
+    gl.BindTextureUnit(2, impl_->texture.id());           // binding 2: uBlockClasses (shaders/slice.frag)
     const glm::vec3 origin(impl_->origin - modelOrigin);  // local frame
     gl.ProgramUniform3fv(program, at("uBlockOrigin"), 1, &origin.x);
     float rows[9];
@@ -84,10 +83,6 @@ void BlockTexture::apply(GLuint program, const glm::dvec3& modelOrigin) const {
     gl.ProgramUniform1i(program, at("uBlockClipCount"), GLint(impl_->clip.size()));
     if (!impl_->clip.empty())
         gl.ProgramUniform1uiv(program, at("uBlockClip"), GLsizei(impl_->clip.size()), impl_->clip.data());
-}
-
-void BlockTexture::disable(const GlFunctions& gl, GLuint program) {
-    gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uBlocks"), 0);
 }
 
 void BlockTexture::release() const { impl_->gl->BindTextureUnit(2, 0); }

@@ -17,7 +17,7 @@
 //
 // Threads: upload, apply and destroy on the GlContext's thread. GL state: upload() binds
 // nothing (DSA; sets GL_UNPACK_ALIGNMENT to 1 and back to 4); apply() binds the texture to
-// unit 2 and sets the program's uBlock* uniforms; disable() sets uBlocks = 0.
+// unit 2 and sets the program's uBlock* uniforms (the GS_BLOCKS variants of shaders/slice.frag).
 #pragma once
 
 #include <array>
@@ -54,8 +54,6 @@ public:
     // Binds the texture (unit 2) and sets the uniforms of `program` for a model whose local
     // frame has origin `modelOrigin` (world).
     void apply(GLuint program, const glm::dvec3& modelOrigin) const;
-    // uBlocks = 0 in `program` (no colouring).
-    static void disable(const GlFunctions& gl, GLuint program);
     // Unbinds unit 2.
     void release() const;
 

@@ -63,7 +63,7 @@ struct SliceRenderer::Impl {
     };
     Impl(GlContext& c, TracePass t, FxaaPass f) : context(c), trace(std::move(t)), fxaa(std::move(f)), target(c.gl()) {}
     GlContext& context;
-    std::vector<Variant> programs;  // index 0 clip distance, 1 discard
+    std::vector<Variant> programs;  // variantIndex(): clip distance or discard, with or without blocks
     TracePass trace;
     FxaaPass fxaa;
     RenderTarget target;
@@ -74,8 +74,10 @@ Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context)
     const GlFunctions& gl = context.gl();
     std::vector<Impl::Variant> programs;
     for (int i = 0; i < kProgramCount; ++i) {
-        auto p =
-            GlProgram::build(gl, "slice.vert", "slice.frag", {std::string("GS_CLIP_DISTANCE ") + (i == 0 ? "1" : "0")});
+        const bool clipDistance = i % 2 == 0, blocks = i >= 2;
+        auto p = GlProgram::build(gl, "slice.vert", "slice.frag",
+                                  {std::string("GS_CLIP_DISTANCE ") + (clipDistance ? "1" : "0"),
+                                   std::string("GS_BLOCKS ") + (blocks ? "1" : "0")});
         if (!p) return p.error();
         Impl::Variant v{std::move(p).value(), {}};
         v.u.viewProj = v.program.uniform("uViewProj");
@@ -213,7 +215,8 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     // fragments past the exit that say which body that is.
     const bool convexCut = request.combine == PlaneCombine::Intersection && planeCount > 1;
     image.clipUsed = unionMode || convexCut ? ClipMethod::Discard : request.clip;
-    const Impl::Variant& v = impl.programs[image.clipUsed == ClipMethod::ClipDistance ? 0 : 1];
+    const Impl::Variant& v =
+        impl.programs[std::size_t((image.clipUsed == ClipMethod::ClipDistance ? 0 : 1) + (request.blocks ? 2 : 0))];
     const GLuint prog = v.program.id();
 
     const auto t0 = std::chrono::steady_clock::now();
@@ -268,10 +271,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         gl.BindTextureUnit(0, model.idTexture());  // binding 0: uIdTexture (shaders/slice.frag)
         gl.BindTextureUnit(1, model.colourTable());
     }
-    if (request.blocks)
-        request.blocks->apply(prog, model.origin());
-    else
-        BlockTexture::disable(gl, prog);
+    if (request.blocks) request.blocks->apply(prog, model.origin());
     gl.BindVertexArray(model.vertexArray());
 
     // Which clusters to draw at which level (renderer/cluster_selection.hpp, CPU only). A

@@ -168,8 +168,9 @@ public:
     // a worker calls it after a large image so as not to keep its memory. Context current.
     void releaseTarget();
 
-    // Program variants: index 0 clip-distance, 1 discard.
-    static constexpr int kProgramCount = 2;
+    // Program variants: index 0 clip-distance, 1 discard; 2 and 3 the same with block-model
+    // colouring of caps (GS_BLOCKS, used only when SliceRequest::blocks is set).
+    static constexpr int kProgramCount = 4;
     const GlProgram& program(int index) const;
     // Helper programs: index 0 fault traces, 1 FXAA.
     static constexpr int kHelperProgramCount = 2;

@@ -50,8 +50,10 @@ uniform vec4 uBackground;  // straight RGBA, for fragments past a convex cut's e
 layout(binding = 0) uniform usampler2DArray uIdTexture;
 layout(binding = 1) uniform sampler2D uColourTable;  // record r at (r % width, r / width)
 
-// Block-model colouring of caps (renderer/block_texture.hpp): uBlocks = 1 when bound.
-uniform int uBlocks;
+#if GS_BLOCKS
+// Block-model colouring of caps (renderer/block_texture.hpp): only in the GS_BLOCKS = 1
+// variants, so that views without a block model do not pay for it (on llvmpipe the uniform
+// branch alone cost ~29 % of a frame).
 uniform vec3 uBlockOrigin;     // local frame
 uniform vec3 uBlockToGrid[3];  // axis[a] / size[a]: local offset -> cell units
 uniform ivec3 uBlockDims;
@@ -59,6 +61,7 @@ uniform vec4 uBlockColours[65];
 uniform uint uBlockClip[32];
 uniform int uBlockClipCount;
 layout(binding = 2) uniform usampler3D uBlockClasses;  // 0 = no value, k + 1 = class k
+#endif
 
 layout(location = 0) out vec4 oColour;
 layout(location = 1) out uint oRecord;
@@ -72,6 +75,7 @@ uint fetchId(vec2 uv) {
     return texelFetch(uIdTexture, t, 0).r;
 }
 
+#if GS_BLOCKS
 // The colour of a cap fragment of `record` by the block cell at the point where its view ray
 // crosses the cut: the entry into the kept region (intersection: the last plane crossed;
 // union: the first), or `colour` when the record does not clip the block model, the point
@@ -97,6 +101,7 @@ vec4 blockColour(uint record, vec4 colour) {
     uint k = texelFetch(uBlockClasses, cell, 0).r;
     return k == 0u ? colour : uBlockColours[k - 1u];
 }
+#endif
 
 void main() {
     // Derivatives before any discard: they need the whole 2x2 quad alive.
@@ -141,7 +146,9 @@ void main() {
         ivec2 at = ivec2(int(record % uint(table.x)), int(record / uint(table.x)));
         if (at.y < table.y) colour = texelFetch(uColourTable, at, 0);
     }
-    if (uBlocks != 0 && uFaceRole == 1) colour = blockColour(record, colour);
+#if GS_BLOCKS
+    if (uFaceRole == 1) colour = blockColour(record, colour);
+#endif
     if (pastExit && uFaceRole != 1) {
         oRecord = 0u;
         oColour = uBackground;
