@@ -20,6 +20,7 @@ if [ "${1:-}" = --binary ]; then
     shift 2
 fi
 source deploy/engine.sh
+source bench/ready_wait.sh
 engine_init
 health_args=()
 [ "$GEOSLICE_ENGINE" = podman ] && health_args=(--health-interval disable)
@@ -30,19 +31,6 @@ t0=$(date +%s.%N)
 ctr run -d --name "$name" --read-only "${ctr_run_args[@]}" "${health_args[@]}" "${mounts[@]}" \
     -e GEOSLICE_PORT="$port" "$image" serve --host 127.0.0.1 --models /models --no-bake --gl none \
     --log-level warn "$@" >/dev/null
-elapsed() { echo "$(date +%s.%N) - $t0" | bc; }
-while :; do
-    code=$(curl -s -o /dev/null -w '%{http_code}' "http://127.0.0.1:$port/readyz" || true)
-    [ "$code" = 200 ] && break
-    if [ "$(echo "$(elapsed) > 600" | bc)" = 1 ]; then echo '{"error": "not ready in 600 s"}'; exit 1; fi
-    sleep 0.02
-done
-ready=$(elapsed)
-load1=$(cut -d' ' -f1-3 /proc/loadavg)
-while ! curl -s "http://127.0.0.1:$port/readyz" |
-    python3 -c 'import json,sys; r=json.load(sys.stdin).get("rays"); sys.exit(0 if r is None or all(v["state"] in ("ready","failed") for v in r.values()) else 1)'; do
-    sleep 0.05
-done
-rays=$(elapsed)
+ready_wait "$port"
 printf '{"readySeconds": %.3f, "raysReadySeconds": %.3f, "loadBefore": "%s", "loadAtReady": "%s", "image": "%s", "args": "%s"}\n' \
     "$ready" "$rays" "$load0" "$load1" "$image" "${mounts[*]} $*"

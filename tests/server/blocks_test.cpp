@@ -20,6 +20,7 @@
 
 #include "model/gltf_io.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/run_command.hpp"
 #include "tests/server/server_fixture.hpp"
 #include "tests/unit/test_meshes.hpp"
 
@@ -38,17 +39,6 @@ double gradeOf(int i) { return 0.1 * i; }
 
 double overlap(double a0, double a1, double b0, double b1) {
     return std::max(0.0, std::min(a1, b1) - std::max(a0, b0));
-}
-
-std::string run(const std::string& cmd) {
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return out;
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    pclose(p);
-    return out;
 }
 
 class ServerBlocks : public InProcessServer {
@@ -130,9 +120,9 @@ TEST_F(ServerBlocks, GradeTonnageIsExactAndEqualsTheCli) {
         EXPECT_NEAR(r["metal"].get<double>(), metal, 1e-12 * metal) << cut;
         EXPECT_EQ(r["metal_unit"], "g");
     }
-    json cli = json::parse(run(std::string(GEOSLICE_BINARY) + " reserves '" + (dir_ / "box.glb").string() +
-                               "' --json --cutoffs " + cutoffs),
-                           nullptr, false);
+    json cli =
+        json::parse(test::runGeoslice("reserves '" + (dir_ / "box.glb").string() + "' --json --cutoffs " + cutoffs).out,
+                    nullptr, false);
     ASSERT_TRUE(cli.is_object());
     EXPECT_EQ(cli["grade_tonnage"], gt);
     auto csv = get("/v1/models/box/reserves.csv?cutoffs=" + cutoffs);
@@ -193,9 +183,10 @@ TEST_F(ServerBlocks, GradeTonnageOnTheKeptSideOfAPlane) {
         EXPECT_NEAR(r["mean_grade"].get<double>(), metal / (vol * kDensity), 1e-9) << cut;
     }
     // The CLI gives the same table.
-    json cli = json::parse(run(std::string(GEOSLICE_BINARY) + " reserves '" + (dir_ / "box.glb").string() +
-                               "' --json --cutoffs 0,0.55 --plane " + plane),
-                           nullptr, false);
+    json cli = json::parse(
+        test::runGeoslice("reserves '" + (dir_ / "box.glb").string() + "' --json --cutoffs 0,0.55 --plane " + plane)
+            .out,
+        nullptr, false);
     ASSERT_TRUE(cli.is_object());
     EXPECT_EQ(cli["grade_tonnage"], gt);
     auto csv = get(std::string("/v1/models/box/reserves.csv?cutoffs=0,0.55&plane=") + plane);

@@ -23,6 +23,7 @@
 
 #include "model/gltf_io.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/run_command.hpp"
 #include "tests/server/server_fixture.hpp"
 #include "tests/unit/test_meshes.hpp"
 
@@ -40,17 +41,6 @@ constexpr double kDensity = 2.7, kGrade = 1.5;   // t/m^3, % Cu
 
 void expectRel(double got, double want, const std::string& what) {
     EXPECT_NEAR(got, want, 1e-12 * std::max(1.0, std::abs(want))) << what;
-}
-
-std::string run(const std::string& cmd) {
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return out;
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    pclose(p);
-    return out;
 }
 
 class ServerReserves : public InProcessServer {
@@ -173,9 +163,9 @@ TEST_F(ServerReserves, JsonEqualsTheCli) {
     const std::string glb = (dir_ / "box.glb").string();
     const std::string plane = "1,0,0," + num(-(kLo.x + 25.0));
     for (const std::string& p : {std::string(), plane}) {
-        json cli = json::parse(
-            run(std::string(GEOSLICE_BINARY) + " reserves '" + glb + "' --json" + (p.empty() ? "" : " --plane " + p)),
-            nullptr, false);
+        json cli =
+            json::parse(test::runGeoslice("reserves '" + glb + "' --json" + (p.empty() ? "" : " --plane " + p)).out,
+                        nullptr, false);
         ASSERT_TRUE(cli.is_object()) << p;
         json http = getJson("/v1/models/box/reserves" + (p.empty() ? "" : "?plane=" + p));
         EXPECT_EQ(cli["model"], glb);
