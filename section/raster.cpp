@@ -324,13 +324,18 @@ void drawLine(const FillLine& line, const ToPixel& toPx, float width, int W, int
         const glm::dvec2 d = q - p;
         const double len2 = glm::dot(d, d);
         const bool xMajor = std::abs(d.x) >= std::abs(d.y);
-        const double reach = hw + 1.5;
+        // A pixel is covered only when its centre lies within r of the segment.
+        const double r = hw + 0.5;
         auto plot = [&](int i, int j) {
             if (i < 0 || j < 0 || i >= W || j >= H) return;
             const glm::dvec2 c(i + 0.5, j + 0.5);
             const double t = len2 > 0.0 ? std::clamp(glm::dot(c - p, d) / len2, 0.0, 1.0) : 0.0;
-            const double dist = glm::length(c - (p + t * d));
-            const double cv = std::clamp(hw + 0.5 - dist, 0.0, 1.0);
+            const glm::dvec2 off = c - (p + t * d);
+            const double dist2 = glm::dot(off, off);
+            // r * r is exact (r has at most 25 significant bits) and sqrt is correctly rounded,
+            // so dist2 >= r * r means dist >= r: no coverage, the same answer without the root.
+            if (dist2 >= r * r) return;
+            const double cv = std::clamp(r - std::sqrt(dist2), 0.0, 1.0);
             if (cv <= 0.0) return;
             const std::size_t k =
                 static_cast<std::size_t>(j) * static_cast<std::size_t>(W) + static_cast<std::size_t>(i);
@@ -338,21 +343,25 @@ void drawLine(const FillLine& line, const ToPixel& toPx, float width, int W, int
             if (cov[k] == 0) touched.push_back(static_cast<std::uint32_t>(k));
             cov[k] = std::max(cov[k], c8);
         };
-        // Walk the major axis; cover the minor axis within reach of the line.
+        // Walk the major axis over the columns whose centre lies within r of the segment's
+        // extent (reach r + 0.5 from the extent to the column's left edge); in each, visit the
+        // minor-axis pixels whose centre lies within r of the segment's line, measured along
+        // the minor axis: r * sqrt(1 + slope^2) (the segment's points are on that line, so no
+        // covered pixel is left out; 1e-3 px of slack for the rounding of `centre`).
         const int a = xMajor ? 0 : 1, b = 1 - a;
         const int lim = xMajor ? W : H;
+        const double reach = r + 0.5;
         const double lo = std::max(std::min(p[a], q[a]) - reach, 0.0),
                      hi = std::min(std::max(p[a], q[a]) + reach, double(lim));
-        const double slope = d[a] != 0.0 ? d[b] / d[a] : 0.0;
+        const double slope = d[a] != 0.0 ? d[b] / d[a] : 0.0;  // |slope| <= 1 on the major axis
         if (!(hi > lo)) return;
+        const double span = r * std::sqrt(1.0 + slope * slope) + 1e-3;
+        const int limMinor = xMajor ? H : W;
         for (int m = static_cast<int>(std::floor(lo)); m < static_cast<int>(std::ceil(hi)); ++m) {
-            double t = m + 0.5;
-            t = std::clamp(t, std::min(p[a], q[a]), std::max(p[a], q[a]));
-            const double centre = p[b] + (t - p[a]) * slope;
-            const double span = reach * std::sqrt(1.0 + slope * slope);
-            const int limMinor = xMajor ? H : W;
-            const int n0 = static_cast<int>(std::clamp(std::floor(centre - span), -1.0, double(limMinor)));
-            const int n1 = static_cast<int>(std::clamp(std::ceil(centre + span), -1.0, double(limMinor)));
+            const double centre = p[b] + (m + 0.5 - p[a]) * slope;  // the line at the column's centre
+            // Pixel n is visited when its centre n + 0.5 may lie within span of `centre`.
+            const int n0 = static_cast<int>(std::clamp(std::floor(centre - span - 0.5), -1.0, double(limMinor)));
+            const int n1 = static_cast<int>(std::clamp(std::ceil(centre + span - 0.5), -1.0, double(limMinor)));
             for (int n = n0; n <= n1; ++n) xMajor ? plot(m, n) : plot(n, m);
         }
     };
@@ -445,8 +454,14 @@ Status rasterize(const FillRegion* regions, std::size_t regionCount, const FillL
         cr.run(options.background, out.rgba.data(), options.cancel);
         if (Status s = checkCancel(options.cancel); !s) return s;
         if (options.traces && lineCount > 0) {
-            std::vector<std::uint8_t> cov(pixels, 0);
-            std::vector<std::uint32_t> touched;
+            // Line coverage per pixel, kept per thread between images: all zero between lines
+            // (blendLine clears the pixels a line touched), so no image pays for a fresh,
+            // zeroed, page-faulted megabyte.
+            thread_local std::vector<std::uint8_t> cov;
+            if (cov.size() < pixels) cov.assign(pixels, 0);
+            thread_local std::vector<std::uint32_t> touched;
+            for (std::uint32_t k : touched) cov[k] = 0;  // left by an image that threw mid-line
+            touched.clear();
             const float w = std::clamp(options.traceWidthPx, 1.0f, 4.0f);
             for (std::size_t l = 0; l < lineCount; ++l) {
                 if (Status s = checkCancel(options.cancel); !s) return s;
