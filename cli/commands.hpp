@@ -22,6 +22,7 @@ void addBorehole(CLI::App& app, int& exitCode);
 void addReserves(CLI::App& app, int& exitCode);
 void addBake(CLI::App& app, int& exitCode);
 void addServe(CLI::App& app, int& exitCode);
+void addQuery(CLI::App& app, int& exitCode);
 
 // Options that reach the model readers, for every command that loads a model file:
 // --region-array NAME (.vtu: the cell-data array that names each cell's formation).

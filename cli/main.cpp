@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
     geoslice::cli::addReserves(app, exitCode);
     geoslice::cli::addBake(app, exitCode);
     geoslice::cli::addServe(app, exitCode);
+    geoslice::cli::addQuery(app, exitCode);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
