@@ -47,6 +47,9 @@ V gltfToWorld(const V& g) {
 constexpr int kGltfFloat = 5126, kGltfUint = 5125;
 constexpr int kGltfArrayBuffer = 34962, kGltfElementArrayBuffer = 34963;
 constexpr int kGltfTriangles = 4;
+// The extension of Draco-compressed primitives (written with GlbWriteOptions::draco, read by
+// parseGltf).
+constexpr const char* kGltfDracoExtension = "KHR_draco_mesh_compression";
 
 // The one GLB builder: every GLB geoslice writes (encodeGlb's model, bake/'s package mesh) is
 // built by it, in the layout at the top of this file. Use: the constructor writes "asset"; add
@@ -89,6 +92,10 @@ constexpr std::uint32_t kGlbChunkBin = 0x004E4942;
 // 4 bytes; `bin` must already be 4-byte padded). OutOfRange naming `what` past 4 GiB.
 Result<std::vector<std::uint8_t>> packGlb(std::string json, const std::vector<std::uint8_t>& bin,
                                           const std::string& what);
+// Appends the start of a GLB to `out`: the 12-byte header of a file of `totalBytes` and the
+// JSON chunk holding `json` (its length already a multiple of 4). packGlb and the reader's
+// rewrite of Draco files both begin so.
+void appendGlbStart(std::vector<std::uint8_t>& out, std::uint32_t totalBytes, const std::string& json);
 Status writeGlb(const Model& model, const std::string& path, const GlbWriteOptions& options = {});
 
 }  // namespace geoslice
