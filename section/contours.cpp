@@ -64,6 +64,41 @@ struct EndTable {
     }
 };
 
+// Closed, consistently oriented bodies: every crossed edge is the exit (b) of one segment
+// and the entry (a) of one other, so a map from entry key to segment is the whole join.
+struct EntryTable {
+    std::vector<std::uint64_t> keys;
+    std::vector<std::uint32_t> segs;
+    std::size_t mask = 0;
+
+    void reset(std::size_t n) {
+        std::size_t cap = 16;
+        while (cap < 2 * n) cap <<= 1;
+        keys.assign(cap, kNoKey);
+        segs.resize(cap);
+        mask = cap - 1;
+    }
+    // False when the key is already there (not a 2-manifold crossing: use EndTable).
+    bool insert(std::uint64_t key, std::uint32_t seg) {
+        std::size_t h = EndTable::hash(key) & mask;
+        while (keys[h] != kNoKey) {
+            if (keys[h] == key) return false;
+            h = (h + 1) & mask;
+        }
+        keys[h] = key;
+        segs[h] = seg;
+        return true;
+    }
+    std::uint32_t find(std::uint64_t key) const {
+        std::size_t h = EndTable::hash(key) & mask;
+        while (keys[h] != key) {
+            if (keys[h] == kNoKey) return kNone;
+            h = (h + 1) & mask;
+        }
+        return segs[h];
+    }
+};
+
 struct Chain {
     std::vector<glm::dvec2> points;
     bool closed = false;
@@ -102,6 +137,32 @@ Chain walk(const std::vector<CutSegment>& segs, EndTable& table, std::vector<cha
     }
     if (c.points.size() > 1 && c.points.back() == c.points.front()) c.points.pop_back();
     return c;
+}
+
+// walk() over an EntryTable, forward (a -> b). Returns false, leaving `c` unfinished, when
+// the part's crossings are not a perfect matching of exits to entries (an exit with no
+// entry, or an entry reached twice): the caller then chains the part with an EndTable.
+// Otherwise the chain is walk()'s: each edge holds exactly one a end and one b end.
+bool walkEntries(const std::vector<CutSegment>& segs, const EntryTable& table, std::vector<char>& state,
+                 std::uint32_t start, Chain& c) {
+    constexpr char kVisited = 1, kEntered = 2;
+    c.points.clear();
+    c.closed = false;
+    std::uint32_t cur = start;
+    for (;;) {
+        state[cur] |= kVisited;
+        const CutSegment& s = segs[cur];
+        pushPoint(c.points, s.a);
+        const std::uint32_t next = table.find(s.keyB);
+        if (next == kNone || (state[next] & kEntered)) return false;
+        state[next] |= kEntered;
+        if (next == start) break;
+        if (state[next] & kVisited) return false;  // entered a chain walked before: not a matching
+        cur = next;
+    }
+    c.closed = true;
+    if (c.points.size() > 1 && c.points.back() == c.points.front()) c.points.pop_back();
+    return true;
 }
 
 struct RingInfo {
@@ -213,6 +274,26 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
     std::vector<std::vector<SectionTrace>> partTraces(partCount);
     auto chainPart = [&](std::size_t p, EndTable& table, std::vector<char>& visited) {
         const std::vector<CutSegment>& segs = cut.parts[p];
+        // A closed body's crossings pair each exit with one entry: one table of entries and
+        // one probe per segment (an EndTable takes two inserts and a probe per segment).
+        if (index.parts[p].kind == PartKind::Body && index.parts[p].closed) {
+            thread_local EntryTable entries;
+            entries.reset(segs.size());
+            bool matching = true;
+            for (std::uint32_t i = 0; i < segs.size() && matching; ++i) matching = entries.insert(segs[i].keyA, i);
+            if (matching) {
+                visited.assign(segs.size(), 0);
+                const std::size_t loopsBefore = loops[p].size();
+                Chain c;
+                for (std::uint32_t i = 0; i < segs.size() && matching; ++i) {
+                    if (visited[i]) continue;
+                    matching = walkEntries(segs, entries, visited, i, c);
+                    if (matching && c.points.size() >= 3) loops[p].push_back(std::move(c.points));
+                }
+                if (matching) return;
+                loops[p].resize(loopsBefore);
+            }
+        }
         table.reset(2 * segs.size());
         for (std::uint32_t i = 0; i < segs.size(); ++i) {
             table.insert(segs[i].keyA, 2 * i);

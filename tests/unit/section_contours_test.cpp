@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "section/contours.hpp"
 #include "section/plane_cut.hpp"
@@ -270,4 +271,62 @@ TEST(SectionContours, TwoThreadsGiveTheSameSectionBitForBit) {
         }
         EXPECT_EQ(s1->traces.size(), s2->traces.size());
     }
+}
+
+namespace {
+
+void expectSameSection(const Section& x, const Section& y, const std::string& what) {
+    ASSERT_EQ(x.bodies.size(), y.bodies.size()) << what;
+    for (std::size_t i = 0; i < x.bodies.size(); ++i) {
+        const BodySection &a = x.bodies[i], &b = y.bodies[i];
+        EXPECT_EQ(a.part, b.part) << what;
+        EXPECT_EQ(a.area, b.area) << what;
+        EXPECT_EQ(a.openChains, b.openChains) << what;
+        ASSERT_EQ(a.polygons.size(), b.polygons.size()) << what;
+        for (std::size_t j = 0; j < a.polygons.size(); ++j) {
+            EXPECT_EQ(a.polygons[j].outer, b.polygons[j].outer) << what;
+            EXPECT_EQ(a.polygons[j].holes, b.polygons[j].holes) << what;
+        }
+    }
+    ASSERT_EQ(x.traces.size(), y.traces.size()) << what;
+    for (std::size_t i = 0; i < x.traces.size(); ++i) EXPECT_EQ(x.traces[i].points, y.traces[i].points) << what;
+}
+
+}  // namespace
+
+TEST(SectionContours, ClosedBodiesChainByEntryKeysLikeTheGeneralJoin) {
+    // A closed body's segments are chained through a table of entry keys only (each exit
+    // meets exactly one entry); any other part through the table of both ends. Marking the
+    // bodies not closed forces the general join: the rings must be identical (tolerance:
+    // none, both take the same points in the same order).
+    Model m = syntheticModel(30000, OreVariant::Nested, 3);
+    auto idx = indexFor(m);
+    std::mt19937_64 rng(17);
+    for (int k = 0; k < 12; ++k) {
+        const Plane p = randomPlane(m.bounds(), rng, k);
+        for (auto& part : idx->parts) part.closed = part.kind == PartKind::Body;
+        Section fast = cut(*idx, p);
+        for (auto& part : idx->parts) part.closed = false;
+        Section general = cut(*idx, p);
+        expectSameSection(fast, general, "plane " + std::to_string(k));
+    }
+    // A body marked closed whose cut is not a matching (an open box: exits without an
+    // entry) falls back to the general join: the same open chain.
+    Mesh box = boxMesh({0, 0, 0}, {10, 10, 10});
+    Model open = modelOf({makePart("box", PartKind::Body, 1, box)});
+    auto oi = indexFor(open);
+    const Plane vertical{{1, 0, 0}, -4.0};
+    Section whole = cut(*oi, vertical);
+    ASSERT_EQ(whole.bodies.size(), 1u);
+    EXPECT_EQ(whole.bodies[0].openChains, 0u);
+    box.indices.erase(box.indices.begin() + 6, box.indices.begin() + 12);  // drop the top face z = 10
+    Model holed = modelOf({makePart("box", PartKind::Body, 1, box)});
+    auto hi = indexFor(holed);
+    hi->parts[0].closed = false;
+    Section general = cut(*hi, vertical);
+    hi->parts[0].closed = true;
+    Section forced = cut(*hi, vertical);
+    expectSameSection(forced, general, "open box");
+    ASSERT_EQ(forced.bodies.size(), 1u);
+    EXPECT_GE(forced.bodies[0].openChains, 1u);
 }
