@@ -7,7 +7,8 @@
 #include <cstdio>
 #include <limits>
 #include <string>
-#include <thread>
+
+#include "section/partner_thread.hpp"
 
 namespace geoslice {
 namespace {
@@ -366,10 +367,10 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
         }
     };
     if (threads >= 2 && segments >= kTwoThreadMinSegments && partOrder.size() >= 2) {
-        // The worker chains and then assembles; the caller chains, links the nesting once
+        // The partner thread chains and then assembles; the caller chains, links the nesting once
         // both have chained, then assembles alongside.
         std::atomic<int> linked{0};
-        std::thread worker([&] {
+        auto work = [&] {
             EndTable table;
             std::vector<char> visited;
             for (std::size_t i = nextPart++; i < partOrder.size(); i = nextPart++)
@@ -378,7 +379,8 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
             chained.notify_all();
             linked.wait(0);
             for (std::size_t b = nextBody++; b < index.bodyCount; b = nextBody++) assembleBody(b);
-        });
+        };
+        PartnerThread::Job worker = PartnerThread::forThisThread().run(work);
         {
             EndTable table;
             std::vector<char> visited;
@@ -391,7 +393,7 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
         linked.store(1);
         linked.notify_all();
         for (std::size_t b = nextBody++; b < index.bodyCount; b = nextBody++) assembleBody(b);
-        worker.join();
+        worker.wait();
     } else {
         thread_local EndTable table;  // kept between calls, as computeSection's segments
         thread_local std::vector<char> visited;

@@ -4,7 +4,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <thread>
+
+#include "section/partner_thread.hpp"
 
 namespace geoslice {
 namespace {
@@ -203,23 +204,30 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
         }
     };
     if (two) {
-        // Worker: its share of the traversal, then (once the leaves are split) the second
-        // half of the cut. Hand-offs through atomic wait/notify (futex), not spinning: the
-        // two threads may share the cores with other work.
-        std::atomic<int> phase{0};  // 1: worker's traversal done; 2: split known
+        // Partner (section/partner_thread.hpp): its share of the traversal, then (once the
+        // leaves are split) the second half of the cut. Hand-offs through atomic wait/notify
+        // (futex), not spinning: the two threads may share the cores with other work.
+        std::atomic<int> phase{0};  // 1: partner's traversal done; 2: split known
         std::size_t split = 0;
         BvhQueryStats workerStats;
-        PlaneCut second;
+        // The second half's segments, kept per calling thread between calls (as
+        // computeSection keeps the first's), so the partner writes into memory already mapped.
+        // (A reference: a lambda names a thread_local directly, and the partner's would be its own.)
+        thread_local PlaneCut kept;
+        PlaneCut& second = kept;
         second.frame = out.frame;
         second.plane = out.plane;
         second.parts.resize(out.parts.size());
-        std::thread worker([&] {
+        for (auto& v : second.parts) v.clear();
+        second.segments = 0;
+        auto work = [&] {
             traverseUnits(workerStats);
             phase.store(1);
             phase.notify_one();
             phase.wait(1);
             cutRange(split, leaves.size(), second);
-        });
+        };
+        PartnerThread::Job worker = PartnerThread::forThisThread().run(work);
         traverseUnits(qs);
         phase.wait(0);
         qs.nodesVisited += workerStats.nodesVisited;
@@ -232,7 +240,7 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
         phase.store(2);
         phase.notify_one();
         cutRange(0, split, out);
-        worker.join();
+        worker.wait();
         for (std::size_t p = 0; p < out.parts.size(); ++p)
             out.parts[p].insert(out.parts[p].end(), second.parts[p].begin(), second.parts[p].end());
         out.segments += second.segments;
