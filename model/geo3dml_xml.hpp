@@ -21,12 +21,12 @@ constexpr std::size_t kMaxQuotedBytes = 40;
 
 // --- small string helpers ------------------------------------------------------------------
 
+using text::isDigits;
 using text::isSpace;
+using text::startsWithNoCase;
 using text::trimSpace;
 
 inline char asciiLower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
-bool startsWithNoCase(std::string_view s, std::string_view prefix);
-bool isDigits(std::string_view s);
 bool isValidUtf8(std::string_view s);
 inline bool contains(std::string_view s, std::string_view part) { return s.find(part) != std::string_view::npos; }
 

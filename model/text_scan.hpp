@@ -36,7 +36,10 @@ bool isControl(unsigned char c);  // control bytes other than tab and CR
 std::size_t findNonText(std::string_view s, bool utf8);
 // Bytes that are not UTF-8 become U+FFFD (names go into JSON, which needs UTF-8).
 std::string toUtf8(std::string_view s);
-std::string lower(std::string_view s);  // ASCII only
+std::string lower(std::string_view s);                               // ASCII only
+bool equalsNoCase(std::string_view a, std::string_view b);           // ASCII letters folded
+bool startsWithNoCase(std::string_view s, std::string_view prefix);  // ASCII letters folded
+bool isDigits(std::string_view s);                                   // non-empty, '0'..'9' only
 // A short, printable rendering of a token for error messages: 'abc', '\x01...' (the first 40
 // bytes, bytes outside printable ASCII as \xNN); printable() is the same without the quotes.
 std::string quoteToken(std::string_view tok);
