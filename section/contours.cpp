@@ -358,7 +358,7 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
     std::stable_sort(partOrder.begin(), partOrder.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return cut.parts[a].size() > cut.parts[b].size(); });
     std::atomic<std::size_t> nextPart{0}, nextBody{0};
-    std::atomic<int> chained{0};  // threads done chaining
+    std::atomic<std::size_t> chained{0};  // parts chained
     auto linkChildren = [&] {
         for (std::size_t b = 0; b < index.bodyCount; ++b) {
             const int parent = index.parts[b].parent;
@@ -367,31 +367,33 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
         }
     };
     if (threads >= 2 && segments >= kTwoThreadMinSegments && partOrder.size() >= 2) {
-        // The partner thread chains and then assembles; the caller chains, links the nesting once
-        // both have chained, then assembles alongside.
+        // The partner thread (section/partner_thread.hpp) chains parts and then assembles
+        // bodies, both taken from common counters; the caller chains, links the nesting once
+        // every part is chained, then assembles alongside. The caller waits only for parts the
+        // partner has taken (a partner that never started is withdrawn).
         std::atomic<int> linked{0};
-        auto work = [&] {
+        auto chainShare = [&] {
             EndTable table;
             std::vector<char> visited;
-            for (std::size_t i = nextPart++; i < partOrder.size(); i = nextPart++)
+            for (std::size_t i = nextPart++; i < partOrder.size(); i = nextPart++) {
                 chainPart(partOrder[i], table, visited);
-            chained.fetch_add(1);
-            chained.notify_all();
-            linked.wait(0);
+                chained.fetch_add(1, std::memory_order_release);
+                chained.notify_one();
+            }
+        };
+        auto work = [&] {
+            chainShare();
+            linked.wait(0, std::memory_order_acquire);
             for (std::size_t b = nextBody++; b < index.bodyCount; b = nextBody++) assembleBody(b);
         };
         PartnerThread::Job worker = PartnerThread::forThisThread().run(work);
-        {
-            EndTable table;
-            std::vector<char> visited;
-            for (std::size_t i = nextPart++; i < partOrder.size(); i = nextPart++)
-                chainPart(partOrder[i], table, visited);
-        }
-        chained.fetch_add(1);
-        for (int c = chained.load(); c < 2; c = chained.load()) chained.wait(c);
+        chainShare();
+        for (std::size_t c = chained.load(std::memory_order_acquire); c < partOrder.size();
+             c = chained.load(std::memory_order_acquire))
+            chained.wait(c, std::memory_order_acquire);
         linkChildren();
-        linked.store(1);
-        linked.notify_all();
+        linked.store(1, std::memory_order_release);
+        linked.notify_one();
         for (std::size_t b = nextBody++; b < index.bodyCount; b = nextBody++) assembleBody(b);
         worker.wait();
     } else {

@@ -16,9 +16,12 @@ void PartnerThread::post(std::uint32_t state) {
 void PartnerThread::loop() {
     for (;;) {
         state_.wait(kIdle, std::memory_order_acquire);
-        std::uint32_t s = state_.load(std::memory_order_acquire);
-        if (s == kQuit) return;
-        if (s != kPosted) continue;  // kDone: the owner has not collected it yet
+        std::uint32_t s = kPosted;
+        // Claim the task; fails when the owner withdrew it (back to kIdle) or quits.
+        if (!state_.compare_exchange_strong(s, kRunning, std::memory_order_acq_rel)) {
+            if (s == kQuit) return;
+            continue;
+        }
         fn_(arg_);
         state_.store(kDone, std::memory_order_release);
         state_.notify_one();
@@ -27,12 +30,14 @@ void PartnerThread::loop() {
     }
 }
 
-void PartnerThread::wait() {
-    for (std::uint32_t s = state_.load(std::memory_order_acquire); s != kDone;
-         s = state_.load(std::memory_order_acquire))
+bool PartnerThread::wait() {
+    std::uint32_t s = kPosted;
+    if (state_.compare_exchange_strong(s, kIdle, std::memory_order_acq_rel)) return false;  // withdrawn
+    for (s = state_.load(std::memory_order_acquire); s != kDone; s = state_.load(std::memory_order_acquire))
         state_.wait(s, std::memory_order_acquire);
     state_.store(kIdle, std::memory_order_release);
     state_.notify_one();
+    return true;
 }
 
 PartnerThread::~PartnerThread() {

@@ -7,6 +7,11 @@
 // when the calling thread exits, so concurrent callers (a server's render workers) never
 // share or wait for one another's partner. Hand-offs go through atomic wait/notify (futex),
 // not spinning: the two threads may share the cores with other work.
+//
+// A task is help, not a duty: when the caller waits for a task that the partner has not
+// started yet (the scheduler has not run it: the cores are busy), the task is withdrawn and
+// never runs. So a task may only take shares of work that the caller takes too, from a
+// common counter, and the caller must never wait for the partner to take a share.
 // Thread-safety: only the owning (calling) thread may call run and wait on its Job.
 #pragma once
 
@@ -26,22 +31,26 @@ public:
     class Job {
     public:
         explicit Job(PartnerThread* p) : p_(p) {}
-        Job(Job&& o) noexcept : p_(o.p_) { o.p_ = nullptr; }
+        Job(Job&& o) noexcept : p_(o.p_), ran_(o.ran_) { o.p_ = nullptr; }
         Job(const Job&) = delete;
         Job& operator=(const Job&) = delete;
         Job& operator=(Job&&) = delete;
         ~Job() { wait(); }
-        // Blocks until the task has returned (once; later calls return at once).
-        void wait() {
-            if (p_) p_->wait();
+        // Withdraws the task if the partner has not started it, else blocks until it has
+        // returned (once; later calls return at once). True when the task ran.
+        bool wait() {
+            const bool ran = p_ ? p_->wait() : ran_;
             p_ = nullptr;
+            ran_ = ran;
+            return ran;
         }
 
     private:
         PartnerThread* p_;
+        bool ran_ = false;
     };
 
-    // Starts `task` on the partner and returns at once; `task` must outlive the Job. One
+    // Offers `task` to the partner and returns at once; `task` must outlive the Job. One
     // task at a time per partner.
     template <class F>
     [[nodiscard]] Job run(F& task) {
@@ -57,10 +66,10 @@ public:
 
 private:
     PartnerThread() = default;
-    enum : std::uint32_t { kIdle = 0, kPosted = 1, kDone = 2, kQuit = 3 };
+    enum : std::uint32_t { kIdle = 0, kPosted = 1, kRunning = 2, kDone = 3, kQuit = 4 };
     void post(std::uint32_t state);
     void loop();
-    void wait();
+    bool wait();
 
     void (*fn_)(void*) = nullptr;
     void* arg_ = nullptr;

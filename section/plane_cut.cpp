@@ -144,10 +144,13 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
     BvhQueryStats qs;
     queryPlaneUnits(bvh, out.plane, rect, kTraversalUnits, units, &qs);
     std::vector<std::vector<std::uint32_t>> unitLeaves(threads >= 2 ? units.size() : 0);
-    std::atomic<std::size_t> nextUnit{0};
+    std::atomic<std::size_t> nextUnit{0}, unitsDone{0};
     auto traverseUnits = [&](BvhQueryStats& st) {
-        for (std::size_t u = nextUnit++; u < units.size(); u = nextUnit++)
+        for (std::size_t u = nextUnit++; u < units.size(); u = nextUnit++) {
             queryPlaneLeavesUnder(bvh, units[u], out.plane, rect, unitLeaves[u], &st);
+            unitsDone.fetch_add(1, std::memory_order_release);
+            unitsDone.notify_one();
+        }
     };
     // A second thread costs a thread start (tens of microseconds): small models cut on one.
     const bool two = threads >= 2 && units.size() >= 2 && bvh.triangles.size() >= kTwoThreadMinTriangles;
@@ -184,17 +187,20 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
             for (int k = 0; k < 3; ++k) __builtin_prefetch(&a.positions[tri[k]]);
         }
     };
+    // Cuts leaves [lo, hi) into dst; the prefetch stages run on past hi (into a range the
+    // other thread may be cutting: reads only), so a range starts with its pipeline full.
     auto cutRange = [&](std::size_t lo, std::size_t hi, PlaneCut& dst) {
         PartCursor cut{&bvh}, ahead4{&bvh}, ahead2{&bvh};
+        const std::size_t end = leaves.size();
         for (std::size_t l = lo; l < hi; ++l) {
-            if (l + 4 * kGap < hi) __builtin_prefetch(&bvh.nodes[leaves[l + 4 * kGap]]);
-            if (l + 3 * kGap < hi) {
+            if (l + 4 * kGap < end) __builtin_prefetch(&bvh.nodes[leaves[l + 4 * kGap]]);
+            if (l + 3 * kGap < end) {
                 const BvhNode& nd = bvh.nodes[leaves[l + 3 * kGap]];
                 __builtin_prefetch(&bvh.triangles[nd.first]);
                 __builtin_prefetch(&bvh.triangles[nd.first + nd.count - 1]);
             }
-            if (l + 2 * kGap < hi) prefetchIndices(l + 2 * kGap, ahead4);
-            if (l + kGap < hi) prefetchVertices(l + kGap, ahead2);
+            if (l + 2 * kGap < end) prefetchIndices(l + 2 * kGap, ahead4);
+            if (l + kGap < end) prefetchVertices(l + kGap, ahead2);
             const BvhNode& nd = bvh.nodes[leaves[l]];
             for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
                 const std::uint32_t id = bvh.triangles[i];
@@ -204,46 +210,72 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
         }
     };
     if (two) {
-        // Partner (section/partner_thread.hpp): its share of the traversal, then (once the
-        // leaves are split) the second half of the cut. Hand-offs through atomic wait/notify
-        // (futex), not spinning: the two threads may share the cores with other work.
-        std::atomic<int> phase{0};  // 1: partner's traversal done; 2: split known
-        std::size_t split = 0;
+        // Partner (section/partner_thread.hpp): units of the traversal, then chunks of the
+        // cut, each taken from a common counter, so a partner that starts late (the cores
+        // are busy) takes less and one that never starts is withdrawn: the caller never
+        // waits for it to take a share. Leaves go in kChunks ranges of equal triangle
+        // counts; the caller takes them from the front, straight into `out`, the partner
+        // from the back into buffers of its own, appended after the caller's in chunk order.
+        // Hand-offs through atomic wait/notify (futex), not spinning.
+        constexpr std::size_t kChunks = 16;
+        std::size_t chunkStart[kChunks + 1] = {};
+        std::atomic<int> chunksKnown{0};
+        std::atomic<std::size_t> claimed{0};
+        std::size_t partnerChunks = 0;  // the partner's, the last ones (written by it alone)
         BvhQueryStats workerStats;
-        // The second half's segments, kept per calling thread between calls (as
-        // computeSection keeps the first's), so the partner writes into memory already mapped.
-        // (A reference: a lambda names a thread_local directly, and the partner's would be its own.)
-        thread_local PlaneCut kept;
-        PlaneCut& second = kept;
-        second.frame = out.frame;
-        second.plane = out.plane;
-        second.parts.resize(out.parts.size());
-        for (auto& v : second.parts) v.clear();
-        second.segments = 0;
+        // The partner's chunk buffers, kept per calling thread between calls (as computeSection
+        // keeps the caller's), so the partner writes into memory already mapped. (A reference:
+        // a lambda names a thread_local directly, and the partner's would be its own.)
+        thread_local std::vector<PlaneCut> kept(kChunks);
+        std::vector<PlaneCut>& chunkCut = kept;
         auto work = [&] {
             traverseUnits(workerStats);
-            phase.store(1);
-            phase.notify_one();
-            phase.wait(1);
-            cutRange(split, leaves.size(), second);
+            chunksKnown.wait(0, std::memory_order_acquire);
+            while (claimed.fetch_add(1) < kChunks) {
+                const std::size_t c = kChunks - 1 - partnerChunks++;
+                PlaneCut& dst = chunkCut[c];
+                dst.frame = out.frame;
+                dst.plane = out.plane;
+                dst.parts.resize(out.parts.size());
+                for (auto& v : dst.parts) v.clear();
+                dst.segments = 0;
+                cutRange(chunkStart[c], chunkStart[c + 1], dst);
+            }
         };
         PartnerThread::Job worker = PartnerThread::forThisThread().run(work);
         traverseUnits(qs);
-        phase.wait(0);
-        qs.nodesVisited += workerStats.nodesVisited;
-        qs.trianglesTested += workerStats.trianglesTested;
+        // Units the partner took and has not finished yet (none when it has not started).
+        for (std::size_t d = unitsDone.load(std::memory_order_acquire); d < units.size();
+             d = unitsDone.load(std::memory_order_acquire))
+            unitsDone.wait(d, std::memory_order_acquire);
         gatherLeaves();
-        // Split point: half of the tested triangles.
-        std::size_t acc = 0;
-        while (split < leaves.size() && 2 * acc < qs.trianglesTested) acc += bvh.nodes[leaves[split++]].count;
+        std::size_t total = 0;
+        for (std::uint32_t l : leaves) total += bvh.nodes[l].count;
+        qs.trianglesTested = total;
+        {
+            std::size_t acc = 0, l = 0;
+            for (std::size_t c = 1; c < kChunks; ++c) {
+                while (l < leaves.size() && acc * kChunks < total * c) acc += bvh.nodes[leaves[l++]].count;
+                chunkStart[c] = l;
+            }
+            chunkStart[kChunks] = leaves.size();
+        }
         t1 = std::chrono::steady_clock::now();
-        phase.store(2);
-        phase.notify_one();
-        cutRange(0, split, out);
-        worker.wait();
-        for (std::size_t p = 0; p < out.parts.size(); ++p)
-            out.parts[p].insert(out.parts[p].end(), second.parts[p].begin(), second.parts[p].end());
-        out.segments += second.segments;
+        chunksKnown.store(1, std::memory_order_release);
+        chunksKnown.notify_one();
+        std::size_t mine = 0;
+        while (claimed.fetch_add(1) < kChunks) {
+            cutRange(chunkStart[mine], chunkStart[mine + 1], out);
+            ++mine;
+        }
+        if (worker.wait()) {
+            qs.nodesVisited += workerStats.nodesVisited;
+            for (std::size_t c = mine; c < kChunks; ++c) {
+                for (std::size_t p = 0; p < out.parts.size(); ++p)
+                    out.parts[p].insert(out.parts[p].end(), chunkCut[c].parts[p].begin(), chunkCut[c].parts[p].end());
+                out.segments += chunkCut[c].segments;
+            }
+        }
     } else {
         // Unit by unit straight into the leaf list (the same order as gathering per unit).
         for (std::uint32_t u : units) queryPlaneLeavesUnder(bvh, u, out.plane, rect, leaves, &qs);
