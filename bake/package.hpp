@@ -58,7 +58,7 @@ constexpr const char* kAttributesFile = "attributes.json";
 // The section engine's BVH over the package's model (section/bvh.hpp saveBvh), so that a
 // server loads it instead of building it.
 constexpr const char* kSectionBvhFile = "section.bvh";
-// How validation turns the stored mesh into the served model (bake/package.cpp: chart seams
+// How validation turns the stored mesh into the served model (bake/package_validation.cpp: chart seams
 // welded again), so that packageModel() replays it instead of validating.
 constexpr const char* kVertexMapFile = "vertices.map";
 // mesh.glb primitive attribute (float VEC3, glTF axes) with position - float(position).

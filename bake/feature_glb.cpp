@@ -1,0 +1,133 @@
+// writeFeatureGlb: the baked model as one glTF 2.0 binary for CesiumJS and other glTF tools,
+// the package's mesh plus EXT_mesh_features (a feature-ID texture) and EXT_structural_metadata
+// (one property-table row per record). encodeMesh (package_mesh.cpp) calls the pieces below.
+#include <png.h>
+
+#include <algorithm>
+#include <cstring>
+#include <optional>
+
+#include "bake/package_internal.hpp"
+
+namespace geoslice::bake {
+namespace package_detail {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// The feature-ID texture of EXT_mesh_features: RGBA8 PNG whose 4 channels are the bytes of a
+// little-endian uint32 property-table row (kNullFeature where no geology is).
+constexpr std::uint32_t kNullFeature = 0xFFFFFFFFu;
+
+Result<std::vector<std::uint8_t>> encodeFeaturePng(const BakedModel& baked, const std::vector<RecordId>& rows) {
+    std::vector<std::uint32_t> texels(baked.texels.size());
+    for (std::size_t i = 0; i < texels.size(); ++i) {
+        const RecordId id = baked.texels[i];
+        auto it = std::lower_bound(rows.begin(), rows.end(), id);
+        const std::uint32_t row = id != kNoRecord && it != rows.end() && *it == id
+                                      ? static_cast<std::uint32_t>(it - rows.begin())
+                                      : kNullFeature;
+        const std::uint8_t b[4] = {std::uint8_t(row), std::uint8_t(row >> 8), std::uint8_t(row >> 16),
+                                   std::uint8_t(row >> 24)};
+        std::memcpy(&texels[i], b, 4);
+    }
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = baked.width;
+    image.height = baked.height;
+    image.format = PNG_FORMAT_RGBA;
+    png_alloc_size_t size = 0;
+    if (!png_image_write_to_memory(&image, nullptr, &size, 0, texels.data(), 0, nullptr))
+        return makeError(ErrorCode::Internal, std::string("libpng: ") + image.message);
+    std::vector<std::uint8_t> png(size);
+    if (!png_image_write_to_memory(&image, png.data(), &size, 0, texels.data(), 0, nullptr))
+        return makeError(ErrorCode::Internal, std::string("libpng: ") + image.message);
+    png.resize(size);
+    return png;
+}
+
+}  // namespace
+
+std::vector<RecordId> featureRows(const AttributeTable& table, const BakedModel& baked) {
+    std::vector<RecordId> rows;
+    for (const auto& [id, rec] : table.records()) rows.push_back(id);
+    for (const BakedPart& part : baked.parts)
+        if (part.record != kNoRecord) rows.push_back(part.record);
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    return rows;
+}
+
+json featureIdsExtension(std::size_t rowCount) {
+    return {{"featureIds", json::array({{{"featureCount", rowCount},
+                                         {"nullFeatureId", kNullFeature},
+                                         {"label", "record"},
+                                         {"texture", {{"index", 0}, {"texCoord", 0}, {"channels", {0, 1, 2, 3}}}},
+                                         {"propertyTable", 0}}})}};
+}
+
+Status addFeatureTables(GlbBuilder& glb, const BakedModel& baked, const AttributeTable& table, FeatureExport& fx) {
+    const std::vector<RecordId>& rows = fx.rows;
+    auto png = encodeFeaturePng(baked, rows);
+    if (!png) return png.error();
+    fx.imageView = glb.addView(png->data(), png->size(), 0);
+    // EXT_structural_metadata property table: one row per record; strings as UTF-8 values
+    // plus UINT32 offsets, numbers as FLOAT64 with -1 for "not given". 8-byte aligned views.
+    json schemaProps = {{"id", {{"type", "SCALAR"}, {"componentType", "UINT32"}, {"required", true}}}};
+    json tableProps = json::object();
+    std::vector<std::uint32_t> ids(rows.begin(), rows.end());
+    tableProps["id"] = {{"values", glb.addView(ids.data(), ids.size() * 4, 0, 8)}};
+    using Getter = std::string (*)(const AttributeRecord&);
+    const std::pair<const char*, Getter> strings[] = {
+        {"name", [](const AttributeRecord& r) { return r.name; }},
+        {"kind", [](const AttributeRecord& r) { return r.kind; }},
+        {"lithology", [](const AttributeRecord& r) { return r.lithology; }},
+        {"age", [](const AttributeRecord& r) { return r.age; }},
+        {"era", [](const AttributeRecord& r) { return r.era; }},
+        {"gradeUnit", [](const AttributeRecord& r) { return r.gradeUnit; }}};
+    for (const auto& [key, get] : strings) {
+        std::string values;
+        std::vector<std::uint32_t> offsets{0};
+        for (RecordId id : rows) {
+            if (const AttributeRecord* r = table.find(id)) values += get(*r);
+            offsets.push_back(static_cast<std::uint32_t>(values.size()));
+        }
+        schemaProps[key] = {{"type", "STRING"}};
+        const std::size_t vv = glb.addView(values.data(), values.size(), 0, 8);
+        const std::size_t ov = glb.addView(offsets.data(), offsets.size() * 4, 0, 8);
+        tableProps[key] = {{"values", vv}, {"stringOffsets", ov}, {"stringOffsetType", "UINT32"}};
+    }
+    for (const char* key : {"density", "grade"}) {
+        std::vector<double> v;
+        for (RecordId id : rows) {
+            const AttributeRecord* r = table.find(id);
+            const std::optional<double> x = r ? (std::strcmp(key, "density") ? r->grade : r->density) : std::nullopt;
+            v.push_back(x ? *x : -1.0);
+        }
+        schemaProps[key] = {{"type", "SCALAR"}, {"componentType", "FLOAT64"}, {"noData", -1.0}};
+        tableProps[key] = {{"values", glb.addView(v.data(), v.size() * 8, 0, 8)}};
+    }
+    fx.metadata = {
+        {"schema", {{"id", "geoslice"}, {"classes", {{"geology", {{"properties", schemaProps}}}}}}},
+        {"propertyTables", json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
+    return {};
+}
+
+void finishFeatureDocument(json& doc, const FeatureExport& fx) {
+    doc["images"] = {{{"bufferView", fx.imageView}, {"mimeType", "image/png"}}};
+    // Nearest sampling, clamped: ids must never be filtered.
+    doc["samplers"] = {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};
+    doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+    doc["extensionsUsed"] = {"EXT_mesh_features", "EXT_structural_metadata"};
+    doc["extensions"]["EXT_structural_metadata"] = fx.metadata;
+}
+
+}  // namespace package_detail
+
+Status writeFeatureGlb(const Model& model, const BakedModel& baked, const std::string& path) {
+    auto glb = package_detail::encodeMesh(model, baked, true, true);
+    if (!glb) return glb.error();
+    return package_detail::writeFile(std::filesystem::path(path), glb->data(), glb->size());
+}
+
+}  // namespace geoslice::bake
