@@ -13,7 +13,7 @@
 //    (converted to metres).
 //  - Robustness: every line must be text (no control bytes); lines with unknown keywords
 //    are skipped only when they are also well-formed UTF-8. Nothing is sized from a count
-//    in the file; PVRTX columns are capped (gocad_common.cpp).
+//    in the file; PVRTX columns are capped (gocad_vertices.cpp).
 #include <algorithm>
 #include <limits>
 

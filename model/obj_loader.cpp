@@ -108,10 +108,7 @@ bool ObjParser::nextLine(std::string_view& line) {
 Status ObjParser::checkText(std::string_view line, bool utf8) const {
     std::size_t bad = findNonText(line, utf8);
     if (bad == std::string_view::npos) return {};
-    char hex[8];
-    std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned>(static_cast<unsigned char>(line[bad])));
-    return fail(std::string("not text: byte ") + hex + " at column " + std::to_string(bad + 1) +
-                (utf8 ? " (binary data, or not UTF-8)" : " (binary data?)"));
+    return fail(nonTextMessage(line, bad, utf8));
 }
 
 Result<Model> ObjParser::run() {

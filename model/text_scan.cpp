@@ -1,8 +1,8 @@
 #include "model/text_scan.hpp"
 
 #include <algorithm>
-
 #include <charconv>
+#include <cstdio>
 #include <limits>
 #include <system_error>
 
@@ -80,6 +80,13 @@ std::size_t findNonText(std::string_view s, bool utf8) {
         i += n;
     }
     return std::string_view::npos;
+}
+
+std::string nonTextMessage(std::string_view line, std::size_t column, bool utf8) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned>(static_cast<unsigned char>(line[column])));
+    return std::string("not text: byte ") + hex + " at column " + std::to_string(column + 1) +
+           (utf8 ? " (binary data, or not UTF-8)" : " (binary data?)");
 }
 
 // Names go into JSON later, which needs UTF-8: bytes of other encodings become U+FFFD.

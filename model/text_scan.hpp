@@ -34,6 +34,9 @@ bool isControl(unsigned char c);  // control bytes other than tab and CR
 // 0-based column of the first byte that cannot be in a line of text, or npos. Text has no
 // control bytes but tab and CR; with `utf8`, it must also be well-formed UTF-8.
 std::size_t findNonText(std::string_view s, bool utf8);
+// The message for the byte findNonText found at `column` of `line`: "not text: byte 0x01 at
+// column 7 (binary data?)", with "(binary data, or not UTF-8)" when `utf8`.
+std::string nonTextMessage(std::string_view line, std::size_t column, bool utf8);
 // Bytes that are not UTF-8 become U+FFFD (names go into JSON, which needs UTF-8).
 std::string toUtf8(std::string_view s);
 std::string lower(std::string_view s);                               // ASCII only
