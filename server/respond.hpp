@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "model/result.hpp"
-#include "server/http_transport.hpp"
+#include "server/http_message.hpp"
 #include "server/render_cache.hpp"
 
 namespace geoslice::server {

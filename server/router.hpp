@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "server/http_transport.hpp"
+#include "server/http_message.hpp"
 #include "server/metrics.hpp"
 
 namespace geoslice::server {

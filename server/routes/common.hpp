@@ -14,7 +14,7 @@
 #include "api/view.hpp"
 #include "model/result.hpp"
 #include "renderer/image_encode.hpp"
-#include "server/http_transport.hpp"
+#include "server/http_message.hpp"
 #include "server/render_cache.hpp"
 #include "server/server_state.hpp"
 

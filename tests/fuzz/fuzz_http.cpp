@@ -1,7 +1,7 @@
 // libFuzzer target for the HTTP request side of the transport: the bytes are what a
 // client sends on one connection (possibly several pipelined requests). Beast parses them
 // with the server's limits; each request's target goes through parseTarget and its
-// Accept-Encoding through acceptsGzip (server/http_transport.hpp). Invariants checked:
+// Accept-Encoding through acceptsGzip (server/http_message.hpp). Invariants checked:
 // percent-decoding never lengthens text (path and parameters together are no longer than
 // the target), and parsing the same target twice gives the same result.
 #include <cstddef>
@@ -14,7 +14,7 @@
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/http.hpp>
 
-#include "server/http_transport.hpp"
+#include "server/http_message.hpp"
 
 namespace http = boost::beast::http;
 

@@ -1,0 +1,58 @@
+// An HTTP/1.1 request and response as the routes see them (server/router.hpp,
+// server/routes/), and the message-level helpers of the transport (server/http_transport.hpp):
+// request-target splitting, Accept-Encoding, which content types are compressed, gzip.
+// No sockets and no Beast here: the routes, the fuzz target and the unit tests use these alone.
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace geoslice::server {
+
+// One request as a route sees it. Member names follow cpp-httplib's (the previous HTTP
+// layer), so the routes read as before.
+struct HttpRequest {
+    std::string method;  // "GET", "POST", "OPTIONS"; HEAD is routed as GET (no body is sent)
+    std::string target;  // the request-target as received
+    std::string path;    // percent-decoded path, without the query
+    std::multimap<std::string, std::string> params;            // decoded query parameters
+    std::vector<std::pair<std::string, std::string>> headers;  // as received, in order
+    std::string body;
+    std::vector<std::string> matches;  // set by the router: [0] = path, then the groups
+    // Set to true when the client goes away (the connection closes or fails) while the
+    // request is being handled, or when the server stops: work for it may be dropped.
+    // Written by the I/O threads, read by anyone.
+    std::shared_ptr<std::atomic<bool>> cancelled = std::make_shared<std::atomic<bool>>(false);
+
+    bool isCancelled() const { return cancelled->load(std::memory_order_relaxed); }
+    // First value of a header (names compare case-insensitively); "" when absent.
+    std::string get_header_value(std::string_view name) const;
+    bool has_header(std::string_view name) const;
+};
+
+struct HttpResponse {
+    int status = 200;
+    std::vector<std::pair<std::string, std::string>> headers;
+    std::string body;
+
+    void set_header(std::string name, std::string value);
+    void set_content(std::string content, std::string contentType);
+    std::string get_header_value(std::string_view name) const;
+};
+
+// Splits a request-target into its percent-decoded path and query parameters ('+' is a
+// space in the query). Malformed escapes are kept as they are.
+void parseTarget(std::string_view target, std::string& path, std::multimap<std::string, std::string>& params);
+// True when an Accept-Encoding value accepts gzip (a q of 0 refuses it).
+bool acceptsGzip(std::string_view acceptEncoding);
+// True for content types worth compressing (text, JSON, SVG, XML, JavaScript).
+bool compressibleType(std::string_view contentType);
+// gzip (RFC 1952) of `data` at zlib's default level.
+std::string gzipCompress(std::string_view data);
+
+}  // namespace geoslice::server
