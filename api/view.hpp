@@ -1,5 +1,6 @@
-// Executing plans on the CPU: profile views and tiles from the exact section engine, the
-// documented tile grid over a section's u/v plane, and pixel queries.
+// Executing plans on the CPU: profile views from the exact section engine (images and their
+// vector form), their pixel -> world mapping, and colouring by a block model. The tile grid
+// is in api/tile_grid.hpp, pixel queries in api/pixel_query.hpp, boreholes in api/borehole.hpp.
 //
 // Pixel frames: column x to the right, row y downwards, row 0 at the top; pixel (x, y)
 // stands for its centre (x + 0.5, y + 0.5), which is where ID buffers are sampled.
@@ -74,66 +75,5 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
 // image). Returns the document text.
 Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world,
                                  const std::atomic<bool>* cancel = nullptr);
-
-// The tile grid of a section (documented in the OpenAPI text): zoom 0 is one tile of
-// `tileSize` pixels covering a square of `size0` metres along u (size0 / exaggeration
-// along v) whose top-left corner is (u0, v1) of the section's extent (the model's bounds
-// projected on the plane). Zoom z has 2^z x 2^z tiles; tile (z, x, y) covers
-//   u in [u0 + x s, u0 + (x + 1) s],  v in [v1 - (y + 1) s / k, v1 - y s / k],  s = size0 / 2^z.
-// Leaflet (L.CRS.Simple, tileSize 256): lng = (u - u0) * 256 / size0, lat = (v - v1) * k * 256 / size0.
-struct TileGrid {
-    FrameRect extent;           // section contents' u/v rectangle
-    double size0 = 1.0;         // metres along u of the zoom-0 tile (a power of two)
-    double exaggeration = 1.0;  // k below: the picture's stretch of plane v, VerticalExaggeration::vStretch
-    int tileSize = 256;
-    int maxZoom = 0;  // tiles are no finer than about 1 cm per pixel
-
-    Result<FrameRect> tileRect(int z, long long x, long long y) const;
-    nlohmann::ordered_json describe() const;
-};
-Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def);
-Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef& def, const TileGrid& grid, int z,
-                                    long long x, long long y, const std::atomic<bool>* cancel = nullptr);
-
-// A pixel query: the record at the centre of pixel (px, py) of the plan's view, the world
-// point, and its place in the section. From the cached ID buffer of the identical view
-// when `cached` is given, otherwise from the exact oracle at the pixel centre; the two
-// agree (tests/server). Errors: OutOfRange for a pixel outside the image.
-struct QueryAnswer {
-    long long px = 0, py = 0;
-    RecordId record = kNoRecord;
-    glm::dvec3 world{0.0};
-    glm::dvec2 section{0.0};     // (u, v) plane metres, or (chainage, elevation) for a line
-    double distanceAlong = 0.0;  // metres: from the image's left edge (plane), or chainage (line)
-    bool line = false;
-    bool perspective = false;  // world = the first visible point on the ray (NaN: none); distanceAlong = from the eye
-    bool fromIdBuffer = false;
-    std::size_t cell = BlockModel::kNoCell;  // the block cell (blockCellAt), from the cells buffer when cached
-};
-// InvalidArgument naming the parameter ('plane', 'planes' or 'elevation') when the cut of a
-// perspective view keeps no part of the model's bounds (api/cut.hpp).
-Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan);
-// The ray through a pixel of a perspective view: pixelRay of model/camera.hpp.
-// A query that needs the model's rays (perspective, or no cached ID buffer) waits for them
-// (CatalogModel::rays) as `wait` allows: DeadlineExceeded when they are not built in time.
-Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                                const ViewImage* cached, const RayWait& wait = {});
-// The answer as JSON (appended to `out`): record and attributes, body, world point,
-// distance along the section, CGCS2000 projected (easting, northing, zone) and geodetic
-// (lon, lat, height) coordinates with their axis order named.
-void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& answer, std::string& out);
-// answerPixel + writeQueryAnswer.
-Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
-                               const ViewImage* cached, const RayWait& wait = {});
-
-// A virtual borehole: `x`, `y` (world metres; or `lon`, `lat` degrees) -> the intervals
-// with from/to depth below the collar and elevation, record and attributes, and the open
-// surfaces crossed. Errors name the parameter; a point outside the model is OutOfRange;
-// DeadlineExceeded when the model's rays are not built within `wait`.
-Result<nlohmann::ordered_json> boreholeAt(const CatalogModel& model, const Params& params, const RayWait& wait = {});
-
-// The JSON of a world point: {x, y, z, crs, axes, projected: {...}, geodetic: {...},
-// wgs84: {...} or wgs84Note} (README "Query answer coordinates").
-nlohmann::ordered_json worldPointJson(const CatalogModel& model, const glm::dvec3& world);
 
 }  // namespace geoslice::api

@@ -29,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/catalog.hpp"
+#include "api/pixel_query.hpp"
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "bench/bench_util.hpp"

@@ -17,6 +17,7 @@
 
 #include "api/catalog.hpp"
 #include "api/params.hpp"
+#include "api/pixel_query.hpp"
 #include "api/plan.hpp"
 #include "api/request.hpp"
 #include "api/view.hpp"

@@ -1,6 +1,7 @@
 // GET /v1/models/{id}/borehole?x=&y= (or lon=&lat=): the intervals of a vertical line
 // through the model (api::boreholeAt), on the handler thread (one ray; it waits for the
 // model's ray scene within the request deadline, routes/common.hpp rayWait).
+#include "api/borehole.hpp"
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"

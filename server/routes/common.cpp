@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "api/pixel_query.hpp"
 #include "api/request.hpp"
 #include "server/respond.hpp"
 

@@ -3,6 +3,7 @@
 // model's ray scene within the request deadline, routes/common.hpp rayWait) and POST (a batch of
 // pixels of one view, on a render worker like a render: queue, deadline, cancellation,
 // memory admission; at most kMaxBatchPixels pixels and kMaxBatchAnswerBytes of answer).
+#include "api/pixel_query.hpp"
 #include "api/request.hpp"
 #include "model/view_limits.hpp"
 #include "server/respond.hpp"

@@ -3,6 +3,7 @@
 // GET /v1/sections/{sid}/tiles/{z}/{x}/{y}.{png,jpg,webp} (api/view.hpp's tile grid; CPU,
 // on a render worker). The section id carries the whole definition (api/plan.hpp).
 #include "api/request.hpp"
+#include "api/tile_grid.hpp"
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"

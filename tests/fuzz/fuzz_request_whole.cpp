@@ -12,8 +12,10 @@
 
 #include "api/catalog.hpp"
 #include "api/params.hpp"
+#include "api/pixel_query.hpp"
 #include "api/plan.hpp"
 #include "api/sheet.hpp"
+#include "api/tile_grid.hpp"
 #include "api/view.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -12,6 +12,7 @@
 
 #include "api/catalog.hpp"
 #include "api/plan.hpp"
+#include "api/tile_grid.hpp"
 #include "api/view.hpp"
 
 namespace geoslice::api {

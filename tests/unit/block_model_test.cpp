@@ -10,6 +10,7 @@
 
 #include "../common/tet_model.hpp"
 #include "api/catalog.hpp"
+#include "api/pixel_query.hpp"
 #include "api/plan.hpp"
 #include "api/reserves.hpp"
 #include "api/view.hpp"

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "api/catalog.hpp"
+#include "api/pixel_query.hpp"
 #include "api/view.hpp"
 
 namespace geoslice {

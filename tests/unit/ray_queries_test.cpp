@@ -14,7 +14,9 @@
 #include <future>
 #include <thread>
 
+#include "api/borehole.hpp"
 #include "api/catalog.hpp"
+#include "api/pixel_query.hpp"
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "model/synthetic.hpp"
