@@ -8,25 +8,12 @@
 #include <numeric>
 
 #include "bake/bake.hpp"
+#include "model/union_find.hpp"
 
 namespace geoslice::bake {
 namespace {
 
 constexpr std::uint32_t kNone = 0xFFFFFFFFu;
-
-struct UnionFind {
-    std::vector<std::uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    std::uint32_t find(std::uint32_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-};
 
 // Half-edge (a, b) of a chart with the position of its triangle in the chart list.
 struct HalfEdge {
