@@ -1,11 +1,15 @@
 #include "api/openapi.hpp"
 
+#include <string>
+
+#include "model/view_limits.hpp"
+
 namespace geoslice::api {
 namespace {
 
 using J = nlohmann::ordered_json;
 
-J queryParam(const char* name, const char* type, const char* description, bool required = false) {
+J queryParam(const char* name, const char* type, const std::string& description, bool required = false) {
     return J{{"name", name},
              {"in", "query"},
              {"required", required},
@@ -37,11 +41,17 @@ J viewParams() {
         queryParam("eye", "string", "x,y,z: perspective camera position, world m"),
         queryParam("target", "string", "x,y,z: perspective look-at point, world m"),
         queryParam("up", "string", "x,y,z: perspective up vector (default 0,0,1)"),
-        queryParam("fov", "number", "perspective vertical field of view, degrees 1..170 (default 45)"),
-        queryParam("size", "string", "WxH pixels, each 1..8192, at most 2^26 pixels (default 1024x1024)"),
+        // The limits as model/view_limits.hpp states them (the CLI checks the same ones).
+        queryParam("fov", "number",
+                   "perspective vertical field of view, degrees " + limitNumber(kMinFovDeg) + ".." +
+                       limitNumber(kMaxFovDeg) + " (default 45)"),
+        queryParam("size", "string",
+                   "WxH pixels, each 1.." + std::to_string(kMaxImageSide) + ", at most " +
+                       std::to_string(kMaxImagePixels) + " pixels (default 1024x1024)"),
         queryParam("vx", "number",
-                   "vertical exaggeration 0.1..100 (default 1): elevation stretched vx times about the centre "
-                   "elevation of the model's bounds (a plane's v axis by sqrt(nz^2 + vx^2 (1 - nz^2)))"),
+                   "vertical exaggeration " + limitNumber(kMinExaggeration) + ".." + limitNumber(kMaxExaggeration) +
+                       " (default 1): elevation stretched vx times about the centre elevation of the model's bounds "
+                       "(a plane's v axis by sqrt(nz^2 + vx^2 (1 - nz^2)))"),
         queryParam("bg", "string", "transparent (default) or #rrggbb[aa]"),
         queryParam("colour", "string",
                    "a block property (the model's block model): the clipping bodies coloured by its class at "

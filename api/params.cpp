@@ -21,7 +21,9 @@ std::string quoted(std::string_view text) {
 
 Error bad(std::string_view name, std::string_view text, std::string_view what,
           ErrorCode code = ErrorCode::InvalidArgument) {
-    return Error{code, "parameter '" + std::string(name) + "': " + quoted(text) + " " + std::string(what)};
+    // A command-line flag ("--size") is named as it is; an HTTP parameter as "parameter 'size'".
+    const std::string named = name.starts_with("--") ? std::string(name) : "parameter '" + std::string(name) + "'";
+    return Error{code, named + ": " + quoted(text) + " " + std::string(what)};
 }
 
 std::string_view trim(std::string_view s) {

@@ -244,10 +244,7 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
     if (const auto vx = param(params, "vx")) {
         auto k = parseNumber("vx", *vx);
         if (!k) return k.error();
-        if (!(k.value() >= kMinExaggeration && k.value() <= kMaxExaggeration))
-            return makeError(ErrorCode::OutOfRange, "parameter 'vx': " + std::string(*vx) + " is outside " +
-                                                        limitNumber(kMinExaggeration) + ".." +
-                                                        limitNumber(kMaxExaggeration));
+        if (auto s = checkExaggerationFactor("parameter 'vx'", k.value()); !s) return s.error();
         def.exaggeration = k.value();
     }
     if (const auto bg = param(params, "bg")) {
@@ -320,18 +317,16 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
                     return s.error();
                 if (auto s = checkCoordinate(std::string("parameter 'up'") + axis[k], cam.up[k]); !s) return s.error();
             }
-            if (!(glm::length(cam.target - cam.eye) >= kMinCameraDistanceMetres))
-                return makeError(ErrorCode::InvalidArgument,
-                                 "perspective view: parameters 'eye' and 'target' coincide (closer than 1 mm)");
+            if (auto s = checkCameraDistance("perspective view: parameters 'eye' and 'target'", cam.eye, cam.target);
+                !s)
+                return s.error();
             if (!(glm::length(glm::cross(glm::normalize(cam.up), glm::normalize(cam.target - cam.eye))) >= 1e-6))
                 return makeError(ErrorCode::InvalidArgument,
                                  "perspective view: parameter 'up' is zero or parallel to the view direction");
             if (const auto fov = param(params, "fov")) {
                 auto f = parseNumber("fov", *fov);
                 if (!f) return f.error();
-                if (!(f.value() >= kMinFovDeg && f.value() <= kMaxFovDeg))
-                    return makeError(ErrorCode::OutOfRange,
-                                     "parameter 'fov': " + std::string(*fov) + " is outside 1..170 degrees");
+                if (auto s = checkFov("parameter 'fov'", f.value()); !s) return s.error();
                 cam.fovYDegrees = f.value();
             }
             plan.camera = cam;

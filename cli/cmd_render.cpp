@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "api/cut.hpp"
+#include "api/params.hpp"
 #include "bake/bake.hpp"
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
@@ -98,8 +99,13 @@ int run(const RenderArgs& a) {
     }
     // The renderer names what is kept: --cut union keeps the intersection of the kept sides.
     req.combine = cut.mode == api::CutMode::Union ? PlaneCombine::Intersection : PlaneCombine::Union;
-    if (std::sscanf(a.size.c_str(), "%dx%d", &req.width, &req.height) != 2)
-        return fail("--size " + a.size + ": expected WxH, e.g. 1024x768");
+    // Size, exaggeration and field of view against the limits HTTP checks (model/view_limits.hpp).
+    auto size = api::parseSize("--size", a.size, kMaxImageSide, static_cast<long long>(kMaxImagePixels));
+    if (!size) return fail(size.error().message);
+    req.width = size.value().width;
+    req.height = size.value().height;
+    if (auto s = checkExaggerationFactor("--exaggeration", a.exaggeration); !s) return fail(s.error().message);
+    if (auto s = checkFov("--fov", a.fov); !s) return fail(s.error().message);
     auto backend = parseGlBackend(a.gl);
     if (!backend) return fail("--gl " + a.gl + ": expected auto, egl-device, egl-surfaceless or osmesa");
     if (a.clip != "clip-distance" && a.clip != "discard")
@@ -127,7 +133,6 @@ int run(const RenderArgs& a) {
         req.lod = SliceRequest::Lod::Off;
     else
         return fail("--lod " + a.lod + ": expected auto, on or off");
-    if (auto s = checkExaggeration({a.exaggeration, 0.0}); !s) return fail("--exaggeration: " + s.error().message);
 
     // The colour format comes from --out's extension; checked before any work is done.
     auto format = imageFormatFromPath(a.out);
@@ -157,11 +162,11 @@ int run(const RenderArgs& a) {
         pv.target = ve.toDisplay({v[0], v[1], v[2]});
         if (!parseNumbers(a.up, 3, v)) return fail("--up: expected x,y,z");
         pv.up = {v[0], v[1], v[2]};
+        if (auto s = checkCameraDistance("--eye and --target", pv.eye, pv.target); !s) return fail(s.error().message);
         pv.fovYDegrees = a.fov;
         req.view = pv;
     } else {
         if (req.planes.empty()) return fail("a profile needs --plane (or give --eye/--target for a 3D view)");
-        if (auto s = checkImageSize("--size", req.width, req.height); !s) return fail(s.error().message);
         const WorldPlane& p0 = req.planes[0];
         auto plane = makePlane(p0.x, p0.y, p0.z, p0.w);
         if (!plane) return fail("--plane: " + plane.error().message);
@@ -237,7 +242,7 @@ void addRender(CLI::App& app, int& exitCode) {
     cmd->add_option("--eye", a->eye, "Perspective eye x,y,z (world)");
     cmd->add_option("--target", a->target, "Perspective target x,y,z (world)");
     cmd->add_option("--up", a->up, "Perspective up direction (default 0,0,1)");
-    cmd->add_option("--fov", a->fov, "Vertical field of view, degrees (default 45)");
+    cmd->add_option("--fov", a->fov, "Vertical field of view, degrees 1..170 as HTTP fov= (default 45)");
     cmd->add_option("--size", a->size, "Image size WxH (default 1024x1024, at most 8192x8192)");
     cmd->add_option("--out", a->out, "Colour image; the format follows the extension: .jpg/.jpeg, .png, .webp")
         ->required();

@@ -127,8 +127,7 @@ Result<print::SheetOptions> sheetOptionsFromFlags(const Opts& o, const std::opti
             return makeError(s.error().code, "--scale: " + s.error().message);
         so.scale = o.scale;
     }
-    if (!(o.exaggeration >= kMinExaggeration && o.exaggeration <= kMaxExaggeration))
-        return makeError(ErrorCode::OutOfRange, "--vx must be within 0.1..100");
+    if (Status s = checkExaggerationFactor("--vx", o.exaggeration); !s) return s.error();
     so.exaggeration = o.exaggeration;
     if (!(o.dpi >= 50.0 && o.dpi <= 600.0)) return makeError(ErrorCode::OutOfRange, "--dpi must be within 50..600");
     so.dpi = o.dpi;
@@ -248,11 +247,11 @@ void addSection(CLI::App& app, int& exitCode) {
             return fail("give --plane a,b,c,d, --elevation z (a finite number) or --line x1,y1,x2,y2[,...]", 2);
         }
         const bool polyline = !linePoints.empty();
-        int width = 0, height = 0;
+        // The size against the limits HTTP checks, by HTTP's reader (model/view_limits.hpp).
+        auto size = api::parseSize("--size", o->size, kMaxImageSide, static_cast<long long>(kMaxImagePixels));
+        if (!size) return fail(size.error().message, 2);
+        const int width = size.value().width, height = size.value().height;
         char extra = 0;
-        if (std::sscanf(o->size.c_str(), "%dx%d%c", &width, &height, &extra) != 2)
-            return fail("--size \"" + o->size + "\" is not WxH", 2);
-        if (Status s = checkFrame(FrameRect{}, width, height); !s) return fail("--size: " + s.error().message, 2);
         std::optional<FrameRect> givenFrame;
         if (!o->frame.empty()) {
             FrameRect r;
@@ -270,8 +269,8 @@ void addSection(CLI::App& app, int& exitCode) {
         if (o->geojsonFrame != "plane" && o->geojsonFrame != "world")
             return fail("--geojson-frame must be plane or world (got \"" + o->geojsonFrame + "\")", 2);
         if (o->threads < 1 || o->threads > 2) return fail("--threads must be 1 or 2", 2);
-        if (Status s = checkExaggeration({o->exaggeration, 0.0}); !s)
-            return fail("--exaggeration (--vx): " + s.error().message, 2);
+        if (Status s = checkExaggerationFactor("--exaggeration (--vx)", o->exaggeration); !s)
+            return fail(s.error().message, 2);
         std::optional<print::SheetOptions> sheetOptions;
         if (!o->sheet.empty()) {
             auto so = sheetOptionsFromFlags(*o, givenFrame);

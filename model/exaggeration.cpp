@@ -34,10 +34,8 @@ double VerticalExaggeration::vStretch(const glm::dvec3& n) const {
 }
 
 Status checkExaggeration(const VerticalExaggeration& e) {
-    if (!(e.factor >= kMinExaggeration && e.factor <= kMaxExaggeration))
-        return makeError(ErrorCode::InvalidArgument, "vertical exaggeration " + limitNumber(e.factor) + " is outside " +
-                                                         limitNumber(kMinExaggeration) + ".." +
-                                                         limitNumber(kMaxExaggeration));
+    if (auto s = checkExaggerationFactor("vertical exaggeration", e.factor); !s)
+        return makeError(ErrorCode::InvalidArgument, s.error().message);
     if (!std::isfinite(e.pivotZ))
         return makeError(ErrorCode::InvalidArgument, "vertical exaggeration pivot elevation is not finite");
     return {};

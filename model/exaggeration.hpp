@@ -23,11 +23,11 @@
 #include "model/model.hpp"
 #include "model/plane.hpp"
 #include "model/result.hpp"
+#include "model/view_limits.hpp"
 
 namespace geoslice {
 
-// Exaggeration factors accepted everywhere (dimensionless).
-constexpr double kMinExaggeration = 0.1, kMaxExaggeration = 100.0;
+// Exaggeration factors accepted everywhere: kMinExaggeration..kMaxExaggeration (model/view_limits.hpp).
 
 struct VerticalExaggeration {
     double factor = 1.0;  // dimensionless, kMinExaggeration..kMaxExaggeration; 1 = none

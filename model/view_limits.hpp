@@ -1,7 +1,11 @@
-// What one view (an image, a tile, a 3D view) may ask for, in one place. Every entry
-// point (HTTP parameters, the CLI, the section engine and the renderer) checks a view
-// against these before any work, and every raster loop is bounded by the pixel counts
-// they allow, never by a ratio of user numbers. Pure constants and functions, any thread.
+// What one view (an image, a tile, a 3D view) may ask for, in one place: image size, pixel
+// size, coordinates, camera distance and field of view, vertical exaggeration, batch
+// queries. Every entry point (HTTP parameters, the CLI's render/section/query, the section
+// engine and the renderer) checks a view against these before any work, through the check*
+// functions below, so the CLI refuses what HTTP refuses with the same reason (only the name
+// of the parameter or flag differs: tests/server/view_limits_agree_test.cpp). Every raster
+// loop is bounded by the pixel counts they allow, never by a ratio of user numbers. Pure
+// constants and functions, any thread.
 #pragma once
 
 #include <algorithm>
@@ -9,6 +13,8 @@
 #include <cstddef>
 #include <cstdio>
 #include <string>
+
+#include <glm/glm.hpp>
 
 #include "model/result.hpp"
 
@@ -29,6 +35,8 @@ constexpr double kMaxCoordinateMetres = 1e8;
 // Perspective cameras: eye-to-target distance and vertical field of view.
 constexpr double kMinCameraDistanceMetres = 1e-3;
 constexpr double kMinFovDeg = 1.0, kMaxFovDeg = 170.0;
+// Vertical exaggeration factors (dimensionless; model/exaggeration.hpp).
+constexpr double kMinExaggeration = 0.1, kMaxExaggeration = 100.0;
 // Batch pixel queries (POST /query): pixels per batch and bytes of answer (a pixel's
 // answer is about 1.1 kB of JSON).
 constexpr std::size_t kMaxBatchPixels = 5000;
@@ -50,6 +58,32 @@ inline Status checkImageSize(const std::string& what, long long width, long long
                                                     " is outside 1.." + std::to_string(kMaxImageSide) +
                                                     " per side or above " + std::to_string(kMaxImagePixels) +
                                                     " pixels");
+    return {};
+}
+
+// OutOfRange naming `what` unless kMinFovDeg <= deg <= kMaxFovDeg (vertical field of view).
+inline Status checkFov(const std::string& what, double deg) {
+    if (!(deg >= kMinFovDeg && deg <= kMaxFovDeg))
+        return makeError(ErrorCode::OutOfRange, what + ": " + limitNumber(deg) + " is outside " +
+                                                    limitNumber(kMinFovDeg) + ".." + limitNumber(kMaxFovDeg) +
+                                                    " degrees");
+    return {};
+}
+
+// OutOfRange naming `what` unless kMinExaggeration <= factor <= kMaxExaggeration.
+inline Status checkExaggerationFactor(const std::string& what, double factor) {
+    if (!(factor >= kMinExaggeration && factor <= kMaxExaggeration))
+        return makeError(ErrorCode::OutOfRange, what + ": " + limitNumber(factor) + " is outside " +
+                                                    limitNumber(kMinExaggeration) + ".." +
+                                                    limitNumber(kMaxExaggeration));
+    return {};
+}
+
+// InvalidArgument naming `what` (the eye and the target) unless they are at least
+// kMinCameraDistanceMetres apart.
+inline Status checkCameraDistance(const std::string& what, const glm::dvec3& eye, const glm::dvec3& target) {
+    if (!(glm::length(target - eye) >= kMinCameraDistanceMetres))
+        return makeError(ErrorCode::InvalidArgument, what + " coincide (closer than 1 mm)");
     return {};
 }
 

@@ -8,6 +8,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "model/view_limits.hpp"
+
 namespace geoslice {
 namespace {
 
@@ -79,8 +81,7 @@ Result<ViewTransform> perspectiveTransform(const PerspectiveCamera& view, const 
         return makeError(ErrorCode::InvalidArgument, "perspective view needs eye != target (finite)");
     if (glm::length(glm::cross(glm::normalize(dir), view.up)) < 1e-9)
         return makeError(ErrorCode::InvalidArgument, "perspective view: up is parallel to the view direction");
-    if (!(view.fovYDegrees > 0.0 && view.fovYDegrees < 179.0))
-        return makeError(ErrorCode::InvalidArgument, "perspective view: fov must be in (0, 179) degrees");
+    if (auto s = checkFov("perspective view: fov", view.fovYDegrees); !s) return s.error();
     const glm::dvec3 eyeLocal = view.eye - origin, targetLocal = view.target - origin;
     const glm::dmat4 viewM = glm::lookAt(eyeLocal, targetLocal, view.up);
     const glm::dvec3 fwd = glm::normalize(dir);
