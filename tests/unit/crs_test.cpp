@@ -47,6 +47,31 @@ constexpr double kRoundTripToleranceM = 1e-8;
 // Degrees to metres on the ground for error estimates (sphere of radius a; a few
 // tenths of a percent is plenty for an error bound).
 constexpr double kMetresPerDegree = 6378137.0 * std::numbers::pi / 180.0;
+// Metres: two eastings of one absolute point that differ by a whole 35,000 km (zone prefix):
+// exact up to the rounding of the absolute easting (ulp(3.5e7 m) = 7.5e-9 m).
+constexpr double kAbsoluteEastingRoundingM = 1e-8;
+// `geoslice coords` prints metres with 6 decimals: within half a micrometre.
+constexpr double kPrinted6DecimalsM = 0.6e-6;
+// `geoslice coords` prints degrees with 10 decimals: within half of 1e-10 degrees.
+constexpr double kPrinted10DecimalsDeg = 0.6e-10;
+// A defined unit factor (1200/3937 m per US survey foot): one double rounding.
+constexpr double kUnitFactorTol = 1e-15;
+// Degrees on a central meridian, where the projection is exact up to rounding.
+constexpr double kOnCentralMeridianDeg = 1e-12;
+// Metres on a central meridian (easting 500000 m), exact up to rounding.
+constexpr double kOnCentralMeridianM = 1e-6;
+// Degrees, a projection origin against projinfo's 13 decimals: 0.1 mm, far above the
+// oblique Mercator's double error there and far below an axis swap (39 degrees).
+constexpr double kProjectionOriginDeg = 1e-9;
+// Metres back at that origin: 1e-13 degrees of rounding in lat_0/lon_0 is 0.01 mm.
+constexpr double kProjectionOriginM = 1e-4;
+// Degrees, our transform against cs2cs running the same PROJ pipeline (cs2cs prints 10
+// decimals): 0.1 mm on the ground.
+constexpr double kSamePipelineDeg = 1e-9;
+// `coords` against cs2cs: metres printed with 6 decimals (5e-7 m) by us, 10 by cs2cs.
+constexpr double kCoordsVsCs2csM = 1e-6;
+// `coords` against cs2cs: degrees printed with 10 decimals by both: 0.1 mm.
+constexpr double kCoordsVsCs2csDeg = 1e-9;
 
 constexpr int kGeographic = 4490;
 
@@ -504,8 +529,8 @@ TEST(Crs, ConvertPointPaths) {
     // exactly up to rounding of the absolute easting (ulp(3.5e7 m) = 7.5e-9 m).
     const auto cm = convertPoint(gk3, gk3cm, en.value());
     ASSERT_TRUE(cm.ok()) << cm.error().message;
-    EXPECT_NEAR(cm->x, en->x - 35e6, 1e-8);
-    EXPECT_NEAR(cm->y, en->y, 1e-8);
+    EXPECT_NEAR(cm->x, en->x - 35e6, kAbsoluteEastingRoundingM);
+    EXPECT_NEAR(cm->y, en->y, kAbsoluteEastingRoundingM);
     // Projected -> geographic returns the point (tolerance: round trip, see above).
     const auto back = convertPoint(gk3cm, geo, cm.value());
     ASSERT_TRUE(back.ok());
@@ -544,8 +569,8 @@ TEST(CoordsCli, GeographicToGaussKruger) {
         const auto en = gk.fromLonLat(in[i].x, in[i].y);
         ASSERT_TRUE(en.ok());
         // Printed with 6 decimals: within half a micrometre.
-        EXPECT_NEAR(e, en->x, 0.6e-6);
-        EXPECT_NEAR(n, en->y, 0.6e-6);
+        EXPECT_NEAR(e, en->x, kPrinted6DecimalsM);
+        EXPECT_NEAR(n, en->y, kPrinted6DecimalsM);
         if (i == 0) {
             EXPECT_EQ(z, 500.0);
         }
@@ -566,8 +591,8 @@ TEST(CoordsCli, GaussKrugerToGeographicAndBadLine) {
         const auto ll = gk.toLonLat(in[i].x, in[i].y);
         ASSERT_TRUE(ll.ok());
         // Printed with 10 decimals: within half of 1e-10 degrees.
-        EXPECT_NEAR(lon, ll->x, 0.6e-10);
-        EXPECT_NEAR(lat, ll->y, 0.6e-10);
+        EXPECT_NEAR(lon, ll->x, kPrinted10DecimalsDeg);
+        EXPECT_NEAR(lat, ll->y, kPrinted10DecimalsDeg);
     }
 }
 
@@ -614,7 +639,7 @@ TEST(CrsProj, EpsgCrssBeyondCgcs2000) {
 
     // US survey feet: fine for conversions, refused for a model (its coordinates are metres).
     const Crs ftUs = crsOrDie(2227);
-    EXPECT_NEAR(ftUs.unitToMetre(), 1200.0 / 3937.0, 1e-15);  // the definition of the US survey foot
+    EXPECT_NEAR(ftUs.unitToMetre(), 1200.0 / 3937.0, kUnitFactorTol);  // the definition of the US survey foot
     EXPECT_EQ(ftUs.unitName(), "US survey foot");
     const auto refused = ftUs.checkModelCrs();
     ASSERT_FALSE(refused.ok());
@@ -672,7 +697,7 @@ TEST(CrsProj, ParseNamesUrnsAndWkt) {
     EXPECT_TRUE(again.value() == custom.value());
     const auto cm = custom->toLonLat(100000.0, 5e6);  // on the central meridian
     ASSERT_TRUE(cm.ok()) << cm.error().message;
-    EXPECT_NEAR(cm->x, 9.5, 1e-12);  // exact on the central meridian up to rounding
+    EXPECT_NEAR(cm->x, 9.5, kOnCentralMeridianDeg);  // exact on the central meridian up to rounding
     // Not CRSs: an operation, garbage.
     for (const char* text : {"+proj=utm +zone=32", "PROJCRS[", "EPSG:4978"}) {
         const auto c = Crs::parse(text);
@@ -687,17 +712,17 @@ TEST(CrsProj, AxisOrderIsEastingNorthingAndLonLat) {
     // Mercator at its origin and far below an axis swap (39 degrees).
     const auto bern = crsOrDie(2056).toLonLat(2600000.0, 1200000.0);
     ASSERT_TRUE(bern.ok()) << bern.error().message;
-    EXPECT_NEAR(bern->x, 7.43958333333333, 1e-9);
-    EXPECT_NEAR(bern->y, 46.9524055555556, 1e-9);
+    EXPECT_NEAR(bern->x, 7.43958333333333, kProjectionOriginDeg);
+    EXPECT_NEAR(bern->y, 46.9524055555556, kProjectionOriginDeg);
     const auto back = crsOrDie(2056).fromLonLat(7.43958333333333, 46.9524055555556);
     ASSERT_TRUE(back.ok()) << back.error().message;
-    EXPECT_NEAR(back->x, 2600000.0, 1e-4);  // 1e-13 degrees of rounding in lat_0/lon_0 is 0.01 mm
-    EXPECT_NEAR(back->y, 1200000.0, 1e-4);
+    EXPECT_NEAR(back->x, 2600000.0, kProjectionOriginM);  // 1e-13 degrees of rounding in lat_0/lon_0 is 0.01 mm
+    EXPECT_NEAR(back->y, 1200000.0, kProjectionOriginM);
     // GDA2020 geographic (EPSG order lat, lon) -> MGA zone 55 (central meridian 147 E):
     // lon first in, easting first out; on the central meridian the easting is 500000 m.
     const auto mga = convertPoint(crsOrDie(7844), crsOrDie(7855), {147.0, -37.8, 12.5});
     ASSERT_TRUE(mga.ok()) << mga.error().message;
-    EXPECT_NEAR(mga->x, 500000.0, 1e-6);  // the conversion is exact on the CM up to rounding
+    EXPECT_NEAR(mga->x, 500000.0, kOnCentralMeridianM);  // the conversion is exact on the CM up to rounding
     EXPECT_GT(mga->y, 5.8e6);
     EXPECT_LT(mga->y, 5.82e6);
     EXPECT_EQ(mga->z, 12.5);  // 2D: heights pass through
@@ -756,8 +781,8 @@ TEST(CrsProj, Wgs84TransformForAnArea) {
         ASSERT_TRUE(g.ok()) << g.error().message;
         double lon = 0.0, lat = 0.0;
         ASSERT_EQ(std::sscanf(out[i].c_str(), "%lf %lf", &lon, &lat), 2) << out[i];
-        EXPECT_NEAR(g->x, lon, 1e-9) << t->operationName();
-        EXPECT_NEAR(g->y, lat, 1e-9) << t->operationName();
+        EXPECT_NEAR(g->x, lon, kSamePipelineDeg) << t->operationName();
+        EXPECT_NEAR(g->y, lat, kSamePipelineDeg) << t->operationName();
         EXPECT_EQ(g->z, 100.0);
     }
     // Swiss LV95: CH1903+ to WGS 84 (1), stated 1 m.
@@ -860,10 +885,10 @@ TEST(CoordsCli, MatchesCs2cs) {
             ASSERT_EQ(std::sscanf(theirs[i].c_str(), "%lf %lf %lf", &bx, &by, &bz), 3) << theirs[i];
             // Metres: we print 6 decimals (5e-7 m rounding), cs2cs 10: 1e-6 m holds both.
             // Degrees: we print 10 decimals, cs2cs 10: 1e-9 degrees (0.1 mm) holds both.
-            const double tol = c.toGeographic ? 1e-9 : 1e-6;
+            const double tol = c.toGeographic ? kCoordsVsCs2csDeg : kCoordsVsCs2csM;
             EXPECT_NEAR(ax, bx, tol) << c.from << " -> " << c.to << " point " << i;
             EXPECT_NEAR(ay, by, tol) << c.from << " -> " << c.to << " point " << i;
-            EXPECT_NEAR(az, bz, 1e-6) << c.from << " -> " << c.to << " point " << i;
+            EXPECT_NEAR(az, bz, kCoordsVsCs2csM) << c.from << " -> " << c.to << " point " << i;
             const double d = std::max(std::fabs(ax - bx), std::fabs(ay - by));
             (c.toGeographic ? worstDeg : worstM) = std::max(c.toGeographic ? worstDeg : worstM, d);
             ++compared;

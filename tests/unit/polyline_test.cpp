@@ -16,6 +16,18 @@ using namespace geoslice::test;
 
 namespace {
 
+// Metres: chainages, elevations and world points of sections through boxes with coordinates
+// under 200 m (double steps of 3e-14 m; the cut adds a few operations).
+constexpr double kCoordTolM = 1e-9;
+// Square metres: areas of a few hundred m^2 from those coordinates (shoelace rounding ~1e-12 m^2).
+constexpr double kSmallAreaTolM2 = 1e-9;
+// Square metres: areas of thousands of m^2 (relative 1e-12 of rounding, with margin).
+constexpr double kLargeAreaTolM2 = 1e-8;
+// Ratios and areas of rings clipped at whole metres: exact up to a few double steps.
+constexpr double kExactTol = 1e-12;
+// Relative: the same section's areas summed per leg and per body in another order.
+constexpr double kSumOrderRelTol = 1e-9;
+
 double areaOf(const PolylineSection& s, std::uint32_t part) {
     for (const auto& b : s.bodies)
         if (b.part == part) return b.area;
@@ -37,14 +49,14 @@ TEST(PolylineSection, BentLineThroughBoxesHasAnalyticAreas) {
     ASSERT_EQ(s->legs.size(), 2u);
     EXPECT_DOUBLE_EQ(s->line.length(), 160.0);
     // Lens: 10 m along leg 1 (x 40..50) and 10 m along leg 2 (y 50..60), 10 m high.
-    EXPECT_NEAR(areaOf(s.value(), 2), 2 * 10.0 * 10.0, 1e-9);
-    EXPECT_NEAR(areaOf(s.value(), 0), 100.0 * 50.0 - 200.0, 1e-8);
-    EXPECT_NEAR(areaOf(s.value(), 1), 100.0 * 30.0, 1e-8);
+    EXPECT_NEAR(areaOf(s.value(), 2), 2 * 10.0 * 10.0, kSmallAreaTolM2);
+    EXPECT_NEAR(areaOf(s.value(), 0), 100.0 * 50.0 - 200.0, kLargeAreaTolM2);
+    EXPECT_NEAR(areaOf(s.value(), 1), 100.0 * 30.0, kLargeAreaTolM2);
     // Contents span s in [10, 110] (x = 0 at s = 10; y = 100 at s = 60 + 50), z in [0, 80].
-    EXPECT_NEAR(s->lo.x, 10.0, 1e-9);
-    EXPECT_NEAR(s->hi.x, 110.0, 1e-9);
-    EXPECT_NEAR(s->lo.y, 0.0, 1e-9);
-    EXPECT_NEAR(s->hi.y, 80.0, 1e-9);
+    EXPECT_NEAR(s->lo.x, 10.0, kCoordTolM);
+    EXPECT_NEAR(s->hi.x, 110.0, kCoordTolM);
+    EXPECT_NEAR(s->lo.y, 0.0, kCoordTolM);
+    EXPECT_NEAR(s->hi.y, 80.0, kCoordTolM);
     // Image: 1 pixel = 1 m over s 0..160, z -10..90; ids at pixel centres are exact.
     auto img = rasterizePolylineSection(*idx, s.value(), FrameRect{0, -10, 160, 90}, 160, 100);
     ASSERT_TRUE(img.ok()) << img.error().message;
@@ -68,25 +80,25 @@ TEST(PolylineSection, BentLineThroughBoxesHasAnalyticAreas) {
     EXPECT_EQ(img->rgba[4 * (50 * 160 + 5) + 3], 0);
     // Pixel -> world: s = 65.5 is on leg 2 at y = 55.5; z from the row.
     const glm::dvec3 w = img->pixelCentreWorld(65, 64);
-    EXPECT_NEAR(w.x, 50.0, 1e-9);
-    EXPECT_NEAR(w.y, 55.5, 1e-9);
-    EXPECT_NEAR(w.z, 25.5, 1e-9);
+    EXPECT_NEAR(w.x, 50.0, kCoordTolM);
+    EXPECT_NEAR(w.y, 55.5, kCoordTolM);
+    EXPECT_NEAR(w.z, 25.5, kCoordTolM);
     EXPECT_DOUBLE_EQ(img->pixelCentreChainage(65), 65.5);
     // fitPolylineFrame keeps the contents and the aspect ratio.
     const FrameRect f = fitPolylineFrame(s.value(), 200, 100);
     EXPECT_LE(f.u0, 10.0);
     EXPECT_GE(f.u1, 110.0);
-    EXPECT_NEAR((f.u1 - f.u0) / (f.v1 - f.v0), 2.0, 1e-12);
+    EXPECT_NEAR((f.u1 - f.u0) / (f.v1 - f.v0), 2.0, kExactTol);
 }
 
 TEST(PolylineSection, ClipRingToStrip) {
     const Ring square = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
-    EXPECT_NEAR(ringArea(clipRingToStrip(square, 2, 5)), 30.0, 1e-12);
+    EXPECT_NEAR(ringArea(clipRingToStrip(square, 2, 5)), 30.0, kExactTol);
     EXPECT_TRUE(clipRingToStrip(square, 11, 12).empty());
-    EXPECT_NEAR(ringArea(clipRingToStrip(square, -5, 50)), 100.0, 1e-12);
+    EXPECT_NEAR(ringArea(clipRingToStrip(square, -5, 50)), 100.0, kExactTol);
     // A U shape (concave): clipping keeps the area of the part inside.
     const Ring u = {{0, 0}, {9, 0}, {9, 9}, {6, 9}, {6, 3}, {3, 3}, {3, 9}, {0, 9}};
-    EXPECT_NEAR(ringArea(clipRingToStrip(u, 1, 8)), ringArea(u) - 2 * 9.0, 1e-12);
+    EXPECT_NEAR(ringArea(clipRingToStrip(u, 1, 8)), ringArea(u) - 2 * 9.0, kExactTol);
 }
 
 TEST(PolylineSection, BadLinesAreErrors) {
@@ -112,7 +124,7 @@ TEST(PolylineSection, BadLinesAreErrors) {
     EXPECT_FALSE(part->legs[0].cut);
     EXPECT_TRUE(part->legs[1].cut);
     ASSERT_EQ(part->bodies.size(), 1u);
-    EXPECT_NEAR(part->bodies[0].area, 100.0 * 50.0, 1e-8);
+    EXPECT_NEAR(part->bodies[0].area, 100.0 * 50.0, kLargeAreaTolM2);
     std::vector<glm::dvec2> many;
     for (int i = 0; i < 300; ++i) many.push_back({double(i), 0.5 * i});
     EXPECT_EQ(computePolylineSection(*idx, many).error().code, ErrorCode::InvalidArgument);
@@ -166,7 +178,7 @@ TEST(PolylineSection, StraightLineEqualsThePlaneSection) {
             }
         }
     for (const auto& bs : ps->bodies) lineAreas += bs.area;
-    EXPECT_NEAR(lineAreas, planeAreas, 1e-9 * planeAreas);
+    EXPECT_NEAR(lineAreas, planeAreas, kSumOrderRelTol * planeAreas);
 }
 
 TEST(PolylineSection, IdBufferEqualsTheOracle) {

@@ -18,6 +18,23 @@ using namespace geoslice::test;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Square metres, areas from coordinates of tens of metres: exact up to rounding of the
+// shoelace sums (~1e-13 m^2 there), with margin.
+constexpr double kAreaTolM2 = 1e-9;
+// Square metres, areas of shapes with whole or unit-scale coordinates (and zero areas): a few
+// double steps.
+constexpr double kExactAreaTolM2 = 1e-12;
+// Square metres, areas of about 1e4 m^2: relative 1e-12 of rounding.
+constexpr double kLargeAreaTolM2 = 1e-8;
+// Relative: the inscribed UV sphere's cut disc is short of the true sphere's by about twice
+// r (1 - cos(pi/128)) = 3e-4 r, more off-centre.
+constexpr double kUvSphereRelTol = 2e-3;
+// Relative: our cut against the brute-force cut of the same triangles, both double.
+constexpr double kSameCutRelTol = 1e-9;
+// Relative: per-body areas against an independent brute-force cut (observed ~1e-12).
+constexpr double kBruteForceRelTol = 1e-6;
+// Metres, a trace length of 10 m from coordinates under 10 m: rounding only.
+constexpr double kTraceTolM = 1e-9;
 
 Section cut(const SectionIndex& idx, const Plane& p) {
     auto s = computeSection(idx, p);
@@ -42,14 +59,14 @@ TEST(SectionContours, BoxHorizontalAndTilted) {
     EXPECT_EQ(s.bodies[0].openChains, 0u);
     ASSERT_EQ(s.bodies[0].polygons.size(), 1u);
     EXPECT_TRUE(s.bodies[0].polygons[0].holes.empty());
-    EXPECT_NEAR(s.bodies[0].area, 200.0, 1e-9);               // exact up to rounding
+    EXPECT_NEAR(s.bodies[0].area, 200.0, kAreaTolM2);         // exact up to rounding
     EXPECT_GT(ringArea(s.bodies[0].polygons[0].outer), 0.0);  // outer rings counter-clockwise
 
     // Tilted across all four vertical edges: area = base / |n_z|.
     const glm::dvec3 n = glm::normalize(glm::dvec3(0.05, -0.08, 1.0));
     Section t = cut(*idx, Plane{n, -glm::dot(n, glm::dvec3(5, 10, 2.5))});
     ASSERT_EQ(t.bodies.size(), 1u);
-    EXPECT_NEAR(t.bodies[0].area, 200.0 / n.z, 1e-9);
+    EXPECT_NEAR(t.bodies[0].area, 200.0 / n.z, kAreaTolM2);
 }
 
 TEST(SectionContours, VerticesExactlyOnThePlane) {
@@ -61,14 +78,14 @@ TEST(SectionContours, VerticesExactlyOnThePlane) {
         Section s = cut(*idx, Plane{n, 0.0});
         ASSERT_EQ(s.bodies.size(), 1u);
         EXPECT_EQ(s.bodies[0].openChains, 0u);
-        EXPECT_NEAR(s.bodies[0].area, 4.0 * std::sqrt(2.0), 1e-12);
+        EXPECT_NEAR(s.bodies[0].area, 4.0 * std::sqrt(2.0), kExactAreaTolM2);
     }
     // A plane that only touches a corner: nothing (or a degenerate point), area 0.
     for (double sign : {1.0, -1.0}) {
         const glm::dvec3 n = sign * glm::normalize(glm::dvec3(1, 1, 1));
         auto s = computeSection(*idx, Plane{n, -sign * std::sqrt(3.0)});
         if (s.ok()) {
-            EXPECT_NEAR(totalArea(s.value()), 0.0, 1e-12);
+            EXPECT_NEAR(totalArea(s.value()), 0.0, kExactAreaTolM2);
         }
     }
     // Horizontal plane through the middle ring of an octahedron-like double pyramid:
@@ -85,7 +102,7 @@ TEST(SectionContours, VerticesExactlyOnThePlane) {
         Section s = cut(*io, Plane{{0, 0, nz}, 0.0});
         ASSERT_EQ(s.bodies.size(), 1u);
         EXPECT_EQ(s.bodies[0].openChains, 0u);
-        EXPECT_NEAR(s.bodies[0].area, 2.0, 1e-12);  // the square |x| + |y| <= 1
+        EXPECT_NEAR(s.bodies[0].area, 2.0, kExactAreaTolM2);  // the square |x| + |y| <= 1
     }
 }
 
@@ -96,11 +113,11 @@ TEST(SectionContours, CoplanarFacesFollowTheSymbolicRule) {
                        makePart("high", PartKind::Body, 2, boxMesh({0, 0, 10}, {10, 10, 20}))});
     auto idx = indexFor(m);
     Section up = cut(*idx, Plane{{0, 0, 1}, -10.0});  // keeps z >= 10: removed side is below
-    EXPECT_NEAR(bodyArea(up, 0), 100.0, 1e-12);
-    EXPECT_NEAR(bodyArea(up, 1), 0.0, 1e-12);
+    EXPECT_NEAR(bodyArea(up, 0), 100.0, kExactAreaTolM2);
+    EXPECT_NEAR(bodyArea(up, 1), 0.0, kExactAreaTolM2);
     Section down = cut(*idx, Plane{{0, 0, -1}, 10.0});  // keeps z <= 10
-    EXPECT_NEAR(bodyArea(down, 0), 0.0, 1e-12);
-    EXPECT_NEAR(bodyArea(down, 1), 100.0, 1e-12);
+    EXPECT_NEAR(bodyArea(down, 0), 0.0, kExactAreaTolM2);
+    EXPECT_NEAR(bodyArea(down, 1), 100.0, kExactAreaTolM2);
     for (const auto& b : up.bodies) EXPECT_EQ(b.openChains, 0u);
     for (const auto& b : down.bodies) EXPECT_EQ(b.openChains, 0u);
     // A vertical plane along the shared side faces of two boxes side by side.
@@ -108,8 +125,8 @@ TEST(SectionContours, CoplanarFacesFollowTheSymbolicRule) {
                           makePart("e", PartKind::Body, 2, boxMesh({10, 0, 0}, {20, 10, 10}))});
     auto is = indexFor(side);
     Section east = cut(*is, Plane{{1, 0, 0}, -10.0});
-    EXPECT_NEAR(bodyArea(east, 0), 100.0, 1e-12);
-    EXPECT_NEAR(bodyArea(east, 1), 0.0, 1e-12);
+    EXPECT_NEAR(bodyArea(east, 0), 100.0, kExactAreaTolM2);
+    EXPECT_NEAR(bodyArea(east, 1), 0.0, kExactAreaTolM2);
 }
 
 TEST(SectionContours, SphereAgainstAnalyticAndBruteForce) {
@@ -129,9 +146,9 @@ TEST(SectionContours, SphereAgainstAnalyticAndBruteForce) {
         // The inscribed UV sphere lies inside the true one by up to r (1 - cos(pi/128)),
         // 3e-4 r: the cut disc's area is short by about twice that fraction, more off-centre.
         const double analytic = kPi * (r * r - h * h);
-        EXPECT_NEAR(s.bodies[0].area, analytic, 2e-3 * analytic);
+        EXPECT_NEAR(s.bodies[0].area, analytic, kUvSphereRelTol * analytic);
         const double brute = bruteForceArea(m.bodies[0].mesh, s.plane, s.frame, m.origin);
-        EXPECT_NEAR(s.bodies[0].area, brute, 1e-9 * brute);
+        EXPECT_NEAR(s.bodies[0].area, brute, kSameCutRelTol * brute);
     }
 }
 
@@ -144,7 +161,7 @@ TEST(SectionContours, NestedLensIsAHoleInItsHost) {
     ASSERT_EQ(s.bodies.size(), 2u);
     const double lens = bodyArea(s, 1);
     EXPECT_GT(lens, 300.0);
-    EXPECT_NEAR(bodyArea(s, 0), 100.0 * 100.0 - lens, 1e-8);
+    EXPECT_NEAR(bodyArea(s, 0), 100.0 * 100.0 - lens, kLargeAreaTolM2);
     ASSERT_EQ(s.bodies[0].polygons.size(), 1u);
     ASSERT_EQ(s.bodies[0].polygons[0].holes.size(), 1u);
     EXPECT_LT(ringArea(s.bodies[0].polygons[0].holes[0]), 0.0);  // holes clockwise
@@ -159,8 +176,8 @@ TEST(SectionContours, NestedLensIsAHoleInItsHost) {
     EXPECT_EQ(mp.bodies[1].report.parent, -1);
     auto ip = indexFor(mp);
     Section sp = cut(*ip, Plane{{0, 0, 1}, -25.3});
-    EXPECT_NEAR(bodyArea(sp, 1), lens, 1e-9);
-    EXPECT_NEAR(bodyArea(sp, 0), 100.0 * 100.0 - lens, 1e-8);
+    EXPECT_NEAR(bodyArea(sp, 1), lens, kAreaTolM2);
+    EXPECT_NEAR(bodyArea(sp, 0), 100.0 * 100.0 - lens, kLargeAreaTolM2);
 }
 
 TEST(SectionContours, OpenSurfaceGivesATrace) {
@@ -181,7 +198,7 @@ TEST(SectionContours, OpenSurfaceGivesATrace) {
     EXPECT_FALSE(s.traces[0].closed);
     ASSERT_GE(s.traces[0].points.size(), 2u);
     const glm::dvec2 a = s.traces[0].points.front(), b = s.traces[0].points.back();
-    EXPECT_NEAR(glm::length(a - b), 10.0, 1e-9);
+    EXPECT_NEAR(glm::length(a - b), 10.0, kTraceTolM);
 }
 
 TEST(SectionContours, BadPlanesAreErrors) {
@@ -218,7 +235,8 @@ TEST(SectionContours, RandomPlanesThroughGeneratedModels) {
                     if (m.bodies[c].report.parent == static_cast<int>(b))
                         brute -= bruteForceArea(m.bodies[c].mesh, s.plane, s.frame, m.origin);
                 const double ours = bodyArea(s, static_cast<std::uint32_t>(b));
-                EXPECT_NEAR(ours, brute, 1e-6 * std::max(std::abs(brute), 1.0)) << "plane " << k << " body " << b;
+                EXPECT_NEAR(ours, brute, kBruteForceRelTol * std::max(std::abs(brute), 1.0))
+                    << "plane " << k << " body " << b;
             }
             // The BVH path and the brute-force cut give the same segments.
             PlaneCut viaBvh, all;

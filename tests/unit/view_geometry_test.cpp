@@ -20,6 +20,20 @@ using namespace geoslice;
 
 namespace {
 
+// Tolerances (the header comment says why in full).
+// Ratios, cosines and angles (rad) of unit-scale quantities: a few double steps.
+constexpr double kUnitTol = 1e-12;
+// |a normalised vector| - 1: normalize leaves a few 1e-16.
+constexpr double kUnitLengthTol = 1e-15;
+// A ratio of lengths over a 100 m baseline at GK eastings: 7.5e-9 m steps / 100 m, with margin.
+constexpr double kBaselineTol = 1e-9;
+// Metres, coordinates under 1e4 m (frame centres, a z-only round trip): double steps of 2e-12 m.
+constexpr double kSmallCoordTolM = 1e-9;
+// Metres, world points at GK eastings: double steps of 7.5e-9 m, a few dozen operations.
+constexpr double kGkWorldTolM = 1e-6;
+// Pixels: double matrices and rays; 7.5e-9 m steps against pixels of 5-50 m.
+constexpr double kPixelTol = 1e-6;
+
 // A Gauss-Kruger-sized model box (zone-prefixed easting) and a plane through its centre.
 Aabb gkBounds() {
     Aabb b;
@@ -42,7 +56,7 @@ TEST(VerticalExaggerationRule, PivotIsTheBoundsCentreElevation) {
     EXPECT_EQ(ve.pivotZ, -150.0);  // (-1200 + 900) / 2, exact in double
     const glm::dvec3 p{35'504'000.0, 3'388'000.0, 400.0};
     EXPECT_DOUBLE_EQ(ve.toDisplay(p).z, -150.0 + 2.5 * 550.0);
-    EXPECT_NEAR(glm::length(ve.toWorld(ve.toDisplay(p)) - p), 0.0, 1e-9);
+    EXPECT_NEAR(glm::length(ve.toWorld(ve.toDisplay(p)) - p), 0.0, kSmallCoordTolM);
     EXPECT_TRUE(checkExaggeration(ve).ok());
     EXPECT_FALSE(checkExaggeration({kMinExaggeration * 0.5, 0.0}).ok());
     EXPECT_FALSE(checkExaggeration({kMaxExaggeration * 1.5, 0.0}).ok());
@@ -66,8 +80,8 @@ TEST(VerticalExaggerationRule, StretchOfPlaneAxesMatchesTheDisplayMap) {
             const glm::dvec3 a = f.toWorld({f.toPlane(b.centre()).x, f.toPlane(b.centre()).y});
             const double alongU = glm::length(ve.toDisplay(a + 100.0 * f.u) - ve.toDisplay(a)) / 100.0;
             const double alongV = glm::length(ve.toDisplay(a + 100.0 * f.v) - ve.toDisplay(a)) / 100.0;
-            EXPECT_NEAR(alongU, 1.0, 1e-9) << "k " << k;
-            EXPECT_NEAR(alongV, ve.vStretch(p.normal), 1e-9) << "k " << k;
+            EXPECT_NEAR(alongU, 1.0, kBaselineTol) << "k " << k;
+            EXPECT_NEAR(alongV, ve.vStretch(p.normal), kBaselineTol) << "k " << k;
             if (i == 0) {
                 EXPECT_DOUBLE_EQ(ve.vStretch(p.normal), k);
             }
@@ -84,9 +98,9 @@ TEST(DefaultFrame, FitsContentsWithMarginAndStretchedPixels) {
             const glm::dvec2 lo{1000.0, -200.0}, hi{4000.0, 700.0};
             const FrameRect r = fitRect(lo, hi, w, h, stretch);
             const double pu = (r.u1 - r.u0) / w, pv = (r.v1 - r.v0) / h;
-            EXPECT_NEAR(pu / pv, stretch, 1e-12 * stretch);
-            EXPECT_NEAR(0.5 * (r.u0 + r.u1), 2500.0, 1e-9);
-            EXPECT_NEAR(0.5 * (r.v0 + r.v1), 250.0, 1e-9);
+            EXPECT_NEAR(pu / pv, stretch, kUnitTol * stretch);
+            EXPECT_NEAR(0.5 * (r.u0 + r.u1), 2500.0, kSmallCoordTolM);
+            EXPECT_NEAR(0.5 * (r.v0 + r.v1), 250.0, kSmallCoordTolM);
             const double mu = kDefaultFrameMargin * 3000.0, mv = kDefaultFrameMargin * 900.0;
             EXPECT_LE(r.u0, lo.x - mu + 1e-9);
             EXPECT_GE(r.u1, hi.x + mu - 1e-9);
@@ -139,7 +153,7 @@ TEST(DefaultFrame, DisplayProfileShowsTheSameWorldPointsAsThePixelFrame) {
                 for (int i = 0; i < w; i += 9) {
                     const glm::dvec3 a = exact.pixelCentreWorld(i, j);
                     const glm::dvec3 g = ve.toWorld(pixelRay(shown, w, h, i + 0.5, j + 0.5).origin);
-                    EXPECT_NEAR(glm::length(a - g), 0.0, 1e-6) << "k " << k << " pixel " << i << "," << j;
+                    EXPECT_NEAR(glm::length(a - g), 0.0, kGkWorldTolM) << "k " << k << " pixel " << i << "," << j;
                 }
         }
 }
@@ -160,11 +174,11 @@ TEST(PerspectiveCameraRays, CentreEdgesAndDefault) {
     };
     const PixelRay centre = pixelRay(cam, w, h, 150.0, 100.0);
     EXPECT_EQ(centre.origin, cam.eye);
-    EXPECT_NEAR(angle(centre.direction, f), 0.0, 1e-12);
-    EXPECT_NEAR(glm::length(centre.direction), 1.0, 1e-15);
+    EXPECT_NEAR(angle(centre.direction, f), 0.0, kUnitTol);
+    EXPECT_NEAR(glm::length(centre.direction), 1.0, kUnitLengthTol);
     const double half = glm::radians(25.0);
-    EXPECT_NEAR(angle(pixelRay(cam, w, h, 150.0, 0.0).direction, f), half, 1e-12);
-    EXPECT_NEAR(angle(pixelRay(cam, w, h, 300.0, 100.0).direction, f), std::atan(1.5 * std::tan(half)), 1e-12);
+    EXPECT_NEAR(angle(pixelRay(cam, w, h, 150.0, 0.0).direction, f), half, kUnitTol);
+    EXPECT_NEAR(angle(pixelRay(cam, w, h, 300.0, 100.0).direction, f), std::atan(1.5 * std::tan(half)), kUnitTol);
     // Up is up: the top edge's ray climbs more steeply than the centre's.
     EXPECT_GT(pixelRay(cam, w, h, 150.0, 0.0).direction.z, centre.direction.z);
 
@@ -176,7 +190,7 @@ TEST(PerspectiveCameraRays, CentreEdgesAndDefault) {
     // a few double steps). The sphere's silhouette from the eye is a little wider (asin, not
     // atan): its near half may reach past the frame's edge.
     const double halfHeight = glm::length(d.eye - d.target) * std::tan(glm::radians(0.5 * d.fovYDegrees));
-    EXPECT_NEAR(halfHeight / radius, 1.05, 1e-12);
+    EXPECT_NEAR(halfHeight / radius, 1.05, kUnitTol);
     EXPECT_GT(d.eye.z, d.target.z);
 }
 
@@ -203,8 +217,8 @@ TEST(CameraPixelRays, ProjectToTheirPixelThroughTheRenderersMatrices) {
         const double x = px(rng), y = py(rng);
         const PixelRay r = pixelRay(cam, w, h, x, y);
         const glm::dvec2 p = toPixel(persp->viewProj, r.origin + t(rng) * r.direction);
-        EXPECT_NEAR(p.x, x, 1e-6);
-        EXPECT_NEAR(p.y, y, 1e-6);
+        EXPECT_NEAR(p.x, x, kPixelTol);
+        EXPECT_NEAR(p.y, y, kPixelTol);
     }
 
     const VerticalExaggeration ve = VerticalExaggeration::aboutCentreOf(3.0, b);
@@ -218,12 +232,12 @@ TEST(CameraPixelRays, ProjectToTheirPixelThroughTheRenderersMatrices) {
     for (int i = 0; i < 200; ++i) {
         const double x = px(rng), y = py(rng);
         const PixelRay r = pixelRay(shown, w, h, x, y);
-        EXPECT_NEAR(glm::dot(r.direction, glm::dvec3(shown.plane)), 1.0, 1e-12);  // along +n
+        EXPECT_NEAR(glm::dot(r.direction, glm::dvec3(shown.plane)), 1.0, kUnitTol);  // along +n
         const glm::dvec4 c = ortho->viewProj * glm::dvec4(r.origin + t(rng) * r.direction - displayOrigin, 1.0);
-        EXPECT_NEAR((c.x / c.w + 1.0) * 0.5 * w, x, 1e-6);
-        EXPECT_NEAR((1.0 - c.y / c.w) * 0.5 * h, y, 1e-6);
+        EXPECT_NEAR((c.x / c.w + 1.0) * 0.5 * w, x, kPixelTol);
+        EXPECT_NEAR((1.0 - c.y / c.w) * 0.5 * h, y, kPixelTol);
         // The same point through the pixel frame (the exact engine's mapping).
         const glm::dvec3 q = pf.section.toWorld(pf.pixelToPlane(x, y));
-        EXPECT_NEAR(glm::length(q - r.origin), 0.0, 1e-6);
+        EXPECT_NEAR(glm::length(q - r.origin), 0.0, kGkWorldTolM);
     }
 }
