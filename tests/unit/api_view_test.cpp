@@ -14,9 +14,16 @@
 #include "api/plan.hpp"
 #include "api/tile_grid.hpp"
 #include "api/view.hpp"
+#include "tests/common/tolerances.hpp"
 
 namespace geoslice::api {
 namespace {
+
+using test::kGkWorldTolM;  // metres, world points of the demo at GK eastings (tests/common/tolerances.hpp)
+// Relative: a ratio of pixel sizes: a few double steps.
+constexpr double kRatioRelTol = 1e-12;
+// Metres: an elevation (hundreds of metres) carried from the section's v: steps of 1e-13 m.
+constexpr double kElevationTolM = 1e-9;
 
 const CatalogModel& demo() {
     static const std::shared_ptr<const CatalogModel> m = makeDemoModel(5000).value();
@@ -116,12 +123,12 @@ TEST(ApiPixels, ProfileMappingsLieOnTheSectionAndKeepThePixelAspect) {
         for (int j = 0; j < 100; j += 33)
             for (int i = 0; i < 200; i += 41) {
                 const glm::dvec3 w = m->worldAt(i, j);
-                EXPECT_NEAR(glm::dot(plane.normal, w) + plane.d, 0.0, 1e-6);
-                EXPECT_NEAR(glm::length(m->worldAt(i + 1, j) - w), (m->rect.u1 - m->rect.u0) / 200.0, 1e-6);
+                EXPECT_NEAR(glm::dot(plane.normal, w) + plane.d, 0.0, kGkWorldTolM);
+                EXPECT_NEAR(glm::length(m->worldAt(i + 1, j) - w), (m->rect.u1 - m->rect.u0) / 200.0, kGkWorldTolM);
             }
         const double pu = (m->rect.u1 - m->rect.u0) / 200.0, pv = (m->rect.v1 - m->rect.v0) / 100.0;
         const double stretch = exaggerationOf(p.section, demo().index->bounds).vStretch(plane.normal);
-        EXPECT_NEAR(pu / pv, stretch, 1e-12 * stretch);
+        EXPECT_NEAR(pu / pv, stretch, kRatioRelTol * stretch);
     }
     const ViewPlan line = plan({{"line", "35502500,3388000,35504500,3389000"}, {"size", "100x50"}, {"vx", "2"}});
     auto m = profileMapping(demo(), line);
@@ -130,10 +137,10 @@ TEST(ApiPixels, ProfileMappingsLieOnTheSectionAndKeepThePixelAspect) {
     for (int i = 0; i < 100; i += 9) {
         const glm::dvec2 s = m->sectionAt(i, 10);
         const glm::dvec3 w = m->worldAt(i, 10);
-        EXPECT_NEAR(w.z, s.y, 1e-9);
+        EXPECT_NEAR(w.z, s.y, kElevationTolM);
         // On the map line through a and b, at chainage s from a.
         const glm::dvec2 along = glm::normalize(b - a);
-        EXPECT_NEAR(glm::length(glm::dvec2(w) - (a + s.x * along)), 0.0, 1e-6);
+        EXPECT_NEAR(glm::length(glm::dvec2(w) - (a + s.x * along)), 0.0, kGkWorldTolM);
     }
 }
 

@@ -33,6 +33,15 @@ Mesh sheet(double x0, double y0, double x1, double y1, double h) {
 // Float32 local frame of a 100 m model: the tolerance of section/borehole.hpp is 0.1 mm
 // plus 1e-6 x (50 m + distance); hits themselves are within a few float ulps (< 0.05 mm).
 constexpr double kTol = 2e-4;
+// Metres: the borehole's origin (the collar plus 1 m, computed in double from the model's
+// bounds): a few double steps.
+constexpr double kOriginTolM = 1e-12;
+// Metres: x, y of a vertical borehole's hit points, carried from the (double) origin.
+constexpr double kHitXyTolM = 1e-9;
+// Metres: a ray from 1e7 m away, entering the model's box near its hit: the tracer's float
+// tolerance there (section/borehole.hpp: 1e-6 x (half-extent + distance from the box entry)
+// + 0.1 mm) is about 0.15 mm; 1 mm bounds it.
+constexpr double kFarRayTolM = 1e-3;
 
 }  // namespace
 
@@ -49,7 +58,7 @@ TEST(Borehole, NestedSphereInABoxUnderTerrain) {
     auto bh = tr->traceVertical(50.0, 50.0);
     ASSERT_TRUE(bh.ok()) << bh.error().message;
     // Origin 1 m above the top (terrain, 60): collar at the terrain, depth 1 m from the origin.
-    EXPECT_NEAR(bh->origin.z, 61.0, 1e-12);
+    EXPECT_NEAR(bh->origin.z, 61.0, kOriginTolM);
     EXPECT_NEAR(bh->collarDepth, 1.0, kTol);
     ASSERT_EQ(bh->crossings.size(), 1u);
     EXPECT_EQ(bh->crossings[0].record, 40u);
@@ -67,7 +76,7 @@ TEST(Borehole, NestedSphereInABoxUnderTerrain) {
         EXPECT_NEAR(iv.fromCollar, 60.0 - tops[k], kTol) << k;
         EXPECT_NEAR(iv.toCollar, 60.0 - bottoms[k], kTol) << k;
         EXPECT_NEAR(iv.from, 61.0 - tops[k], kTol) << k;
-        EXPECT_NEAR(iv.fromWorld.x, 50.0, 1e-9);
+        EXPECT_NEAR(iv.fromWorld.x, 50.0, kHitXyTolM);
     }
     // Beside the lens: host then base, joined at z = 0 with no gap.
     auto side = tr->traceVertical(10.5, 20.25);
@@ -134,7 +143,7 @@ TEST(Borehole, BadInputIsAnError) {
     auto far = tr->traceRay({5, 5, 1e7}, {0, 0, -1});
     ASSERT_TRUE(far.ok());
     ASSERT_EQ(far->intervals.size(), 1u);
-    EXPECT_NEAR(far->intervals[0].fromElevation, 10.0, 1e-3);
+    EXPECT_NEAR(far->intervals[0].fromElevation, 10.0, kFarRayTolM);
     auto huge = tr->traceRay({1e300, 5, 5}, {-1, 0, 0});
     EXPECT_TRUE(!huge.ok() || huge->intervals.size() <= 1);
     EXPECT_FALSE(tr->traceRay({5, 5, 5}, {1e308, 1e308, 0}).ok());

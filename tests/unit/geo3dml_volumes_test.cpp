@@ -19,11 +19,13 @@
 
 #include "model/loaders.hpp"
 #include "model/validate.hpp"
+#include "tests/common/tolerances.hpp"
 
 namespace geoslice {
 namespace {
 
 namespace fs = std::filesystem;
+using test::kShellVsCellSumRelTol;  // relative, a body's shell volume against its cells' sum
 const fs::path kDataDir = fs::path(GEOSLICE_TEST_DATA_DIR) / "geo3dml";
 
 std::string readText(const fs::path& p) {
@@ -116,7 +118,7 @@ TEST(Geo3dmlVolumes, VolumesEqualTheCellsOfTheFile) {
     }
     const Part* d = bodyNamed(m.value(), u8s(u8"地层D"));
     ASSERT_TRUE(d);
-    EXPECT_NEAR(signedVolume(d->mesh), tetSum, 1e-9 * tetSum);
+    EXPECT_NEAR(signedVolume(d->mesh), tetSum, kShellVsCellSumRelTol * tetSum);
 
     // 地层E: three axis-aligned cuboids: the products of their extents.
     const pugi::xml_node cub = doc.select_node("//*[local-name()='GeoCuboidVolume']").node();
@@ -132,14 +134,14 @@ TEST(Geo3dmlVolumes, VolumesEqualTheCellsOfTheFile) {
     EXPECT_EQ(boxSum, 1462500.0);  // 100x100x100 + 100x50x80 + 50x25x50
     const Part* e = bodyNamed(m.value(), u8s(u8"地层E"));
     ASSERT_TRUE(e);
-    EXPECT_NEAR(signedVolume(e->mesh), boxSum, 1e-9 * boxSum);
+    EXPECT_NEAR(signedVolume(e->mesh), boxSum, kShellVsCellSumRelTol * boxSum);
 
     // 地层C: a gml:RectifiedGrid: |det(offset vectors)| x cells between the limits.
     const Part* c = bodyNamed(m.value(), u8s(u8"地层C"));
     ASSERT_TRUE(c);
     const double grid =
         4.8 * 10 * 6.8 * (7 * 6 * 4);  // offsets (4.8 4.8 2) (0 10 0) (0 0 6.8); limits -1..6, -1..5, -1..3
-    EXPECT_NEAR(signedVolume(c->mesh), grid, 1e-9 * grid);
+    EXPECT_NEAR(signedVolume(c->mesh), grid, kShellVsCellSumRelTol * grid);
 
     // model_Volume_2 地层B: 4 x 2 x 2 hexahedra given by faces; x 250..450, y 0..100, from
     // z = 10 up to z = 100 + y / 10: 200 * (90 * 100 + 0.1 * 100^2 / 2).
@@ -147,7 +149,7 @@ TEST(Geo3dmlVolumes, VolumesEqualTheCellsOfTheFile) {
     ASSERT_TRUE(m2) << m2.error().message;
     const Part* b = bodyNamed(m2.value(), u8s(u8"地层B"));
     ASSERT_TRUE(b);
-    EXPECT_NEAR(signedVolume(b->mesh), 1.9e6, 1e-9 * 1.9e6);
+    EXPECT_NEAR(signedVolume(b->mesh), 1.9e6, kShellVsCellSumRelTol * 1.9e6);
 
     // model_Volume_2 地层D: prisms with vertical edges and planar ends, each of volume
     // area(xy triangle) x (mean top z - mean bottom z); the file's two volume models name
@@ -171,7 +173,7 @@ TEST(Geo3dmlVolumes, VolumesEqualTheCellsOfTheFile) {
     const Part* d2 = bodyNamed(m2.value(), u8s(u8"地层D"));
     ASSERT_TRUE(d2);
     EXPECT_GT(prismSum, 0);
-    EXPECT_NEAR(signedVolume(d2->mesh), prismSum, 1e-9 * prismSum);
+    EXPECT_NEAR(signedVolume(d2->mesh), prismSum, kShellVsCellSumRelTol * prismSum);
 }
 
 // <GeoModel> roots (as Chinese tools write them), with or without a namespace, with http or

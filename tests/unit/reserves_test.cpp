@@ -20,6 +20,18 @@ using namespace geoslice::test;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Cubic metres, box volumes up to 5e5 m^3 (also at GK eastings, through the reference point):
+// exact in double up to rounding of the divergence sums, ~1e-10 m^3, with margin.
+constexpr double kBoxVolumeTolM3 = 1e-6;
+// Tonnes, tonnage of 1.2e6 t: the volume's rounding times a density of 2.5 t/m^3 and more.
+constexpr double kBoxTonnageTolT = 1e-3;
+// Tonnes or grams, tonnage and metal of the small nested boxes (1e4 t, 8e3 g): rounding only.
+constexpr double kNestedTolT = 1e-6;
+// Relative: a 512 x 256 UV sphere is short of the true sphere (and its caps) by ~1e-4.
+constexpr double kUvSphereRelTol = 1e-3;
+// Relative: the same body's volume from two computations in double (kept + removed sides,
+// validation's signed volume, a closed-form cut).
+constexpr double kSameVolumeRelTol = 1e-9;
 
 }  // namespace
 
@@ -27,16 +39,16 @@ TEST(Reserves, BoxWholeAndClipped) {
     // Far from the origin (Gauss-Kruger easting) to exercise the reference point.
     const glm::dvec3 lo(35500000.0, 3380000.0, -200.0), hi = lo + glm::dvec3(100, 60, 40);
     const Mesh box = boxMesh(lo, hi);
-    EXPECT_NEAR(meshVolume(box), 240000.0, 1e-6);
+    EXPECT_NEAR(meshVolume(box), 240000.0, kBoxVolumeTolM3);
     const Plane above{{0, 0, 1}, -(lo.z + 10.0)};  // keeps z >= lo.z + 10
-    EXPECT_NEAR(meshVolume(box, &above), 100.0 * 60.0 * 30.0, 1e-6);
+    EXPECT_NEAR(meshVolume(box, &above), 100.0 * 60.0 * 30.0, kBoxVolumeTolM3);
     // A tilted plane through the box centre keeps exactly half (central symmetry).
     const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, -0.5, 0.8)), c = 0.5 * (lo + hi);
     const Plane tilted{n, -glm::dot(n, c)};
-    EXPECT_NEAR(meshVolume(box, &tilted), 120000.0, 1e-6);
+    EXPECT_NEAR(meshVolume(box, &tilted), 120000.0, kBoxVolumeTolM3);
     // A plane keeping x >= lo.x + 25 and one missing the box.
     const Plane x25{{1, 0, 0}, -(lo.x + 25.0)};
-    EXPECT_NEAR(meshVolume(box, &x25), 75.0 * 60.0 * 40.0, 1e-6);
+    EXPECT_NEAR(meshVolume(box, &x25), 75.0 * 60.0 * 40.0, kBoxVolumeTolM3);
     const Plane none{{0, 0, 1}, -(hi.z + 1.0)};
     EXPECT_EQ(meshVolume(box, &none), 0.0);
 }
@@ -46,15 +58,15 @@ TEST(Reserves, SphereAndCapWithinATenthOfAPercent) {
     const glm::dvec3 c(500.0, 300.0, -50.0);
     const Mesh sphere = sphereMesh(c, r, 512, 256);
     const double analytic = 4.0 / 3.0 * kPi * r * r * r;
-    EXPECT_NEAR(meshVolume(sphere), analytic, 1e-3 * analytic);
+    EXPECT_NEAR(meshVolume(sphere), analytic, kUvSphereRelTol * analytic);
     for (double h : {2.0, 7.5, 10.0, 16.0}) {        // cap heights
         const Plane cap{{0, 0, 1}, -(c.z + r - h)};  // keeps z >= top - h
         const double v = kPi * h * h * (3.0 * r - h) / 3.0;
-        EXPECT_NEAR(meshVolume(sphere, &cap), v, 1e-3 * v) << "h = " << h;
+        EXPECT_NEAR(meshVolume(sphere, &cap), v, kUvSphereRelTol * v) << "h = " << h;
         // The same cap on a slanted axis.
         const glm::dvec3 n = glm::normalize(glm::dvec3(1, 2, -0.5));
         const Plane slanted{n, -glm::dot(n, c + (r - h) * n)};
-        EXPECT_NEAR(meshVolume(sphere, &slanted), v, 1e-3 * v) << "slanted h = " << h;
+        EXPECT_NEAR(meshVolume(sphere, &slanted), v, kUvSphereRelTol * v) << "slanted h = " << h;
     }
 }
 
@@ -86,23 +98,23 @@ TEST(Reserves, NestedNetTonnageAndMetal) {
     ASSERT_TRUE(r.ok());
     ASSERT_EQ(r->bodies.size(), 3u);
     const BodyReserves &h = r->bodies[0], &l = r->bodies[1], &k = r->bodies[2];
-    EXPECT_NEAR(h.grossVolume, 500000.0, 1e-6);
-    EXPECT_NEAR(h.netVolume, 500000.0 - 4000.0, 1e-6);
-    EXPECT_NEAR(l.netVolume, 4000.0 - 600.0, 1e-6);
-    EXPECT_NEAR(k.netVolume, 600.0, 1e-6);
-    EXPECT_NEAR(*h.tonnage, 496000.0 * 2.5, 1e-3);
+    EXPECT_NEAR(h.grossVolume, 500000.0, kBoxVolumeTolM3);
+    EXPECT_NEAR(h.netVolume, 500000.0 - 4000.0, kBoxVolumeTolM3);
+    EXPECT_NEAR(l.netVolume, 4000.0 - 600.0, kBoxVolumeTolM3);
+    EXPECT_NEAR(k.netVolume, 600.0, kBoxVolumeTolM3);
+    EXPECT_NEAR(*h.tonnage, 496000.0 * 2.5, kBoxTonnageTolT);
     EXPECT_FALSE(h.metal.has_value());
-    EXPECT_NEAR(*l.tonnage, 3400.0 * 3.0, 1e-6);
-    EXPECT_NEAR(*l.metal, 3400.0 * 3.0 * 0.02, 1e-6);
+    EXPECT_NEAR(*l.tonnage, 3400.0 * 3.0, kNestedTolT);
+    EXPECT_NEAR(*l.metal, 3400.0 * 3.0 * 0.02, kNestedTolT);
     EXPECT_EQ(l.metalUnit, "t");
-    EXPECT_NEAR(*k.metal, 600.0 * 3.2 * 4.0, 1e-6);
+    EXPECT_NEAR(*k.metal, 600.0 * 3.2 * 4.0, kNestedTolT);
     EXPECT_EQ(k.metalUnit, "g");
     EXPECT_EQ(metalContent(10.0, 3.0, "lb/t").second, "t x lb/t");
     // Kept side z >= 25: host 100x100x25 minus the lens's upper half (20x20x5) ...
     auto half = computeReserves(m, Plane{{0, 0, 1}, -25.0});
     ASSERT_TRUE(half.ok());
-    EXPECT_NEAR(half->bodies[0].netVolume, 250000.0 - 2000.0, 1e-6);
-    EXPECT_NEAR(half->bodies[1].netVolume, 2000.0 - 300.0, 1e-6);
+    EXPECT_NEAR(half->bodies[0].netVolume, 250000.0 - 2000.0, kBoxVolumeTolM3);
+    EXPECT_NEAR(half->bodies[1].netVolume, 2000.0 - 300.0, kBoxVolumeTolM3);
     EXPECT_FALSE(computeReserves(m, Plane{{0, 0, 0}, 1.0}).ok());
     EXPECT_FALSE(computeReserves(m, Plane{{NAN, 0, 1}, 1.0}).ok());
 }
@@ -120,14 +132,14 @@ TEST(Reserves, KeptAndRemovedSidesAddUp) {
         for (std::size_t i = 0; i < whole->bodies.size(); ++i) {
             const double v = whole->bodies[i].grossVolume;
             EXPECT_GT(v, 0.0);
-            EXPECT_NEAR(a->bodies[i].grossVolume + b->bodies[i].grossVolume, v, 1e-9 * v) << "plane " << k;
-            EXPECT_GE(a->bodies[i].grossVolume, -1e-9 * v);
+            EXPECT_NEAR(a->bodies[i].grossVolume + b->bodies[i].grossVolume, v, kSameVolumeRelTol * v) << "plane " << k;
+            EXPECT_GE(a->bodies[i].grossVolume, -kSameVolumeRelTol * v);
         }
     }
     // The mesh volume agrees with validation's signed volume.
     for (std::size_t i = 0; i < whole->bodies.size(); ++i)
         EXPECT_NEAR(whole->bodies[i].grossVolume, m.bodies[i].report.signedVolume,
-                    1e-9 * m.bodies[i].report.signedVolume);
+                    kSameVolumeRelTol * m.bodies[i].report.signedVolume);
 }
 
 TEST(Reserves, KeptVolumeEqualsClosingWithTheSectionPolygons) {
@@ -165,7 +177,7 @@ TEST(Reserves, KeptVolumeEqualsClosingWithTheSectionPolygons) {
             }
             const double closed = sum / 6.0 + b.area * (glm::dot(p.normal, o) + p.d) / 3.0;
             const double ours = meshVolume(mesh, &p);
-            EXPECT_NEAR(ours, closed, 1e-9 * std::abs(m.bodies[b.part].report.signedVolume))
+            EXPECT_NEAR(ours, closed, kSameVolumeRelTol * std::abs(m.bodies[b.part].report.signedVolume))
                 << "plane " << k << " body " << b.part;
         }
     }

@@ -15,6 +15,7 @@
 #include "model/plane.hpp"
 #include "model/view_frame.hpp"
 #include "renderer/views.hpp"
+#include "tests/common/tolerances.hpp"
 
 using namespace geoslice;
 
@@ -29,8 +30,7 @@ constexpr double kUnitLengthTol = 1e-15;
 constexpr double kBaselineTol = 1e-9;
 // Metres, coordinates under 1e4 m (frame centres, a z-only round trip): double steps of 2e-12 m.
 constexpr double kSmallCoordTolM = 1e-9;
-// Metres, world points at GK eastings: double steps of 7.5e-9 m, a few dozen operations.
-constexpr double kGkWorldTolM = 1e-6;
+using test::kGkWorldTolM;  // metres, world points at GK eastings (tests/common/tolerances.hpp)
 // Pixels: double matrices and rays; 7.5e-9 m steps against pixels of 5-50 m.
 constexpr double kPixelTol = 1e-6;
 

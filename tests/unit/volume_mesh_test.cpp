@@ -5,6 +5,7 @@
 #include "../common/tet_model.hpp"
 #include "model/validate.hpp"
 #include "model/volume_mesh.hpp"
+#include "tests/common/tolerances.hpp"
 
 using namespace geoslice;
 using namespace geoslice::test;
@@ -45,6 +46,13 @@ MeshReport closedOutward(Mesh mesh) {
 
 // Volumes below are of shapes with small-integer corners: every product is exact in
 // double, so the tolerance is a few ulps of the value.
+// Cubic metres: volumes of 1 (a few ulps of 1).
+constexpr double kUnitVolumeTol = 1e-15;
+// Cubic metres: volumes of 1-4 from cells and their shells: a few ulps of the value.
+constexpr double kSmallVolumeTol = 1e-14;
+// Cubic metres: a tetrahedron's shell volume about the shell's own reference point (its
+// triangles' divergence terms round separately): a few hundred ulps of 4.
+constexpr double kTetShellVolumeTol = 1e-12;
 TEST(VolumeMesh, TetraEitherOrientationIsOutward) {
     for (bool inverted : {false, true}) {
         VolumeMesh m;
@@ -53,18 +61,18 @@ TEST(VolumeMesh, TetraEitherOrientationIsOutward) {
             m.addCell(CellType::Tetra, {0, 2, 1, 3}, 0);
         else
             m.addCell(CellType::Tetra, {0, 1, 2, 3}, 0);
-        EXPECT_NEAR(cellVolume(m, 0), inverted ? -4.0 : 4.0, 1e-14);
+        EXPECT_NEAR(cellVolume(m, 0), inverted ? -4.0 : 4.0, kSmallVolumeTol);
         auto b = boundaries(m, 1);
         ASSERT_EQ(b.size(), 1u);
         EXPECT_EQ(b[0].triangleCount(), 4u);
         closedOutward(b[0]);
-        EXPECT_NEAR(signedVolume(b[0]), 4.0, 1e-12);
+        EXPECT_NEAR(signedVolume(b[0]), 4.0, kTetShellVolumeTol);
     }
 }
 
 TEST(VolumeMesh, EveryCellTypeGivesAClosedOutwardShellOfItsVolume) {
     VolumeMesh hex = unitHex();
-    EXPECT_NEAR(cellVolume(hex, 0), 1.0, 1e-15);
+    EXPECT_NEAR(cellVolume(hex, 0), 1.0, kUnitVolumeTol);
     auto b = boundaries(hex, 1);
     EXPECT_EQ(b[0].triangleCount(), 12u);
     closedOutward(b[0]);
@@ -74,20 +82,20 @@ TEST(VolumeMesh, EveryCellTypeGivesAClosedOutwardShellOfItsVolume) {
     VolumeMesh wedge;
     wedge.positions = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, 2}, {0, 1, 2}, {1, 0, 2}};
     wedge.addCell(CellType::Wedge, {0, 1, 2, 3, 4, 5}, 0);
-    EXPECT_NEAR(cellVolume(wedge, 0), 1.0, 1e-15);
+    EXPECT_NEAR(cellVolume(wedge, 0), 1.0, kUnitVolumeTol);
     b = boundaries(wedge, 1);
     EXPECT_EQ(b[0].triangleCount(), 8u);
     closedOutward(b[0]);
-    EXPECT_NEAR(signedVolume(b[0]), 1.0, 1e-14);
+    EXPECT_NEAR(signedVolume(b[0]), 1.0, kSmallVolumeTol);
 
     VolumeMesh pyr;  // square base 2x2, apex height 3: volume 4
     pyr.positions = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1, 1, 3}};
     pyr.addCell(CellType::Pyramid, {0, 1, 2, 3, 4}, 0);
-    EXPECT_NEAR(cellVolume(pyr, 0), 4.0, 1e-14);
+    EXPECT_NEAR(cellVolume(pyr, 0), 4.0, kSmallVolumeTol);
     b = boundaries(pyr, 1);
     EXPECT_EQ(b[0].triangleCount(), 6u);
     closedOutward(b[0]);
-    EXPECT_NEAR(signedVolume(b[0]), 4.0, 1e-14);
+    EXPECT_NEAR(signedVolume(b[0]), 4.0, kSmallVolumeTol);
 }
 
 TEST(VolumeMesh, SharedFacesOfOneRegionAreInteriorAndOfTwoRegionsAreKeptTwice) {
@@ -99,7 +107,7 @@ TEST(VolumeMesh, SharedFacesOfOneRegionAreInteriorAndOfTwoRegionsAreKeptTwice) {
     auto one = boundaries(m, 1);
     EXPECT_EQ(one[0].triangleCount(), 20u);  // 10 outer quads
     closedOutward(one[0]);
-    EXPECT_NEAR(signedVolume(one[0]), 2.0, 1e-14);
+    EXPECT_NEAR(signedVolume(one[0]), 2.0, kSmallVolumeTol);
 
     m.cellRegions[1] = 1;
     auto two = boundaries(m, 3);
@@ -107,7 +115,7 @@ TEST(VolumeMesh, SharedFacesOfOneRegionAreInteriorAndOfTwoRegionsAreKeptTwice) {
     for (int r = 0; r < 2; ++r) {
         EXPECT_EQ(two[static_cast<std::size_t>(r)].triangleCount(), 12u);
         closedOutward(two[static_cast<std::size_t>(r)]);
-        EXPECT_NEAR(signedVolume(two[static_cast<std::size_t>(r)]), 1.0, 1e-14);
+        EXPECT_NEAR(signedVolume(two[static_cast<std::size_t>(r)]), 1.0, kSmallVolumeTol);
     }
     EXPECT_EQ(two[2].triangleCount(), 0u);  // a region without cells
 }
@@ -124,7 +132,7 @@ TEST(VolumeMesh, HexAndTetrahedraSplitASharedQuadAlike) {
     auto b = boundaries(m, 2);
     closedOutward(b[0]);
     closedOutward(b[1]);
-    EXPECT_NEAR(signedVolume(b[0]) + signedVolume(b[1]), cellVolume(m, 0) + cellVolume(m, 1), 1e-14);
+    EXPECT_NEAR(signedVolume(b[0]) + signedVolume(b[1]), cellVolume(m, 0) + cellVolume(m, 1), kSmallVolumeTol);
 }
 
 TEST(VolumeMesh, CollapsedHexahedronIsAWedge) {
@@ -135,7 +143,7 @@ TEST(VolumeMesh, CollapsedHexahedronIsAWedge) {
     auto b = boundaries(m, 1);
     EXPECT_EQ(b[0].triangleCount(), 8u);
     closedOutward(b[0]);
-    EXPECT_NEAR(signedVolume(b[0]), 1.0, 1e-14);
+    EXPECT_NEAR(signedVolume(b[0]), 1.0, kSmallVolumeTol);
 }
 
 TEST(VolumeMesh, ErrorsNameTheCell) {
@@ -188,7 +196,7 @@ TEST(VolumeMesh, TetModelBoundariesEncloseTheSummedTetrahedronVolumes) {
             ASSERT_EQ(b.size(), tm.regionCount());
             double total = 0.0;
             for (std::size_t r = 0; r < b.size(); ++r) {
-                EXPECT_NEAR(signedVolume(b[r]), want[r], 1e-9 * want[r]) << tm.regionNames[r];
+                EXPECT_NEAR(signedVolume(b[r]), want[r], test::kShellVsCellSumRelTol * want[r]) << tm.regionNames[r];
                 MeshReport rep = analyseMesh(b[r], false);
                 EXPECT_EQ(rep.boundaryEdges, 0u) << tm.regionNames[r];
                 total += want[r];
@@ -199,7 +207,7 @@ TEST(VolumeMesh, TetModelBoundariesEncloseTheSummedTetrahedronVolumes) {
                 std::fill(all.cellRegions.begin(), all.cellRegions.end(), 0);
                 auto whole = boundaries(all, 1);
                 EXPECT_EQ(whole[0].triangleCount(), 2u * 2 * (8 * 8 + 8 * 6 + 8 * 6));
-                EXPECT_NEAR(signedVolume(whole[0]), total, 1e-9 * total);
+                EXPECT_NEAR(signedVolume(whole[0]), total, test::kShellVsCellSumRelTol * total);
             }
             // The lens has 3 cubes = 3 * 6 tetrahedra, 3 * 12 boundary triangles.
             EXPECT_EQ(b[3].triangleCount(), 36u);
