@@ -14,4 +14,8 @@ constexpr double kGkWorldTolM = 1e-6;
 // in another order over hundreds to thousands of terms.
 constexpr double kShellVsCellSumRelTol = 1e-9;
 
+// Degrees: our coordinates against cs2cs where both run the same PROJ operation (cs2cs prints
+// 10 decimals): 1e-9 degrees is 0.1 mm on the ground.
+constexpr double kSamePipelineDeg = 1e-9;
+
 }  // namespace geoslice::test

@@ -22,12 +22,22 @@
 #include "model/crs.hpp"
 #include "model/version.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/tolerances.hpp"
 #include "tests/server/server_fixture.hpp"
 
 namespace geoslice::server {
 namespace {
 
 using nlohmann::json;
+using test::kGkWorldTolM;  // metres, world points at GK eastings (tests/common/tolerances.hpp)
+// Metres: world y of a contour vertex on the plane y = 3388846: the double cut leaves ~1e-8 m;
+// 1 mm bounds it and still tells a point off the plane.
+constexpr double kContourOnPlaneM = 1e-3;
+// Metres: a line given in lon/lat, through GeographicLib to world and back against the same
+// line in world metres: round trips at GK eastings measure ~4e-9 m (crs_test).
+constexpr double kLonLatRoundTripM = 1e-6;
+// Degrees: the demo is generated at 105.05 E 30.62 N and spans a few hundredths of a degree.
+constexpr double kDemoLonLatDeg = 0.05;
 
 // The demo model's east-west section through its centre (northing 3388846 m).
 const std::string kPlane = "plane=0,1,0,-3388846";
@@ -128,7 +138,7 @@ TEST_F(Server, VectorSectionsAsGeoJsonAndSvg) {
     EXPECT_GT(area, 1e6);
     const json w = getJson("/v1/models/demo/section.geojson?" + kPlane + "&space=world");
     const auto& ring = w["features"][0]["geometry"]["coordinates"][0][0];
-    EXPECT_NEAR(ring[0][1].get<double>(), 3388846.0, 1e-3);  // world y of a point on the plane
+    EXPECT_NEAR(ring[0][1].get<double>(), 3388846.0, kContourOnPlaneM);  // world y of a point on the plane
     auto svg = get("/v1/models/demo/section.svg?" + kPlane + "&size=256x128");
     ASSERT_TRUE(svg);
     EXPECT_EQ(svg->status, 200);
@@ -150,8 +160,9 @@ TEST_F(Server, LonLatLinesAndBoreholes) {
         const json w = getJson("/v1/models/demo/query?" + world + q);
         const json g = getJson("/v1/models/demo/query?" + std::string(lonlat) + q);
         EXPECT_EQ(w["record"], g["record"]);
-        EXPECT_NEAR(w["world"]["x"].get<double>(), g["world"]["x"].get<double>(), 1e-6);  // GeographicLib round trip
-        EXPECT_NEAR(w["world"]["y"].get<double>(), g["world"]["y"].get<double>(), 1e-6);
+        EXPECT_NEAR(w["world"]["x"].get<double>(), g["world"]["x"].get<double>(),
+                    kLonLatRoundTripM);  // GeographicLib round trip
+        EXPECT_NEAR(w["world"]["y"].get<double>(), g["world"]["y"].get<double>(), kLonLatRoundTripM);
     }
     const glm::dvec2 hole = crs.toLonLat(35504000.0, 3388000.0).value();
     char q[128];
@@ -187,10 +198,10 @@ TEST_F(Server, QueryAnswersGeologyAndCoordinates) {
     EXPECT_TRUE(j["record"].contains("name"));
     EXPECT_TRUE(j["record"].contains("lithology"));
     const json& w = j["world"];
-    EXPECT_NEAR(w["y"].get<double>(), 3388846.0, 1e-6);  // on the plane
+    EXPECT_NEAR(w["y"].get<double>(), 3388846.0, kGkWorldTolM);  // on the plane
     EXPECT_EQ(w["projected"]["zone"], 35);
-    EXPECT_NEAR(w["geodetic"]["lon"].get<double>(), 105.05, 0.05);
-    EXPECT_NEAR(w["geodetic"]["lat"].get<double>(), 30.62, 0.05);
+    EXPECT_NEAR(w["geodetic"]["lon"].get<double>(), 105.05, kDemoLonLatDeg);
+    EXPECT_NEAR(w["geodetic"]["lat"].get<double>(), 30.62, kDemoLonLatDeg);
     // A pixel in the sky above the model: a 200 that says there is no geology.
     const json sky = getJson("/v1/models/demo/query?" + kPlane + "&size=512x256&px=5&py=0&vx=10");
     EXPECT_EQ(sky["hit"], false);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "model/crs.hpp"
+#include "tests/common/tolerances.hpp"
 
 namespace geoslice {
 namespace {
@@ -65,9 +66,7 @@ constexpr double kOnCentralMeridianM = 1e-6;
 constexpr double kProjectionOriginDeg = 1e-9;
 // Metres back at that origin: 1e-13 degrees of rounding in lat_0/lon_0 is 0.01 mm.
 constexpr double kProjectionOriginM = 1e-4;
-// Degrees, our transform against cs2cs running the same PROJ pipeline (cs2cs prints 10
-// decimals): 0.1 mm on the ground.
-constexpr double kSamePipelineDeg = 1e-9;
+using test::kSamePipelineDeg;  // degrees, against cs2cs running the same PROJ operation
 // `coords` against cs2cs: metres printed with 6 decimals (5e-7 m) by us, 10 by cs2cs.
 constexpr double kCoordsVsCs2csM = 1e-6;
 // `coords` against cs2cs: degrees printed with 10 decimals by both: 0.1 mm.

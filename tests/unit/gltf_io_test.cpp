@@ -49,6 +49,9 @@ constexpr double kFloatLocalTol = 1.0 / 8192.0 + 1e-8;  // 2^-13 m + double roun
 constexpr double kDracoSteps = 0.5 + 1.0 / 16.0;
 constexpr double kDracoFloatTol = 2.0 / 8192.0 + 2.0 / 4096.0;
 constexpr double kGenericTol = 1e-12;  // see the file comment
+// Relative: every coordinate moves by at most the Draco tolerance (under a millimetre), so a
+// body's volume moves by about that times its area: under 1e-5 of these bodies' volumes.
+constexpr double kDracoVolumeRelTol = 1e-5;
 
 // ---------------------------------------------------------------------------------------
 // Helpers: bytes, base64, GLB containers.
@@ -422,7 +425,7 @@ TEST(Gltf, DracoRoundTripWithinQuantisationStep) {
                 EXPECT_TRUE(got[k].report.closed) << want[k].name;
                 // Every coordinate moves by at most `tol`: the volume by about tol * area.
                 const double volume = signedVolume(a);
-                EXPECT_NEAR(got[k].report.signedVolume, volume, 1e-5 * volume) << want[k].name;
+                EXPECT_NEAR(got[k].report.signedVolume, volume, kDracoVolumeRelTol * volume) << want[k].name;
             }
         }
     };
@@ -448,7 +451,7 @@ TEST(Gltf, GenericSceneGraphTransformsExtrasAndKinds) {
     ASSERT_NE(granite, nullptr);
     EXPECT_EQ(granite->kind, PartKind::Body);
     expectCubeVertices(*granite, [](glm::dvec3 v) { return glm::dvec3(10 + 2 * v.z, 2 * v.x - 28, 20 + 2 * v.y); });
-    EXPECT_NEAR(granite->report.signedVolume, 8.0, 1e-12);
+    EXPECT_NEAR(granite->report.signedVolume, 8.0, kGenericTol);
 
     // Mirrored by scale (-1, 1, 1): glTF (100 - x, y, z) -> world (100 - x, -z, y). The
     // loader reverses the winding, so the shell stays outward without validation's help.
@@ -457,7 +460,7 @@ TEST(Gltf, GenericSceneGraphTransformsExtrasAndKinds) {
     EXPECT_EQ(mirrored->kind, PartKind::Body);
     expectCubeVertices(*mirrored, [](glm::dvec3 v) { return glm::dvec3(100 - v.x, -v.z, v.y); });
     EXPECT_FALSE(mirrored->report.flipped);
-    EXPECT_NEAR(mirrored->report.signedVolume, 1.0, 1e-12);
+    EXPECT_NEAR(mirrored->report.signedVolume, 1.0, kGenericTol);
 
     // Column-major matrix with translation (50, 60, 70).
     const Part* matrix = findPart(m, "matrix cube");

@@ -21,6 +21,11 @@
 namespace geoslice {
 namespace {
 
+// Cubic metres: unit tetrahedra, |det| / 6: one rounding.
+constexpr double kUnitTetVolumeTol = 1e-15;
+// A volume-weighted mean over one cell is the cell's value up to one rounding.
+constexpr double kOneCellMeanTol = 1e-15;
+
 const std::string kData = std::string(GEOSLICE_TEST_DATA_DIR) + "/";
 
 std::size_t countLines(const std::string& text, const std::string& keyword) {
@@ -356,14 +361,14 @@ TEST(GocadLoader, TsolidWithCellValuesAndAtoms) {
         EXPECT_EQ(b.mesh.propertyNames, std::vector<std::string>{"t"});
     }
     // Volumes: 1/6 each (exact tet volumes |det|/6).
-    EXPECT_NEAR(m.bodies[0].report.signedVolume, 1.0 / 6.0, 1e-15);
-    EXPECT_NEAR(m.bodies[1].report.signedVolume, 1.0 / 3.0, 1e-15);
+    EXPECT_NEAR(m.bodies[0].report.signedVolume, 1.0 / 6.0, kUnitTetVolumeTol);
+    EXPECT_NEAR(m.bodies[1].report.signedVolume, 1.0 / 3.0, kUnitTetVolumeTol);
     const AttributeRecord* a = m.attributes.find(m.bodies[0].record);
     ASSERT_NE(a, nullptr);
     // Volume-weighted means of one cell each: the value itself, up to one rounding.
-    EXPECT_NEAR(a->extra["cell_properties"]["grade"]["mean"].get<double>(), 0.5, 1e-15);
+    EXPECT_NEAR(a->extra["cell_properties"]["grade"]["mean"].get<double>(), 0.5, kOneCellMeanTol);
     EXPECT_NEAR(m.attributes.find(m.bodies[1].record)->extra["cell_properties"]["grade"]["mean"].get<double>(), 1.5,
-                1e-15);
+                kOneCellMeanTol);
 
     expectError(parseGocad("GOCAD TSolid 1\nVRTX 1 0 0 0\nTETRA 1 2 3 4\nEND\n", "bad.so"), "bad.so", "vertex id 2");
     expectError(parseGocad("GOCAD TSolid 1\nVRTX 1 0 0 0\nTETRA 1 1 1\nEND\n", "bad.so"), "bad.so", "line 3");

@@ -42,6 +42,14 @@
 namespace geoslice::print {
 namespace {
 
+// Millimetres on the page: positions of a few hundred mm from round scales: rounding only.
+constexpr double kPageMmTol = 1e-9;
+// Degrees: the first-order convergence (lon - lon0) sin(lat) (Snyder 1987, eq. 8-4) against
+// the sheet's: the formula's neglected terms and the sheet's 0.001-degree step.
+constexpr double kConvergenceDeg = 1e-3;
+// Pixels: a pixel-aligned box's corners and width in pixels at 100 dpi: rounding only.
+constexpr double kPixelAlignTolPx = 1e-6;
+
 TEST(PrintPaper, SizesOrientationsAndErrors) {
     auto a4 = paperSize("a4", Orientation::Landscape);
     ASSERT_TRUE(a4.ok());
@@ -103,20 +111,20 @@ TEST(PrintTicks, RoundLabelsAtTheirPagePositions) {
     for (std::size_t i = 0; i < h.size(); ++i) {
         EXPECT_EQ(h[i].tick.value, 50.0 * double(i));
         EXPECT_EQ(h[i].tick.label, std::to_string(50 * i));
-        EXPECT_NEAR(h[i].pageMm, 50.0 + 0.2 * 50.0 * double(i), 1e-9);
+        EXPECT_NEAR(h[i].pageMm, 50.0 + 0.2 * 50.0 * double(i), kPageMmTol);
     }
     const auto v = verticalTicks(f, {"Elevation (m)", 0.0});
     ASSERT_EQ(v.size(), 17u);  // -200, -150, ..., 600
     for (const PlacedTick& t : v) {
         EXPECT_EQ(std::fmod(t.tick.value, 50.0), 0.0);
         EXPECT_EQ(t.tick.label, std::to_string(int(t.tick.value)));
-        EXPECT_NEAR(t.pageMm, 40.0 + (600.0 - t.tick.value) * 0.2, 1e-9);  // y down from the top (600 m)
+        EXPECT_NEAR(t.pageMm, 40.0 + (600.0 - t.tick.value) * 0.2, kPageMmTol);  // y down from the top (600 m)
     }
     // Distances from an end at u = 123.4: labels count from there, positions stay on the frame.
     const auto d = horizontalTicks(f, {"Distance (m)", 123.4});
     ASSERT_FALSE(d.empty());
     EXPECT_EQ(d.front().tick.label, "-100");
-    for (const PlacedTick& t : d) EXPECT_NEAR(t.pageMm, 50.0 + (t.tick.value + 123.4) * 0.2, 1e-9);
+    for (const PlacedTick& t : d) EXPECT_NEAR(t.pageMm, 50.0 + (t.tick.value + 123.4) * 0.2, kPageMmTol);
     // Coordinates: big numbers grouped, and ticks spread until labels do not touch.
     MapFrame g = f;
     g.shown = {35502000.0, 3387000.0, 35508000.0, 3391000.0};
@@ -138,7 +146,7 @@ TEST(PrintFrame, AutoFitPicksARoundScaleAndAGivenScaleMustFit) {
     EXPECT_EQ(f->scale, 25000.0);  // 6000 m into 265 mm needs 1:22,642
     EXPECT_LE(f->box.width, 265.0);
     EXPECT_LE(f->box.height, 200.0);
-    EXPECT_NEAR(f->box.width, 6000.0 * 1000.0 / 25000.0, 1e-9);
+    EXPECT_NEAR(f->box.width, 6000.0 * 1000.0 / 25000.0, kPageMmTol);
     r.exaggeration = 2.0;
     f = fitMapFrame(r);
     ASSERT_TRUE(f.ok());
@@ -274,7 +282,7 @@ TEST(PrintSheet, SectionSheetHasItsSurrounds) {
     auto tn = trueNorthDeg(fx.model.crs, centre);
     ASSERT_TRUE(tn.has_value());
     const double expected = -(ll.value().x - 105.0) * std::sin(ll.value().y * std::numbers::pi / 180.0);
-    EXPECT_NEAR(*tn, expected, 1e-3);
+    EXPECT_NEAR(*tn, expected, kConvergenceDeg);
     EXPECT_FALSE(trueNorthDeg(Crs::local(), centre).has_value());
     bool stated = false;
     for (const std::string& s : texts(plan.value())) stated |= s.rfind("true north ", 0) == 0;
@@ -549,8 +557,8 @@ TEST(PrintRaster, DecoratedSheetAtItsResolution) {
     ASSERT_NE(image, nullptr);
     // Pixel aligned: the box's corners land on whole pixels and the image has one pixel per pixel.
     const double ppmm = 100.0 / 25.4;
-    EXPECT_NEAR(image->box.x * ppmm, std::round(image->box.x * ppmm), 1e-6);
-    EXPECT_NEAR(image->box.width * ppmm, double(image->width), 1e-6);
+    EXPECT_NEAR(image->box.x * ppmm, std::round(image->box.x * ppmm), kPixelAlignTolPx);
+    EXPECT_NEAR(image->box.width * ppmm, double(image->width), kPixelAlignTolPx);
     auto raster = renderRaster(sheet.value(), 100.0);
     ASSERT_TRUE(raster.ok()) << raster.error().message;
     EXPECT_EQ(raster->width, sheetPixels(210.0, 100.0));

@@ -12,11 +12,13 @@
 #include "api/catalog.hpp"
 #include "api/pixel_query.hpp"
 #include "api/view.hpp"
+#include "tests/common/tolerances.hpp"
 
 namespace geoslice {
 namespace {
 
 namespace fs = std::filesystem;
+using test::kSamePipelineDeg;  // degrees, against cs2cs running the same PROJ operation
 
 class TempDir {
 public:
@@ -83,14 +85,14 @@ TEST(QueryCoords, Lv95ModelGivesOwnDatumAndWgs84) {
     // 1e-9 degrees: both are PROJ's same conversion, cs2cs prints 10 decimals.
     EXPECT_EQ(w["geodetic"]["crs"], "EPSG:4150");
     const glm::dvec2 own = cs2cs("-s EPSG:2056 EPSG:4150", "2600010.5 1200020.25");
-    EXPECT_NEAR(w["geodetic"]["lon"].get<double>(), own.x, 1e-9);
-    EXPECT_NEAR(w["geodetic"]["lat"].get<double>(), own.y, 1e-9);
+    EXPECT_NEAR(w["geodetic"]["lon"].get<double>(), own.x, kSamePipelineDeg);
+    EXPECT_NEAR(w["geodetic"]["lat"].get<double>(), own.y, kSamePipelineDeg);
     // WGS 84 through the operation chosen for the model, the one cs2cs uses here too.
     ASSERT_TRUE(w.contains("wgs84")) << w.dump();
     // With the same height: the Helmert shift through geocentric coordinates uses it.
     const glm::dvec2 wgs = cs2cs("-s EPSG:2056 EPSG:4326", "2600010.5 1200020.25 550");
-    EXPECT_NEAR(w["wgs84"]["lon"].get<double>(), wgs.x, 1e-9);
-    EXPECT_NEAR(w["wgs84"]["lat"].get<double>(), wgs.y, 1e-9);
+    EXPECT_NEAR(w["wgs84"]["lon"].get<double>(), wgs.x, kSamePipelineDeg);
+    EXPECT_NEAR(w["wgs84"]["lat"].get<double>(), wgs.y, kSamePipelineDeg);
     EXPECT_EQ(w["wgs84"]["accuracyM"].get<double>(), 1.0);
     EXPECT_EQ(w["wgs84"]["height"].get<double>(), 550.0);
 }

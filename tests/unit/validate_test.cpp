@@ -8,7 +8,13 @@ using namespace geoslice::test;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-}
+// Cubic metres: a box's volume with small-integer corners: exact up to a few double steps.
+constexpr double kBoxVolumeTolM3 = 1e-12;
+// Cubic metres: a 5e5 m^3 host minus a lens, from thousands of triangles: rounding only.
+constexpr double kHostVolumeTolM3 = 1e-6;
+// Relative: an inscribed 96 x 48 UV sphere's volume deficit, of order (pi/n)^2: under 1 %.
+constexpr double kUvSphereRelTol = 0.01;
+}  // namespace
 
 TEST(Validate, ClosedBoxIsOutwardWithExactVolume) {
     Mesh m = boxMesh({0, 0, 0}, {2, 3, 4});
@@ -17,7 +23,7 @@ TEST(Validate, ClosedBoxIsOutwardWithExactVolume) {
     EXPECT_TRUE(r.consistentlyOriented);
     EXPECT_FALSE(r.flipped);
     EXPECT_EQ(r.components, 1u);
-    EXPECT_NEAR(r.signedVolume, 24.0, 1e-12);  // exact in double for a box
+    EXPECT_NEAR(r.signedVolume, 24.0, kBoxVolumeTolM3);  // exact in double for a box
 }
 
 TEST(Validate, InwardBoxIsFlippedAndReported) {
@@ -26,7 +32,7 @@ TEST(Validate, InwardBoxIsFlippedAndReported) {
     EXPECT_LT(signedVolume(m), 0.0);
     MeshReport r = analyseMesh(m, true);
     EXPECT_TRUE(r.flipped);
-    EXPECT_NEAR(r.signedVolume, 24.0, 1e-12);
+    EXPECT_NEAR(r.signedVolume, 24.0, kBoxVolumeTolM3);
     EXPECT_GT(signedVolume(m), 0.0);  // the mesh itself was fixed
 }
 
@@ -104,7 +110,7 @@ TEST(Validate, HostWithCavityIsOrientedPerShell) {
     EXPECT_EQ(model.bodies[0].report.components, 2u);
     EXPECT_FALSE(model.bodies[0].report.flipped);
     const double lensVolume = model.bodies[1].report.signedVolume;
-    EXPECT_NEAR(model.bodies[0].report.signedVolume, 100.0 * 100 * 50 - lensVolume, 1e-6);
+    EXPECT_NEAR(model.bodies[0].report.signedVolume, 100.0 * 100 * 50 - lensVolume, kHostVolumeTolM3);
     EXPECT_EQ(model.bodies[1].report.nestingDepth, 0);  // inside the cavity, not the host
 
     // The same host with the cavity facing outward (a common exporter bug) is fixed.
@@ -112,14 +118,14 @@ TEST(Validate, HostWithCavityIsOrientedPerShell) {
     append(bad, sphereMesh({50, 50, 25}, 10));
     MeshReport br = analyseMesh(bad, true);
     EXPECT_TRUE(br.flipped);
-    EXPECT_NEAR(br.signedVolume, 100.0 * 100 * 50 - lensVolume, 1e-6);
+    EXPECT_NEAR(br.signedVolume, 100.0 * 100 * 50 - lensVolume, kHostVolumeTolM3);
 }
 
 TEST(Validate, SphereVolumeConvergesToAnalytic) {
     // Inscribed UV sphere: relative volume deficit ~ (pi/n)^2 scale; 1% at 96x48.
     Mesh s = sphereMesh({0, 0, 0}, 10.0, 96, 48);
     const double exact = 4.0 / 3.0 * kPi * 1000.0;
-    EXPECT_NEAR(signedVolume(s) / exact, 1.0, 0.01);
+    EXPECT_NEAR(signedVolume(s) / exact, 1.0, kUvSphereRelTol);
 }
 
 TEST(Validate, PointInClosedMeshGrazingRays) {

@@ -13,6 +13,14 @@ using namespace geoslice::test;
 
 namespace {
 
+// Square metres: areas of a few hundred m^2 from coordinates of tens of metres, exported
+// and re-summed: rounding only.
+constexpr double kAreaTolM2 = 1e-9;
+// Square metres: an area of about 1e4 m^2: relative 1e-12 of rounding.
+constexpr double kLargeAreaTolM2 = 1e-8;
+// Metres: the elevation of a horizontal slice written as world z: rounding only.
+constexpr double kElevationTolM = 1e-9;
+
 Model boxLensFault() {
     Mesh sheet;  // vertical fault sheet x = 5, y 0..100, z 0..50
     sheet.positions = {{5, 0, 0}, {5, 100, 0}, {5, 100, 50}, {5, 0, 50}};
@@ -71,17 +79,17 @@ TEST(VectorExport, GeoJsonPlaneAndWorld) {
                 a += ra;
             }
         }
-        EXPECT_NEAR(a, f["properties"]["area_m2"].get<double>(), 1e-9);
+        EXPECT_NEAR(a, f["properties"]["area_m2"].get<double>(), kAreaTolM2);
         if (f["properties"]["record"] == 1) {
             hostArea = a;
             EXPECT_TRUE(f["properties"]["attributes"].is_null());
         } else {
-            EXPECT_NEAR(a, 400.0, 1e-9);
+            EXPECT_NEAR(a, 400.0, kAreaTolM2);
             EXPECT_EQ(f["properties"]["attributes"]["name"], "Lens <ore>");
             EXPECT_EQ(f["properties"]["attributes"]["grade"], 12.5);
         }
     }
-    EXPECT_NEAR(hostArea, 10000.0 - 400.0, 1e-8);
+    EXPECT_NEAR(hostArea, 10000.0 - 400.0, kLargeAreaTolM2);
     // World frame: 3D positions at z = 25 inside the box.
     const auto world = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::World).dump());
     EXPECT_EQ(world["geoslice"]["frame"], "world");
@@ -91,7 +99,7 @@ TEST(VectorExport, GeoJsonPlaneAndWorld) {
             for (const auto& ring : poly)
                 for (const auto& p : ring) {
                     ASSERT_EQ(p.size(), 3u);
-                    EXPECT_NEAR(p[2].get<double>(), 25.0, 1e-9);
+                    EXPECT_NEAR(p[2].get<double>(), 25.0, kElevationTolM);
                     EXPECT_GE(p[0].get<double>(), -1e-9);
                     EXPECT_LE(p[0].get<double>(), 100.0 + 1e-9);
                 }
@@ -138,6 +146,6 @@ TEST(VectorExport, PolylineSectionInWorldCoordinates) {
     const auto plane = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::Plane).dump());
     for (const auto& f : plane["features"])
         if (f["properties"]["record"] == 2) {
-            EXPECT_NEAR(f["properties"]["area_m2"].get<double>(), 200.0, 1e-9);
+            EXPECT_NEAR(f["properties"]["area_m2"].get<double>(), 200.0, kAreaTolM2);
         }
 }
