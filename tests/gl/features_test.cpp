@@ -19,6 +19,14 @@ using namespace geoslice::test;
 namespace {
 
 constexpr int kW = 192, kH = 128;
+// Metres: a round trip through the exaggeration of a point under 200 m: a few double steps.
+constexpr double kSmallRoundTripM = 1e-12;
+// |a normalised plane normal| - 1: a few double steps.
+constexpr double kUnitNormalTol = 1e-12;
+// Metres: a display-space plane equation at points 700 m away, display z up to 3x: rounding.
+constexpr double kPlaneEquationM = 1e-9;
+// Pixels: a column's height at two exaggerations: +-1 px at each end of either column.
+constexpr double kColumnEndsPx = 3.0;
 
 struct Scene {
     std::unique_ptr<GlContext> ctx;
@@ -65,16 +73,16 @@ TEST(VerticalExaggeration, MapsPointsPlanesAndBoundsConsistently) {
     const glm::dvec3 w(10.0, 20.0, 150.0);
     const glm::dvec3 d = ve.toDisplay(w);
     EXPECT_DOUBLE_EQ(d.z, 250.0);  // 100 + 3 * 50
-    EXPECT_NEAR(glm::length(ve.toWorld(d) - w), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(ve.toWorld(d) - w), 0.0, kSmallRoundTripM);
     // A point on a dipping plane stays on the plane's display image.
     const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, -0.4, 0.8));
     const WorldPlane p(n.x, n.y, n.z, -glm::dot(n, w));
     const WorldPlane q = ve.planeToDisplay(p);
-    EXPECT_NEAR(glm::length(glm::dvec3(q)), 1.0, 1e-12);
+    EXPECT_NEAR(glm::length(glm::dvec3(q)), 1.0, kUnitNormalTol);
     for (glm::dvec3 t : {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0)}) {
         const glm::dvec3 along = glm::normalize(t - glm::dot(t, n) * n);
         const glm::dvec3 onPlane = w + 700.0 * along;
-        EXPECT_NEAR(glm::dot(glm::dvec3(q), ve.toDisplay(onPlane)) + q.w, 0.0, 1e-9);
+        EXPECT_NEAR(glm::dot(glm::dvec3(q), ve.toDisplay(onPlane)) + q.w, 0.0, kPlaneEquationM);
     }
     EXPECT_FALSE(checkExaggeration({0.0, 0.0}).ok());
     EXPECT_FALSE(checkExaggeration({std::nan(""), 0.0}).ok());
@@ -147,7 +155,7 @@ TEST(VerticalExaggeration, StretchesThePictureVertically) {
     const int r1 = rows(1.0), r2 = rows(2.0);
     std::printf("[ exagg    ] column height %d px at factor 1, %d px at factor 2\n", r1, r2);
     ASSERT_GT(r1, 10);
-    EXPECT_NEAR(double(r2), 2.0 * double(r1), 3.0);  // +-1 px at each end of either column
+    EXPECT_NEAR(double(r2), 2.0 * double(r1), kColumnEndsPx);  // +-1 px at each end of either column
 }
 
 TEST(SliceRequestErrors, BadExaggerationAndTraceWidthAreErrors) {

@@ -38,9 +38,12 @@ const glm::dvec3 kMargin(50.0, 50.0, 30.0);
 constexpr double kOre = 100.0 * 60.0 * 40.0;     // m^3
 constexpr double kHost = 200.0 * 160.0 * 100.0;  // m^3, gross
 constexpr double kDensity = 2.7, kGrade = 1.5;   // t/m^3, % Cu
+// Relative (absolute below 1): box volumes, tonnages and metal from whole-metre corners at
+// GK eastings, exact after recentring: a few double steps of the sums.
+constexpr double kExactBoxRelTol = 1e-12;
 
 void expectRel(double got, double want, const std::string& what) {
-    EXPECT_NEAR(got, want, 1e-12 * std::max(1.0, std::abs(want))) << what;
+    EXPECT_NEAR(got, want, kExactBoxRelTol * std::max(1.0, std::abs(want))) << what;
 }
 
 class ServerReserves : public InProcessServer {

@@ -17,6 +17,9 @@
 
 #include "model/loaders.hpp"
 
+// t/m^3: a density given in kg/m^3, times 0.001: one rounding of 2650 * 0.001.
+constexpr double kDensityTol = 1e-12;
+
 namespace geoslice {
 namespace {
 
@@ -323,7 +326,7 @@ TEST(Geo3dmlLoader, ChineseFieldNamesMapToRecordFields) {
     EXPECT_EQ(rec->lithology, u8s(u8"石英砂岩"));
     EXPECT_EQ(rec->age, u8s(u8"晚三叠世"));
     ASSERT_TRUE(rec->density.has_value());
-    EXPECT_NEAR(*rec->density, 2.65, 1e-12);  // kg/m3 -> t/m3; 1e-12: one rounding of 2650 * 0.001
+    EXPECT_NEAR(*rec->density, 2.65, kDensityTol);  // kg/m3 -> t/m3; 1e-12: one rounding of 2650 * 0.001
     ASSERT_TRUE(rec->grade.has_value());
     EXPECT_DOUBLE_EQ(*rec->grade, 3.5);
     EXPECT_EQ(rec->gradeUnit, "g/t");

@@ -38,6 +38,12 @@
 #include "section/reserves.hpp"
 #include "section/section_index.hpp"
 #include "tests/common/random_plane.hpp"
+#include "tests/common/tolerances.hpp"
+
+using geoslice::test::kShellVsCellSumRelTol;  // relative, a shell volume against its cells sum
+                                              // (tests/common/tolerances.hpp)
+// Relative: the regions tile the box: their summed tetrahedron volumes against its volume.
+constexpr double kTilesBoxRelTol = 1e-9;
 
 namespace geoslice {
 namespace {
@@ -470,7 +476,7 @@ TEST(RingmeshOracle, TsolidAgreesWithItsTetrahedra) {
         const auto it = std::find(oracle.names.begin(), oracle.names.end(), name);
         ASSERT_NE(it, oracle.names.end()) << name;
         const double want = tetVolume[static_cast<std::size_t>(it - oracle.names.begin())];
-        EXPECT_NEAR(br.grossVolume, want, 1e-9 * want) << name;
+        EXPECT_NEAR(br.grossVolume, want, kShellVsCellSumRelTol * want) << name;
         std::printf("[ oracle   ] TSolid %-12s reserves %.6f m3, tetrahedra %.6f m3, relative difference %.2e\n",
                     name.c_str(), br.grossVolume, want, std::fabs(br.grossVolume - want) / want);
     }
@@ -495,7 +501,7 @@ TEST(RingmeshOracle, Model3dAgreesWithItsRegionTriangles) {
     double sum = 0.0;
     for (double v : oracle.volume) sum += v;
     const double box = (b.max.x - b.min.x) * (b.max.y - b.min.y) * (b.max.z - b.min.z);
-    EXPECT_NEAR(sum, box, 1e-9 * box);
+    EXPECT_NEAR(sum, box, kTilesBoxRelTol * box);
     auto reserves = computeReserves(m);
     ASSERT_TRUE(reserves.ok()) << reserves.error().message;
     ASSERT_EQ(reserves->bodies.size(), oracle.names.size());
@@ -506,7 +512,7 @@ TEST(RingmeshOracle, Model3dAgreesWithItsRegionTriangles) {
         ASSERT_NE(it, oracle.names.end()) << name;
         const double want = oracle.volume[static_cast<std::size_t>(it - oracle.names.begin())];
         EXPECT_GT(want, 0.0) << name;
-        EXPECT_NEAR(br.grossVolume, want, 1e-9 * want) << name;
+        EXPECT_NEAR(br.grossVolume, want, kShellVsCellSumRelTol * want) << name;
         worst = std::max(worst, std::fabs(br.grossVolume - want) / want);
     }
     std::printf(

@@ -12,6 +12,13 @@
 
 #include "tests/common/run_command.hpp"
 
+// Metres: the first interval starts at the collar: the tracer's float tolerance (0.1 mm +
+// 1e-6 x extent, section/borehole.hpp) is under 1 mm.
+constexpr double kCollarM = 1e-3;
+// Relative: east + west halves against the whole: the plane offset passes through
+// std::to_string (1e-6 m) and the JSON volumes are printed.
+constexpr double kHalvesRelTol = 1e-6;
+
 using geoslice::test::CmdResult;
 using geoslice::test::runGeoslice;
 
@@ -106,7 +113,7 @@ TEST(SectionCli, LineVectorsImagesBoreholeAndReserves) {
     ASSERT_EQ(r.exitCode, 0) << r.out;
     auto bh = nlohmann::json::parse(r.out);
     ASSERT_GE(bh["intervals"].size(), 3u);
-    EXPECT_NEAR(bh["intervals"][0]["from_collar_m"].get<double>(), 0.0, 1e-3);
+    EXPECT_NEAR(bh["intervals"][0]["from_collar_m"].get<double>(), 0.0, kCollarM);
     EXPECT_FALSE(bh["intervals"][0]["attributes"].is_null());
     for (std::size_t i = 1; i < bh["intervals"].size(); ++i)
         EXPECT_LE(bh["intervals"][i - 1]["to_m"].get<double>(), bh["intervals"][i]["from_m"].get<double>());
@@ -129,7 +136,7 @@ TEST(SectionCli, LineVectorsImagesBoreholeAndReserves) {
         const double v = whole["bodies"][i]["net_volume_m3"].get<double>();
         EXPECT_GT(v, 0.0);
         EXPECT_NEAR(east["bodies"][i]["net_volume_m3"].get<double>() + west["bodies"][i]["net_volume_m3"].get<double>(),
-                    v, 1e-6 * v);
+                    v, kHalvesRelTol * v);
     }
     EXPECT_EQ(runGeoslice("reserves " + glb).exitCode, 0);
     EXPECT_EQ(runGeoslice("reserves " + glb + " --plane 0,0,0,1").exitCode, 2);

@@ -11,6 +11,11 @@
 #include "section/plane_cut.hpp"
 #include "section_test_util.hpp"
 
+// Relative: the same mesh in another triangle order: volumes and areas are the same sums
+// in another order (areas over ~1e3 points; the absolute 1e-9 m^2 covers zero areas).
+constexpr double kReorderedRelTol = 1e-9;
+constexpr double kReorderedAbsTolM2 = 1e-9;
+
 using namespace geoslice;
 using namespace geoslice::test;
 
@@ -79,7 +84,7 @@ TEST(SectionLeafOrder, SameTrianglesVerticesAndValidation) {
         EXPECT_EQ(a.closed, b.closed);
         EXPECT_EQ(a.boundaryEdges, b.boundaryEdges);
         EXPECT_EQ(a.components, b.components);
-        EXPECT_NEAR(a.signedVolume, b.signedVolume, 1e-9 * std::abs(a.signedVolume)) << m.bodies[i].name;
+        EXPECT_NEAR(a.signedVolume, b.signedVolume, kReorderedRelTol * std::abs(a.signedVolume)) << m.bodies[i].name;
     }
 }
 
@@ -109,7 +114,8 @@ TEST(SectionLeafOrder, SectionsUnchanged) {
             EXPECT_EQ(sa->bodies[i].openChains, sb->bodies[i].openChains);
             // Same segments chained from other starting points: areas agree to rounding
             // (1e-9 relative of sums over ~1e3 points).
-            EXPECT_NEAR(sa->bodies[i].area, sb->bodies[i].area, 1e-9 * std::abs(sa->bodies[i].area) + 1e-9)
+            EXPECT_NEAR(sa->bodies[i].area, sb->bodies[i].area,
+                        kReorderedRelTol * std::abs(sa->bodies[i].area) + kReorderedAbsTolM2)
                 << "plane " << k << " body " << sa->bodies[i].part;
         }
         EXPECT_EQ(sa->traces.size(), sb->traces.size());

@@ -12,6 +12,11 @@
 #include "section_test_util.hpp"
 #include "test_meshes.hpp"
 
+// A horizontal plane's frame axes are exactly world x and y (unit components: one rounding).
+constexpr double kAxisTol = 1e-15;
+// Pixels of coverage: exact-area AA, 8-bit rounding per edge pixel: 36 edge pixels x 0.5/255.
+constexpr double kCoverageTolPx = 0.1;
+
 using namespace geoslice;
 using namespace geoslice::test;
 
@@ -25,8 +30,8 @@ TEST(SectionRaster, BoxIdsAndExactCoverage) {
     auto idx = indexFor(m);
     auto s = computeSection(*idx, horizontalPlane(2.5));  // plan view: u east, v north
     ASSERT_TRUE(s.ok());
-    EXPECT_NEAR(s->frame.u.x, 1.0, 1e-15);
-    EXPECT_NEAR(s->frame.v.y, 1.0, 1e-15);
+    EXPECT_NEAR(s->frame.u.x, 1.0, kAxisTol);
+    EXPECT_NEAR(s->frame.v.y, 1.0, kAxisTol);
     // A frame 1 m per pixel, offset by a fraction so edges fall inside pixels.
     const glm::dvec2 o = s->frame.toPlane(glm::dvec3(0, 0, 0) - m.origin);
     FrameRect rect{o.x - 2.25, o.y - 1.6, o.x - 2.25 + 16, o.y - 1.6 + 12};
@@ -45,7 +50,7 @@ TEST(SectionRaster, BoxIdsAndExactCoverage) {
         }
     EXPECT_EQ(inside, 66u);  // 11 x 6 centres
     // Exact-area AA: the alpha sum is the area in pixels, up to 8-bit rounding per edge pixel.
-    EXPECT_NEAR(coverage, 10.3 * 6.1, 0.1);  // 36 edge pixels x 0.5/255
+    EXPECT_NEAR(coverage, 10.3 * 6.1, kCoverageTolPx);  // 36 edge pixels x 0.5/255
     // Inside pixels carry the record's colour exactly.
     const std::uint8_t* px = &img->rgba[4 * (5 * 16 + 6)];
     EXPECT_EQ(px[0], 200);

@@ -24,6 +24,10 @@
 #include "section/contours.hpp"
 #include "section/raster.hpp"
 #include "section/reserves.hpp"
+#include "tests/common/tolerances.hpp"
+
+using geoslice::test::kShellVsCellSumRelTol;  // relative, a shell volume against its cells sum
+                                              // (tests/common/tolerances.hpp)
 #include "section/section_index.hpp"
 
 using namespace geoslice;
@@ -176,7 +180,7 @@ void checkModel(const TetModelOptions& options, const char* label) {
     double worstVolume = 0.0;
     for (std::size_t r = 0; r < tm.regionCount(); ++r) {
         const double v = meshVolume(m.bodies[r].mesh);
-        EXPECT_NEAR(v, tetVolumes[r], 1e-9 * tetVolumes[r]) << tm.regionNames[r];
+        EXPECT_NEAR(v, tetVolumes[r], kShellVsCellSumRelTol * tetVolumes[r]) << tm.regionNames[r];
         worstVolume = std::max(worstVolume, std::abs(v - tetVolumes[r]) / tetVolumes[r]);
     }
     std::printf("  [%s] body volumes vs summed tetrahedra: worst relative error %.3g\n", label, worstVolume);

@@ -9,6 +9,9 @@
 #include "section/section_index.hpp"
 #include "test_meshes.hpp"
 
+// Cubic metres or square metres: exact box volumes and square areas, summed in double.
+constexpr double kExactBoxTol = 1e-9;
+
 using namespace geoslice;
 using namespace geoslice::test;
 
@@ -53,8 +56,8 @@ TEST(ValidatePinch, BoxesSharingAnEdgeAreTwoClosedShells) {
         EXPECT_EQ(r.splitVertices, 2u);
         EXPECT_EQ(r.components, 2u);
         EXPECT_EQ(r.flipped, inward);
-        EXPECT_NEAR(r.signedVolume, 2000.0, 1e-9);  // exact box volumes, summed in double
-        EXPECT_EQ(m.positions.size(), 16u);         // the shared edge is now two edges
+        EXPECT_NEAR(r.signedVolume, 2000.0, kExactBoxTol);  // exact box volumes, summed in double
+        EXPECT_EQ(m.positions.size(), 16u);                 // the shared edge is now two edges
         // Idempotent: analysing the split mesh again (it welds by position, so it finds the
         // same pinch) leaves it as it is.
         const std::vector<std::uint32_t> indices = m.indices;
@@ -138,7 +141,7 @@ TEST(ValidatePinch, SectionThroughAPinchEdgeGivesTwoClosedSquares) {
     ASSERT_NE(host, nullptr);
     EXPECT_EQ(pinched->openChains, 0u);
     EXPECT_EQ(pinched->polygons.size(), 2u);  // two squares touching at a corner, not a figure 8
-    EXPECT_NEAR(pinched->area, 200.0, 1e-9);
+    EXPECT_NEAR(pinched->area, 200.0, kExactBoxTol);
     EXPECT_EQ(host->openChains, 0u);
-    EXPECT_NEAR(host->area, 900.0 - 200.0, 1e-9);  // the squares are holes of the host
+    EXPECT_NEAR(host->area, 900.0 - 200.0, kExactBoxTol);  // the squares are holes of the host
 }

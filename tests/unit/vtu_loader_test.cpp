@@ -22,6 +22,8 @@ namespace {
 
 using testing::VtuEncoding;
 using testing::VtuGrid;
+// Cubic metres: unit cubes from integer coordinates: exact up to a few double steps.
+constexpr double kCubeVolumeTol = 1e-12;
 
 // Two unit cubes side by side: [0,1]^3 as one hexahedron (formation 5) and [1,2]x[0,1]^2
 // as six tetrahedra around its diagonal (formation 7). Point data "temperature" = x + 10 z;
@@ -72,8 +74,8 @@ void expectTwoCubes(const Model& m, const std::string& label) {
     ASSERT_TRUE(a && b);
     EXPECT_EQ(a->record, 5u);
     EXPECT_EQ(b->record, 7u);
-    EXPECT_NEAR(signedVolume(a->mesh), 1.0, 1e-12);
-    EXPECT_NEAR(signedVolume(b->mesh), 1.0, 1e-12);
+    EXPECT_NEAR(signedVolume(a->mesh), 1.0, kCubeVolumeTol);
+    EXPECT_NEAR(signedVolume(b->mesh), 1.0, kCubeVolumeTol);
     EXPECT_EQ(a->mesh.triangleCount(), 12u);  // six quads, two triangles each
     EXPECT_EQ(b->mesh.triangleCount(), 12u);
     const Aabb box = m.bounds();
@@ -126,7 +128,7 @@ TEST(VtuLoader, RegionArrayByNameOrDefault) {
     EXPECT_TRUE(bodyNamed(m.value(), "block 1") && bodyNamed(m.value(), "block 2"));
     double total = 0;
     for (const auto& b : m->bodies) total += signedVolume(b.mesh);
-    EXPECT_NEAR(total, 2.0, 1e-12);
+    EXPECT_NEAR(total, 2.0, kCubeVolumeTol);
     // A name that is not there: the error lists what is.
     auto bad = parseVtu(testing::writeVtu(g, e), "cubes.vtu", VtuOptions{"formation"});
     ASSERT_FALSE(bad);
@@ -143,7 +145,7 @@ TEST(VtuLoader, RegionArrayByNameOrDefault) {
     m = parseVtu(testing::writeVtu(g, e), "cubes.vtu");
     ASSERT_TRUE(m) << m.error().message;
     ASSERT_EQ(m->bodies.size(), 1u);
-    EXPECT_NEAR(signedVolume(m->bodies[0].mesh), 2.0, 1e-12);
+    EXPECT_NEAR(signedVolume(m->bodies[0].mesh), 2.0, kCubeVolumeTol);
 }
 
 TEST(VtuLoader, ValuesOutsideRecordIdsGetRanks) {

@@ -31,6 +31,10 @@
 #include "section/section_index.hpp"
 #include "tests/common/random_plane.hpp"
 #include "tests/common/tet_model.hpp"
+#include "tests/common/tolerances.hpp"
+
+using geoslice::test::kShellVsCellSumRelTol;  // relative, a shell volume against its cells sum
+                                              // (tests/common/tolerances.hpp)
 #include "tests/common/vtu_writer.hpp"
 
 namespace geoslice {
@@ -208,7 +212,7 @@ TEST(VtuOracle, TetModelInEveryEncodingAgreesWithPointInTetrahedron) {
         for (const auto& br : reserves->bodies) {
             const double expected = tetVolume[br.record];
             worstRel = std::max(worstRel, std::abs(br.grossVolume - expected) / expected);
-            EXPECT_NEAR(br.grossVolume, expected, 1e-9 * expected) << model.bodies[br.body].name;
+            EXPECT_NEAR(br.grossVolume, expected, kShellVsCellSumRelTol * expected) << model.bodies[br.body].name;
         }
 
         // Random points: classify vs point in tetrahedron.
