@@ -28,6 +28,38 @@ using namespace geoslice::test;
 
 namespace {
 
+// Tolerances of this file (the comments at each check say more).
+// Square metres: areas of polygons and pieces from clipped coordinates of 10-100 m: rounding.
+constexpr double kAreaTolM2 = 1e-9;
+// Relative: the same area or kept volume two ways (pieces summed, a closed shell, the mesh
+// cut by the plane): rounding only.
+constexpr double kSameQuantityRelTol = 1e-9;
+// Cubic metres: one cell's exact volume (up to 1000 m^3) from sums of ~10 products of 10 m
+// numbers, or from its pieces and the fan's cancelling overlaps: rounding.
+constexpr double kCellVolumeTolM3 = 1e-9;
+// Cubic metres: a whole grid's or orebody's volume (~1e5 m^3) summed from hundreds of cells.
+constexpr double kGridTotalTolM3 = 1e-7;
+// Cubic metres: the box orebody's volume from its cells: rounding of ~1e5 m^3.
+constexpr double kOreVolumeTolM3 = 1e-9;
+// Relative: a sphere's cells against the mesh's own volume: rounding of ~1e4 terms.
+constexpr double kSphereCellsRelTol = 1e-12;
+// Relative (absolute for mean grades under 2 g/t): grade-tonnage rows from sums of a few
+// hundred exact cell volumes: rounding.
+constexpr double kGradeTonnageRelTol = 1e-12;
+// Relative: metal sums products of cell volume, density and grade over a few hundred cells.
+constexpr double kMetalRelTol = 1e-9;
+// Cubic metres: the closed-form box x half-space oracle checks itself: cancellation of eight
+// cubes of ~80 m distances.
+constexpr double kClosedFormTolM3 = 1e-8;
+// Relative: a sphere cut obliquely, its cells against the kept mesh volume: rounding of ~1e4
+// terms and of the fan's overlaps.
+constexpr double kSphereKeptRelTol = 1e-11;
+// A plane's d after normalisation: a few double steps.
+constexpr double kNormalisedPlaneTol = 1e-12;
+// Relative (absolute for mean grades): kept-side grade-tonnage rows: per-cell errors of 1e-9 m^3
+// over ~1e4 m^3.
+constexpr double kKeptGradeTonnageRelTol = 1e-10;
+
 // A CSV of an nx x ny x nz grid of `cell`-metre cells from `lo` (cell corner), grade = f(centre).
 template <class F>
 std::string gridCsv(glm::dvec3 lo, double cell, int nx, int ny, int nz, F grade, bool density = false) {
@@ -136,7 +168,7 @@ TEST(BlockModel, CellPolygonsOfAHorizontalAndAnObliquePlane) {
     ASSERT_TRUE(flat.ok());
     ASSERT_EQ(flat->size(), 9u);
     for (const CellPolygon& c : flat.value()) {
-        EXPECT_NEAR(ringArea(c.ring), 100.0, 1e-9);  // exact squares; 1e-9 m² = rounding of 10 m coordinates
+        EXPECT_NEAR(ringArea(c.ring), 100.0, kAreaTolM2);  // exact squares; 1e-9 m² = rounding of 10 m coordinates
         EXPECT_EQ(b->ijk(c.cell)[2], 1u);
     }
     // Oblique: the polygons tile the plane's section of the grid box, whose area is that of
@@ -155,7 +187,7 @@ TEST(BlockModel, CellPolygonsOfAHorizontalAndAnObliquePlane) {
         for (const auto& q : c.ring) mean += q;
         EXPECT_EQ(b->cellAt(frame.toWorld(mean / double(c.ring.size()))), c.cell);
     }
-    EXPECT_NEAR(sum, ringArea(whole->front().ring), 1e-9 * sum);  // rounding only
+    EXPECT_NEAR(sum, ringArea(whole->front().ring), kSameQuantityRelTol * sum);  // rounding only
 }
 
 TEST(BlockModel, ExactCellVolumesOfBoxesAndASphere) {
@@ -182,12 +214,12 @@ TEST(BlockModel, ExactCellVolumesOfBoxesAndASphere) {
             for (const CellVolume& cv : cells)
                 if (cv.cell == c) got = cv.volume;
             // 1e-9 m³ of a 1000 m³ cell: rounding of sums of ~10 products of 10 m numbers.
-            EXPECT_NEAR(got, expect, 1e-9) << "cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
+            EXPECT_NEAR(got, expect, kCellVolumeTolM3) << "cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
             total += got;
             ++checked;
         }
         EXPECT_EQ(checked, b->cellCount());
-        EXPECT_NEAR(total, meshVolume(mesh), 1e-7);
+        EXPECT_NEAR(total, meshVolume(mesh), kGridTotalTolM3);
     }
     // A sphere (1152 triangles, vertices anywhere): the cells' volumes sum to the mesh's own
     // volume (section/reserves.hpp), relative 1e-12 (rounding of about 10^4 terms).
@@ -198,7 +230,7 @@ TEST(BlockModel, ExactCellVolumesOfBoxesAndASphere) {
         EXPECT_LT(cv.volume, 1000.0 + 1e-9);
         sum += cv.volume;
     }
-    EXPECT_NEAR(sum, meshVolume(sphere), 1e-12 * meshVolume(sphere));
+    EXPECT_NEAR(sum, meshVolume(sphere), kSphereCellsRelTol * meshVolume(sphere));
 }
 
 TEST(BlockModel, GradeTonnageOfABoxOrebodyWithALinearGrade) {
@@ -243,15 +275,15 @@ TEST(BlockModel, GradeTonnageOfABoxOrebodyWithALinearGrade) {
         }
         const GradeTonnageRow& row = bt.rows[c];
         // Relative 1e-12: rounding of sums of a few hundred cell volumes.
-        EXPECT_NEAR(row.volume, vol, 1e-12 * vol);
+        EXPECT_NEAR(row.volume, vol, kGradeTonnageRelTol * vol);
         ASSERT_TRUE(row.tonnage && row.meanGrade && row.metal);
-        EXPECT_NEAR(*row.tonnage, 2.8 * vol, 1e-12 * 2.8 * vol);
-        EXPECT_NEAR(*row.meanGrade, metal / (2.8 * vol), 1e-12);
-        EXPECT_NEAR(*row.metal, metal, 1e-9 * metal);  // g/t x t = g
+        EXPECT_NEAR(*row.tonnage, 2.8 * vol, kGradeTonnageRelTol * 2.8 * vol);
+        EXPECT_NEAR(*row.meanGrade, metal / (2.8 * vol), kGradeTonnageRelTol);
+        EXPECT_NEAR(*row.metal, metal, kMetalRelTol * metal);  // g/t x t = g
         EXPECT_EQ(row.metalUnit, "g");
     }
     // Cut-off 0: the whole orebody inside the grid ([0, 80] x [0, 56] x [0, 56] holds it).
-    EXPECT_NEAR(bt.rows[0].volume, (oreHi - oreLo).x * (oreHi - oreLo).y * (oreHi - oreLo).z, 1e-9);
+    EXPECT_NEAR(bt.rows[0].volume, (oreHi - oreLo).x * (oreHi - oreLo).y * (oreHi - oreLo).z, kOreVolumeTolM3);
     // The host, clipped too, is net of the orebody nested in it.
     m.blocks = nullptr;
     auto b2 = blockModelFromCsv(gridCsv({0, 0, 0}, 8.0, 10, 7, 7, grade), "ore.csv").value();
@@ -260,7 +292,7 @@ TEST(BlockModel, GradeTonnageOfABoxOrebodyWithALinearGrade) {
     auto both = computeGradeTonnage(m, "grade", {0.0});
     ASSERT_TRUE(both.ok());
     ASSERT_EQ(both->bodies.size(), 2u);
-    EXPECT_NEAR(both->bodies[0].volume + both->bodies[1].volume, 80.0 * 56 * 56, 1e-7);
+    EXPECT_NEAR(both->bodies[0].volume + both->bodies[1].volume, 80.0 * 56 * 56, kGridTotalTolM3);
     EXPECT_FALSE(both->bodies[0].rows[0].tonnage);  // the host has no density
     // JSON and CSV layouts.
     const auto j = api::gradeTonnageJson(m, both.value());
@@ -303,16 +335,16 @@ TEST(BlockModel, KeptSideOfAPlaneCellVolumesAreExact) {
     // The closed-form oracle checks itself: planes just missing the box keep all or nothing
     // (1e-8 m³: cancellation of eight cubes of ~80 m distances).
     const glm::dvec3 n0 = glm::normalize(glm::dvec3(1, 2, 3));
-    EXPECT_NEAR(boxHalfSpace(lo, hi, n0, -glm::dot(n0, lo) + 0.5), meshVolume(ore), 1e-8);
-    EXPECT_NEAR(boxHalfSpace(lo, hi, n0, -glm::dot(n0, hi) - 0.5), 0.0, 1e-8);
+    EXPECT_NEAR(boxHalfSpace(lo, hi, n0, -glm::dot(n0, lo) + 0.5), meshVolume(ore), kClosedFormTolM3);
+    EXPECT_NEAR(boxHalfSpace(lo, hi, n0, -glm::dot(n0, hi) - 0.5), 0.0, kClosedFormTolM3);
     for (const glm::dvec3 dir : {glm::dvec3(0.6, -0.5, 0.62), glm::dvec3(-0.31, 0.8, -0.2), glm::dvec3(1, 1, 1)}) {
         const glm::dvec3 n = glm::normalize(dir);
         const double d = -glm::dot(n, glm::dvec3(40.2, 25.1, 29.7));
         const Plane plane{n, d};
         // The closed shell's own volume is the kept volume section/reserves.hpp finds.
         const Mesh shell = keptSideShell(ore, plane);
-        EXPECT_NEAR(meshVolume(shell), meshVolume(ore, &plane), 1e-9 * meshVolume(ore));
-        EXPECT_NEAR(meshVolume(shell), boxHalfSpace(lo, hi, n, d), 1e-9 * meshVolume(ore));
+        EXPECT_NEAR(meshVolume(shell), meshVolume(ore, &plane), kSameQuantityRelTol * meshVolume(ore));
+        EXPECT_NEAR(meshVolume(shell), boxHalfSpace(lo, hi, n, d), kSameQuantityRelTol * meshVolume(ore));
         const auto cells = cellBodyVolumes(b.value(), ore, plane);
         std::size_t c = 0, nonzero = 0;
         for (std::size_t cell = 0; cell < b->cellCount(); ++cell) {
@@ -324,7 +356,7 @@ TEST(BlockModel, KeptSideOfAPlaneCellVolumesAreExact) {
             if (c < cells.size() && cells[c].cell == cell) got = cells[c].volume;
             // 1e-9 m³ of a 512 m³ cell: rounding of the pieces' sums and the fan's cancelling
             // overlaps (the closed form itself is good to ~1e-12 m³ at this size).
-            EXPECT_NEAR(got, expect, 1e-9) << "cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
+            EXPECT_NEAR(got, expect, kCellVolumeTolM3) << "cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
             nonzero += expect > 1e-9;
         }
         EXPECT_GT(nonzero, 50u);
@@ -341,8 +373,8 @@ TEST(BlockModel, KeptSideOfAPlaneCellVolumesAreExact) {
     for (const auto* v : {&east, &west})
         for (const CellVolume& cv : *v) sum += cv.volume;
     for (const CellVolume& cv : whole) all += cv.volume;
-    EXPECT_NEAR(sum, all, 1e-9 * all);
-    EXPECT_NEAR(sum, meshVolume(ore), 1e-9 * all);
+    EXPECT_NEAR(sum, all, kSameQuantityRelTol * all);
+    EXPECT_NEAR(sum, meshVolume(ore), kSameQuantityRelTol * all);
     // A sphere (vertices anywhere) cut obliquely: the cells sum to the kept mesh volume.
     const Mesh sphere = sphereMesh({41.2, 27.7, 28.3}, 21.5);
     const Plane cut{glm::normalize(glm::dvec3(0.3, -0.7, 0.4)), 0.0};
@@ -354,7 +386,7 @@ TEST(BlockModel, KeptSideOfAPlaneCellVolumesAreExact) {
         ssum += cv.volume;
     }
     // Relative 1e-11: rounding of ~10^4 terms and of the fan's overlaps.
-    EXPECT_NEAR(ssum, meshVolume(sphere, &p2), 1e-11 * meshVolume(sphere));
+    EXPECT_NEAR(ssum, meshVolume(sphere, &p2), kSphereKeptRelTol * meshVolume(sphere));
     EXPECT_TRUE(keptSideShell(sphere, Plane{{0, 0, 1}, -1e4}).indices.empty());
 }
 
@@ -385,7 +417,7 @@ TEST(BlockModel, GradeTonnageOnTheKeptSideOfAPlane) {
     auto table = computeGradeTonnage(m, "grade", cutoffs, Plane{3.0 * n, 3.0 * d});
     ASSERT_TRUE(table.ok()) << table.error().message;
     ASSERT_TRUE(table->plane);
-    EXPECT_NEAR(table->plane->d, d, 1e-12);
+    EXPECT_NEAR(table->plane->d, d, kNormalisedPlaneTol);
     ASSERT_EQ(table->bodies.size(), 2u);
     const BlockModel& bm = *m.blocks;
     double oreKept = 0.0;
@@ -405,19 +437,19 @@ TEST(BlockModel, GradeTonnageOnTheKeptSideOfAPlane) {
         if (c == 0) oreKept = vol;
         const GradeTonnageRow& row = table->bodies[1].rows[c];
         // Relative 1e-10: per-cell errors of 1e-9 m³ (above) over ~10^4 m³.
-        EXPECT_NEAR(row.volume, vol, 1e-10 * vol);
+        EXPECT_NEAR(row.volume, vol, kKeptGradeTonnageRelTol * vol);
         EXPECT_EQ(row.cells, cells);
         ASSERT_TRUE(row.tonnage && row.meanGrade && row.metal);
-        EXPECT_NEAR(*row.tonnage, 2.8 * vol, 1e-10 * 2.8 * vol);
-        EXPECT_NEAR(*row.meanGrade, metal / (2.8 * vol), 1e-10);
-        EXPECT_NEAR(*row.metal, metal, 1e-10 * metal);
+        EXPECT_NEAR(*row.tonnage, 2.8 * vol, kKeptGradeTonnageRelTol * 2.8 * vol);
+        EXPECT_NEAR(*row.meanGrade, metal / (2.8 * vol), kKeptGradeTonnageRelTol);
+        EXPECT_NEAR(*row.metal, metal, kKeptGradeTonnageRelTol * metal);
     }
-    EXPECT_NEAR(oreKept, meshVolume(m.bodies[1].mesh, &*table->plane), 1e-9 * oreKept);
+    EXPECT_NEAR(oreKept, meshVolume(m.bodies[1].mesh, &*table->plane), kSameQuantityRelTol * oreKept);
     // The host (net of the orebody) plus the orebody: the grid's part on the kept side, the
     // grid [0, 80] x [0, 56]^2 lying inside the host.
     const double gridKept = boxHalfSpace({0, 0, 0}, {80, 56, 56}, n, d);
-    EXPECT_NEAR(table->bodies[0].volume + table->bodies[1].volume, gridKept, 1e-10 * gridKept);
-    EXPECT_NEAR(table->bodies[1].volume, oreKept, 1e-10 * oreKept);
+    EXPECT_NEAR(table->bodies[0].volume + table->bodies[1].volume, gridKept, kKeptGradeTonnageRelTol * gridKept);
+    EXPECT_NEAR(table->bodies[1].volume, oreKept, kKeptGradeTonnageRelTol * oreKept);
     // The same request through the HTTP parameters: accepted now, the plane in the JSON.
     auto rr = api::parseReservesRequest(api::Params{{"plane", "0.6,-0.5,0.62,3"}, {"cutoffs", "0,1"}}, false);
     ASSERT_TRUE(rr.ok()) << rr.error().message;
@@ -584,7 +616,7 @@ TEST(BlockModel, ColourParametersAndVectorPieces) {
             ++pieces;
         }
     EXPECT_EQ(pieces, 6u * 5u);  // x in 20.5..70.5 meets 6 cells, y in 20.5..60.5 meets 5
-    EXPECT_NEAR(area, 50.0 * 40.0, 1e-9);
+    EXPECT_NEAR(area, 50.0 * 40.0, kAreaTolM2);
     EXPECT_EQ(doc["blockLegend"]["breaks"].size(), 2u);
     auto svg = api::renderVector(*cm.value(), plan.value(), true, false);
     ASSERT_TRUE(svg.ok());
@@ -674,7 +706,7 @@ TEST(BlockModel, PolylineSectionPiecesAreExact) {
             const auto it = got.find({leg, cell});
             const double g = it == got.end() ? 0.0 : it->second;
             // 1e-9 m²: rounding of clipped coordinates of ~100 m (a piece is up to 140 m²).
-            EXPECT_NEAR(g, area, 1e-9) << "leg " << leg << " cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
+            EXPECT_NEAR(g, area, kAreaTolM2) << "leg " << leg << " cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
             expected += area > 1e-9;
         }
     EXPECT_EQ(got.size(), expected);
@@ -705,7 +737,7 @@ TEST(BlockModel, PolylineSectionPiecesAreExact) {
         }
     for (const BlockPiece& p : pieces.value()) oreArea += p.area;
     EXPECT_EQ(features, pieces->size());
-    EXPECT_NEAR(area, oreArea, 1e-9);
+    EXPECT_NEAR(area, oreArea, kAreaTolM2);
     EXPECT_EQ(doc["blockLegend"]["breaks"].size(), 2u);
     auto svg = api::renderVector(*cm.value(), plan.value(), true, false);
     ASSERT_TRUE(svg.ok()) << svg.error().message;
