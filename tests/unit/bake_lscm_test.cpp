@@ -18,6 +18,8 @@ constexpr double kChartAreaTolM2 = 1e-6;
 // Relative: an isometric parametrisation's edge lengths and distortion (1 at best) over a
 // 100 m chart at Gauss-Kruger eastings: double round-off, ~1e-9, with margin.
 constexpr double kIsometryRelTol = 1e-8;
+// Relative: LSCM of a developable cylinder is an isometry up to the solver's round-off.
+constexpr double kSolverIsometryRelTol = 1e-7;
 
 struct Chart {
     std::vector<glm::dvec3> positions;
@@ -87,7 +89,7 @@ TEST(BakeLscm, CylinderStripUnrollsExactly) {
     const auto tris = c.tris();
     auto uv = bake::lscmChart(c.positions.data(), c.indices.data(), tris.data(), tris.size());
     EXPECT_EQ(uv.badTriangles, 0u);
-    EXPECT_LT(maxEdgeError(c, uv), 1e-7);
+    EXPECT_LT(maxEdgeError(c, uv), kSolverIsometryRelTol);
 }
 
 TEST(BakeLscm, CurvedCapIsNearlyConformal) {

@@ -357,7 +357,7 @@ TEST(BlockModel, KeptSideOfAPlaneCellVolumesAreExact) {
             // 1e-9 m³ of a 512 m³ cell: rounding of the pieces' sums and the fan's cancelling
             // overlaps (the closed form itself is good to ~1e-12 m³ at this size).
             EXPECT_NEAR(got, expect, kCellVolumeTolM3) << "cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
-            nonzero += expect > 1e-9;
+            nonzero += expect > kCellVolumeTolM3;
         }
         EXPECT_GT(nonzero, 50u);
     }
@@ -432,7 +432,7 @@ TEST(BlockModel, GradeTonnageOnTheKeptSideOfAPlane) {
             const double v = boxHalfSpace(glm::max(lo, oreLo), glm::min(lo + 8.0, oreHi), n, d);
             vol += v;
             metal += v * 2.8 * g;
-            cells += v > 1e-9 * 512;
+            cells += v > kCellVolumeTolM3 * 512;
         }
         if (c == 0) oreKept = vol;
         const GradeTonnageRow& row = table->bodies[1].rows[c];
@@ -707,7 +707,7 @@ TEST(BlockModel, PolylineSectionPiecesAreExact) {
             const double g = it == got.end() ? 0.0 : it->second;
             // 1e-9 m²: rounding of clipped coordinates of ~100 m (a piece is up to 140 m²).
             EXPECT_NEAR(g, area, kAreaTolM2) << "leg " << leg << " cell " << ijk[0] << "," << ijk[1] << "," << ijk[2];
-            expected += area > 1e-9;
+            expected += area > kAreaTolM2;
         }
     EXPECT_EQ(got.size(), expected);
     EXPECT_GT(expected, 20u);

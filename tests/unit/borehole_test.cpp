@@ -33,6 +33,8 @@ Mesh sheet(double x0, double y0, double x1, double y1, double h) {
 // Float32 local frame of a 100 m model: the tolerance of section/borehole.hpp is 0.1 mm
 // plus 1e-6 x (50 m + distance); hits themselves are within a few float ulps (< 0.05 mm).
 constexpr double kTol = 2e-4;
+// Metres: samples this close to an interval's end are not compared (kTol, with margin).
+constexpr double kNearEndM = 5e-3;
 // Metres: the borehole's origin (the collar plus 1 m, computed in double from the model's
 // bounds): a few double steps.
 constexpr double kOriginTolM = 1e-12;
@@ -176,7 +178,7 @@ TEST(Borehole, RandomHolesAgreeWithTheOracle) {
                 RecordId expect = kNoRecord;
                 bool nearEnd = false;
                 for (const auto& iv : bh->intervals) {
-                    nearEnd = nearEnd || std::abs(t - iv.from) < 5e-3 || std::abs(t - iv.to) < 5e-3;
+                    nearEnd = nearEnd || std::abs(t - iv.from) < kNearEndM || std::abs(t - iv.to) < kNearEndM;
                     if (t >= iv.from && t < iv.to) expect = iv.record;
                 }
                 if (nearEnd) continue;

@@ -17,6 +17,11 @@ namespace {
 constexpr double kTriangleTargetRelTol = 0.05;
 // Degrees: the model's centre is placed exactly at the requested lon/lat; 1e-9 deg ~ 0.1 mm.
 constexpr double kPlacedCentreDeg = 1e-9;
+// Metres: the origin is the bounds' centre rounded to whole metres (model/model.hpp).
+constexpr double kOriginRoundingM = 1.0;
+// Metres: positions through float32 in the local frame (|local| <= ~3.1 km): half an ulp is
+// 1.2e-4 m per axis; 5e-4 m allows for the sums.
+constexpr double kFloat32LocalM = 5e-4;
 
 // What the generator produced, before validation could fix anything.
 Model generate(std::size_t triangles, OreVariant ore = OreVariant::Nested, std::uint64_t seed = 1) {
@@ -146,7 +151,7 @@ TEST(Synthetic, PlacedAtGaussKrugerCoordinates) {
     EXPECT_NEAR(centre->x, 105.2, kPlacedCentreDeg);
     EXPECT_NEAR(centre->y, 30.5, kPlacedCentreDeg);
     EXPECT_GT(b.min.x, 35'000'000.0);  // zone number in the false easting
-    EXPECT_LT(glm::length(m->origin - glm::round(b.centre())), 1.0);
+    EXPECT_LT(glm::length(m->origin - glm::round(b.centre())), kOriginRoundingM);
 
     o.crs = Crs();
     EXPECT_FALSE(generateSynthetic(o).ok());  // --at without a projected CRS
@@ -176,6 +181,7 @@ TEST(Synthetic, RoundTripsThroughGlb) {
         const auto& p = m->bodies[i].mesh.positions;
         const auto& q = back->bodies[i].mesh.positions;
         ASSERT_EQ(p.size(), q.size());
-        for (std::size_t k = 0; k < p.size(); k += 7) ASSERT_LT(glm::length(p[k] - q[k]), 5e-4) << m->bodies[i].name;
+        for (std::size_t k = 0; k < p.size(); k += 7)
+            ASSERT_LT(glm::length(p[k] - q[k]), kFloat32LocalM) << m->bodies[i].name;
     }
 }
