@@ -50,8 +50,10 @@ struct CutStats {
 
 // The cut through the BVH: the leaves that straddle the plane (and overlap `rect` when not
 // null) are found first, then their triangles are cut, each vertex read once. With
-// threads = 2 the leaves are split in two halves by triangle count and the second half's
-// segments are appended after the first's, so the output never depends on timing.
+// threads = 2 the calling thread's partner (section/partner_thread.hpp) takes traversal
+// units and chunks of leaves (equal triangle counts) from common counters, its chunks from
+// the back; the segments are appended in chunk order, so the output never depends on
+// timing or on how much the partner took (nothing when it had not started in time).
 void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out, unsigned threads = 1,
                 CutStats* stats = nullptr);
 
