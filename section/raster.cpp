@@ -107,6 +107,7 @@ struct ColourRaster {
     std::vector<std::uint32_t> order;
     std::vector<Float4> row;             // W + 2 cells: x may reach W
     std::vector<std::uint64_t> touched;  // one bit per cell of `row` written this row
+    std::vector<std::uint32_t> active;
 
     // Splits an edge where it leaves [0, W]; pieces left of the frame move onto x = 0
     // (they still decide the coverage inside it), pieces right of it onto x = W.
@@ -269,7 +270,7 @@ struct ColourRaster {
         row.assign(static_cast<std::size_t>(W) + 2, Float4{});
         touched.assign((static_cast<std::size_t>(W) + 2 + 63) / 64, 0);
         const Float4 bg = premultiplied(background);
-        std::vector<std::uint32_t> active;
+        active.clear();
         for (int y = 0; y < H; ++y) {
             if (isSet(cancel)) return;
             for (std::uint32_t k = rowStart[static_cast<std::size_t>(y)]; k < rowStart[static_cast<std::size_t>(y) + 1];
@@ -434,7 +435,7 @@ Status rasterize(const FillRegion* regions, std::size_t regionCount, const FillL
         std::iota(order.begin(), order.end(), 0u);
         std::stable_sort(order.begin(), order.end(),
                          [&](std::uint32_t a, std::uint32_t b) { return regions[a].depth < regions[b].depth; });
-        ScanScratch scratch;
+        thread_local ScanScratch scratch;  // kept per thread, as the colour buffers below
         for (std::uint32_t r : order) {
             fillRegionIds(regions[r], toPx, W, H, out.ids.data(), scratch, options.cancel);
             if (Status s = checkCancel(options.cancel); !s) return s;
@@ -443,7 +444,10 @@ Status rasterize(const FillRegion* regions, std::size_t regionCount, const FillL
         out.ids.clear();
     }
     if (options.colour) {
-        ColourRaster cr;
+        // Kept per thread between images (as the line coverage below): its piece, order and
+        // row buffers are reused, not allocated and faulted in again for every image.
+        thread_local ColourRaster cr;
+        cr.pieces.clear();
         cr.W = W;
         cr.H = H;
         for (std::size_t r = 0; r < regionCount; ++r) {
