@@ -17,7 +17,7 @@
 
 #include "tests/common/query_case.hpp"
 #include "tests/common/run_command.hpp"
-#include "tests/server/server_fixture.hpp"
+#include "tests/server/query_models_server.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -45,15 +45,7 @@ std::string queryString(const std::map<std::string, std::string>& params) {
     return q;
 }
 
-class QueryCases : public InProcessServer, public ::testing::WithParamInterface<std::string> {
-protected:
-    static void SetUpTestSuite() {
-        ServerConfig c = loopbackConfig();
-        c.modelsDir = test::queryCaseDir() + "/models";
-        startServer(c);
-    }
-    static void TearDownTestSuite() { stopServer(); }
-};
+class QueryCases : public QueryModelsServer, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(QueryCases, Http) {
     const QueryCase c = test::loadQueryCase(GetParam());

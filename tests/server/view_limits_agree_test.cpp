@@ -10,9 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "model/view_limits.hpp"
-#include "tests/common/query_case.hpp"
 #include "tests/common/run_command.hpp"
-#include "tests/server/server_fixture.hpp"
+#include "tests/server/query_models_server.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -30,15 +29,19 @@ struct Limit {
     std::string reason;    // a piece of the reason both must give
 };
 
-class ViewLimitsAgree : public InProcessServer {
-protected:
-    static void SetUpTestSuite() {
-        ServerConfig c = loopbackConfig();
-        c.modelsDir = test::queryCaseDir() + "/models";
-        startServer(c);
+// `geoslice query MODEL --pixel 0,0` with each HTTP parameter of `query` as a '--name=value' flag.
+std::string queryArgs(const std::string& model, const std::string& query) {
+    std::string args = "query '" + model + "' --pixel 0,0";
+    for (std::size_t at = 0; at < query.size();) {
+        const std::size_t amp = std::min(query.find('&', at), query.size());
+        args += " '--" + query.substr(at, amp - at) + "'";
+        at = amp + 1;
     }
-    static void TearDownTestSuite() { stopServer(); }
+    return args;
+}
 
+class ViewLimitsAgree : public QueryModelsServer {
+protected:
     // The HTTP problem's detail for GET section.png?<query> (400 expected).
     static std::string httpRefusal(const std::string& query) {
         auto r = get("/v1/models/layers/section.png?" + query);
@@ -126,13 +129,7 @@ TEST_F(ViewLimitsAgree, SectionAndQueryRefuseWhatHttpRefusesWithTheSameReason) {
     // `geoslice query` reads the view with HTTP's own parser: the same message, names and all.
     for (const Limit& l : limits()) {
         const std::string detail = httpRefusal(l.http);
-        std::string args = "query '" + model + "' --pixel 0,0";
-        for (std::size_t at = 0; at < l.http.size();) {
-            const std::size_t amp = std::min(l.http.find('&', at), l.http.size());
-            args += " '--" + l.http.substr(at, amp - at) + "'";
-            at = amp + 1;
-        }
-        const std::string cliOut = cliRefusal(args);
+        const std::string cliOut = cliRefusal(queryArgs(model, l.http));
         EXPECT_NE(cliOut.find(detail), std::string::npos) << l.what << ": HTTP '" << detail << "', query '" << cliOut;
     }
 }
@@ -144,12 +141,7 @@ TEST_F(ViewLimitsAgree, ValuesAtTheLimitsAreAccepted) {
     for (const std::string& q : {persp + "&fov=1", persp + "&fov=170", "plane=" + kPlane + "&vx=0.1",
                                  "plane=" + kPlane + "&vx=100", "plane=" + kPlane + "&size=8192x16"}) {
         getJson("/v1/models/layers/query?" + q + "&px=0&py=0");
-        std::string args = "query '" + model + "' --pixel 0,0";
-        for (std::size_t at = 0; at < q.size();) {
-            const std::size_t amp = std::min(q.find('&', at), q.size());
-            args += " '--" + q.substr(at, amp - at) + "'";
-            at = amp + 1;
-        }
+        const std::string args = queryArgs(model, q);
         const auto r = test::runGeoslice(args);
         EXPECT_EQ(r.exitCode, 0) << "geoslice " << args;
     }
