@@ -67,7 +67,7 @@ TEST(ServeCli, StartsAnswersAndStopsOnSigterm) {
     auto page = cl.Get("/");
     ASSERT_TRUE(page);
     EXPECT_NE(page->body.find("/web/leaflet/leaflet.js"), std::string::npos);  // Leaflet from the binary
-    auto app = cl.Get("/web/app.js");
+    auto app = cl.Get("/web/map.js");                                          // the Leaflet maps (web/map.js)
     ASSERT_TRUE(app);
     EXPECT_NE(app->body.find("L.CRS.Simple"), std::string::npos);
     kill(pid, SIGTERM);

@@ -518,6 +518,23 @@ const tests = {
       const again = await fetch(`${origin}/web/${p}`, { headers: { 'If-None-Match': a.headers.get('etag') } });
       check(again.status === 304, `${p}: If-None-Match gives 304`);
     }
+    // Every module the client imports (followed from app.js) is served, and every import
+    // names it with this build's id, so a browser never mixes modules of two builds.
+    const seen = new Set(), todo = ['app.js'];
+    while (todo.length) {
+      const p = todo.pop();
+      if (seen.has(p)) continue;
+      seen.add(p);
+      const a = await fetch(`${origin}/web/${p}?v=${v}`);
+      check(a.status === 200 && a.headers.get('content-type').startsWith('text/javascript'), `${p}: ${a.status}`);
+      const text = await a.text();
+      for (const m of text.matchAll(/^import\s[^'"]*['"]([^'"]+)['"]/gm)) {
+        const [file, query] = m[1].replace(/^\.\//, '').split('?');
+        check(query === `v=${v}`, `${p} imports ${m[1]} with the build id ${v}`);
+        todo.push(file);
+      }
+    }
+    check(seen.size >= 12, `app.js and its modules: ${[...seen].join(' ')}`);
     check((await fetch(`${origin}/web/nothing.js`)).status === 404, 'unknown asset 404');
   },
 };

@@ -1,0 +1,162 @@
+// geoslice web client: loading a model, its plan map and legend, and drawing a section's
+// trace on the plan.
+import * as V from './views.js?v=__GS_BUILD__';
+import { t } from './i18n.js?v=__GS_BUILD__';
+import { $, S, permalinkSoon } from './state.js?v=__GS_BUILD__';
+import { request, api, setStatus } from './api.js?v=__GS_BUILD__';
+import { RetryTiles, lngOf, latOf, uOf, vOf, usefulZoom, gridBounds, planMap } from './map.js?v=__GS_BUILD__';
+import { drawPlanOverlay } from './overlay.js?v=__GS_BUILD__';
+import { setSection } from './section.js?v=__GS_BUILD__';
+import { clearAnswer, queryMap } from './query.js?v=__GS_BUILD__';
+import { clearBorehole } from './borehole.js?v=__GS_BUILD__';
+import { init3d } from './view3d.js?v=__GS_BUILD__';
+
+// ---- model -----------------------------------------------------------------------------
+export async function loadModel(id, restore = null) {
+  let m;
+  try {
+    m = await request(`/v1/models/${encodeURIComponent(id)}`);
+  } catch (e) {
+    setStatus(t('failedModel', e.message), true);
+    if (S.model) $('model').value = S.model.id;
+    return false;
+  }
+  // A new model: everything that belonged to the old one goes.
+  ++S.gen;
+  S.model = m;
+  S.gk = V.gaussKruger(m.crs?.id);
+  S.points = [];
+  S.through = null;
+  clearAnswer();
+  clearBorehole();
+  setSection(null);
+  S.plan = null;
+  const [min, max] = [m.bounds.min, m.bounds.max];
+  for (const f of ['planZ', 'sliceZ']) {
+    $(f).min = Math.floor(min[2]);
+    $(f).max = Math.ceil(max[2]);
+  }
+  const zMid = Math.round(min[2] + 0.5 * (max[2] - min[2]));
+  $('planZ').value = restore?.pz ?? zMid;
+  $('sliceZ').value = restore?.sz ?? zMid;
+  const half = 0.5 * Math.hypot(max[0] - min[0], max[1] - min[1]);
+  $('plOffset').min = -Math.ceil(half);
+  $('plOffset').max = Math.ceil(half);
+  renderLegend();
+  S.three = null;
+  init3d(restore);
+  setStatus('');
+  await loadPlan();
+  drawPlanLine();
+  return true;
+}
+
+export async function loadPlan() {
+  const z = Number($('planZ').value);
+  if (!$('planZ').checkValidity() || !Number.isFinite(z)) {
+    setStatus(`${t('planElevation')}: ${$('planZ').min}..${$('planZ').max}`, true);
+    return;
+  }
+  const gen = S.gen;
+  let s;
+  try {
+    s = await request(api('/sections'), { method: 'POST', headers: { 'Content-Type': 'application/json' },
+                                            body: JSON.stringify({ elevation: z }) });
+  } catch (e) {
+    setStatus(t('failedCut', e.message), true);
+    return;
+  }
+  if (gen !== S.gen) return;
+  if (S.plan?.layer) planMap.removeLayer(S.plan.layer);
+  const g = s.grid, maxNative = usefulZoom(g);
+  const layer = new RetryTiles((z, x, y) => s.tiles.replace('{z}', z).replace('{x}', x).replace('{y}', y),
+                               { minNativeZoom: 0, maxNativeZoom: maxNative, bounds: gridBounds(g), tileSize: 256 });
+  S.plan = { z, sid: s.sid, grid: g, layer, maxNative, definition: s.definition };
+  planMap.setMaxZoom(maxNative);
+  layer.addTo(planMap);
+  if (!S.planFitted) { planMap.fitBounds(gridBounds(g), { padding: [8, 8] }); S.planFitted = true; }
+  drawPlanOverlay();
+  permalinkSoon();
+}
+
+function renderLegend() {
+  // The section view's compact legend: colour, name, lithology and age of each unit.
+  const mini = $('legendMini');
+  mini.replaceChildren();
+  for (const r of S.model.legend || []) {
+    const li = document.createElement('li');
+    li.dataset.record = r.id;
+    li.innerHTML = '<span class="sw"></span><span></span>';
+    li.firstChild.style.background = r.colour;
+    li.lastChild.textContent = [r.name, r.lithology, r.age].filter(Boolean).join(' · ');
+    mini.append(li);
+  }
+  const ul = $('legend');
+  ul.replaceChildren();
+  for (const r of S.model.legend || []) {
+    const li = document.createElement('li');
+    li.dataset.record = r.id;
+    li.innerHTML = `<span class="sw"></span><strong></strong><span class="sub"></span>`;
+    li.querySelector('.sw').style.background = r.colour;
+    li.querySelector('strong').textContent = r.name;
+    li.querySelector('.sub').textContent = [r.lithology, r.age, r.kind].filter(Boolean).join(' · ');
+    li.title = r.colour;
+    ul.append(li);
+  }
+}
+
+// ---- drawing on the plan -----------------------------------------------------------------
+let planLine = null;
+export function drawPlanLine() {
+  if (planLine) planLine.remove();
+  planLine = L.layerGroup().addTo(planMap);
+  if (!S.plan) return;
+  const g = S.plan.grid, ll = (p) => [latOf(g, p[1]), lngOf(g, p[0])];
+  const [bmin, bmax] = [S.model.bounds.min, S.model.bounds.max];
+  L.rectangle([ll(bmin), ll(bmax)], { color: '#333', weight: 1.5, fill: false, dashArray: '2 4', interactive: false }).addTo(planLine);
+  const pts = S.mode === 'line' ? S.points : [];
+  if (pts.length) L.polyline(pts.map(ll), { color: '#e00', weight: 3 }).addTo(planLine);
+  pts.forEach((p, i) => L.marker(ll(p), { icon: L.divIcon({ className: 'pt-label', html: V.letter(i), iconSize: null }),
+                                          keyboard: false, interactive: false }).addTo(planLine));
+  if (S.through && ['ns', 'ew', 'az'].includes(S.mode)) {
+    const az = modeAzimuth(), [min, max] = [S.model.bounds.min, S.model.bounds.max];
+    const plane = V.planeFrom(az, 90, [S.through[0], S.through[1], 0]);
+    const poly = V.planeBoxPolygon(plane, min, max);
+    if (poly.length) L.polyline(poly.map((p) => ll(p)), { color: '#e00', weight: 3, dashArray: '8 6' }).addTo(planLine);
+    L.circleMarker(ll(S.through), { radius: 6, color: '#e00' }).addTo(planLine);
+  }
+  // The section on show, as a trace.
+  const sec = S.section;
+  if (sec?.kind === 'line') L.polyline(sec.pts.map(ll), { color: '#0b62c4', weight: 2 }).addTo(planLine);
+  if (sec?.kind === 'plane') {
+    const poly = V.planeBoxPolygon(sec.plane, S.model.bounds.min, S.model.bounds.max);
+    if (poly.length) L.polyline(poly.map(ll), { color: '#0b62c4', weight: 2 }).addTo(planLine);
+  }
+  updateDrawHint();
+}
+export function modeAzimuth() {
+  return S.mode === 'ns' ? 0 : S.mode === 'ew' ? 90 : Number($('azimuth').value) || 0;
+}
+export function setMode(mode) {
+  S.mode = mode;
+  for (const b of document.querySelectorAll('[data-mode]')) b.setAttribute('aria-pressed', String(b.dataset.mode === mode));
+  $('azField').hidden = mode !== 'az';
+  $('sliceField').hidden = mode !== 'slice';
+  $('undo').hidden = $('clear').hidden = mode !== 'line';
+  drawPlanLine();
+}
+export function updateDrawHint() {
+  const h = $('drawHint');
+  if (S.mode === 'line') h.textContent = `${t('hintLine')} (${t('points', S.points.length)})`;
+  else if (S.mode === 'slice') h.textContent = t('hintSlice');
+  else if (S.mode === 'query') h.textContent = t('tapHint');
+  else h.textContent = t('hintPoint') + (S.through ? ` (${t('through', V.fmt(S.through[0], 0), V.fmt(S.through[1], 0))})` : '');
+  $('cut').disabled = (S.mode === 'line' && S.points.length < 2) || (['ns', 'ew', 'az'].includes(S.mode) && !S.through);
+}
+export function planClick(e) {
+  if (!S.plan) return;
+  const g = S.plan.grid, p = [uOf(g, e.latlng.lng), vOf(g, e.latlng.lat)];
+  if (S.mode === 'line') { S.points.push(p); drawPlanLine(); permalinkSoon(); }
+  else if (['ns', 'ew', 'az'].includes(S.mode)) { S.through = p; drawPlanLine(); }
+  else queryMap('plan', planMap, S.plan, e.latlng);
+}

@@ -1,0 +1,98 @@
+// geoslice web client: pixel queries and the answer sheet.
+import * as V from './views.js?v=__GS_BUILD__';
+import { t } from './i18n.js?v=__GS_BUILD__';
+import { $, S, markPainted } from './state.js?v=__GS_BUILD__';
+import { request, api } from './api.js?v=__GS_BUILD__';
+import { gridPixel } from './map.js?v=__GS_BUILD__';
+import { showSheet } from './ui.js?v=__GS_BUILD__';
+
+// ---- queries ---------------------------------------------------------------------------
+let marker = null;
+export function clearAnswer(message = null) {
+  ++S.queryId;
+  S.answer = null;
+  if (marker) { marker.remove(); marker = null; }
+  $('qmark3d').setAttribute('hidden', '');
+  for (const d of document.querySelectorAll('.qdot')) d.remove();
+  for (const li of document.querySelectorAll('#legend li.hit, #legendMini li.hit')) li.classList.remove('hit');
+  const box = $('answer');
+  box.replaceChildren();
+  const p = document.createElement('p');
+  p.className = message ? 'err' : 'hint';
+  p.textContent = message || t('tapHint');
+  box.append(p);
+  $('copyAnswer').hidden = true;
+}
+export async function runQuery(url, where, show) {
+  clearAnswer();
+  const id = S.queryId, gen = S.gen;
+  const t0 = performance.now();
+  $('answer').firstChild.textContent = t('loading');
+  showSheet('answer');
+  let j;
+  try {
+    j = await request(url);
+  } catch (e) {
+    if (id === S.queryId && gen === S.gen) clearAnswer(t('failedQuery', e.message));
+    return;
+  }
+  if (id !== S.queryId || gen !== S.gen) return;  // a newer question or another picture
+  show?.();
+  renderAnswer(j, where);
+  markPainted('answer', t0, { record: j.record?.id ?? null });
+}
+export function queryMap(where, map, sec, latlng) {
+  const p = gridPixel(map, sec, latlng);
+  const q = where === 'plan' ? `elevation=${S.plan.z}` : sec.q;
+  const url = api(`/query?${q}&frame=${p.frame}&size=256x256&px=${p.px}&py=${p.py}`);
+  runQuery(url, where, () => {
+    marker = L.marker(p.centre, { icon: L.divIcon({ className: 'qmark', iconSize: [16, 16] }), keyboard: false,
+                                  interactive: false }).addTo(map);
+  });
+}
+export function renderAnswer(j, where) {
+  S.answer = { json: j, where };
+  const box = $('answer');
+  box.replaceChildren();
+  const h = document.createElement('h2');
+  const r = j.record;
+  if (j.hit && r) {
+    const sw = document.createElement('span');
+    sw.className = 'sw';
+    sw.style.background = r.colour || '#ccc';
+    h.append(sw, document.createTextNode(r.name || `#${r.id}`));
+    for (const li of document.querySelectorAll(`#legend li[data-record="${r.id}"], #legendMini li[data-record="${r.id}"]`)) li.classList.add('hit');
+  } else h.textContent = t('noGeology');
+  box.append(h);
+  const dl = document.createElement('dl');
+  const row = (k, v) => {
+    if (v == null || v === '') return;
+    const dt = document.createElement('dt'), dd = document.createElement('dd');
+    dt.textContent = k;
+    dd.textContent = v;
+    dl.append(dt, dd);
+  };
+  if (j.hit && r) for (const [k, v] of Object.entries(r)) row(k, typeof v === 'object' ? JSON.stringify(v) : String(v));
+  row(t('body'), j.body);
+  const w = j.world || {};
+  if (Number.isFinite(w.x)) row(t('world'), `${V.fmt(w.x)}, ${V.fmt(w.y)}, ${V.fmt(w.z)}`);
+  row(t('crs'), w.crs);
+  if (w.projected) {
+    row(t('easting'), V.fmt(w.projected.easting));
+    row(t('northing'), V.fmt(w.projected.northing));
+    row(t('zone'), w.projected.zone);
+  }
+  if (w.geodetic) {
+    row(t('lon'), `${w.geodetic.lon.toFixed(7)}°`);
+    row(t('lat'), `${w.geodetic.lat.toFixed(7)}°`);
+  }
+  if (Number.isFinite(w.z)) row(t('elevation'), `${V.fmt(w.z)} m`);
+  const along = j.section?.distanceAlong ?? j.distanceAlong;
+  if (where === 'section' && S.section && S.section.kind !== 'elevation' && j.section) {
+    row(t('distance'), `${V.fmt(S.section.kind === 'line' ? j.section.distanceAlong : j.section.u - S.section.distance0)} m`);
+  } else if (where === '3d' && Number.isFinite(along)) row(t('distanceEye'), `${V.fmt(along)} m`);
+  else if (where === 'profile' && Number.isFinite(along)) row(t('distance'), `${V.fmt(along)} m`);
+  row(t('source'), j.source);
+  box.append(dl);
+  $('copyAnswer').hidden = false;
+}

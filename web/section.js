@@ -1,0 +1,139 @@
+// geoslice web client: defining a section (line, plane, elevation), showing it as tiles
+// and its export links.
+import * as V from './views.js?v=__GS_BUILD__';
+import { t } from './i18n.js?v=__GS_BUILD__';
+import { $, S, mark, markPainted, permalinkSoon } from './state.js?v=__GS_BUILD__';
+import { request, api, setStatus } from './api.js?v=__GS_BUILD__';
+import { RetryTiles, tileFrame, usefulZoom, gridBounds, sectionMap } from './map.js?v=__GS_BUILD__';
+import { drawSectionOverlay } from './overlay.js?v=__GS_BUILD__';
+import { drawPlanLine, modeAzimuth } from './plan.js?v=__GS_BUILD__';
+import { clearAnswer } from './query.js?v=__GS_BUILD__';
+import { showView } from './ui.js?v=__GS_BUILD__';
+
+// ---- sections --------------------------------------------------------------------------
+function checkInputs(ids) {
+  for (const id of ids) {
+    const el = $(id);
+    if (!el.checkValidity() || el.value === '') {
+      const label = el.closest('label')?.querySelector('span')?.textContent || id;
+      setStatus(t('failedCut', `${label}: ${el.value} (${el.min}..${el.max})`), true);
+      return false;
+    }
+  }
+  return true;
+}
+export async function cut() {
+  if (!S.model) return;
+  const vx = Number($('vx').value);
+  let def;
+  if (S.mode === 'line') {
+    if (!checkInputs(['vx'])) return;
+    def = { line: S.points.map((p) => `${+p[0].toFixed(3)},${+p[1].toFixed(3)}`).join(','), vx };
+  } else if (S.mode === 'slice') {
+    if (!checkInputs(['sliceZ'])) return;
+    def = { elevation: Number($('sliceZ').value) };
+  } else {
+    if (!checkInputs(S.mode === 'az' ? ['vx', 'azimuth'] : ['vx'])) return;
+    if (!S.through) return;
+    const zc = 0.5 * (S.model.bounds.min[2] + S.model.bounds.max[2]);
+    def = { plane: V.planeText(V.planeFrom(modeAzimuth(), 90, [S.through[0], S.through[1], zc])), vx };
+  }
+  await openSection(def);
+}
+// Defines the section on the server (plane, elevation) or checks it with a small image
+// (polyline: tiles are section images with a frame). Only a section the server accepted
+// replaces the one on show.
+export async function openSection(def, view = null) {
+  const gen = S.gen;
+  const t0 = performance.now();
+  mark('cut', { def });
+  let sec;
+  try {
+    sec = await defineSection(def);
+  } catch (e) {
+    if (gen === S.gen) setStatus(t('failedCut', e.message), true);
+    return false;
+  }
+  if (gen !== S.gen) return false;
+  sec.t0 = t0;
+  setStatus('');
+  setSection(sec, view);
+  return true;
+}
+async function defineSection(def) {
+  const model = S.model;
+  if (def.line) {
+    const pts = [];
+    const nums = def.line.split(',').map(Number);
+    for (let i = 0; i + 1 < nums.length; i += 2) pts.push([nums[i], nums[i + 1]]);
+    const q = `line=${def.line}&vx=${def.vx}`;
+    await request(api(`/section.png?${q}&size=64x32`), {}, 'blob');  // the server's verdict on the line
+    const ch = V.chainages(pts), len = ch[ch.length - 1];
+    const [z0, z1] = [model.bounds.min[2], model.bounds.max[2]];
+    const size0 = 2 ** Math.ceil(Math.log2(Math.max(len, (z1 - z0) * def.vx, 1e-3)));
+    const grid = { origin: { u: 0, v: z1 }, size0, exaggeration: def.vx, maxZoom: 24,
+                   extent: { u0: 0, u1: len, v0: z0, v1: z1 } };
+    const ends = pts.map((p, i) => ({ u: ch[i], label: V.letter(i), bend: i > 0 && i < pts.length - 1 }));
+    return { kind: 'line', def, q, pts, grid, ends, distance0: 0,
+             url: (z, x, y) => api(`/section.png?${q}&frame=${tileFrame(grid, z, x, y)}&size=256x256`) };
+  }
+  const s = await request(api('/sections'), { method: 'POST', headers: { 'Content-Type': 'application/json' },
+                                               body: JSON.stringify(def) });
+  const canon = new URLSearchParams(s.definition);
+  const g = s.grid;
+  if (def.elevation != null) {
+    return { kind: 'elevation', def, q: `elevation=${canon.get('elevation')}`, grid: g, sid: s.sid,
+             ends: [], distance0: 0, url: (z, x, y) => s.tiles.replace('{z}', z).replace('{x}', x).replace('{y}', y) };
+  }
+  const nums = canon.get('plane').split(',').map(Number);
+  const plane = { n: nums.slice(0, 3), d: nums[3] };
+  const { u } = V.planeBasis(plane.n);
+  const ends = [{ u: g.extent.u0, label: V.compass(-u[0], -u[1]) }, { u: g.extent.u1, label: V.compass(u[0], u[1]) }];
+  return { kind: 'plane', def, q: `plane=${canon.get('plane')}&vx=${canon.get('vx')}`, plane, grid: g, sid: s.sid,
+           ends, distance0: g.extent.u0, url: (z, x, y) => s.tiles.replace('{z}', z).replace('{x}', x).replace('{y}', y) };
+}
+export function setSection(sec, view = null) {
+  ++S.gen;
+  if (S.section?.layer) sectionMap.removeLayer(S.section.layer);
+  S.section = sec;
+  clearAnswer();
+  $('noSection').hidden = !!sec;
+  $('tools-section').dataset.has = sec ? '1' : '';
+  if (!sec) { drawSectionOverlay(); updateExports(); return; }
+  sec.maxNative = usefulZoom(sec.grid);
+  sec.layer = new RetryTiles(sec.url, { minNativeZoom: 0, maxNativeZoom: sec.maxNative,
+                                        bounds: gridBounds(sec.grid), tileSize: 256 });
+  let first = true;
+  sec.layer.on('tilepainted', () => {
+    if (first) { first = false; markPainted('firstTile', sec.t0); }
+  });
+  showView('section');
+  sectionMap.setMaxZoom(sec.maxNative);
+  if (view) sectionMap.setView([view[0], view[1]], view[2], { animate: false });
+  else sectionMap.fitBounds(gridBounds(sec.grid), { padding: [24, 24], animate: false });
+  sec.layer.addTo(sectionMap);
+  $('sectionTitle').textContent = `${t('sectionOf')}: ${sectionLabel(sec)}`;
+  updateExports();
+  drawSectionOverlay();
+  drawPlanLine();
+  permalinkSoon();
+}
+export function sectionLabel(sec) {
+  if (sec.kind === 'line') return sec.pts.map((_, i) => V.letter(i)).join('-');
+  if (sec.kind === 'elevation') return `${t('elevation')} ${sec.def.elevation} m`;
+  return `${sec.ends[0].label}-${sec.ends[1].label}, vx ${sec.grid.exaggeration}`;
+}
+export function updateExports() {
+  const sec = S.section;
+  for (const id of ['expPng', 'expSvg', 'expGeojson', 'expPdf']) {
+    const a = $(id);
+    if (!sec) { a.removeAttribute('href'); a.setAttribute('aria-disabled', 'true'); continue; }
+    a.removeAttribute('aria-disabled');
+    const ext = { expPng: 'png', expSvg: 'svg', expGeojson: 'geojson', expPdf: 'pdf' }[id];
+    // A PDF is a print sheet: its paper sizes it (A3 landscape by default), so no size.
+    const extra = ext === 'geojson' ? '&space=world' : ext === 'pdf' ? '' : '&size=2048x1024';
+    a.href = api(`/section.${ext}?${sec.q}${extra}`);
+    a.download = `${S.model.id}-section.${ext}`;
+  }
+  $('expPdf').hidden = !S.pdf;
+}

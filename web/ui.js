@@ -1,0 +1,51 @@
+// geoslice web client: views, tabs, the answer/legend/borehole sheet and copying text.
+import { $, S, permalinkSoon } from './state.js?v=__GS_BUILD__';
+import { planMap, sectionMap } from './map.js?v=__GS_BUILD__';
+import { drawSectionOverlay, drawPlanOverlay } from './overlay.js?v=__GS_BUILD__';
+import { render3d, drawHandles } from './view3d.js?v=__GS_BUILD__';
+
+// ---- views, tabs, sheet ----------------------------------------------------------------
+export function showView(v) {
+  S.view = v;
+  for (const name of ['plan', 'section', '3d']) {
+    const on = name === v;
+    $(`tab-${name}`).setAttribute('aria-selected', String(on));
+    $(`tab-${name}`).tabIndex = on ? 0 : -1;
+    $(`panel-${name}`).hidden = !on;
+    $(`tools-${name}`).hidden = !on;
+  }
+  if (v === 'plan') { planMap.invalidateSize(); drawPlanOverlay(); }
+  if (v === 'section') { sectionMap.invalidateSize(); drawSectionOverlay(); }
+  if (v === '3d') { drawHandles(); render3d(false); }
+  permalinkSoon();
+}
+export function showSheet(name) {
+  for (const n of ['answer', 'legend', 'borehole']) {
+    $(`st-${n}`).setAttribute('aria-selected', String(n === name));
+    $(`st-${n}`).tabIndex = n === name ? 0 : -1;
+    $(`sp-${n}`).hidden = n !== name;
+  }
+}
+export function tabKeys(container, names, show) {
+  container.addEventListener('keydown', (e) => {
+    const i = names.findIndex((n) => document.activeElement?.id?.endsWith(`-${n}`));
+    if (i < 0 || !['ArrowLeft', 'ArrowRight'].includes(e.key)) return;
+    const j = (i + (e.key === 'ArrowRight' ? 1 : names.length - 1)) % names.length;
+    show(names[j]);
+    container.querySelectorAll('[role=tab]')[j].focus();
+  });
+}
+
+export async function copyText(text, button, done) {
+  try { await navigator.clipboard.writeText(text); } catch (_) {
+    const ta = document.createElement('textarea');
+    ta.value = text;
+    document.body.append(ta);
+    ta.select();
+    document.execCommand('copy');
+    ta.remove();
+  }
+  const old = button.textContent;
+  button.textContent = done;
+  setTimeout(() => { button.textContent = old; }, 1500);
+}
