@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 
 #include <nlohmann/json.hpp>
 
+#include "model/cell_locator.hpp"
 #include "model/loaders.hpp"
 #include "model/model.hpp"
 #include "model/text_scan.hpp"
@@ -29,7 +31,61 @@ std::pair<std::string, std::string> splitUnit(std::string_view header) {
 
 }  // namespace
 
+// Kuhn split (see the header): orders (x y z), (y z x), (z x y) as they come, the odd orders
+// (x z y), (y x z), (z y x) with their middle corners swapped so every volume is positive.
+const std::array<std::array<int, 4>, 6> kCellTets{{
+    {0, 1, 3, 7},
+    {0, 2, 6, 7},
+    {0, 4, 5, 7},
+    {0, 5, 1, 7},
+    {0, 3, 2, 7},
+    {0, 6, 4, 7},
+}};
+
+namespace {
+
+double tetVolume6(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+    return glm::dot(b - a, glm::cross(c - a, d - a));
+}
+
+// The smallest barycentric coordinate of p in the tetrahedron (either orientation).
+double minBarycentric(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d,
+                      const glm::dvec3& p) {
+    const glm::dvec3 e1 = b - a, e2 = c - a, e3 = d - a, q = p - a;
+    const double v = glm::dot(e1, glm::cross(e2, e3));
+    if (v == 0.0) return -std::numeric_limits<double>::infinity();
+    const double l1 = glm::dot(q, glm::cross(e2, e3)) / v;
+    const double l2 = glm::dot(e1, glm::cross(q, e3)) / v;
+    const double l3 = glm::dot(e1, glm::cross(e2, q)) / v;
+    return std::min({1.0 - l1 - l2 - l3, l1, l2, l3});
+}
+
+// How deep p lies in a cell: the largest smallest barycentric coordinate over its tetrahedra.
+double cellDepth(const BlockModel& b, std::size_t cell, const glm::dvec3& p) {
+    const auto k = b.cellCorners(cell);
+    double best = -std::numeric_limits<double>::infinity();
+    for (const auto& t : kCellTets) best = std::max(best, minBarycentric(k[t[0]], k[t[1]], k[t[2]], k[t[3]], p));
+    return best;
+}
+
+constexpr double kOnCell = -1e-12;  // barycentric slack: rounding of p - corner (see cellAt)
+constexpr double kInsideHint = 1e-9;
+
+}  // namespace
+
 std::size_t BlockModel::cellAt(const glm::dvec3& world) const {
+    if (shape == CellShape::Hexahedron) {
+        std::size_t best = kNoCell;
+        double depth = kOnCell;
+        locator->cellsAt(world, [&](std::size_t c) {
+            const double d = cellDepth(*this, c, world);
+            if (d >= depth && (best == kNoCell || d > depth)) {
+                best = c;
+                depth = d;
+            }
+        });
+        return best;
+    }
     const glm::dvec3 g = toGrid(world);
     std::size_t idx[3];
     for (int a = 0; a < 3; ++a) {
@@ -38,6 +94,53 @@ std::size_t BlockModel::cellAt(const glm::dvec3& world) const {
         idx[a] = std::size_t(t);
     }
     return linear(idx[0], idx[1], idx[2]);
+}
+
+std::size_t BlockModel::cellAt(const glm::dvec3& world, std::size_t& hint) const {
+    if (shape == CellShape::Hexahedron && hint != kNoCell && cellDepth(*this, hint, world) > kInsideHint) return hint;
+    hint = cellAt(world);
+    return hint;
+}
+
+glm::dvec3 BlockModel::corner(std::size_t i, std::size_t j, std::size_t k) const {
+    if (shape == CellShape::Hexahedron) return corners[i + (dims[0] + 1) * (j + (dims[1] + 1) * k)];
+    return origin + double(i) * size[0] * axis[0] + double(j) * size[1] * axis[1] + double(k) * size[2] * axis[2];
+}
+
+std::size_t BlockModel::cornerIndex(std::size_t cell, int c) const {
+    const auto [i, j, k] = ijk(cell);
+    return (i + std::size_t(c & 1)) +
+           (dims[0] + 1) * ((j + std::size_t((c >> 1) & 1)) + (dims[1] + 1) * (k + std::size_t(c >> 2)));
+}
+
+std::array<glm::dvec3, 8> BlockModel::cellCorners(std::size_t cell) const {
+    const auto [i, j, k] = ijk(cell);
+    std::array<glm::dvec3, 8> out;
+    for (int c = 0; c < 8; ++c)
+        out[std::size_t(c)] = corner(i + std::size_t(c & 1), j + std::size_t((c >> 1) & 1), k + std::size_t(c >> 2));
+    return out;
+}
+
+Aabb BlockModel::cellBounds(std::size_t cell) const {
+    Aabb box;
+    for (const glm::dvec3& p : cellCorners(cell)) box.extend(p);
+    return box;
+}
+
+double BlockModel::cellVolume(std::size_t cell) const {
+    if (shape == CellShape::Box) return size[0] * size[1] * size[2];
+    const auto k = cellCorners(cell);
+    double v = 0.0;
+    for (const auto& t : kCellTets) v += tetVolume6(k[t[0]], k[t[1]], k[t[2]], k[t[3]]);
+    return std::abs(v) / 6.0;
+}
+
+Aabb BlockModel::bounds() const {
+    if (shape == CellShape::Hexahedron) return locator->bounds();
+    Aabb box;
+    for (int c = 0; c < 8; ++c)
+        box.extend(corner(c & 1 ? dims[0] : 0, (c >> 1) & 1 ? dims[1] : 0, c >> 2 ? dims[2] : 0));
+    return box;
 }
 
 int BlockModel::propertyIndex(std::string_view name) const {
@@ -224,15 +327,102 @@ Result<BlockModel> blockModelFromCsv(std::string_view text, const std::string& s
     return b;
 }
 
-Result<BlockModel> blockModelFromGrid(const Grid& grid) {
-    const std::string name = grid.type + " '" + grid.name + "'";
-    if (grid.type != "Voxet" || !grid.points.empty())
+namespace {
+
+std::string cellName(const std::array<std::size_t, 3>& ijk) {
+    return "cell (" + std::to_string(ijk[0]) + ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")";
+}
+
+// An SGrid's cells (see the header): corners = its points, every tetrahedron of the split
+// positive in the grid's orientation.
+Result<BlockModel> curvilinearBlockModel(const Grid& grid, const std::string& name) {
+    BlockModel b;
+    b.source = name;
+    b.shape = CellShape::Hexahedron;
+    double cells = 1.0;
+    for (int a = 0; a < 3; ++a) {
+        if (grid.dims[a] < 2)
+            return makeError(ErrorCode::InvalidArgument, name + ": " + std::to_string(grid.dims[a]) +
+                                                             " point(s) along axis " + std::to_string(a) +
+                                                             ": a block model needs at least one cell (2 points)");
+        b.dims[std::size_t(a)] = grid.dims[a] - 1;
+        cells *= double(b.dims[std::size_t(a)]);
+    }
+    if (cells > double(kMaxBlockCells))
+        return makeError(ErrorCode::OutOfRange, name + ": " + std::to_string(std::size_t(cells)) +
+                                                    " cells, over the limit of " + std::to_string(kMaxBlockCells));
+    if (grid.points.size() != grid.sampleCount())
+        return makeError(ErrorCode::InvalidArgument, name + ": " + std::to_string(grid.points.size()) +
+                                                         " points for AXIS_N's " + std::to_string(grid.sampleCount()));
+    if (!grid.cellCentred)
         return makeError(ErrorCode::Unsupported,
                          name +
-                             ": only regular grids (Voxet) can be block models; an SGrid's cells are curvilinear "
-                             "hexahedra, and block models need box cells (exact cell x plane polygons, O(1) cell "
-                             "lookup for pixels and queries, grid-plane volume sums for grade-tonnage)");
+                             ": its properties are on points (PROP_ALIGNMENT POINTS); a curvilinear block model "
+                             "needs properties on cells (PROP_ALIGNMENT CELLS), one value per hexahedron between "
+                             "the points");
+    for (std::size_t p = 0; p < grid.points.size(); ++p)
+        if (!std::isfinite(grid.points[p].x) || !std::isfinite(grid.points[p].y) || !std::isfinite(grid.points[p].z)) {
+            const std::size_t i = p % grid.dims[0], j = (p / grid.dims[0]) % grid.dims[1],
+                              k = p / (grid.dims[0] * grid.dims[1]);
+            return makeError(
+                ErrorCode::InvalidArgument,
+                name + ": point (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) +
+                    ") is not finite (a corner of " +
+                    cellName({std::min(i, b.dims[0] - 1), std::min(j, b.dims[1] - 1), std::min(k, b.dims[2] - 1)}) +
+                    ")");
+        }
+    b.corners = grid.points;
+    b.origin = grid.points.front();
+    // The grid's orientation: the sign of its total volume.
+    double total = 0.0;
+    for (std::size_t c = 0; c < b.cellCount(); ++c) {
+        const auto k = b.cellCorners(c);
+        for (const auto& t : kCellTets) total += tetVolume6(k[t[0]], k[t[1]], k[t[2]], k[t[3]]);
+    }
+    const double handed = total < 0.0 ? -1.0 : 1.0;
+    std::vector<Aabb> bounds(b.cellCount());
+    for (std::size_t c = 0; c < b.cellCount(); ++c) {
+        const auto k = b.cellCorners(c);
+        for (const glm::dvec3& p : k) bounds[c].extend(p);
+        const glm::dvec3 e = bounds[c].size();
+        const double scale = std::max({e.x, e.y, e.z});
+        for (std::size_t t = 0; t < kCellTets.size(); ++t) {
+            const auto& tet = kCellTets[t];
+            const double v = handed * tetVolume6(k[tet[0]], k[tet[1]], k[tet[2]], k[tet[3]]);
+            if (!(v > 1e-12 * scale * scale * scale)) {
+                char buf[64];
+                std::snprintf(buf, sizeof buf, "%.6g", v / 6.0);
+                return makeError(ErrorCode::InvalidArgument,
+                                 name + ": " + cellName(b.ijk(c)) + " is " + (v < 0.0 ? "inverted" : "flat") +
+                                     ": its tetrahedron of corners " + std::to_string(tet[0]) + "," +
+                                     std::to_string(tet[1]) + "," + std::to_string(tet[2]) + "," +
+                                     std::to_string(tet[3]) + " has volume " + buf +
+                                     " m³ in the grid's orientation (a block model's cells need positive volume; "
+                                     "corners numbered bit 0 = +i, bit 1 = +j, bit 2 = +k)");
+            }
+        }
+    }
+    b.locator = std::make_shared<const CellLocator>(bounds);
+    return b;
+}
+
+}  // namespace
+
+Result<BlockModel> blockModelFromGrid(const Grid& grid) {
+    const std::string name = grid.type + " '" + grid.name + "'";
     if (grid.properties.empty()) return makeError(ErrorCode::Unsupported, name + ": the grid has no properties");
+    if (grid.type == "SGrid" || !grid.points.empty()) {
+        auto b = curvilinearBlockModel(grid, name);
+        if (!b) return b.error();
+        for (const GridProperty& p : grid.properties) {
+            if (p.values.size() != b->cellCount())
+                return makeError(ErrorCode::Unsupported, name + " property '" + p.name +
+                                                             "': " + std::to_string(p.values.size()) + " values for " +
+                                                             std::to_string(b->cellCount()) + " cells");
+            b->properties.push_back({p.name, p.unit, std::vector<double>(p.values.begin(), p.values.end())});
+        }
+        return b;
+    }
     BlockModel b;
     b.source = name;
     for (int a = 0; a < 3; ++a) {

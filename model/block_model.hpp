@@ -19,7 +19,27 @@
 //    lattice; cells not listed have no value (NaN). An empty field is no value too.
 //  - A GOCAD Voxet already in Model::grids (blockModelFromGrid): point samples become cell
 //    centres (cells of the step size around them), cell-centred properties keep their cells;
-//    steps must be orthogonal. SGrids (curvilinear) are refused: their cells are not boxes.
+//    steps must be orthogonal.
+//  - A GOCAD SGrid already in Model::grids (blockModelFromGrid): a curvilinear grid whose
+//    cells are the hexahedra between its points; properties must be on cells
+//    (PROP_ALIGNMENT CELLS).
+//
+// Cell shapes (the one place that says what a cell is; consumers ask the BlockModel):
+//  - CellShape::Box (CSV, Voxet): the half-open boxes above. O(1) cellAt; sections, volumes
+//    and the GL texture work on the box directly.
+//  - CellShape::Hexahedron (SGrid): cell (i, j, k) has the 8 corner points
+//    corners[corner(i + di, j + dj, k + dk)], d in {0, 1}. A curvilinear cell's faces are
+//    bilinear patches, in general NOT planar, so the cell is DEFINED here as the union of six
+//    tetrahedra about its diagonal from corner 000 to corner 111 (the Kuhn / Freudenthal
+//    split: for each order (a, b, c) of the three axes the tetrahedron 000, e_a, e_a + e_b,
+//    111). Every quad face is split by its diagonal from its lowest to its highest corner in
+//    both cells that share it, so neighbours' tetrahedra meet face to face: the cells tile
+//    their union with no gap and no overlap. The tetrahedra decide every answer: a section
+//    draws the union of their cuts, a point is in the cell whose tetrahedron holds it, volumes
+//    are tetrahedron ∩ body. On a grid of boxes the six tetrahedra fill each box exactly, so
+//    an SGrid whose points are a regular lattice gives the Box answers (the tests' oracle).
+//    Every tetrahedron must have a positive volume in the grid's orientation (cells inverted,
+//    flat or with non-finite points are refused, naming the cell).
 // Pure functions; a BlockModel is immutable once attached (any thread may read it).
 #pragma once
 
@@ -27,6 +47,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -39,6 +60,15 @@ namespace geoslice {
 
 struct Model;
 struct Grid;
+struct Aabb;
+class CellLocator;
+
+enum class CellShape { Box, Hexahedron };
+
+// The tetrahedra of a cell's split (see above): corner numbers 0..7, bit 0 = +i, bit 1 = +j,
+// bit 2 = +k, ordered so that each has a positive volume in a right-handed lattice.
+extern const std::array<std::array<int, 4>, 6> kCellTets;
+using Tet = std::array<glm::dvec3, 4>;
 
 // At most this many cells in a block model's grid (the lattice spanned by a CSV's rows).
 constexpr std::size_t kMaxBlockCells = std::size_t(1) << 27;
@@ -58,6 +88,11 @@ struct BlockModel {
     std::vector<BlockProperty> properties;
     std::vector<std::string> clipBodies;       // body names; empty = every closed body
     std::vector<std::uint32_t> clipBodyIndex;  // resolved Model::bodies indices (attachBlockModel)
+    CellShape shape = CellShape::Box;
+    // Hexahedron: (dims[0] + 1)(dims[1] + 1)(dims[2] + 1) corner points, world, i fastest;
+    // `locator` indexes the cells' bounds. Box: both empty (origin, axis and size say it all).
+    std::vector<glm::dvec3> corners;
+    std::shared_ptr<const CellLocator> locator;
 
     std::size_t cellCount() const { return dims[0] * dims[1] * dims[2]; }
     std::size_t linear(std::size_t i, std::size_t j, std::size_t k) const { return i + dims[0] * (j + dims[1] * k); }
@@ -70,9 +105,31 @@ struct BlockModel {
         return {glm::dot(d, axis[0]), glm::dot(d, axis[1]), glm::dot(d, axis[2])};
     }
     glm::dvec3 toWorld(const glm::dvec3& g) const { return origin + g.x * axis[0] + g.y * axis[1] + g.z * axis[2]; }
-    // The cell holding a world point (half-open boxes), or kNoCell outside the grid.
+    // The cell holding a world point, or kNoCell outside the grid. Box: half-open boxes.
+    // Hexahedron: among the tetrahedra whose barycentric coordinates are all >= -1e-12 at the
+    // point, the cell of the one whose smallest coordinate is largest (first in the locator's
+    // order on a tie): on a face shared by two cells the answer is one of them, the same on
+    // every call. The locator visits the cells whose bounds hold the point.
     static constexpr std::size_t kNoCell = std::numeric_limits<std::size_t>::max();
     std::size_t cellAt(const glm::dvec3& world) const;
+    // The same answer, sooner for coherent points (a raster): `hint` (a cell, or kNoCell) is
+    // tried first and kept when one of its tetrahedra holds the point with every barycentric
+    // coordinate > 1e-9 (no other cell of a grid that does not overlap itself can then hold
+    // it as well); `hint` is updated to the answer.
+    std::size_t cellAt(const glm::dvec3& world, std::size_t& hint) const;
+
+    // Corner (i, j, k) of the lattice, 0 <= i <= dims[0] (world).
+    glm::dvec3 corner(std::size_t i, std::size_t j, std::size_t k) const;
+    // The 8 corners of a cell (index = corner number, see kCellTets).
+    std::array<glm::dvec3, 8> cellCorners(std::size_t cell) const;
+    // Global lattice index of corner number c (0..7) of a cell: equal for the corners two
+    // cells share (so shared edges are computed from the same points in the same order).
+    std::size_t cornerIndex(std::size_t cell, int c) const;
+    Aabb cellBounds(std::size_t cell) const;
+    // A cell's volume, m³ (Hexahedron: the sum of its tetrahedra's).
+    double cellVolume(std::size_t cell) const;
+    // The block model's bounds (world).
+    Aabb bounds() const;
     // Index of the property named `name` (exact), or -1.
     int propertyIndex(std::string_view name) const;
     // Names of the properties, comma-separated (for error messages).
@@ -100,8 +157,11 @@ Result<BlockRows> readBlockRows(std::string_view text, const std::string& source
 // more than kMaxBlockCells cells.
 Result<BlockModel> blockModelFromCsv(std::string_view text, const std::string& source);
 
-// A Voxet of a loaded model as a block model (see above). Errors: Unsupported for an
-// SGrid, non-orthogonal or zero steps, or a grid with no properties.
+// A Voxet or SGrid of a loaded model as a block model (see above). Errors: Unsupported for
+// non-orthogonal or zero steps (Voxet), properties on points (SGrid), or no properties;
+// InvalidArgument naming the cell for an SGrid cell that is inverted, flat (a tetrahedron of
+// volume <= 1e-12 of its bounds' cube) or has a non-finite corner, or fewer than 2 points
+// along an axis.
 Result<BlockModel> blockModelFromGrid(const Grid& grid);
 
 // Where a model's block model comes from (model/loaders.hpp LoadOptions, CLI --blocks).

@@ -1,5 +1,6 @@
 #include "renderer/block_texture.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "renderer/gl_objects.hpp"
@@ -9,11 +10,12 @@ namespace geoslice {
 struct BlockTexture::Impl {
     const GlFunctions* gl = nullptr;
     GlTexture texture;
+    GlTexture clipTexture;               // sorted records, rows of kBlockClipRow
     glm::dvec3 origin{0.0};              // world
     std::array<glm::dvec3, 3> toGrid{};  // axis[a] / size[a]: world offset -> cell units
     std::array<int, 3> dims{0, 0, 0};
     std::vector<float> colours;  // 4 per class, straight alpha in [0, 1]
-    std::vector<GLuint> clip;    // records
+    GLint clipCount = 0;
 };
 
 BlockTexture::BlockTexture(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -24,6 +26,12 @@ Result<std::unique_ptr<BlockTexture>> BlockTexture::upload(GlContext& context, c
                                                            const std::vector<Rgba8>& colours,
                                                            const std::vector<RecordId>& clipRecords) {
     const GlFunctions& gl = context.gl();
+    if (blocks.shape != CellShape::Box)
+        return makeError(ErrorCode::Unsupported,
+                         "parameter 'colour': GL (perspective) views colour box-cell block models only (CSV, Voxet); " +
+                             blocks.source +
+                             " has curvilinear cells, which a 3D texture lookup cannot address (profile images, "
+                             "tiles, vectors, print sheets, queries and reserves colour and use it)");
     if (cellClass.size() != blocks.cellCount() || blocks.cellCount() == 0)
         return makeError(ErrorCode::InvalidArgument, "block texture: " + std::to_string(cellClass.size()) +
                                                          " class bytes for " + std::to_string(blocks.cellCount()) +
@@ -53,7 +61,18 @@ Result<std::unique_ptr<BlockTexture>> BlockTexture::upload(GlContext& context, c
     }
     for (const Rgba8& c : colours)
         impl->colours.insert(impl->colours.end(), {c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, c.a / 255.0f});
-    impl->clip.assign(clipRecords.begin(), clipRecords.end());
+    std::vector<GLuint> clip(clipRecords.begin(), clipRecords.end());
+    std::sort(clip.begin(), clip.end());
+    clip.erase(std::unique(clip.begin(), clip.end()), clip.end());
+    impl->clipCount = GLint(clip.size());
+    const int rows = std::max(1, int((clip.size() + kBlockClipRow - 1) / kBlockClipRow));
+    clip.resize(std::size_t(rows) * kBlockClipRow, 0u);
+    impl->clipTexture = GlTexture::create(gl, GL_TEXTURE_2D);
+    gl.TextureStorage2D(impl->clipTexture.id(), 1, GL_R32UI, kBlockClipRow, rows);
+    gl.TextureParameteri(impl->clipTexture.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TextureParameteri(impl->clipTexture.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TextureSubImage2D(impl->clipTexture.id(), 0, 0, 0, kBlockClipRow, rows, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                         clip.data());
     impl->texture = GlTexture::create(gl, GL_TEXTURE_3D);
     const GLuint tex = impl->texture.id();
     gl.TextureStorage3D(tex, 1, GL_R8UI, impl->dims[0], impl->dims[1], impl->dims[2]);
@@ -80,11 +99,13 @@ void BlockTexture::apply(GLuint program, const glm::dvec3& modelOrigin) const {
     gl.ProgramUniform3fv(program, at("uBlockToGrid"), 3, rows);
     gl.ProgramUniform3i(program, at("uBlockDims"), impl_->dims[0], impl_->dims[1], impl_->dims[2]);
     gl.ProgramUniform4fv(program, at("uBlockColours"), GLsizei(impl_->colours.size() / 4), impl_->colours.data());
-    gl.ProgramUniform1i(program, at("uBlockClipCount"), GLint(impl_->clip.size()));
-    if (!impl_->clip.empty())
-        gl.ProgramUniform1uiv(program, at("uBlockClip"), GLsizei(impl_->clip.size()), impl_->clip.data());
+    gl.BindTextureUnit(3, impl_->clipTexture.id());  // binding 3: uBlockClip
+    gl.ProgramUniform1i(program, at("uBlockClipCount"), impl_->clipCount);
 }
 
-void BlockTexture::release() const { impl_->gl->BindTextureUnit(2, 0); }
+void BlockTexture::release() const {
+    impl_->gl->BindTextureUnit(2, 0);
+    impl_->gl->BindTextureUnit(3, 0);
+}
 
 }  // namespace geoslice

@@ -14,10 +14,16 @@
 // The point is computed in float in the local frame (world - Model::origin): within about
 // 1e-5 m of the exact one for models of a few km, so pixels whose point lies that close to a
 // cell face may take the neighbouring cell.
+// Curvilinear block models (SGrid, CellShape::Hexahedron) are refused by upload() with a
+// named reason: a texel per cell addresses box cells only, and locating a point among
+// hexahedra in a fragment shader (a cell BVH in a storage buffer, barycentric tests per
+// fragment) would cost far more than the view; their profile views, tiles, vectors, print
+// sheets, queries and reserves are coloured and measured by the exact engine.
 //
 // Threads: upload, apply and destroy on the GlContext's thread. GL state: upload() binds
-// nothing (DSA; sets GL_UNPACK_ALIGNMENT to 1 and back to 4); apply() binds the texture to
-// unit 2 and sets the program's uBlock* uniforms (the GS_BLOCKS variants of shaders/slice.frag).
+// nothing (DSA; sets GL_UNPACK_ALIGNMENT to 1 and back to 4); apply() binds the class texture
+// to unit 2, the clip records' texture to unit 3, and sets the program's uBlock* uniforms (the
+// GS_BLOCKS variants of shaders/slice.frag).
 #pragma once
 
 #include <array>
@@ -34,8 +40,11 @@
 
 namespace geoslice {
 
-constexpr int kMaxBlockClasses = 65;      // 64 breaks
-constexpr int kMaxBlockClipRecords = 32;  // clipping bodies' records a GL view can tell apart
+constexpr int kMaxBlockClasses = 65;  // 64 breaks
+// Clipping bodies' records a GL view can tell apart: sorted in an R32UI texture of rows of
+// kBlockClipRow texels (unit 3), found by binary search in the shader (16 steps at most).
+constexpr int kBlockClipRow = 1024;  // shaders/slice.frag's row length
+constexpr int kMaxBlockClipRecords = 1 << 16;
 
 class BlockTexture {
 public:
@@ -51,10 +60,10 @@ public:
     BlockTexture(const BlockTexture&) = delete;
     BlockTexture& operator=(const BlockTexture&) = delete;
 
-    // Binds the texture (unit 2) and sets the uniforms of `program` for a model whose local
-    // frame has origin `modelOrigin` (world).
+    // Binds the textures (units 2 and 3) and sets the uniforms of `program` for a model whose
+    // local frame has origin `modelOrigin` (world).
     void apply(GLuint program, const glm::dvec3& modelOrigin) const;
-    // Unbinds unit 2.
+    // Unbinds units 2 and 3.
     void release() const;
 
 private:

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "model/cell_locator.hpp"
 #include "section/reserves.hpp"
 
 namespace geoslice {
@@ -104,7 +105,10 @@ Mesh keptSideShell(const Mesh& body, const Plane& plane) {
             s[k] = glm::dot(plane.normal, p[k]) + plane.d;
             kept += s[k] >= 0.0;
         }
-        if (kept == 0) continue;
+        // A triangle on the plane and the cap over its edges are the same planar 2-chain with
+        // opposite signs (volume 0): leave both out. (Kept, they would double the caps every
+        // time a shell is clipped again on a plane it was capped on.)
+        if (kept == 0 || (s[0] == 0.0 && s[1] == 0.0 && s[2] == 0.0)) continue;
         Vertex poly[4];
         int n = 0;
         for (int k = 0; k < 3; ++k) {
@@ -133,16 +137,95 @@ Mesh keptSideShell(const Mesh& body, const Plane& plane) {
     return out;
 }
 
+Mesh clipToConvex(const Mesh& closed, const std::vector<Plane>& planes) {
+    Mesh m = closed;
+    for (const Plane& p : planes) {
+        if (m.indices.empty()) break;
+        m = keptSideShell(m, p);
+    }
+    return m;
+}
+
 std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body, const Plane& plane) {
     std::vector<CellVolume> cells = cellBodyVolumes(blocks, keptSideShell(body, plane));
-    const double floor = 1e-9 * blocks.size[0] * blocks.size[1] * blocks.size[2];
-    std::erase_if(cells, [&](const CellVolume& c) { return std::abs(c.volume) <= floor; });
+    std::erase_if(cells, [&](const CellVolume& c) { return std::abs(c.volume) <= 1e-9 * blocks.cellVolume(c.cell); });
     return cells;
 }
+
+namespace {
+
+// A tetrahedron of a hexahedral cell, relative to the body's centre.
+struct TetCell {
+    std::size_t cell = 0;
+    std::vector<Plane> planes;  // 4, inward unit normals
+};
+
+// The tetrahedra of the cells whose bounds meet `box`.
+std::size_t tetsMeeting(const BlockModel& blocks, const Aabb& box) {
+    std::size_t n = 0;
+    blocks.locator->cellsMeeting(
+        [&](const Aabb& b) {
+            return !(b.max.x < box.min.x || b.min.x > box.max.x || b.max.y < box.min.y || b.min.y > box.max.y ||
+                     b.max.z < box.min.z || b.min.z > box.max.z);
+        },
+        [&](std::size_t) { n += kCellTets.size(); });
+    return n;
+}
+
+std::vector<CellVolume> tetCellBodyVolumes(const BlockModel& blocks, const Mesh& body) {
+    std::vector<CellVolume> out;
+    const Aabb bb = body.bounds();
+    if (!bb.valid()) return out;
+    const glm::dvec3 o = bb.centre();
+    Mesh shell = body;
+    for (glm::dvec3& p : shell.positions) p -= o;
+    std::vector<TetCell> tets;
+    blocks.locator->cellsMeeting(
+        [&](const Aabb& b) {
+            return !(b.max.x < bb.min.x || b.min.x > bb.max.x || b.max.y < bb.min.y || b.min.y > bb.max.y ||
+                     b.max.z < bb.min.z || b.min.z > bb.max.z);
+        },
+        [&](std::size_t cell) {
+            const auto k = blocks.cellCorners(cell);
+            for (const auto& t : kCellTets) {
+                TetCell tc;
+                tc.cell = cell;
+                glm::dvec3 v[4];
+                for (int m = 0; m < 4; ++m) {
+                    v[m] = k[std::size_t(t[std::size_t(m)])] - o;
+                }
+                for (int m = 0; m < 4; ++m) {
+                    // The face opposite v[m], its normal towards v[m].
+                    const glm::dvec3 &a = v[(m + 1) % 4], &b = v[(m + 2) % 4], &c = v[(m + 3) % 4];
+                    glm::dvec3 nrm = glm::normalize(glm::cross(b - a, c - a));
+                    if (glm::dot(nrm, v[m] - a) < 0.0) nrm = -nrm;
+                    tc.planes.push_back({nrm, -glm::dot(nrm, a)});
+                }
+                tets.push_back(std::move(tc));
+            }
+        });
+    std::vector<CellVolume> pieces;
+    for (const TetCell& t : tets) {
+        const double v = meshVolume(clipToConvex(shell, t.planes));
+        if (v != 0.0) pieces.push_back({t.cell, v});
+    }
+    std::sort(pieces.begin(), pieces.end(), [](const CellVolume& x, const CellVolume& y) { return x.cell < y.cell; });
+    for (const CellVolume& p : pieces) {
+        if (!out.empty() && out.back().cell == p.cell)
+            out.back().volume += p.volume;
+        else
+            out.push_back(p);
+    }
+    std::erase_if(out, [&](const CellVolume& c) { return std::abs(c.volume) <= 1e-9 * blocks.cellVolume(c.cell); });
+    return out;
+}
+
+}  // namespace
 
 std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body) {
     std::vector<CellVolume> out;
     if (blocks.cellCount() == 0 || body.indices.size() < 12) return out;
+    if (blocks.shape == CellShape::Hexahedron) return tetCellBodyVolumes(blocks, body);
     const Axis ax{blocks.size[0], long(blocks.dims[0])}, ay{blocks.size[1], long(blocks.dims[1])},
         az{blocks.size[2], long(blocks.dims[2])};
     std::vector<glm::dvec3> g(body.positions.size());
@@ -329,6 +412,19 @@ Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& 
     for (std::size_t c = 0; c < cutoffs.size(); ++c)
         if (!std::isfinite(cutoffs[c]) || (c > 0 && !(cutoffs[c] > cutoffs[c - 1])))
             return makeError(ErrorCode::InvalidArgument, "parameter 'cutoffs': values must be finite and increase");
+    if (blocks.shape == CellShape::Hexahedron)
+        for (std::uint32_t b : blocks.clipBodyIndex) {
+            const Mesh& mesh = model.bodies[b].mesh;
+            const double work = double(tetsMeeting(blocks, mesh.bounds())) * double(mesh.triangleCount());
+            if (work > kMaxTetClipWork)
+                return makeError(ErrorCode::OutOfRange,
+                                 "grade-tonnage of " + blocks.source + " (curvilinear cells): body '" +
+                                     model.bodies[b].name + "' has " + std::to_string(mesh.triangleCount()) +
+                                     " triangles and its bounds meet " +
+                                     std::to_string(tetsMeeting(blocks, mesh.bounds())) +
+                                     " tetrahedra; the exact per-tetrahedron clip costs their product, over the limit "
+                                     "of 1e8 (box-cell block models have no such limit)");
+        }
     const BlockProperty& grade = blocks.properties[std::size_t(k)];
     int densityIndex = -1;
     for (std::size_t p = 0; p < blocks.properties.size(); ++p) {

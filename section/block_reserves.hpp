@@ -42,6 +42,18 @@
 // elsewhere) is the kept part; the fan's overlaps cancel in every cell up to rounding. No
 // loop building, no triangulation of the section polygons.
 //
+// Hexahedral cells (SGrid, model/block_model.hpp): a cell is six tetrahedra, and
+// tetrahedron ∩ body is the body clipped to the tetrahedron's four planes: keptSideShell
+// applied once per plane (clipToConvex: each result is again a closed surface, so the next
+// clip and meshVolume are exact), the same clip-and-cap that measures the kept side of a
+// plane, generalised from one half-space to any convex polyhedron. Coordinates are taken
+// relative to the body's centre first (rounding of large eastings). Cost: the whole body is
+// clipped for every tetrahedron of the cells whose bounds meet the body's: O(tetrahedra x
+// triangles); computeGradeTonnage refuses (OutOfRange, naming the body) above
+// kMaxTetClipWork. (A k-d split of the body into closed pieces, each capped with
+// keptSideShell's fans, was tried to localise it: the fans of one split are cut again by
+// the next and the caps grow geometrically with depth.)
+//
 // Grade-tonnage: per body, for each cut-off c, the cells whose grade >= c (cells with no
 // grade value are left out and their volume reported): tonnage = sum V rho, mean grade =
 // sum V rho g / tonnage, metal = section/reserves.hpp metalContent(tonnage, mean grade).
@@ -62,14 +74,24 @@
 
 namespace geoslice {
 
+// The most tetrahedra x triangles computeGradeTonnage clips for a curvilinear block model.
+constexpr double kMaxTetClipWork = 1e8;
+
 struct CellVolume {
     std::size_t cell = 0;  // BlockModel linear index
     double volume = 0.0;   // m³
 };
 
 // The cells of `blocks` that `body` (closed, outward, world coordinates) meets, with the
-// volume of cell ∩ body (cells of zero volume left out), ascending cell order.
+// volume of cell ∩ body, ascending cell order. Cells of zero volume are left out (Box: exact
+// zeros; Hexahedron: |volume| <= 1e-9 of the cell's, the rounding left where a body only
+// touches a cell).
 std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body);
+
+// `closed` (a closed, outward surface) clipped to the convex polyhedron where every
+// n . p + d >= 0: keptSideShell once per plane (unit normals). Its meshVolume is the volume
+// of body ∩ polyhedron. Empty when nothing is kept.
+Mesh clipToConvex(const Mesh& closed, const std::vector<Plane>& planes);
 
 // The closed surface of body ∩ {n . p + d >= 0} (see above): the kept pieces (fanned into
 // triangles) and the signed cap fan, unwelded (3 vertices per triangle). Empty when nothing
@@ -77,7 +99,7 @@ std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& bo
 Mesh keptSideShell(const Mesh& body, const Plane& plane);
 
 // cellBodyVolumes of keptSideShell(body, plane), less the cells whose |volume| is at most
-// 1e-9 of a cell (the fan's cancelling overlaps leave rounding there, ~1e-15 of a cell).
+// 1e-9 of their cell's (the fan's cancelling overlaps leave rounding there, ~1e-15 of a cell).
 std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body, const Plane& plane);
 
 struct GradeTonnageRow {
@@ -111,7 +133,8 @@ struct GradeTonnage {
 // of the bodies nested directly inside it (validation's nesting parents; with `plane`,
 // their kept parts), as in its section region. Errors: InvalidArgument when the model has
 // no block model, the property is unknown (listed), cut-offs are not finite and increasing
-// or more than 64, or the plane is bad (non-finite, zero normal).
+// or more than 64, or the plane is bad (non-finite, zero normal); OutOfRange above
+// kMaxTetClipWork (curvilinear cells, see above).
 Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& property,
                                          const std::vector<double>& cutoffs,
                                          const std::optional<Plane>& plane = std::nullopt);

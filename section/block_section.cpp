@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "model/cell_locator.hpp"
+
 namespace geoslice {
 namespace {
 
@@ -144,6 +146,7 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
                           int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells) {
     const std::vector<double>& values = blocks.properties[std::size_t(classes.property)].values;
     const std::size_t W = std::size_t(width);
+    std::size_t hint = BlockModel::kNoCell;  // the last cell: neighbouring pixels share it
     for (int j = 0; j < height; ++j) {
         RecordId lastRecord = kNoRecord;
         bool lastClips = false;
@@ -157,7 +160,7 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
                 lastClips = std::binary_search(clipRecords.begin(), clipRecords.end(), r);
             }
             if (!lastClips) continue;
-            const std::size_t cell = blocks.cellAt(worldAt(i, j));
+            const std::size_t cell = blocks.cellAt(worldAt(i, j), hint);
             if (cell == BlockModel::kNoCell) continue;
             if (cells) cells[p] = std::uint32_t(cell + 1);
             const double v = values[cell];
@@ -172,10 +175,97 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
     }
 }
 
+namespace {
+
+// Whether the polygon's bounding box misses `limit` (u/v).
+bool outsideLimit(const Ring& ring, const FrameRect* limit) {
+    if (!limit) return false;
+    glm::dvec2 pl(std::numeric_limits<double>::infinity()), ph(-std::numeric_limits<double>::infinity());
+    for (const auto& p : ring) {
+        pl = glm::min(pl, p);
+        ph = glm::max(ph, p);
+    }
+    return ph.x < limit->u0 || pl.x > limit->u1 || ph.y < limit->v0 || pl.y > limit->v1;
+}
+
+// The convex polygon of up to 4 crossing points (u/v), counter-clockwise, repeated points
+// dropped; empty when it has no area.
+Ring convexRing(glm::dvec2* pts, int n) {
+    Ring ring;
+    if (n < 3) return ring;
+    glm::dvec2 mean(0.0);
+    for (int i = 0; i < n; ++i) mean += pts[i];
+    mean /= double(n);
+    std::sort(pts, pts + n, [&](const glm::dvec2& p, const glm::dvec2& r) {
+        return std::atan2(p.y - mean.y, p.x - mean.x) < std::atan2(r.y - mean.y, r.x - mean.x);
+    });
+    for (int i = 0; i < n; ++i)
+        if (ring.empty() || pts[i] != ring.back()) ring.push_back(pts[i]);
+    while (ring.size() > 1 && ring.front() == ring.back()) ring.pop_back();
+    if (ring.size() < 3 || !(ringArea(ring) > 0.0)) ring.clear();
+    return ring;
+}
+
+// Hexahedral cells (model/block_model.hpp): every tetrahedron's cut, a triangle or a
+// quadrilateral. Each crossing point is computed from its edge's two corners in the order
+// of their lattice indices, so the tetrahedra sharing an edge (in one cell or in
+// neighbours) get the same point and their polygons meet exactly.
+Result<std::vector<CellPolygon>> tetCellPolygons(const BlockModel& blocks, const SectionFrame& frame,
+                                                 const FrameRect* limit, std::size_t maxCells) {
+    std::vector<CellPolygon> out;
+    const glm::dvec3 o = frame.originWorld();
+    auto signedDistance = [&](const glm::dvec3& p) { return glm::dot(frame.normal, p - o); };
+    auto crosses = [&](const Aabb& box) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (int c = 0; c < 8; ++c) {
+            const double s = signedDistance(
+                {c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y, c & 4 ? box.max.z : box.min.z});
+            lo = std::min(lo, s);
+            hi = std::max(hi, s);
+        }
+        return lo < 0.0 && hi >= 0.0;
+    };
+    std::vector<std::size_t> cut;
+    blocks.locator->cellsMeeting(crosses, [&](std::size_t cell) { cut.push_back(cell); });
+    std::sort(cut.begin(), cut.end());
+    for (const std::size_t cell : cut) {
+        const auto k = blocks.cellCorners(cell);
+        double sd[8];
+        std::size_t id[8];
+        for (int c = 0; c < 8; ++c) {
+            sd[c] = signedDistance(k[std::size_t(c)]);
+            id[c] = blocks.cornerIndex(cell, c);
+        }
+        for (const auto& tet : kCellTets) {
+            glm::dvec2 pts[4];
+            int n = 0;
+            for (int e0 = 0; e0 < 4; ++e0)
+                for (int e1 = e0 + 1; e1 < 4; ++e1) {
+                    int a = tet[std::size_t(e0)], b = tet[std::size_t(e1)];
+                    if ((sd[a] < 0.0) == (sd[b] < 0.0)) continue;
+                    if (id[b] < id[a]) std::swap(a, b);
+                    const double t = sd[a] / (sd[a] - sd[b]);
+                    const glm::dvec3 p = k[std::size_t(a)] + t * (k[std::size_t(b)] - k[std::size_t(a)]) - o;
+                    if (n < 4) pts[n++] = {glm::dot(p, frame.u), glm::dot(p, frame.v)};
+                }
+            CellPolygon cp{cell, convexRing(pts, n)};
+            if (cp.ring.empty() || outsideLimit(cp.ring, limit)) continue;
+            if (out.size() >= maxCells)
+                return makeError(ErrorCode::OutOfRange, "the section crosses more than " + std::to_string(maxCells) +
+                                                            " block cell pieces (tetrahedra)");
+            out.push_back(std::move(cp));
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 Result<std::vector<CellPolygon>> cellPolygons(const BlockModel& blocks, const SectionFrame& frame,
                                               const FrameRect* limit, std::size_t maxCells) {
     std::vector<CellPolygon> out;
     if (blocks.cellCount() == 0) return out;
+    if (blocks.shape == CellShape::Hexahedron) return tetCellPolygons(blocks, frame, limit, maxCells);
     // The plane in the grid frame: N . g + c = 0.
     const glm::dvec3 q = blocks.origin - frame.originWorld();  // grid origin relative to the u/v origin
     const glm::dvec3 N{glm::dot(frame.normal, blocks.axis[0]), glm::dot(frame.normal, blocks.axis[1]),
@@ -229,29 +319,8 @@ Result<std::vector<CellPolygon>> cellPolygons(const BlockModel& blocks, const Se
                     const double t = s0 / (s0 - s1);
                     pts[std::size_t(n++)] = toUv(corner[e[0]] + t * (corner[e[1]] - corner[e[0]]));
                 }
-                if (n < 3) continue;
-                glm::dvec2 mean(0.0);
-                for (int i = 0; i < n; ++i) mean += pts[std::size_t(i)];
-                mean /= double(n);
-                std::sort(pts.begin(), pts.begin() + n, [&](const glm::dvec2& p, const glm::dvec2& r) {
-                    return std::atan2(p.y - mean.y, p.x - mean.x) < std::atan2(r.y - mean.y, r.x - mean.x);
-                });
-                CellPolygon cp;
-                cp.cell = blocks.linear(idx[0], idx[1], idx[2]);
-                for (int i = 0; i < n; ++i)
-                    if (cp.ring.empty() || pts[std::size_t(i)] != cp.ring.back())
-                        cp.ring.push_back(pts[std::size_t(i)]);
-                while (cp.ring.size() > 1 && cp.ring.front() == cp.ring.back()) cp.ring.pop_back();
-                if (cp.ring.size() < 3 || !(ringArea(cp.ring) > 0.0)) continue;
-                if (limit) {
-                    glm::dvec2 pl(std::numeric_limits<double>::infinity()),
-                        ph(-std::numeric_limits<double>::infinity());
-                    for (const auto& p : cp.ring) {
-                        pl = glm::min(pl, p);
-                        ph = glm::max(ph, p);
-                    }
-                    if (ph.x < limit->u0 || pl.x > limit->u1 || ph.y < limit->v0 || pl.y > limit->v1) continue;
-                }
+                CellPolygon cp{blocks.linear(idx[0], idx[1], idx[2]), convexRing(pts.data(), n)};
+                if (cp.ring.empty() || outsideLimit(cp.ring, limit)) continue;
                 if (out.size() >= maxCells)
                     return makeError(ErrorCode::OutOfRange,
                                      "the section crosses more than " + std::to_string(maxCells) + " block cells");
@@ -287,10 +356,13 @@ Ring clipRingToConvex(const Ring& subject, const Ring& clip) {
 namespace {
 
 // The pieces of `cells` (polygons in the bodies' 2D frame) inside every clipping body of `bodies`.
+// A cell given by several polygons (its tetrahedra's cuts, consecutive) gives one piece per
+// body: the union of their clipped rings.
 void piecesOf(const BlockModel& blocks, const std::vector<CellPolygon>& cells, const std::vector<BodySection>& bodies,
               std::vector<BlockPiece>& out) {
     for (const BodySection& body : bodies) {
         if (!blocks.clips(body.part)) continue;
+        const std::size_t firstOfBody = out.size();
         std::vector<const Ring*> rings;
         std::vector<std::array<glm::dvec2, 2>> boxes;
         for (const SectionPolygon& p : body.polygons) {
@@ -325,7 +397,14 @@ void piecesOf(const BlockModel& blocks, const std::vector<CellPolygon>& cells, c
                 piece.area += area;
                 piece.rings.push_back(std::move(clipped));
             }
-            if (piece.area > 0.0) out.push_back(std::move(piece));
+            if (!(piece.area > 0.0)) continue;
+            if (out.size() > firstOfBody && out.back().cell == piece.cell) {
+                BlockPiece& last = out.back();
+                last.area += piece.area;
+                for (Ring& r : piece.rings) last.rings.push_back(std::move(r));
+            } else {
+                out.push_back(std::move(piece));
+            }
         }
     }
 }

@@ -2,10 +2,17 @@
 // each cell's exact intersection with a section plane (a convex polygon in plane u/v), and
 // that polygon clipped to a body's section region (the cell's part inside the body).
 //
-// Cell ∩ plane: a cell is a box in the block model's grid frame (model/block_model.hpp); the
-// plane crosses at most 6 of its 12 edges, and the crossing points, ordered around their
-// mean, are the convex polygon (counter-clockwise in u/v). Cells are visited column by
-// column along the grid axis most parallel to the normal, so the work is the cells cut.
+// Cell ∩ plane, for each cell shape of model/block_model.hpp:
+//  - Box: a box in the block model's grid frame; the plane crosses at most 6 of its 12
+//    edges, and the crossing points, ordered around their mean, are the convex polygon
+//    (counter-clockwise in u/v). Cells are visited column by column along the grid axis most
+//    parallel to the normal, so the work is the cells cut.
+//  - Hexahedron (SGrid): the cell is the union of its six tetrahedra (block_model.hpp), so its
+//    cut is the union of their cuts: one convex polygon (triangle or quadrilateral) per
+//    tetrahedron the plane crosses, the cell's polygons consecutive in the list. The cut of a
+//    curvilinear cell is in general not convex; its tetrahedra's polygons tile it exactly
+//    (shared edges give bit-identical points). The locator (model/cell_locator.hpp) finds
+//    the cells whose bounds the plane crosses.
 //
 // Clipping to a body: the body's region (its section polygons, holes and nested bodies
 // included: section/contours.hpp) is clipped ring by ring against the convex cell polygon
@@ -15,8 +22,9 @@
 // pixel centres).
 //
 // Pixels: the raster path (api/view.cpp) colours a pixel by the cell holding its centre
-// when its ID-buffer record is a clipping body's: the point sampling of these same
-// polygons, with the ID buffer's rule for the body. Thread-safety: pure functions.
+// (BlockModel::cellAt: the cell whose tetrahedron holds it, for hexahedra) when its ID-buffer
+// record is a clipping body's: the point sampling of these same polygons, with the ID
+// buffer's rule for the body. Thread-safety: pure functions.
 #pragma once
 
 #include <cstdint>
@@ -85,7 +93,8 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
                           const std::vector<RecordId>& clipRecords, const std::function<glm::dvec3(int, int)>& worldAt,
                           int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells);
 
-// One cell's intersection with a plane: a convex polygon in plane u/v, counter-clockwise.
+// One cell's intersection with a plane (Box), or one tetrahedron's of it (Hexahedron): a
+// convex polygon in plane u/v, counter-clockwise.
 struct CellPolygon {
     std::size_t cell = 0;  // BlockModel linear index
     Ring ring;
@@ -101,7 +110,9 @@ Result<std::vector<CellPolygon>> cellPolygons(const BlockModel& blocks, const Se
 // result keeps the subject's orientation and may be empty.
 Ring clipRingToConvex(const Ring& subject, const Ring& clip);
 
-// A cell's part of a clipping body's section region.
+// A cell's part of a clipping body's section region (one per cell and body: a hexahedral
+// cell's tetrahedra's pieces are merged into it, their rings abutting along the
+// tetrahedra's shared faces' traces; drawn as one path, they show no seam).
 struct BlockPiece {
     std::size_t cell = 0;
     std::uint32_t body = 0;  // Model::bodies index

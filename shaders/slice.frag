@@ -58,8 +58,9 @@ uniform vec3 uBlockOrigin;     // local frame
 uniform vec3 uBlockToGrid[3];  // axis[a] / size[a]: local offset -> cell units
 uniform ivec3 uBlockDims;
 uniform vec4 uBlockColours[65];
-uniform uint uBlockClip[32];
 uniform int uBlockClipCount;
+// The clipping bodies' records, sorted, row by row (kBlockClipRow = 1024 per row).
+layout(binding = 3) uniform usampler2D uBlockClip;
 layout(binding = 2) uniform usampler3D uBlockClasses;  // 0 = no value, k + 1 = class k
 #endif
 
@@ -81,8 +82,16 @@ uint fetchId(vec2 uv) {
 // union: the first), or `colour` when the record does not clip the block model, the point
 // is outside the grid or its cell has no value.
 vec4 blockColour(uint record, vec4 colour) {
+    // Binary search of the sorted records.
+    int lo = 0, hi = uBlockClipCount;
     bool clips = false;
-    for (int i = 0; i < uBlockClipCount; ++i) clips = clips || uBlockClip[i] == record;
+    while (lo < hi && !clips) {
+        int mid = (lo + hi) / 2;
+        uint r = texelFetch(uBlockClip, ivec2(mid % 1024, mid / 1024), 0).r;
+        clips = r == record;
+        if (r < record) lo = mid + 1;
+        else hi = mid;
+    }
     if (!clips) return colour;
     vec3 dir = uEye.w != 0.0 ? normalize(vLocal - uEye.xyz) : uEye.xyz;
     float l = uUnion != 0 ? 3.0e38 : -3.0e38;

@@ -130,11 +130,41 @@ TEST(BlockTexture, CapColoursAreTheProfileEnginesClasses) {
     auto plain = (*renderer)->render(*gpu.value(), req);
     ASSERT_TRUE(plain.ok());
     EXPECT_EQ(plain->ids, image->ids);
+    // More than 32 clipping records (issue 15: the records are a sorted texture, searched in
+    // the shader): with 300 records, the orebody's among them, the image is the same; with
+    // 300 records that leave it out, its caps keep the body's colour, as without a texture.
+    std::vector<RecordId> many;
+    for (RecordId r = 1000; r < 1299; ++r) many.push_back(r);
+    many.push_back(2u);
+    auto manyTexture =
+        BlockTexture::upload(*ctx, blocks, cellClassIndex(blocks, classes.value()), classes->colours, many);
+    ASSERT_TRUE(manyTexture.ok()) << manyTexture.error().message;
+    req.blocks = manyTexture.value().get();
+    auto withMany = (*renderer)->render(*gpu.value(), req);
+    ASSERT_TRUE(withMany.ok());
+    EXPECT_EQ(withMany->rgba, image->rgba);
+    many.back() = 1299u;
+    auto otherTexture =
+        BlockTexture::upload(*ctx, blocks, cellClassIndex(blocks, classes.value()), classes->colours, many);
+    ASSERT_TRUE(otherTexture.ok()) << otherTexture.error().message;
+    req.blocks = otherTexture.value().get();
+    auto withOthers = (*renderer)->render(*gpu.value(), req);
+    ASSERT_TRUE(withOthers.ok());
+    EXPECT_EQ(withOthers->rgba, plain->rgba);
+    EXPECT_NE(withOthers->rgba, image->rgba);
+    req.blocks = nullptr;
     // Bad inputs are errors naming the problem.
     EXPECT_FALSE(BlockTexture::upload(*ctx, blocks, {1, 2, 3}, classes->colours, {}).ok());
     EXPECT_FALSE(BlockTexture::upload(*ctx, blocks, cellClassIndex(blocks, classes.value()), classes->colours,
                                       std::vector<RecordId>(kMaxBlockClipRecords + 1, 2u))
                      .ok());
+    // A curvilinear (SGrid) block model is refused by name: a texel per cell addresses boxes only.
+    BlockModel curved = blocks;
+    curved.shape = CellShape::Hexahedron;
+    auto refused = BlockTexture::upload(*ctx, curved, cellClassIndex(blocks, classes.value()), classes->colours, {});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, ErrorCode::Unsupported);
+    EXPECT_NE(refused.error().message.find("curvilinear"), std::string::npos) << refused.error().message;
 }
 
 // The render worker's perspective views with colour= (what section.jpg?view=perspective&colour=
