@@ -135,8 +135,7 @@ int main(int argc, char** argv) {
         auto sg = blockModelFromGrid(g);
         buildMs = ms(t);
         if (!sg) {
-            std::fprintf(stderr, "%s
-", sg.error().message.c_str());
+            std::fprintf(stderr, "%s\n", sg.error().message.c_str());
             return 1;
         }
         blocks = std::move(sg.value());

@@ -21,6 +21,7 @@
 #include <set>
 
 #include "api/catalog.hpp"
+#include "api/pixel_query.hpp"
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "model/block_model.hpp"
