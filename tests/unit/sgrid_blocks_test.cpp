@@ -38,6 +38,19 @@ using namespace geoslice::test;
 
 namespace {
 
+// Tolerances, each with its reason (the tests' coordinates are ~1000 m unless said).
+// Determinants and clipped pieces of ~10 m cells at ~1000 m: rounding ~1e-13 relative.
+constexpr double kCellVolumeTolM3 = 1e-9;   // one 350 m³ cell's volume two ways
+constexpr double kPolygonAreaTolM2 = 1e-8;  // one cell's cut, box vs its 6 tetrahedra's (~100 m²)
+constexpr double kCellClipTolM3 = 1e-7;     // one cell ∩ body, box path vs tetrahedra (clipped pieces)
+constexpr double kSumRelTol = 1e-9;         // a sum over cells of the above, relative
+// At Gauss-Kruger eastings (3.5e7 m) the corners' own float step is 4e-9 m, so one cell ∩ body
+// volume (~500 m³) carries about that step x a face's area: 1e-6 m³.
+constexpr double kGkCellClipTolM3 = 1e-6;
+constexpr double kGradeTol = 1e-9;          // a mean grade (g/t), a ratio of sums above
+constexpr double kSphereSumRelTol = 1e-10;  // ~10^5 clipped pieces of ~10 m, against meshVolume
+constexpr double kPieceAreaTolM2 = 1e-9;    // a piece's area vs its cell's polygons (~40 m², 100 m coordinates)
+
 // An SGrid of n0 x n1 x n2 cells with points at(i, j, k) and cell property grade(i, j, k).
 template <class At, class Grade>
 Grid sgridOf(int n0, int n1, int n2, At at, Grade grade) {
@@ -181,7 +194,7 @@ TEST(SGridBlocks, ARegularSGridGivesTheVoxetsAnswers) {
     for (std::size_t cell = 0; cell < bv->cellCount(); ++cell) {
         ASSERT_EQ(bs->properties[0].values[cell], bv->properties[0].values[cell]);
         // 1e-9 m³ of 350 m³: rounding of determinants of ~1000 m coordinates.
-        EXPECT_NEAR(bs->cellVolume(cell), 350.0, 1e-9);
+        EXPECT_NEAR(bs->cellVolume(cell), 350.0, kCellVolumeTolM3);
     }
 
     // Points: the same cell wherever the point is farther than 1e-7 m from a cell face (the
@@ -218,8 +231,7 @@ TEST(SGridBlocks, ARegularSGridGivesTheVoxetsAnswers) {
         for (const CellPolygon& cp : pv.value()) av[cp.cell] += ringArea(cp.ring);
         for (const CellPolygon& cp : ps.value()) as[cp.cell] += ringArea(cp.ring);
         ASSERT_GT(av.size(), 20u);
-        for (const auto& [cell, area] : av)
-            EXPECT_NEAR(as[cell], area, 1e-8) << "cell " << cell;  // m², rounding at 1000 m
+        for (const auto& [cell, area] : av) EXPECT_NEAR(as[cell], area, kPolygonAreaTolM2) << "cell " << cell;
         for (const auto& [cell, area] : as) EXPECT_TRUE(av.count(cell) || area < 1e-8) << "cell " << cell;
     }
 
@@ -240,13 +252,13 @@ TEST(SGridBlocks, ARegularSGridGivesTheVoxetsAnswers) {
             double tv = 0.0, ts = 0.0;
             // 1e-7 m³ of 350 m³ cells: rounding of clipped pieces at 1000 m coordinates.
             for (const auto& [cell, v] : mv)
-                EXPECT_NEAR(ms[cell], v, 1e-7) << "cell " << cell << " plane " << withPlane;
+                EXPECT_NEAR(ms[cell], v, kCellClipTolM3) << "cell " << cell << " plane " << withPlane;
             for (const auto& [cell, v] : ms) {
-                EXPECT_NEAR(mv[cell], v, 1e-7) << "cell " << cell << " plane " << withPlane;
+                EXPECT_NEAR(mv[cell], v, kCellClipTolM3) << "cell " << cell << " plane " << withPlane;
                 ts += v;
             }
             for (const auto& [cell, v] : mv) tv += v;
-            EXPECT_NEAR(ts, tv, 1e-9 * tv);
+            EXPECT_NEAR(ts, tv, kSumRelTol * tv);
         }
     }
 }
@@ -290,7 +302,7 @@ TEST(SGridBlocks, AShearedGridsVolumesTonnageAndCellsAreAnalytic) {
         // 1e-6 m³ of ~500 m³ cells: rounding of clipped pieces at 3.5e7 m eastings (relative
         // to the body's centre, coordinates of ~100 m remain, but the cells' planes come from
         // corners at 3.5e7 m: a 4e-9 m step).
-        EXPECT_NEAR(got[c], expected[c], 1e-6) << "cell " << i << "," << j << "," << k;
+        EXPECT_NEAR(got[c], expected[c], kGkCellClipTolM3) << "cell " << i << "," << j << "," << k;
         total += expected[c];
     }
     ASSERT_GT(total, 1000.0);
@@ -314,11 +326,11 @@ TEST(SGridBlocks, AShearedGridsVolumesTonnageAndCellsAreAnalytic) {
         }
         const GradeTonnageRow& row = gt->bodies[0].rows[r];
         // Relative 1e-9: sums of per-cell rounding above.
-        EXPECT_NEAR(row.volume, v, 1e-9 * total) << "cut-off " << gt->cutoffs[r];
+        EXPECT_NEAR(row.volume, v, kSumRelTol * total) << "cut-off " << gt->cutoffs[r];
         ASSERT_TRUE(row.tonnage.has_value());
-        EXPECT_NEAR(*row.tonnage, 2.7 * v, 2.7e-9 * total);
+        EXPECT_NEAR(*row.tonnage, 2.7 * v, 2.7 * kSumRelTol * total);
         ASSERT_TRUE(row.meanGrade.has_value());
-        EXPECT_NEAR(*row.meanGrade, metal / (2.7 * v), 1e-9);
+        EXPECT_NEAR(*row.meanGrade, metal / (2.7 * v), kGradeTol);
     }
 
     // Points: the cell under a point is the floor of its grid parameters (away from faces).
@@ -361,11 +373,11 @@ TEST(SGridBlocks, ACurvedGridsPixelsMatchABruteForceSearch) {
         sum += cv.volume;
     }
     // Relative 1e-10: rounding of ~10^5 clipped pieces of ~10 m.
-    EXPECT_NEAR(sum, meshVolume(sphere), 1e-10 * meshVolume(sphere));
+    EXPECT_NEAR(sum, meshVolume(sphere), kSphereSumRelTol * meshVolume(sphere));
     // Cells wholly inside the sphere keep their whole volume.
     const Mesh big = boxMesh({-10, -10, -10}, {200, 200, 200});
     for (const CellVolume& cv : cellBodyVolumes(b.value(), big))
-        EXPECT_NEAR(cv.volume, b->cellVolume(cv.cell), 1e-9 * b->cellVolume(cv.cell));
+        EXPECT_NEAR(cv.volume, b->cellVolume(cv.cell), kSumRelTol * b->cellVolume(cv.cell));
 
     // A coloured section through a body covering the grid: 1,000 random pixels.
     Model m = modelOf({makePart("ore", PartKind::Body, 1, boxMesh({-5, -5, -5}, {110, 80, 45}))});
@@ -425,7 +437,7 @@ TEST(SGridBlocks, ACurvedGridsPixelsMatchABruteForceSearch) {
         for (const BlockPiece& piece : pieces.value()) {
             EXPECT_TRUE(seen.insert(piece.cell).second) << "two pieces of cell " << piece.cell;
             // 1e-9 m² of ~40 m² pieces: rounding of clipping 100 m coordinates.
-            EXPECT_NEAR(piece.area, cellArea[piece.cell], 1e-9) << "cell " << piece.cell;
+            EXPECT_NEAR(piece.area, cellArea[piece.cell], kPieceAreaTolM2) << "cell " << piece.cell;
         }
         EXPECT_EQ(seen.size(), cellArea.size());
     }
@@ -530,10 +542,10 @@ TEST(SGridBlocks, ARealFormatGroupFileIsABlockModel) {
     for (int r = 0; r < 3; ++r) {
         const GradeTonnageRow& row = gt->bodies[0].rows[std::size_t(r)];
         // 1e-9 m³ of 5400: rounding of the clipped pieces (10 m coordinates).
-        EXPECT_NEAR(row.volume, volume[r], 1e-9 * 5400) << r;
+        EXPECT_NEAR(row.volume, volume[r], kSumRelTol * 5400) << r;
         ASSERT_TRUE(row.tonnage && row.meanGrade);
-        EXPECT_NEAR(*row.tonnage, 2.5 * volume[r], 2.5e-9 * 5400) << r;
-        EXPECT_NEAR(*row.meanGrade, metal[r] / (2.5 * volume[r]), 1e-9) << r;
+        EXPECT_NEAR(*row.tonnage, 2.5 * volume[r], 2.5 * kSumRelTol * 5400) << r;
+        EXPECT_NEAR(*row.meanGrade, metal[r] / (2.5 * volume[r]), kGradeTol) << r;
     }
     EXPECT_EQ(gt->unit, "g/t Au");
     // The cell under a point: (15, 12, 7) is in layer k = 1 (z 5..10) at x - 2 z/5 = 12.2 -> i = 1.
