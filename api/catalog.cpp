@@ -172,9 +172,12 @@ nlohmann::ordered_json CatalogModel::summary() const {
         for (const BlockProperty& p : bm.properties) props.push_back({{"name", p.name}, {"unit", p.unit}});
         nlohmann::ordered_json clip = nlohmann::ordered_json::array();
         for (std::uint32_t body : bm.clipBodyIndex) clip.push_back(model.bodies[body].name);
+        const bool box = bm.shape == CellShape::Box;
         j["blocks"] = {{"source", bm.source},
                        {"dims", {bm.dims[0], bm.dims[1], bm.dims[2]}},
-                       {"cellSize", {bm.size[0], bm.size[1], bm.size[2]}},
+                       {"cellShape", box ? "box" : "hexahedron (curvilinear: six tetrahedra each)"},
+                       {"cellSize", box ? nlohmann::ordered_json({bm.size[0], bm.size[1], bm.size[2]})
+                                        : nlohmann::ordered_json(nullptr)},
                        {"origin", {bm.origin.x, bm.origin.y, bm.origin.z}},
                        {"properties", props},
                        {"clipBodies", clip}};
