@@ -14,11 +14,14 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
+#include "tests/common/gocad_samples.hpp"
 
 #include "server/http_server.hpp"
+#include "tests/common/gocad_samples.hpp"
 #include "tests/server/server_fixture.hpp"
 
 namespace geoslice::server {
+using test::bigEndianFloats;
 namespace {
 
 namespace fs = std::filesystem;
@@ -26,16 +29,6 @@ using nlohmann::json;
 
 // Relative: sums of clipped tetrahedra at 10 m coordinates, a few double steps.
 constexpr double kVolumeRelTol = 1e-9;
-
-std::string bigEndianFloats(const std::vector<float>& v) {
-    std::string out;
-    for (float f : v) {
-        unsigned char b[4];
-        std::memcpy(b, &f, 4);
-        for (int k = 3; k >= 0; --k) out.push_back(static_cast<char>(b[k]));
-    }
-    return out;
-}
 
 class ServerSGridBlocks : public InProcessServer {
 protected:

@@ -16,9 +16,11 @@
 #include <nlohmann/json.hpp>
 
 #include "model/loaders.hpp"
+#include "tests/common/gocad_samples.hpp"
 #include "tests/common/run_command.hpp"
 
 namespace geoslice {
+using test::bigEndianFloats;
 namespace {
 
 // Cubic metres: unit tetrahedra, |det| / 6: one rounding.
@@ -78,19 +80,6 @@ struct TempDir {
         return (path / name).string();
     }
 };
-
-std::string bigEndianFloats(const std::vector<float>& v) {
-    std::string out;
-    for (float f : v) {
-        unsigned char b[4];
-        std::memcpy(b, &f, 4);
-        out.push_back(static_cast<char>(b[3]));
-        out.push_back(static_cast<char>(b[2]));
-        out.push_back(static_cast<char>(b[1]));
-        out.push_back(static_cast<char>(b[0]));
-    }
-    return out;
-}
 
 TEST(GocadLoader, RingmeshModel3dRegionsBecomeClosedBodies) {
     const std::string path = kData + "ringmesh/geomodel3d.ml";

@@ -32,6 +32,7 @@
 #include "section/contours.hpp"
 #include "section/reserves.hpp"
 #include "test_meshes.hpp"
+#include "tests/common/gocad_samples.hpp"
 
 using namespace geoslice;
 using namespace geoslice::test;
@@ -470,20 +471,6 @@ TEST(SGridBlocks, MalformedGridsAreRefusedNamingTheCell) {
     Grid thin = sgridOf(3, 3, 0, at, one);
     EXPECT_NE(err(thin).find("1 point(s) along axis 2"), std::string::npos) << err(thin);
 }
-
-namespace {
-
-std::string bigEndianFloats(const std::vector<float>& v) {
-    std::string out;
-    for (float f : v) {
-        unsigned char b[4];
-        std::memcpy(b, &f, 4);
-        for (int k = 3; k >= 0; --k) out.push_back(static_cast<char>(b[k]));
-    }
-    return out;
-}
-
-}  // namespace
 
 TEST(SGridBlocks, ARealFormatGroupFileIsABlockModel) {
     // A GOCAD group as GOCAD writes it: a closed TSurf orebody and an SGrid (POINTS_FILE of
