@@ -36,6 +36,10 @@ struct Aabb {
     bool valid() const { return min.x <= max.x && min.y <= max.y && min.z <= max.z; }
     glm::dvec3 centre() const { return (min + max) * 0.5; }
     glm::dvec3 size() const { return max - min; }
+    // Whether the two boxes share a point (bounds inclusive).
+    bool meets(const Aabb& b) const {
+        return glm::all(glm::lessThanEqual(min, b.max)) && glm::all(glm::greaterThanEqual(max, b.min));
+    }
     bool contains(const Aabb& b) const {
         return glm::all(glm::lessThanEqual(min, b.min)) && glm::all(glm::greaterThanEqual(max, b.max));
     }

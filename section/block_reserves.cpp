@@ -163,12 +163,8 @@ struct TetCell {
 // The tetrahedra of the cells whose bounds meet `box`.
 std::size_t tetsMeeting(const BlockModel& blocks, const Aabb& box) {
     std::size_t n = 0;
-    blocks.locator->cellsMeeting(
-        [&](const Aabb& b) {
-            return !(b.max.x < box.min.x || b.min.x > box.max.x || b.max.y < box.min.y || b.min.y > box.max.y ||
-                     b.max.z < box.min.z || b.min.z > box.max.z);
-        },
-        [&](std::size_t) { n += kCellTets.size(); });
+    blocks.locator->cellsMeeting([&](const Aabb& b) { return b.meets(box); },
+                                 [&](std::size_t) { n += kCellTets.size(); });
     return n;
 }
 
@@ -180,30 +176,26 @@ std::vector<CellVolume> tetCellBodyVolumes(const BlockModel& blocks, const Mesh&
     Mesh shell = body;
     for (glm::dvec3& p : shell.positions) p -= o;
     std::vector<TetCell> tets;
-    blocks.locator->cellsMeeting(
-        [&](const Aabb& b) {
-            return !(b.max.x < bb.min.x || b.min.x > bb.max.x || b.max.y < bb.min.y || b.min.y > bb.max.y ||
-                     b.max.z < bb.min.z || b.min.z > bb.max.z);
-        },
-        [&](std::size_t cell) {
-            const auto k = blocks.cellCorners(cell);
-            for (const auto& t : kCellTets) {
-                TetCell tc;
-                tc.cell = cell;
-                glm::dvec3 v[4];
-                for (int m = 0; m < 4; ++m) {
-                    v[m] = k[std::size_t(t[std::size_t(m)])] - o;
-                }
-                for (int m = 0; m < 4; ++m) {
-                    // The face opposite v[m], its normal towards v[m].
-                    const glm::dvec3 &a = v[(m + 1) % 4], &b = v[(m + 2) % 4], &c = v[(m + 3) % 4];
-                    glm::dvec3 nrm = glm::normalize(glm::cross(b - a, c - a));
-                    if (glm::dot(nrm, v[m] - a) < 0.0) nrm = -nrm;
-                    tc.planes.push_back({nrm, -glm::dot(nrm, a)});
-                }
-                tets.push_back(std::move(tc));
+    const auto meetsBody = [&](const Aabb& b) { return b.meets(bb); };
+    blocks.locator->cellsMeeting(meetsBody, [&](std::size_t cell) {
+        const auto k = blocks.cellCorners(cell);
+        for (const auto& t : kCellTets) {
+            TetCell tc;
+            tc.cell = cell;
+            glm::dvec3 v[4];
+            for (int m = 0; m < 4; ++m) {
+                v[m] = k[std::size_t(t[std::size_t(m)])] - o;
             }
-        });
+            for (int m = 0; m < 4; ++m) {
+                // The face opposite v[m], its normal towards v[m].
+                const glm::dvec3 &a = v[(m + 1) % 4], &b = v[(m + 2) % 4], &c = v[(m + 3) % 4];
+                glm::dvec3 nrm = glm::normalize(glm::cross(b - a, c - a));
+                if (glm::dot(nrm, v[m] - a) < 0.0) nrm = -nrm;
+                tc.planes.push_back({nrm, -glm::dot(nrm, a)});
+            }
+            tets.push_back(std::move(tc));
+        }
+    });
     std::vector<CellVolume> pieces;
     for (const TetCell& t : tets) {
         const double v = meshVolume(clipToConvex(shell, t.planes));
@@ -415,13 +407,12 @@ Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& 
     if (blocks.shape == CellShape::Hexahedron)
         for (std::uint32_t b : blocks.clipBodyIndex) {
             const Mesh& mesh = model.bodies[b].mesh;
-            const double work = double(tetsMeeting(blocks, mesh.bounds())) * double(mesh.triangleCount());
-            if (work > kMaxTetClipWork)
+            const std::size_t tets = tetsMeeting(blocks, mesh.bounds());
+            if (double(tets) * double(mesh.triangleCount()) > kMaxTetClipWork)
                 return makeError(ErrorCode::OutOfRange,
                                  "grade-tonnage of " + blocks.source + " (curvilinear cells): body '" +
                                      model.bodies[b].name + "' has " + std::to_string(mesh.triangleCount()) +
-                                     " triangles and its bounds meet " +
-                                     std::to_string(tetsMeeting(blocks, mesh.bounds())) +
+                                     " triangles and its bounds meet " + std::to_string(tets) +
                                      " tetrahedra; the exact per-tetrahedron clip costs their product, over the limit "
                                      "of 1e8 (box-cell block models have no such limit)");
         }

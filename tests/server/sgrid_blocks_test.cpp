@@ -1,27 +1,21 @@
-// An SGrid block model over real HTTP on loopback (issue 15): a GOCAD group written here as
-// GOCAD writes it (a closed TSurf orebody and an SGrid with POINTS_FILE and cell PROP_FILEs),
-// attached by a <stem>.blocks.json sidecar. The grid: 3 x 3 x 3 cells of 10 x 10 x 5 m,
-// sheared x = 10 i + 2 k, so its k-layers stay horizontal slabs; grade = k + 0.5, density
-// 2.5. The orebody [6, 24] x [2, 27] x [1, 13] lies inside it: layer k holds 18 x 25 x (its z
-// overlap) m³ = 1800, 2250, 1350 (the oracle for grade-tonnage). The pixel query's cell is
-// the sheared lattice's (floor of x - 2z/5 over 10, y / 10, z / 5).
-#include <cstring>
+// An SGrid block model over real HTTP on loopback (issue 15): the GOCAD group of
+// tests/common/gocad_samples.hpp writeShearedSGridGroup (a closed TSurf orebody and a sheared
+// SGrid with POINTS_FILE and cell PROP_FILEs, attached by a <stem>.blocks.json sidecar), whose
+// layer volumes are the oracle for grade-tonnage and whose sheared lattice gives the pixel
+// query's cell.
 #include <filesystem>
-#include <fstream>
 #include <string>
-#include <vector>
 
 #include <gtest/gtest.h>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
-#include "tests/common/gocad_samples.hpp"
 
 #include "server/http_server.hpp"
 #include "tests/common/gocad_samples.hpp"
 #include "tests/server/server_fixture.hpp"
 
 namespace geoslice::server {
-using test::bigEndianFloats;
+using test::writeShearedSGridGroup;
 namespace {
 
 namespace fs = std::filesystem;
@@ -34,36 +28,7 @@ class ServerSGridBlocks : public InProcessServer {
 protected:
     static void SetUpTestSuite() {
         dir_ = freshTempDir("geoslice_sgrid_blocks");
-        std::vector<float> xyz, grade, density;
-        for (int k = 0; k < 4; ++k)
-            for (int j = 0; j < 4; ++j)
-                for (int i = 0; i < 4; ++i) xyz.insert(xyz.end(), {float(10 * i + 2 * k), float(10 * j), float(5 * k)});
-        for (int k = 0; k < 3; ++k)
-            for (int n = 0; n < 9; ++n) {
-                grade.push_back(float(k) + 0.5f);
-                density.push_back(2.5f);
-            }
-        std::ofstream(dir_ / "sg_points@@", std::ios::binary) << bigEndianFloats(xyz);
-        std::ofstream(dir_ / "sg_grade@@", std::ios::binary) << bigEndianFloats(grade);
-        std::ofstream(dir_ / "sg_density@@", std::ios::binary) << bigEndianFloats(density);
-        std::string ts = "GOCAD TSurf 1\nHEADER {\nname:ore\n}\nTFACE\n";
-        const int lo[3] = {6, 2, 1}, hi[3] = {24, 27, 13};
-        for (int c = 0; c < 8; ++c)
-            ts += "VRTX " + std::to_string(c + 1) + " " + std::to_string(c & 1 ? hi[0] : lo[0]) + " " +
-                  std::to_string(c & 2 ? hi[1] : lo[1]) + " " + std::to_string(c & 4 ? hi[2] : lo[2]) + "\n";
-        for (const char* t : {"1 3 2", "2 3 4", "5 6 7", "6 8 7", "1 2 5", "2 6 5", "3 7 4", "4 7 8", "1 5 3", "3 5 7",
-                              "2 4 6", "4 8 6"})
-            ts += std::string("TRGL ") + t + "\n";
-        ts += "END\n";
-        std::ofstream(dir_ / "mine.gp")
-            << "GOCAD HeterogeneousGroup 1\nHEADER {\nname:mine\n}\nBEGIN_MEMBERS\n"
-            << ts
-            << "GOCAD SGrid 1\nHEADER {\nname:sg\n}\nAXIS_N 4 4 4\nPROP_ALIGNMENT CELLS\nPOINTS_FILE sg_points@@\n"
-               "PROPERTY 1 grade\nPROP_ESIZE 1 4\nPROP_FILE 1 sg_grade@@\n"
-               "PROPERTY 2 density\nPROP_ESIZE 2 4\nPROP_FILE 2 sg_density@@\nEND\n"
-            << "END_MEMBERS\nEND\n";
-        std::ofstream(dir_ / "mine.blocks.json")
-            << R"({"source": "grid:sg", "clip": ["ore"], "units": {"grade": "g/t Au"}})";
+        writeShearedSGridGroup(dir_);
         ServerConfig c = loopbackConfig();
         c.modelsDir = dir_.string();
         startServer(c);

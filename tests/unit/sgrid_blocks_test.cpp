@@ -13,9 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <random>
 #include <set>
@@ -473,49 +471,14 @@ TEST(SGridBlocks, MalformedGridsAreRefusedNamingTheCell) {
 }
 
 TEST(SGridBlocks, ARealFormatGroupFileIsABlockModel) {
-    // A GOCAD group as GOCAD writes it: a closed TSurf orebody and an SGrid (POINTS_FILE of
-    // big-endian float32 x y z, cell properties in PROP_FILEs, PROP_ALIGNMENT CELLS), attached
-    // by a <stem>.blocks.json sidecar. The grid: 3 x 3 x 3 cells of 10 x 10 x 5 m, sheared
-    // x = 10 i + 2 k (its k-layers stay horizontal slabs); grade = k + 0.5, density 2.5.
-    // The orebody [6, 24] x [2, 27] x [1, 13] lies inside the grid, so layer k holds
-    // 18 x 25 x (its z overlap) m³: 1800, 2250, 1350.
+    // A GOCAD group as GOCAD writes it (tests/common/gocad_samples.hpp
+    // writeShearedSGridGroup): layer k of the sheared grid holds 18 x 25 x (its z overlap with
+    // the orebody) m³: 1800, 2250, 1350, at grade k + 0.5 and density 2.5.
     const auto dir = std::filesystem::temp_directory_path() /
                      ("geoslice_sgrid_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
-    auto write = [&](const std::string& name, const std::string& bytes) {
-        std::ofstream(dir / name, std::ios::binary) << bytes;
-        return (dir / name).string();
-    };
-    std::vector<float> xyz, grade, density;
-    for (int k = 0; k < 4; ++k)
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i) xyz.insert(xyz.end(), {float(10 * i + 2 * k), float(10 * j), float(5 * k)});
-    for (int k = 0; k < 3; ++k)
-        for (int n = 0; n < 9; ++n) {
-            grade.push_back(float(k) + 0.5f);
-            density.push_back(2.5f);
-        }
-    write("sg_points@@", bigEndianFloats(xyz));
-    write("sg_grade@@", bigEndianFloats(grade));
-    write("sg_density@@", bigEndianFloats(density));
-    const std::string sgrid =
-        "GOCAD SGrid 1\nHEADER {\nname:sg\n}\nAXIS_N 4 4 4\nPROP_ALIGNMENT CELLS\nPOINTS_FILE sg_points@@\n"
-        "PROPERTY 1 grade\nPROP_ESIZE 1 4\nPROP_FILE 1 sg_grade@@\n"
-        "PROPERTY 2 density\nPROP_ESIZE 2 4\nPROP_FILE 2 sg_density@@\nEND\n";
-    std::string tsurf = "GOCAD TSurf 1\nHEADER {\nname:ore\n}\nTFACE\n";
-    const double lo[3] = {6, 2, 1}, hi[3] = {24, 27, 13};
-    for (int c = 0; c < 8; ++c)
-        tsurf += "VRTX " + std::to_string(c + 1) + " " + std::to_string(c & 1 ? hi[0] : lo[0]) + " " +
-                 std::to_string(c & 2 ? hi[1] : lo[1]) + " " + std::to_string(c & 4 ? hi[2] : lo[2]) + "\n";
-    // Outward triangles of the box (corner c + 1; bit 0 x, bit 1 y, bit 2 z).
-    for (const char* t :
-         {"1 3 2", "2 3 4", "5 6 7", "6 8 7", "1 2 5", "2 6 5", "3 7 4", "4 7 8", "1 5 3", "3 5 7", "2 4 6", "4 8 6"})
-        tsurf += std::string("TRGL ") + t + "\n";
-    tsurf += "END\n";
-    const std::string gp = write("mine.gp", "GOCAD HeterogeneousGroup 1\nHEADER {\nname:mine\n}\nBEGIN_MEMBERS\n" +
-                                                tsurf + sgrid + "END_MEMBERS\nEND\n");
-    write("mine.blocks.json", R"({"source": "grid:sg", "clip": ["ore"], "units": {"grade": "g/t Au"}})");
+    const std::string gp = writeShearedSGridGroup(dir).string();
     auto model = loadModel(gp);
     ASSERT_TRUE(model.ok()) << model.error().message;
     ASSERT_TRUE(model->blocks);
