@@ -6,13 +6,19 @@
 #include "renderer/image_encode.hpp"
 
 #include <png.h>
-#include <turbojpeg.h>
+// jpeglib.h needs FILE and size_t declared first.
+#include <jerror.h>
+#include <jpeglib.h>
 #include <webp/encode.h>
+#include <cstddef>
+#include <cstdio>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 
@@ -31,49 +37,146 @@ bool allOpaque(const std::uint8_t* rgba, std::size_t pixels) {
     return true;
 }
 
+// libjpeg reports errors through error_exit, which must not return: it longjmps back
+// like libpng's handler. Everything with a destructor lives in encodeJpeg; the frames
+// between setjmp and the handler hold only trivial locals.
+struct JpegErrorState {
+    jpeg_error_mgr manager;  // first, so that the codec's pointer to it is a pointer to us
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX] = {};
+};
+void jpegErrorExit(j_common_ptr codec) {
+    auto* st = reinterpret_cast<JpegErrorState*>(codec->err);
+    (*codec->err->format_message)(codec, st->message);
+    std::longjmp(st->jump, 1);
+}
+void jpegNoMessage(j_common_ptr, int) {}  // warnings and traces: nothing on stderr
+
+// libjpeg's own memory destination hands its buffer back only when compression finishes,
+// so a cancelled or failed encode would lose (or free twice) what it had written: the
+// bytes go into the caller's vector instead, a chunk at a time, like the PNG writer's.
+struct JpegVectorDestination {
+    jpeg_destination_mgr manager;  // first, so that the codec's pointer to it is a pointer to us
+    std::vector<std::uint8_t>* bytes = nullptr;
+    std::uint8_t* chunk = nullptr;
+    std::size_t chunkSize = 0;
+};
+void jpegDestinationInit(j_compress_ptr codec) {
+    auto* d = reinterpret_cast<JpegVectorDestination*>(codec->dest);
+    d->manager.next_output_byte = d->chunk;
+    d->manager.free_in_buffer = d->chunkSize;
+}
+void jpegAppend(j_compress_ptr codec, std::size_t n) {
+    auto* d = reinterpret_cast<JpegVectorDestination*>(codec->dest);
+    try {
+        d->bytes->insert(d->bytes->end(), d->chunk, d->chunk + n);
+    } catch (...) {
+        codec->err->msg_code = JERR_OUT_OF_MEMORY;
+        (*codec->err->error_exit)(reinterpret_cast<j_common_ptr>(codec));
+    }
+}
+boolean jpegDestinationFull(j_compress_ptr codec) {
+    auto* d = reinterpret_cast<JpegVectorDestination*>(codec->dest);
+    jpegAppend(codec, d->chunkSize);
+    jpegDestinationInit(codec);
+    return TRUE;
+}
+void jpegDestinationEnd(j_compress_ptr codec) {
+    auto* d = reinterpret_cast<JpegVectorDestination*>(codec->dest);
+    jpegAppend(codec, d->chunkSize - d->manager.free_in_buffer);
+}
+
+// The composited rows of one strip: straight alpha over the matte, RGB.
+void flattenRows(const std::uint8_t* rgba, int width, int y0, int rows, const std::uint8_t matte[3],
+                 std::uint8_t* out) {
+    const std::size_t n = std::size_t(width) * std::size_t(rows);
+    const std::uint8_t* src = rgba + std::size_t(y0) * std::size_t(width) * 4;
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint8_t* p = &src[4 * i];
+        std::uint8_t* q = &out[3 * i];
+        const unsigned a = p[3];
+        if (a == 255) {
+            q[0] = p[0], q[1] = p[1], q[2] = p[2];
+        } else if (a == 0) {
+            q[0] = matte[0], q[1] = matte[1], q[2] = matte[2];
+        } else {
+            for (int c = 0; c < 3; ++c) q[c] = static_cast<std::uint8_t>((p[c] * a + matte[c] * (255 - a) + 127) / 255);
+        }
+    }
+}
+
+constexpr int kJpegStripRows = 16;  // one 4:2:0 MCU row: the cancel flag is read per strip
+
+// Returns 1 done, 0 codec error (st.message), -1 cancelled. `strip` holds kJpegStripRows
+// RGB rows when the frame is not opaque; `destination` appends to the caller's bytes.
+int jpegEncodeRaw(const std::uint8_t* rgba, int width, int height, bool opaque, const EncodeOptions& o,
+                  std::uint8_t* strip, JpegErrorState& st, JpegVectorDestination& destination) {
+    jpeg_compress_struct codec;
+    codec.err = jpeg_std_error(&st.manager);
+    st.manager.error_exit = jpegErrorExit;
+    st.manager.emit_message = jpegNoMessage;
+    if (setjmp(st.jump)) {
+        jpeg_destroy_compress(&codec);
+        return 0;
+    }
+    jpeg_create_compress(&codec);
+    destination.manager.init_destination = jpegDestinationInit;
+    destination.manager.empty_output_buffer = jpegDestinationFull;
+    destination.manager.term_destination = jpegDestinationEnd;
+    codec.dest = &destination.manager;
+    codec.image_width = JDIMENSION(width);
+    codec.image_height = JDIMENSION(height);
+    codec.input_components = opaque ? 4 : 3;
+    codec.in_color_space = opaque ? JCS_EXT_RGBX : JCS_RGB;
+    jpeg_set_defaults(&codec);
+    jpeg_set_quality(&codec, o.jpegQuality, TRUE);
+    codec.dct_method = JDCT_FASTEST;
+    // 4:2:0: luma at full resolution, chroma halved both ways.
+    codec.comp_info[0].h_samp_factor = codec.comp_info[0].v_samp_factor = 2;
+    for (int c = 1; c < 3; ++c) codec.comp_info[c].h_samp_factor = codec.comp_info[c].v_samp_factor = 1;
+    jpeg_start_compress(&codec, TRUE);
+    JSAMPROW rows[kJpegStripRows];
+    while (codec.next_scanline < codec.image_height) {
+        if (o.cancel && o.cancel->load(std::memory_order_relaxed)) {
+            jpeg_destroy_compress(&codec);
+            return -1;
+        }
+        const int y0 = int(codec.next_scanline);
+        const int n = std::min(kJpegStripRows, height - y0);
+        if (opaque) {
+            for (int r = 0; r < n; ++r)
+                rows[r] = const_cast<JSAMPROW>(rgba + std::size_t(y0 + r) * std::size_t(width) * 4);
+        } else {
+            flattenRows(rgba, width, y0, n, o.matte, strip);
+            for (int r = 0; r < n; ++r) rows[r] = strip + std::size_t(r) * std::size_t(width) * 3;
+        }
+        for (int done = 0; done < n;) done += int(jpeg_write_scanlines(&codec, rows + done, JDIMENSION(n - done)));
+    }
+    jpeg_finish_compress(&codec);
+    jpeg_destroy_compress(&codec);
+    return 1;
+}
+
 Result<std::vector<std::uint8_t>> encodeJpeg(const std::uint8_t* rgba, int width, int height, const EncodeOptions& o) {
     if (o.jpegQuality < 1 || o.jpegQuality > 100)
         return makeError(ErrorCode::InvalidArgument,
                          "JPEG quality " + std::to_string(o.jpegQuality) + " is outside 1..100");
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    // JPEG has no alpha: straight alpha is composited over the matte. Opaque frames (the
-    // common case with a coloured background) go to the codec without a copy.
-    std::vector<std::uint8_t> flat;
-    const std::uint8_t* src = rgba;
-    int pixelFormat = TJPF_RGBX;
-    int pitch = width * 4;
-    if (!allOpaque(rgba, pixels)) {
-        flat.resize(pixels * 3);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            const std::uint8_t* p = &rgba[4 * i];
-            std::uint8_t* q = &flat[3 * i];
-            const unsigned a = p[3];
-            if (a == 255) {
-                q[0] = p[0], q[1] = p[1], q[2] = p[2];
-            } else if (a == 0) {
-                q[0] = o.matte[0], q[1] = o.matte[1], q[2] = o.matte[2];
-            } else {
-                for (int c = 0; c < 3; ++c)
-                    q[c] = static_cast<std::uint8_t>((p[c] * a + o.matte[c] * (255 - a) + 127) / 255);
-            }
-        }
-        src = flat.data();
-        pixelFormat = TJPF_RGB;
-        pitch = width * 3;
-    }
-    std::unique_ptr<void, int (*)(tjhandle)> tj(tjInitCompress(), tjDestroy);
-    if (!tj) return makeError(ErrorCode::Internal, std::string("TurboJPEG init failed: ") + tjGetErrorStr2(nullptr));
-    unsigned char* out = nullptr;
-    unsigned long outSize = 0;
-    const int rc = tjCompress2(tj.get(), src, width, pitch, height, pixelFormat, &out, &outSize, TJSAMP_420,
-                               o.jpegQuality, TJFLAG_FASTDCT);
-    if (rc != 0) {
-        std::string msg = std::string("JPEG encoding failed: ") + tjGetErrorStr2(tj.get());
-        tjFree(out);
-        return makeError(ErrorCode::Internal, msg);
-    }
-    std::vector<std::uint8_t> bytes(out, out + outSize);
-    tjFree(out);
+    // JPEG has no alpha: straight alpha is composited over the matte, a strip at a time.
+    // Opaque frames (the common case with a coloured background) go to the codec as RGBX.
+    const bool opaque = allOpaque(rgba, pixels);
+    std::vector<std::uint8_t> strip(opaque ? 0 : std::size_t(width) * 3 * kJpegStripRows);
+    JpegErrorState st;
+    std::vector<std::uint8_t> bytes;
+    bytes.reserve(pixels / 8);
+    std::vector<std::uint8_t> chunk(std::size_t(1) << 16);
+    JpegVectorDestination destination;
+    destination.bytes = &bytes;
+    destination.chunk = chunk.data();
+    destination.chunkSize = chunk.size();
+    const int rc = jpegEncodeRaw(rgba, width, height, opaque, o, strip.data(), st, destination);
+    if (rc < 0) return makeError(ErrorCode::DeadlineExceeded, "cancelled while encoding JPEG");
+    if (rc == 0) return makeError(ErrorCode::Internal, std::string("JPEG encoding failed: ") + st.message);
     return bytes;
 }
 

@@ -28,9 +28,9 @@ struct EncodeOptions {
     bool webpLossless = false;
     bool keepAlpha = true;                    // PNG/WebP: keep alpha; JPEG always flattens on `matte`
     std::uint8_t matte[3] = {255, 255, 255};  // JPEG: background under transparent pixels
-    // Cancellation (any thread may set it): PNG reads it every 16 rows, WebP in its
-    // progress hook (each percent of the colour pass; libwebp's alpha pass and TurboJPEG's
-    // single call report nothing and run to their end); when set, encoding stops with
+    // Cancellation (any thread may set it): PNG reads it every 16 rows, JPEG every 16-row
+    // strip, WebP in its progress hook (each percent of the colour pass; libwebp's alpha
+    // pass reports nothing and runs to its end); when set, encoding stops with
     // DeadlineExceeded. nullptr = never.
     const std::atomic<bool>* cancel = nullptr;
 };

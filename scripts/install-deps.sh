@@ -60,12 +60,12 @@ runtime=(
   libproj25 proj-data                 # PROJ and its database (proj.db) and grids, and what libproj25
   # loads: sqlite (proj.db), tiff (grids), curl and its TLS/auth stack (PROJ's network
   # access, which geoslice switches off but the library links)
-  libsqlite3-0 libtiff6 libjpeg62-turbo libdeflate0 libjbig0 liblerc4 liblzma5
+  libsqlite3-0 libtiff6 libdeflate0 libjbig0 liblerc4 liblzma5
   libcurl3-gnutls libbrotli1 libnghttp2-14 libidn2-0 libunistring2 librtmp1 libssh2-1 libpsl5
   libgnutls30 libnettle8 libhogweed6 libgmp10 libp11-kit0 libffi8 libtasn1-6 libssl3
   libgssapi-krb5-2 libkrb5-3 libk5crypto3 libkrb5support0 libcom-err2 libkeyutils1
   libldap-2.5-0 libsasl2-2
-  libturbojpeg0 libpng16-16 libwebp7 libzstd1 libxxhash0
+  libjpeg62-turbo libpng16-16 libwebp7 libzstd1 libxxhash0   # codecs (libjpeg also for libtiff)
   # GL through glvnd: Mesa's EGL (device + surfaceless) and llvmpipe, OSMesa (dlopen)
   libegl1 libglvnd0 libegl-mesa0 libgl1-mesa-dri libosmesa6
   # print sheets: cairo and what it loads (pixman, fontconfig + FreeType, its X11/xcb

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -219,6 +220,57 @@ TEST(ImageEncode, JpegFlattensTransparencyOnTheMatte) {
         EXPECT_NEAR(r[0], 128, kJpegFlatLevels);
         EXPECT_NEAR(r[1], 0, kJpegFlatLevels);
         EXPECT_NEAR(r[2], 127, kJpegFlatLevels);
+    }
+}
+
+// The JPEG encoder feeds libjpeg 16-row strips (so that a cancel is read per strip) with
+// the settings TurboJPEG's one call uses (4:2:0, fast DCT, baseline quality tables): the
+// bytes equal tjCompress2's on the same pixels, opaque (RGBX straight in) and with
+// transparency (composited on the matte, here by the test, strip by strip in the encoder).
+TEST(ImageEncode, JpegStripsEncodeTheBytesOfTurboJpegsOneCall) {
+    for (const bool withAlpha : {false, true}) {
+        Rgba img = sectionImage(203, 77);  // odd sizes: partial MCUs and a short last strip
+        if (!withAlpha)
+            for (std::size_t i = 3; i < img.px.size(); i += 4) img.px[i] = 255;
+        EncodeOptions o;
+        o.jpegQuality = 85;
+        o.matte[0] = 10, o.matte[1] = 200, o.matte[2] = 90;
+        auto ours = encodeImage(img.px, img.width, img.height, ImageFormat::Jpeg, o);
+        ASSERT_TRUE(ours.ok()) << ours.error().message;
+        std::vector<std::uint8_t> rgb(std::size_t(img.width) * img.height * 3);
+        for (std::size_t i = 0; i * 3 < rgb.size(); ++i) {
+            const unsigned a = img.px[4 * i + 3];
+            for (int c = 0; c < 3; ++c)
+                rgb[3 * i + c] = std::uint8_t((img.px[4 * i + c] * a + o.matte[c] * (255 - a) + 127) / 255);
+        }
+        tjhandle tj = tjInitCompress();
+        unsigned char* out = nullptr;
+        unsigned long size = 0;
+        ASSERT_EQ(tjCompress2(tj, rgb.data(), img.width, img.width * 3, img.height, TJPF_RGB, &out, &size, TJSAMP_420,
+                              o.jpegQuality, TJFLAG_FASTDCT),
+                  0)
+            << tjGetErrorStr2(tj);
+        const std::vector<std::uint8_t> theirs(out, out + size);
+        tjFree(out);
+        tjDestroy(tj);
+        EXPECT_EQ(*ours, theirs) << (withAlpha ? "with transparency" : "opaque");
+    }
+}
+
+// A set cancel flag stops every encoder with DeadlineExceeded (PNG and JPEG read it per
+// 16 rows, WebP in its progress hook, which libwebp calls before the colour pass).
+TEST(ImageEncode, ACancelledEncodeIsDeadlineExceeded) {
+    const Rgba img = sectionImage(256, 256);
+    std::atomic<bool> cancel{true};
+    for (ImageFormat f : {ImageFormat::Png, ImageFormat::Jpeg, ImageFormat::Webp}) {
+        EncodeOptions o;
+        o.cancel = &cancel;
+        auto r = encodeImage(img.px, img.width, img.height, f, o);
+        ASSERT_FALSE(r.ok()) << extension(f);
+        EXPECT_EQ(r.error().code, ErrorCode::DeadlineExceeded) << extension(f) << ": " << r.error().message;
+        EXPECT_NE(r.error().message.find("cancelled"), std::string::npos) << r.error().message;
+        o.cancel = nullptr;
+        EXPECT_TRUE(encodeImage(img.px, img.width, img.height, f, o).ok()) << extension(f);
     }
 }
 
