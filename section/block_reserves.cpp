@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "model/cell_locator.hpp"
+#include "section/block_tet_volumes.hpp"
+#include "section/cut_point.hpp"
 #include "section/reserves.hpp"
 
 namespace geoslice {
@@ -69,16 +71,6 @@ struct Crossing {
     int o = 0;  // +1 leaving upwards, -1 entering
     bool operator<(const Crossing& c) const { return line != c.line ? line < c.line : z < c.z; }
 };
-
-// The point of edge ab where the signed distance (sa at a, sb at b, of opposite kept sides)
-// is 0, from the endpoints in a fixed order (both triangles of the edge get the same point).
-glm::dvec3 cutAt(glm::dvec3 a, glm::dvec3 b, double sa, double sb) {
-    if (b.x < a.x || (b.x == a.x && (b.y < a.y || (b.y == a.y && b.z < a.z)))) {
-        std::swap(a, b);
-        std::swap(sa, sb);
-    }
-    return a + (b - a) * (sa / (sa - sb));
-}
 
 }  // namespace
 
@@ -160,16 +152,11 @@ struct TetCell {
     std::vector<Plane> planes;  // 4, inward unit normals
 };
 
-// The tetrahedra of the cells whose bounds meet `box`.
-std::size_t tetsMeeting(const BlockModel& blocks, const Aabb& box) {
-    std::size_t n = 0;
-    blocks.locator->cellsMeeting([&](const Aabb& b) { return b.meets(box); },
-                                 [&](std::size_t) { n += kCellTets.size(); });
-    return n;
-}
+}  // namespace
 
-std::vector<CellVolume> tetCellBodyVolumes(const BlockModel& blocks, const Mesh& body) {
+std::vector<CellVolume> clippedCellBodyVolumes(const BlockModel& blocks, const Mesh& body) {
     std::vector<CellVolume> out;
+    if (blocks.shape != CellShape::Hexahedron || blocks.cellCount() == 0 || body.indices.size() < 12) return out;
     const Aabb bb = body.bounds();
     if (!bb.valid()) return out;
     const glm::dvec3 o = bb.centre();
@@ -211,8 +198,6 @@ std::vector<CellVolume> tetCellBodyVolumes(const BlockModel& blocks, const Mesh&
     std::erase_if(out, [&](const CellVolume& c) { return std::abs(c.volume) <= 1e-9 * blocks.cellVolume(c.cell); });
     return out;
 }
-
-}  // namespace
 
 std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body) {
     std::vector<CellVolume> out;
@@ -404,18 +389,6 @@ Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& 
     for (std::size_t c = 0; c < cutoffs.size(); ++c)
         if (!std::isfinite(cutoffs[c]) || (c > 0 && !(cutoffs[c] > cutoffs[c - 1])))
             return makeError(ErrorCode::InvalidArgument, "parameter 'cutoffs': values must be finite and increase");
-    if (blocks.shape == CellShape::Hexahedron)
-        for (std::uint32_t b : blocks.clipBodyIndex) {
-            const Mesh& mesh = model.bodies[b].mesh;
-            const std::size_t tets = tetsMeeting(blocks, mesh.bounds());
-            if (double(tets) * double(mesh.triangleCount()) > kMaxTetClipWork)
-                return makeError(ErrorCode::OutOfRange,
-                                 "grade-tonnage of " + blocks.source + " (curvilinear cells): body '" +
-                                     model.bodies[b].name + "' has " + std::to_string(mesh.triangleCount()) +
-                                     " triangles and its bounds meet " + std::to_string(tets) +
-                                     " tetrahedra; the exact per-tetrahedron clip costs their product, over the limit "
-                                     "of 1e8 (box-cell block models have no such limit)");
-        }
     const BlockProperty& grade = blocks.properties[std::size_t(k)];
     int densityIndex = -1;
     for (std::size_t p = 0; p < blocks.properties.size(); ++p) {

@@ -43,16 +43,34 @@
 // loop building, no triangulation of the section polygons.
 //
 // Hexahedral cells (SGrid, model/block_model.hpp): a cell is six tetrahedra, and
-// tetrahedron ∩ body is the body clipped to the tetrahedron's four planes: keptSideShell
-// applied once per plane (clipToConvex: each result is again a closed surface, so the next
-// clip and meshVolume are exact), the same clip-and-cap that measures the kept side of a
-// plane, generalised from one half-space to any convex polyhedron. Coordinates are taken
-// relative to the body's centre first (rounding of large eastings). Cost: the whole body is
-// clipped for every tetrahedron of the cells whose bounds meet the body's: O(tetrahedra x
-// triangles); computeGradeTonnage refuses (OutOfRange, naming the body) above
-// kMaxTetClipWork. (A k-d split of the body into closed pieces, each capped with
-// keptSideShell's fans, was tried to localise it: the fans of one split are cut again by
-// the next and the caps grow geometrically with depth.)
+// tetrahedron ∩ body is the same divergence sum generalised to a simplex, from the body's
+// triangles near the tetrahedron only (section/block_tet_volumes.cpp). Tetrahedron T =
+// (v0, v1, v2, v3), positively oriented; face i is the face opposite v_i, side_i(p) >= 0 on
+// v_i's side.
+//  3D: with F = p - v0 (div F = 3), F . n vanishes on the three faces through v0 and is
+//      h0, v0's height over face 0, on face 0, so  vol = sum over the body's triangles
+//      clipped to T of orient(v0, piece) / 6  +  (h0 / 3) area(body ∩ face 0).
+//  2D: that area with G = q - v1 in face 0's plane: G . m vanishes on the edges through v1,
+//      so (h0 / 3) area = sum over the body's section edges a -> b clipped to the face (the
+//      clipped pieces' edges on face 0) of orient(v1, a, b, v0) / 6  +  vol(T) L / |v3 - v2|,
+//      L the length of edge v2 v3 inside the body.
+//  1D: L = sum over the section edges' crossings of the line v2 v3 within the edge of
+//      +-(|v3 - v2| - t_c), plus |v3 - v2| x inside(v2); inside(v2) is the winding number
+//      of the section at v2: the signed crossings of the same line beyond v2 (a ray through
+//      the body's triangle BVH).
+// Tie rule: per tetrahedron, a point with side_i = 0 counts as inside face i (the faces
+// moved outward by an infinitesimal), and every decision, at every level, is that test on
+// the same bits: the pieces are clipped by face 0 first, from the body's own vertices, with
+// cut points from section/cut_point.hpp (one point per edge, whichever triangle asks), so
+// the lid's edges are the section edges, whose crossings of face 1 and sides of faces 2
+// and 3 decide the 1D sum and the ray count alike. Body vertices on lattice points, faces
+// on lattice planes or on the cells' diagonal planes are counted once (tested against the
+// analytic volumes). The cells whose bounds meet no triangle are wholly inside or outside:
+// one ray per face-connected group of them. Coordinates are relative to the body's centre
+// (rounding of large eastings). Cost: the triangles near each tetrahedron near the surface
+// (a BVH over the body's triangles, section/bvh.hpp), a ray to the body's bounds for each
+// such tetrahedron, and the cells in the body's bounds. clippedCellBodyVolumes, the whole body clipped to
+// each tetrahedron (keptSideShell once per face: clipToConvex), is the tests' oracle.
 //
 // Grade-tonnage: per body, for each cut-off c, the cells whose grade >= c (cells with no
 // grade value are left out and their volume reported): tonnage = sum V rho, mean grade =
@@ -74,9 +92,6 @@
 
 namespace geoslice {
 
-// The most tetrahedra x triangles computeGradeTonnage clips for a curvilinear block model.
-constexpr double kMaxTetClipWork = 1e8;
-
 struct CellVolume {
     std::size_t cell = 0;  // BlockModel linear index
     double volume = 0.0;   // m³
@@ -87,6 +102,12 @@ struct CellVolume {
 // zeros; Hexahedron: |volume| <= 1e-9 of the cell's, the rounding left where a body only
 // touches a cell).
 std::vector<CellVolume> cellBodyVolumes(const BlockModel& blocks, const Mesh& body);
+
+// Hexahedral cells only: the same volumes by clipping the whole body to each tetrahedron of
+// the cells whose bounds meet the body's (clipToConvex, then meshVolume), O(tetrahedra x
+// triangles): the independent oracle of the tests for cellBodyVolumes's local sum. Empty
+// for Box cells.
+std::vector<CellVolume> clippedCellBodyVolumes(const BlockModel& blocks, const Mesh& body);
 
 // `closed` (a closed, outward surface) clipped to the convex polyhedron where every
 // n . p + d >= 0: keptSideShell once per plane (unit normals). Its meshVolume is the volume
@@ -132,9 +153,8 @@ struct GradeTonnage {
 // each body's part on the kept side only. Volumes are net: a body's cells lose the volumes
 // of the bodies nested directly inside it (validation's nesting parents; with `plane`,
 // their kept parts), as in its section region. Errors: InvalidArgument when the model has
-// no block model, the property is unknown (listed), cut-offs are not finite and increasing
-// or more than 64, or the plane is bad (non-finite, zero normal); OutOfRange above
-// kMaxTetClipWork (curvilinear cells, see above).
+// no block model, the property is unknown (listed), cut-offs are not finite and increasing,
+// or the plane is bad (non-finite, zero normal); OutOfRange for more than 64 cut-offs.
 Result<GradeTonnage> computeGradeTonnage(const Model& model, const std::string& property,
                                          const std::vector<double>& cutoffs,
                                          const std::optional<Plane>& plane = std::nullopt);

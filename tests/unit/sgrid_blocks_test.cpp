@@ -31,6 +31,7 @@
 #include "section/reserves.hpp"
 #include "test_meshes.hpp"
 #include "tests/common/gocad_samples.hpp"
+#include "tests/common/sgrid_grids.hpp"
 
 using namespace geoslice;
 using namespace geoslice::test;
@@ -49,27 +50,6 @@ constexpr double kGkCellClipTolM3 = 1e-6;
 constexpr double kGradeTol = 1e-9;          // a mean grade (g/t), a ratio of sums above
 constexpr double kSphereSumRelTol = 1e-10;  // ~10^5 clipped pieces of ~10 m, against meshVolume
 constexpr double kPieceAreaTolM2 = 1e-9;    // a piece's area vs its cell's polygons (~40 m², 100 m coordinates)
-
-// An SGrid of n0 x n1 x n2 cells with points at(i, j, k) and cell property grade(i, j, k).
-template <class At, class Grade>
-Grid sgridOf(int n0, int n1, int n2, At at, Grade grade) {
-    Grid g;
-    g.type = "SGrid";
-    g.name = "sg";
-    g.dims[0] = std::size_t(n0 + 1);
-    g.dims[1] = std::size_t(n1 + 1);
-    g.dims[2] = std::size_t(n2 + 1);
-    g.cellCentred = true;
-    for (int k = 0; k <= n2; ++k)
-        for (int j = 0; j <= n1; ++j)
-            for (int i = 0; i <= n0; ++i) g.points.push_back(at(i, j, k));
-    GridProperty p{"grade", "g/t", std::nullopt, {}};
-    for (int k = 0; k < n2; ++k)
-        for (int j = 0; j < n1; ++j)
-            for (int i = 0; i < n0; ++i) p.values.push_back(float(grade(i, j, k)));
-    g.properties.push_back(std::move(p));
-    return g;
-}
 
 double overlap1(double a0, double a1, double b0, double b1) {
     return std::max(0.0, std::min(a1, b1) - std::max(a0, b0));
