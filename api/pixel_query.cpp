@@ -48,12 +48,12 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
     a.perspective = true;
     a.world = glm::dvec3(std::numeric_limits<double>::quiet_NaN());
     double hitT = std::numeric_limits<double>::infinity();
+    bool cap = false;  // the hit is on a cut face: the kept part starts inside the body
     if (!kept.empty()) {
         auto rays = model.rays->wait(wait.deadline, wait.cancel);
         if (!rays) return rays.error();
         auto hole = rays.value().tracer->traceRay(ray.origin, ray.direction);
         if (hole) {
-            bool cap = false;
             // Body intervals are disjoint and in order: the first with a kept part holds the
             // nearest kept point of any body.
             for (const BoreholeInterval& iv : hole.value().intervals) {
@@ -77,12 +77,18 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
         }
     }
     if (std::isfinite(hitT)) a.world = ray.origin + hitT * ray.direction;
-    if (std::isfinite(hitT)) a.cell = blockCellAt(model, a.record, a.world);
+    // The block cell on a cap only (the cut face, where the view colours by cell); an uncut
+    // exterior face keeps the body's colour in the image and has no cell in the answer.
+    if (std::isfinite(hitT) && cap) a.cell = blockCellAt(model, a.record, a.world);
     a.distanceAlong =
         std::isfinite(hitT) ? glm::length(a.world - ray.origin) : std::numeric_limits<double>::quiet_NaN();
     if (cached && !cached->ids.empty()) {
-        a.record = cached->ids[std::size_t(py) * std::size_t(cached->width) + std::size_t(px)];
+        const std::size_t p = std::size_t(py) * std::size_t(cached->width) + std::size_t(px);
+        a.record = cached->ids[p];
         a.fromIdBuffer = true;
+        // A coloured view's cells buffer (the GL cell attachment) is the cell the image used.
+        if (!cached->cells.empty())
+            a.cell = cached->cells[p] == 0 ? BlockModel::kNoCell : std::size_t(cached->cells[p] - 1);
     }
     return a;
 }
@@ -208,12 +214,15 @@ void writeWorldPoint(JsonWriter& w, const CatalogModel& model, const glm::dvec3&
 }
 
 // "block": the cell's index and every property there, or null with why.
-void writeBlockAnswer(JsonWriter& w, const BlockModel& blocks, std::size_t cell) {
+void writeBlockAnswer(JsonWriter& w, const BlockModel& blocks, std::size_t cell, bool perspective) {
     if (cell == BlockModel::kNoCell) {
-        w.key("block")
-            .null()
-            .key("blockNote")
-            .value("no block cell here: outside the block model's grid or outside the bodies that clip it");
+        w.key("block").null().key("blockNote");
+        if (perspective)
+            w.value(
+                "no block cell here: not on a cut face (perspective views colour cut faces only), outside the block "
+                "model's grid or outside the bodies that clip it");
+        else
+            w.value("no block cell here: outside the block model's grid or outside the bodies that clip it");
         return;
     }
     const auto ijk = blocks.ijk(cell);
@@ -247,7 +256,7 @@ void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::stri
     } else {
         w.key("record").null().key("message").value("no geology at this pixel");
     }
-    if (model.model.blocks) writeBlockAnswer(w, *model.model.blocks, a.cell);
+    if (model.model.blocks) writeBlockAnswer(w, *model.model.blocks, a.cell, a.perspective);
     if (a.perspective) {
         w.key("distanceFromEye").value(a.distanceAlong);
         if (std::isfinite(a.world.x)) {

@@ -24,7 +24,9 @@ struct QueryAnswer {
     bool line = false;
     bool perspective = false;  // world = the first visible point on the ray (NaN: none); distanceAlong = from the eye
     bool fromIdBuffer = false;
-    std::size_t cell = BlockModel::kNoCell;  // the block cell (blockCellAt), from the cells buffer when cached
+    // The block cell (blockCellAt), from the cells buffer when cached; perspective views: on a
+    // cut face only (where the image colours by cell).
+    std::size_t cell = BlockModel::kNoCell;
 };
 // InvalidArgument naming the parameter ('plane', 'planes' or 'elevation') when the cut of a
 // perspective view keeps no part of the model's bounds (api/cut.hpp).

@@ -38,6 +38,59 @@ std::size_t blockCellAt(const CatalogModel& model, RecordId record, const glm::d
     return model.model.blocks->cellAt(world);
 }
 
+Result<BlockCapTriangles> blockCapTriangles(const CatalogModel& model, const PropertyClasses& classes,
+                                            const std::vector<Plane>& planes, std::size_t maxPieces) {
+    const auto t0 = std::chrono::steady_clock::now();
+    BlockCapTriangles out;
+    if (!model.model.blocks) return out;
+    const BlockModel& blocks = *model.model.blocks;
+    const std::vector<double>& values = blocks.properties[std::size_t(classes.property)].values;
+    Aabb clipBounds;
+    for (std::uint32_t b : blocks.clipBodyIndex) clipBounds.extend(model.model.bodies[b].mesh.bounds());
+    const glm::dvec3 origin = model.model.origin;
+    for (const Plane& plane : planes) {
+        const SectionFrame frame = makeSectionFrame(plane, origin);
+        // Only the pieces whose bounds meet the clipping bodies' bounds' shadow on the plane
+        // (the stencil keeps the rest off the image anyway).
+        FrameRect limit;
+        limit.u0 = limit.v0 = std::numeric_limits<double>::infinity();
+        limit.u1 = limit.v1 = -std::numeric_limits<double>::infinity();
+        for (int c = 0; c < 8 && clipBounds.valid(); ++c) {
+            const glm::dvec3 corner{c & 1 ? clipBounds.max.x : clipBounds.min.x,
+                                    c & 2 ? clipBounds.max.y : clipBounds.min.y,
+                                    c & 4 ? clipBounds.max.z : clipBounds.min.z};
+            const glm::dvec2 uv = frame.toPlane(corner - origin);
+            limit.u0 = std::min(limit.u0, uv.x);
+            limit.u1 = std::max(limit.u1, uv.x);
+            limit.v0 = std::min(limit.v0, uv.y);
+            limit.v1 = std::max(limit.v1, uv.y);
+        }
+        BlockCapTriangles::Range range;
+        range.first = std::uint32_t(out.positions.size());
+        if (clipBounds.valid()) {
+            auto pieces = cellPolygons(blocks, frame, &limit, maxPieces);
+            if (!pieces) return pieces.error();
+            // Two passes: cells with a value, then those without (drawn into the cell buffer only).
+            for (const bool valued : {true, false})
+                for (const CellPolygon& piece : pieces.value()) {
+                    const int k = classes.classOf(values[piece.cell]);
+                    if ((k >= 0) != valued) continue;
+                    const glm::uvec2 cc(std::uint32_t(piece.cell + 1), std::uint32_t(k + 1));
+                    const glm::vec3 a(frame.toLocal(piece.ring[0]));
+                    for (std::size_t v = 1; v + 1 < piece.ring.size(); ++v) {
+                        out.positions.insert(out.positions.end(), {a, glm::vec3(frame.toLocal(piece.ring[v])),
+                                                                   glm::vec3(frame.toLocal(piece.ring[v + 1]))});
+                        out.cellClass.insert(out.cellClass.end(), {cc, cc, cc});
+                    }
+                    (valued ? range.valued : range.unvalued) += std::uint32_t(3 * (piece.ring.size() - 2));
+                }
+        }
+        out.planes.push_back(range);
+    }
+    out.cutMs = msSince(t0);
+    return out;
+}
+
 void colourByBlocks(const CatalogModel& model, const PropertyClasses& classes, const PixelMapping& mapping,
                     ViewImage& image) {
     const std::size_t pixels = std::size_t(image.width) * std::size_t(image.height);

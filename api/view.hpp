@@ -64,6 +64,27 @@ std::size_t blockCellAt(const CatalogModel& model, RecordId record, const glm::d
 void colourByBlocks(const CatalogModel& model, const PropertyClasses& classes, const PixelMapping& mapping,
                     ViewImage& image);
 
+// The exact cell pieces of a perspective view's cut faces, for the GL renderer
+// (renderer/block_caps.hpp; what it draws for block models with curvilinear cells, whose
+// cells a 3D texture cannot address): for each plane of `planes` (world, in the view's
+// order), the cut of every tetrahedron of every cell it crosses (section/block_section.hpp
+// cellPolygons: the profile engine's own polygons) near the clipping bodies (their bounds'
+// shadow on the plane), fanned into triangles in the model's local frame (world -
+// Model::origin, float32), each vertex with (cell + 1, class: 0 = no value, k + 1 = class k).
+// Per plane the triangles of cells with a value come first. Errors: OutOfRange when a plane
+// crosses more than `maxPieces` tetrahedra (named).
+struct BlockCapTriangles {
+    std::vector<glm::vec3> positions;   // 3 per triangle
+    std::vector<glm::uvec2> cellClass;  // per vertex
+    struct Range {
+        std::uint32_t first = 0, valued = 0, unvalued = 0;  // vertices
+    };
+    std::vector<Range> planes;
+    double cutMs = 0.0;  // wall clock of the cuts
+};
+Result<BlockCapTriangles> blockCapTriangles(const CatalogModel& model, const PropertyClasses& classes,
+                                            const std::vector<Plane>& planes, std::size_t maxPieces = 4000000);
+
 // A profile view (plane, elevation or polyline section) with the exact engine. A plane that
 // misses the model gives an empty (background) image, not an error. `cancel` (may be
 // null) is read at least once per image row: when set, DeadlineExceeded within milliseconds.

@@ -74,6 +74,19 @@ inline double processCpuSeconds() {
     return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
+// The load average (1, 5, 15 minutes) as "a b c" from /proc/loadavg ("0.00 0.00 0.00" when
+// unreadable): benchmarks print it, the machine being shared.
+inline std::string loadAverage() {
+    double l[3] = {0, 0, 0};
+    if (FILE* f = std::fopen("/proc/loadavg", "r")) {
+        if (std::fscanf(f, "%lf %lf %lf", &l[0], &l[1], &l[2]) != 3) l[0] = l[1] = l[2] = 0;
+        std::fclose(f);
+    }
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.2f %.2f %.2f", l[0], l[1], l[2]);
+    return buf;
+}
+
 inline double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());

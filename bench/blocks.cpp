@@ -45,17 +45,6 @@ double median(std::vector<double> v) {
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-std::string loadAverage() {
-    double l[3] = {0, 0, 0};
-    if (FILE* f = std::fopen("/proc/loadavg", "r")) {
-        if (std::fscanf(f, "%lf %lf %lf", &l[0], &l[1], &l[2]) != 3) l[0] = l[1] = l[2] = 0;
-        std::fclose(f);
-    }
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.2f %.2f %.2f", l[0], l[1], l[2]);
-    return buf;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,7 +69,7 @@ int main(int argc, char** argv) {
     }
     json out;
     out["bench"] = "blocks";
-    out["loadAverageStart"] = loadAverage();
+    out["loadAverageStart"] = bench::loadAverage();
     SyntheticOptions so;
     so.triangles = bench::triangleCountFor(size);
     so.crs = Crs::fromEpsg(4523).value();
@@ -242,7 +231,7 @@ int main(int argc, char** argv) {
                            {"orebodyKeptSideOfPlane", table(ore, half)},
                            {"allBodies", allBodies ? table({}, std::nullopt) : json("skipped (--all-bodies 0)")},
                            {"goal", "orebody table <= 200 ms"}};
-    out["loadAverageEnd"] = loadAverage();
+    out["loadAverageEnd"] = bench::loadAverage();
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
 }

@@ -14,11 +14,10 @@
 // The point is computed in float in the local frame (world - Model::origin): within about
 // 1e-5 m of the exact one for models of a few km, so pixels whose point lies that close to a
 // cell face may take the neighbouring cell.
+// The cell + 1 goes to the cell buffer (colour attachment 2, shaders/slice.frag oCell).
 // Curvilinear block models (SGrid, CellShape::Hexahedron) are refused by upload() with a
-// named reason: a texel per cell addresses box cells only, and locating a point among
-// hexahedra in a fragment shader (a cell BVH in a storage buffer, barycentric tests per
-// fragment) would cost far more than the view; their profile views, tiles, vectors, print
-// sheets, queries and reserves are coloured and measured by the exact engine.
+// named reason: a texel per cell addresses box cells only; their GL views draw the cells'
+// exact pieces instead (renderer/block_caps.hpp).
 //
 // Threads: upload, apply and destroy on the GlContext's thread. GL state: upload() binds
 // nothing (DSA; sets GL_UNPACK_ALIGNMENT to 1 and back to 4); apply() binds the class texture

@@ -86,6 +86,7 @@ namespace geoslice {
     X(PFNGLVERTEXARRAYVERTEXBUFFERPROC, VertexArrayVertexBuffer)                         \
     X(PFNGLVERTEXARRAYELEMENTBUFFERPROC, VertexArrayElementBuffer)                       \
     X(PFNGLVERTEXARRAYATTRIBFORMATPROC, VertexArrayAttribFormat)                         \
+    X(PFNGLVERTEXARRAYATTRIBIFORMATPROC, VertexArrayAttribIFormat)                       \
     X(PFNGLVERTEXARRAYATTRIBBINDINGPROC, VertexArrayAttribBinding)                       \
     X(PFNGLENABLEVERTEXARRAYATTRIBPROC, EnableVertexArrayAttrib)                         \
     /* drawing */                                                                        \

@@ -13,14 +13,16 @@ void RenderTarget::release() {
         a->colour.reset();
         a->ids.reset();
         a->depth.reset();
+        a->cells.reset();
     }
     colourTex_.reset();
     width_ = height_ = samples_ = 0;
-    fxaa_ = false;
+    fxaa_ = hasCells_ = cellsOn_ = false;
 }
 
-Status RenderTarget::ensure(int width, int height, int samples, bool fxaa) {
-    if (single_.fbo && width == width_ && height == height_ && samples == samples_ && (fxaa == fxaa_ || !fxaa))
+Status RenderTarget::ensure(int width, int height, int samples, bool fxaa, bool cells) {
+    if (single_.fbo && width == width_ && height == height_ && samples == samples_ && (fxaa == fxaa_ || !fxaa) &&
+        (cells == hasCells_ || !cells))
         return {};
     release();
     const GlFunctions& gl = *gl_;
@@ -45,6 +47,11 @@ Status RenderTarget::ensure(int width, int height, int samples, bool fxaa) {
     gl.NamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, single_.ids.id());
     gl.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, single_.depth.id());
     gl.NamedFramebufferDrawBuffers(fbo, 2, drawBuffers);
+    if (cells) {
+        single_.cells = GlRenderbuffer::create(gl);
+        gl.NamedRenderbufferStorage(single_.cells.id(), GL_R32UI, width, height);
+        gl.NamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT2, GL_RENDERBUFFER, single_.cells.id());
+    }
     std::vector<GLuint> check = {fbo};
     if (samples > 1) {
         ms_.colour = GlRenderbuffer::create(gl);
@@ -59,6 +66,11 @@ Status RenderTarget::ensure(int width, int height, int samples, bool fxaa) {
         gl.NamedFramebufferRenderbuffer(msFbo, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, ms_.ids.id());
         gl.NamedFramebufferRenderbuffer(msFbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, ms_.depth.id());
         gl.NamedFramebufferDrawBuffers(msFbo, 2, drawBuffers);
+        if (cells) {
+            ms_.cells = GlRenderbuffer::create(gl);
+            gl.NamedRenderbufferStorageMultisample(ms_.cells.id(), samples, GL_R32UI, width, height);
+            gl.NamedFramebufferRenderbuffer(msFbo, GL_COLOR_ATTACHMENT2, GL_RENDERBUFFER, ms_.cells.id());
+        }
         check.push_back(msFbo);
     }
     if (fxaa) {
@@ -76,23 +88,33 @@ Status RenderTarget::ensure(int width, int height, int samples, bool fxaa) {
         release();
         char buf[200];
         std::snprintf(buf, sizeof buf,
-                      "framebuffer %dx%d (RGBA8 + R32UI + DEPTH32F_STENCIL8, %d sample(s)%s): %s, status 0x%04x", width,
-                      height, std::max(samples, 1), fxaa ? ", FXAA target" : "", glErrorName(error).c_str(), status);
+                      "framebuffer %dx%d (RGBA8 + R32UI%s + DEPTH32F_STENCIL8, %d sample(s)%s): %s, status 0x%04x",
+                      width, height, cells ? " + R32UI cells" : "", std::max(samples, 1), fxaa ? ", FXAA target" : "",
+                      glErrorName(error).c_str(), status);
         return makeError(error == GL_OUT_OF_MEMORY ? ErrorCode::OutOfRange : ErrorCode::Internal, buf);
     }
     width_ = width;
     height_ = height;
     samples_ = samples;
     fxaa_ = fxaa;
+    hasCells_ = cells;
     return {};
 }
 
-void RenderTarget::clear(const float background[4]) const {
+void RenderTarget::selectDrawBuffers(GLuint fbo, bool cells) const {
+    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    gl_->NamedFramebufferDrawBuffers(fbo, cells ? 3 : 2, buffers);
+}
+
+void RenderTarget::clear(const float background[4], bool cells) {
     const GlFunctions& gl = *gl_;
     const GLuint fbo = drawFramebuffer();
     const GLuint noId[4] = {0, 0, 0, 0};
+    cellsOn_ = cells && hasCells_;
+    if (hasCells_) selectDrawBuffers(fbo, cellsOn_);
     gl.ClearNamedFramebufferfv(fbo, GL_COLOR, 0, background);
     gl.ClearNamedFramebufferuiv(fbo, GL_COLOR, 1, noId);
+    if (cellsOn_) gl.ClearNamedFramebufferuiv(fbo, GL_COLOR, 2, noId);
     gl.ClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
 }
 
@@ -102,17 +124,22 @@ void RenderTarget::resolve() const {
     const GLuint from = ms_.fbo.id(), to = single_.fbo.id();
     const int w = width_, h = height_;
     // One attachment at a time: float and integer colour buffers cannot share a blit.
-    const GLenum colourOnly[] = {GL_COLOR_ATTACHMENT0, GL_NONE};
-    const GLenum idsOnly[] = {GL_NONE, GL_COLOR_ATTACHMENT1};
-    const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    const GLenum colourOnly[] = {GL_COLOR_ATTACHMENT0, GL_NONE, GL_NONE};
+    const GLenum idsOnly[] = {GL_NONE, GL_COLOR_ATTACHMENT1, GL_NONE};
+    const GLenum cellsOnly[] = {GL_NONE, GL_NONE, GL_COLOR_ATTACHMENT2};
     gl.NamedFramebufferReadBuffer(from, GL_COLOR_ATTACHMENT0);
     gl.NamedFramebufferDrawBuffers(to, 2, colourOnly);
     gl.BlitNamedFramebuffer(from, to, 0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     gl.NamedFramebufferReadBuffer(from, GL_COLOR_ATTACHMENT1);
     gl.NamedFramebufferDrawBuffers(to, 2, idsOnly);
     gl.BlitNamedFramebuffer(from, to, 0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    if (cellsOn_) {
+        gl.NamedFramebufferReadBuffer(from, GL_COLOR_ATTACHMENT2);
+        gl.NamedFramebufferDrawBuffers(to, 3, cellsOnly);
+        gl.BlitNamedFramebuffer(from, to, 0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
     gl.BlitNamedFramebuffer(from, to, 0, 0, w, h, 0, 0, w, h, GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT, GL_NEAREST);
-    gl.NamedFramebufferDrawBuffers(to, 2, both);
+    selectDrawBuffers(to, cellsOn_);
     gl.NamedFramebufferReadBuffer(from, GL_COLOR_ATTACHMENT0);
 }
 
@@ -127,15 +154,24 @@ void RenderTarget::readColour(bool afterFxaa, std::vector<std::uint8_t>& rgba) c
     flipRows(raw, rgba, width_, height_, 4);
 }
 
-void RenderTarget::readIds(std::vector<std::uint32_t>& ids) const {
+void RenderTarget::readInteger(GLenum attachment, std::vector<std::uint32_t>& out) const {
     const GlFunctions& gl = *gl_;
     const GLuint fbo = single_.fbo.id();
     std::vector<std::uint32_t> raw(std::size_t(width_) * std::size_t(height_));
     gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-    gl.NamedFramebufferReadBuffer(fbo, GL_COLOR_ATTACHMENT1);
+    gl.NamedFramebufferReadBuffer(fbo, attachment);
     gl.ReadPixels(0, 0, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, raw.data());
-    flipRows(raw, ids, width_, height_, 1);
+    flipRows(raw, out, width_, height_, 1);
+}
+
+void RenderTarget::readIds(std::vector<std::uint32_t>& ids) const { readInteger(GL_COLOR_ATTACHMENT1, ids); }
+
+void RenderTarget::readCells(std::vector<std::uint32_t>& cells) const {
+    if (cellsOn_)
+        readInteger(GL_COLOR_ATTACHMENT2, cells);
+    else
+        cells.clear();
 }
 
 void RenderTarget::readDepth(std::vector<float>& depth) const {

@@ -2,10 +2,15 @@
 // the framebuffers an image is drawn into and read back from.
 //   resolve target (always)  colour RGBA8 texture (FXAA samples it), ids R32UI, depth
 //                            DEPTH32F_STENCIL8 renderbuffers: what is read back
-//   multisampled (samples>1) the same three attachments as multisampled renderbuffers, the
+//   cells (on request)       R32UI at colour attachment 2: the block cell + 1 per pixel
+//                            (0 = none) of views coloured by a block model; made by the
+//                            first ensure() that asks for it, and written only while
+//                            clear(.., cells = true) selected it, so views without a block
+//                            model draw into two colour buffers as before
+//   multisampled (samples>1) the same attachments as multisampled renderbuffers, the
 //                            draw target; resolve() blits it into the resolve target
-//                            (colour averaged; ids and depth one sample's value, GL 4.5
-//                            section 18.3.1: never blended)
+//                            (colour averaged; ids, cells and depth one sample's value,
+//                            GL 4.5 section 18.3.1: never blended)
 //   FXAA output (fxaa)       colour RGBA8 renderbuffer written by FxaaPass
 // Readback flips rows: images are row 0 at the top, GL reads bottom-up.
 // Threads: create, use and destroy on the owning GlContext's thread, context current.
@@ -37,10 +42,10 @@ public:
     explicit RenderTarget(const GlFunctions& gl) : gl_(&gl) {}
 
     // Makes the target width x height pixels (sides checked by the caller) with `samples`
-    // samples per pixel (<= 1: single-sampled) and, with `fxaa`, the FXAA output; keeps the
-    // current one when it already fits. Errors: OutOfRange for GL_OUT_OF_MEMORY, Internal
-    // for an incomplete framebuffer, both naming the size, formats and samples.
-    Status ensure(int width, int height, int samples, bool fxaa);
+    // samples per pixel (<= 1: single-sampled) and, with `fxaa`, the FXAA output, with
+    // `cells` the cell attachment; keeps the current one when it already fits. Errors: OutOfRange for GL_OUT_OF_MEMORY,
+    // Internal for an incomplete framebuffer, both naming the size, formats and samples.
+    Status ensure(int width, int height, int samples, bool fxaa, bool cells = false);
     // Deletes every attachment (ensure() makes them again): not to keep a large image's memory.
     void release();
 
@@ -52,20 +57,25 @@ public:
     GLuint fxaaFramebuffer() const { return aaFbo_.id(); }    // 0 without the FXAA output
 
     // Clears the draw framebuffer: colour to `background` (RGBA 0..1), ids to 0, depth to 1,
-    // stencil to 0.
-    void clear(const float background[4]) const;
-    // Multisampled colour, ids, depth and stencil into the resolve target (no-op when single-sampled).
+    // stencil to 0; with `cells` (ensure() made them) selects the cell attachment as draw
+    // buffer 2 and clears it to 0, without deselects it.
+    void clear(const float background[4], bool cells = false);
+    // Multisampled colour, ids, cells (when selected), depth and stencil into the resolve
+    // target (no-op when single-sampled).
     void resolve() const;
     // Row 0 at the top. Colour from the FXAA output when `afterFxaa`, else the resolve target.
     void readColour(bool afterFxaa, std::vector<std::uint8_t>& rgba) const;
     void readIds(std::vector<std::uint32_t>& ids) const;
+    void readCells(std::vector<std::uint32_t>& cells) const;  // after clear(.., true)
     void readDepth(std::vector<float>& depth) const;
 
 private:
     struct Attachments {
         GlFramebuffer fbo;
-        GlRenderbuffer colour, ids, depth;
+        GlRenderbuffer colour, ids, depth, cells;
     };
+    void selectDrawBuffers(GLuint fbo, bool cells) const;
+    void readInteger(GLenum attachment, std::vector<std::uint32_t>& out) const;
     const GlFunctions* gl_;
     GlTexture colourTex_;  // resolve target's colour (single_.colour stays empty)
     Attachments single_, ms_;
@@ -73,6 +83,7 @@ private:
     GlRenderbuffer aaColour_;
     int width_ = 0, height_ = 0, samples_ = 0;
     bool fxaa_ = false;
+    bool hasCells_ = false, cellsOn_ = false;
 };
 
 }  // namespace geoslice

@@ -7,6 +7,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "renderer/block_caps.hpp"
 #include "renderer/block_texture.hpp"
 #include "renderer/cluster_selection.hpp"
 #include "renderer/fxaa_pass.hpp"
@@ -64,6 +65,7 @@ struct SliceRenderer::Impl {
     Impl(GlContext& c, TracePass t, FxaaPass f) : context(c), trace(std::move(t)), fxaa(std::move(f)), target(c.gl()) {}
     GlContext& context;
     std::vector<Variant> programs;  // variantIndex(): clip distance or discard, with or without blocks
+    GlProgram capProgram;           // block-model cell pieces (renderer/block_caps.hpp)
     TracePass trace;
     FxaaPass fxaa;
     RenderTarget target;
@@ -102,8 +104,11 @@ Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context)
     if (!trace) return trace.error();
     auto fxaa = FxaaPass::create(gl);
     if (!fxaa) return fxaa.error();
+    auto caps = GlProgram::build(gl, "block_cap.vert", "block_cap.frag", {});
+    if (!caps) return caps.error();
     auto impl = std::make_unique<Impl>(context, std::move(trace).value(), std::move(fxaa).value());
     impl->programs = std::move(programs);
+    impl->capProgram = std::move(caps).value();
     return std::unique_ptr<SliceRenderer>(new SliceRenderer(std::move(impl)));
 }
 
@@ -117,8 +122,8 @@ const GlProgram& SliceRenderer::program(int index) const {
 }
 
 const GlProgram& SliceRenderer::helperProgram(int index) const {
-    GS_ASSERT(index == 0 || index == 1, "helper program index out of range");
-    return index == 0 ? impl_->trace.program() : impl_->fxaa.program();
+    GS_ASSERT(index >= 0 && index < kHelperProgramCount, "helper program index out of range");
+    return index == 0 ? impl_->trace.program() : index == 1 ? impl_->fxaa.program() : impl_->capProgram;
 }
 
 void SliceRenderer::releaseTarget() { impl_->target.release(); }
@@ -163,6 +168,13 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     if (!(request.lodPixelError > 0.0f && request.lodPixelError <= 1000.0f))
         return makeError(ErrorCode::InvalidArgument,
                          "LOD pixel error " + std::to_string(request.lodPixelError) + " is outside (0, 1000]");
+    const BlockCaps* caps = request.blockCaps;
+    if (request.blocks && caps)
+        return makeError(ErrorCode::InvalidArgument, "a view takes a block texture or block caps, not both");
+    if (caps && caps->planeCount() != request.planes.size())
+        return makeError(ErrorCode::InvalidArgument, "block caps cut by " + std::to_string(caps->planeCount()) +
+                                                         " planes for a view of " +
+                                                         std::to_string(request.planes.size()));
     if (request.drawTraces && !(request.traceWidth > 0.0f && request.traceWidth <= 64.0f))
         return makeError(ErrorCode::InvalidArgument,
                          "trace width " + std::to_string(request.traceWidth) + " px is outside (0, 64]");
@@ -199,7 +211,10 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         if (samples < 2) aa = AntiAlias::None, samples = 0;
     }
     RenderTarget& target = impl.target;
-    if (auto s = target.ensure(request.width, request.height, samples, aa == AntiAlias::Fxaa); !s) return s.error();
+    // Views coloured by a block model carry the cell of each pixel (colour attachment 2).
+    const bool cells = request.blocks != nullptr || caps != nullptr;
+    if (auto s = target.ensure(request.width, request.height, samples, aa == AntiAlias::Fxaa, cells); !s)
+        return s.error();
 
     SliceImage image;
     image.aaUsed = aa;
@@ -224,7 +239,9 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     gl.Viewport(0, 0, request.width, request.height);
     const float bg[4] = {request.background.r / 255.0f, request.background.g / 255.0f, request.background.b / 255.0f,
                          request.background.a / 255.0f};
-    target.clear(bg);
+    target.clear(bg, cells);
+    // With block caps the bodies' program writes no cell: the caps pass fills the cell buffer.
+    if (caps) gl.ColorMaski(2, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
 
     gl.Disablei(GL_BLEND, 0);
     gl.Disablei(GL_BLEND, 1);
@@ -362,7 +379,8 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         gl.ProgramUniform4fv(prog, v.u.colour, 1, glm::value_ptr(p.colour));
         gl.ProgramUniform1ui(prog, v.u.capRecord, capRecord);
         gl.ProgramUniform4fv(prog, v.u.capColour, 1, glm::value_ptr(capColour));
-        gl.StencilFunc(GL_ALWAYS, role == 1 ? 1 : 0, 0xff);
+        const int code = role != 1 ? 0 : caps && caps->clips(capRecord) ? kStencilBlockCap : kStencilCap;
+        gl.StencilFunc(GL_ALWAYS, code, 0xff);
     };
     // Back faces of bodies: the ray is inside that body -> its cap.
     gl.StencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
@@ -411,6 +429,22 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
         gl.BindTextureUnit(1, 0);
     }
     if (request.blocks) request.blocks->release();
+    if (caps && caps->triangleCount() > 0 && !cancelled()) {
+        // The cell pieces on the clipping bodies' caps (renderer/block_caps.hpp).
+        const GLuint cp = impl.capProgram.id();
+        const GlProgram& c = impl.capProgram;
+        gl.ProgramUniformMatrix4fv(cp, c.uniform("uViewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+        gl.ProgramUniform4fv(cp, c.uniform("uPlanes"), kMaxPlanes, planesLocal);
+        gl.ProgramUniform1i(cp, c.uniform("uPlaneCount"), planeCount);
+        gl.ProgramUniform1i(cp, c.uniform("uUnion"), unionMode ? 1 : 0);
+        gl.ProgramUniform4fv(cp, c.uniform("uEye"), 1, glm::value_ptr(eyeUniform));
+        for (int i = 0; i < kMaxPlanes; ++i) gl.Disable(GLenum(GL_CLIP_DISTANCE0 + i));
+        caps->draw(c);
+        gl.Enable(GL_DEPTH_TEST);
+        gl.DepthMask(GL_TRUE);
+        gl.BindVertexArray(model.vertexArray());
+    }
+    gl.ColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     if (request.drawTraces && planeCount > 0 && !model.surfaceTriangles().empty())
         image.traceSegments = impl.trace.draw(model.surfaceTriangles(), planesLocalD, unionMode, viewProj,
                                               request.traceColour, request.traceWidth, kMaxPlanes);
@@ -430,6 +464,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     const auto t1 = std::chrono::steady_clock::now();
     if (request.readColour) target.readColour(aa == AntiAlias::Fxaa, image.rgba);
     if (request.readIds) target.readIds(image.ids);
+    if (request.readIds && cells) target.readCells(image.cells);
     if (request.readDepth) target.readDepth(image.depth);
     image.readbackMs = msSince(t1);
 
@@ -459,6 +494,20 @@ Status SliceRenderer::warmUp(const GpuModel& model) {
         auto img = render(model, r);
         if (!img) return img.error();
     }
+    // The block caps' program, on one triangle of the plane across the model's middle.
+    std::vector<RecordId> records;
+    for (const auto& p : model.parts()) records.push_back(p.record);
+    const glm::dvec3 c = b.centre() - model.origin();
+    const glm::dvec3 s = b.size();
+    const glm::vec3 tri[3] = {glm::vec3(c + glm::dvec3(-s.x, 0.0, -s.z)), glm::vec3(c + glm::dvec3(s.x, 0.0, -s.z)),
+                              glm::vec3(c + glm::dvec3(0.0, 0.0, s.z))};
+    const glm::uvec2 cells[3] = {{1u, 1u}, {1u, 1u}, {1u, 1u}};
+    const BlockCaps::PlaneRange range{0, 3, 0};
+    auto caps = BlockCaps::upload(impl_->context, tri, cells, std::span(&range, 1), {Rgba8{}}, records);
+    if (!caps) return caps.error();
+    r.blockCaps = caps.value().get();
+    auto img = render(model, r);
+    if (!img) return img.error();
     return {};
 }
 

@@ -2,6 +2,8 @@
 // GpuModel into a framebuffer object with three attachments, read back on request:
 //   colour  RGBA8   record colour, lit on exterior faces, flat on cut faces
 //   ids     R32UI   attribute record id per pixel (never blended; 0 = background)
+//   cells   R32UI   views coloured by a block model only: the block cell + 1 whose class
+//                   colours the pixel (caps of the clipping bodies; 0 = none), never blended
 //   depth   32F     window depth in [0, 1] of the surface drawn (1 = background); for a cut
 //                   face that is the depth of the surface behind the cut, see below
 //
@@ -56,6 +58,7 @@ namespace geoslice {
 
 class GlProgram;
 class BlockTexture;
+class BlockCaps;
 
 enum class ClipMethod {
     ClipDistance,  // gl_ClipDistance per plane (intersection of half-spaces only)
@@ -123,15 +126,21 @@ struct SliceRequest {
     // returns DeadlineExceeded. A single draw call already submitted is not interrupted.
     const std::atomic<bool>* cancel = nullptr;
     // Caps of the clipping bodies coloured by block-model class (renderer/block_texture.hpp);
-    // null: none. Must outlive the call.
+    // null: none. Must outlive the call. With it, SliceImage::cells holds each pixel's cell.
     const BlockTexture* blocks = nullptr;
+    // Or (not both) the exact cell pieces of each plane (renderer/block_caps.hpp: block models
+    // with curvilinear cells), cut by `planes` in their order; null: none. Must outlive the call.
+    const BlockCaps* blockCaps = nullptr;
 };
 
 struct SliceImage {
     int width = 0, height = 0;
     std::vector<std::uint8_t> rgba;  // 4 bytes per pixel, row 0 at the top (when read)
     std::vector<RecordId> ids;       // row 0 at the top (when read)
-    std::vector<float> depth;        // window depth, row 0 at the top (when read)
+    // With SliceRequest::blocks or blockCaps, read with the ids: BlockModel linear cell index + 1 of the
+    // cell whose class colours each pixel (0: none), row 0 at the top; empty otherwise.
+    std::vector<std::uint32_t> cells;
+    std::vector<float> depth;  // window depth, row 0 at the top (when read)
     ClipMethod clipUsed = ClipMethod::ClipDistance;
     glm::dmat4 viewProj{1.0};            // true local frame -> clip of this image (exaggeration included)
     double drawMs = 0.0;                 // clear + draw + glFinish, wall clock
@@ -172,8 +181,8 @@ public:
     // colouring of caps (GS_BLOCKS, used only when SliceRequest::blocks is set).
     static constexpr int kProgramCount = 4;
     const GlProgram& program(int index) const;
-    // Helper programs: index 0 fault traces, 1 FXAA.
-    static constexpr int kHelperProgramCount = 2;
+    // Helper programs: index 0 fault traces, 1 FXAA, 2 block-model cell pieces.
+    static constexpr int kHelperProgramCount = 3;
     const GlProgram& helperProgram(int index) const;
 
 private:

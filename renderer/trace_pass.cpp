@@ -79,12 +79,13 @@ std::size_t TracePass::draw(const std::vector<glm::vec3>& triangles, const std::
     gl.ProgramUniformMatrix4fv(prog, viewProj_, 1, GL_FALSE, glm::value_ptr(viewProj));
     const float colour[4] = {c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, c.a / 255.0f};
     gl.ProgramUniform4fv(prog, colour_, 1, colour);
-    // Only on cut faces (stencil 1), at the plane's depth, which is in front of the surface
-    // behind the cut that gave the cap its depth; ids and depth untouched.
+    // Only on cut faces (stencil bit 0), at the plane's depth, which is in front of the surface
+    // behind the cut that gave the cap its depth; ids, cells and depth untouched.
     gl.ColorMaski(1, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.ColorMaski(2, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     gl.DepthMask(GL_FALSE);
     gl.DepthFunc(GL_LEQUAL);
-    gl.StencilFunc(GL_EQUAL, 1, 0xff);
+    gl.StencilFunc(GL_EQUAL, 1, 0x1);
     gl.StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
     gl.Disable(GL_CULL_FACE);
     for (int i = 0; i < clipDistances; ++i) gl.Disable(GLenum(GL_CLIP_DISTANCE0 + i));
@@ -95,6 +96,7 @@ std::size_t TracePass::draw(const std::vector<glm::vec3>& triangles, const std::
     gl.DrawArrays(GL_LINES, 0, GLsizei(vertices_.size()));
     gl.LineWidth(1.0f);
     gl.ColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.ColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     gl.DepthMask(GL_TRUE);
     gl.DepthFunc(GL_LESS);
     return vertices_.size() / 2;

@@ -1,11 +1,11 @@
 // Fault traces: where an open surface (fault, terrain sheet) crosses a cut plane on a
 // visible cut face, a line (shaders/trace.vert|frag). The segments are cut on the CPU
 // (traceSegments, no GL) and drawn as GL_LINES on the pixels the slicing pass marked as cut
-// face (stencil 1), colour attachment 0 only.
+// face (stencil bit 0: renderer/slice_renderer.cpp's cap codes), colour attachment 0 only.
 // Threads: create, use and destroy on the owning GlContext's thread. GL state: draw() binds
 // its program and vertex array, disables cull and clip distances 0..kClipDistances-1, and
-// restores colour mask 1, depth mask on, depth func GL_LESS and line width 1; it leaves the
-// stencil func GL_EQUAL 1 with op KEEP.
+// restores colour masks 1 and 2, depth mask on, depth func GL_LESS and line width 1; it leaves
+// the stencil func GL_EQUAL 1 (mask 1) with op KEEP.
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,8 @@
 #version 450 core
 // Slicing pass, fragment stage: one pass writes colour (RGBA8, location 0) and the
-// attribute record id (R32UI, location 1; never blended; 0 = background).
+// attribute record id (R32UI, location 1; never blended; 0 = background); the GS_BLOCKS
+// variants also the block cell + 1 (R32UI, location 2; 0 = none), the cell whose class
+// colours the fragment (caps of clipping bodies only, like the colour).
 //
 // uFaceRole, set per draw by renderer/slice_renderer.cpp:
 //   0 exterior: a front face seen from outside; lit colour of uRecord.
@@ -66,6 +68,9 @@ layout(binding = 2) uniform usampler3D uBlockClasses;  // 0 = no value, k + 1 = 
 
 layout(location = 0) out vec4 oColour;
 layout(location = 1) out uint oRecord;
+#if GS_BLOCKS
+layout(location = 2) out uint oCell;  // BlockModel linear index + 1, 0 = none
+#endif
 
 // bake::fetchId(): layer floor(u), texel floor((u - layer) * W), floor(v * H); 0 outside.
 uint fetchId(vec2 uv) {
@@ -80,8 +85,10 @@ uint fetchId(vec2 uv) {
 // The colour of a cap fragment of `record` by the block cell at the point where its view ray
 // crosses the cut: the entry into the kept region (intersection: the last plane crossed;
 // union: the first), or `colour` when the record does not clip the block model, the point
-// is outside the grid or its cell has no value.
-vec4 blockColour(uint record, vec4 colour) {
+// is outside the grid or its cell has no value. `cell`: the cell's linear index + 1
+// (BlockModel::linear, i fastest), 0 when there is none (a cell with no value is a cell).
+vec4 blockColour(uint record, vec4 colour, out uint cell) {
+    cell = 0u;
     // Binary search of the sorted records.
     int lo = 0, hi = uBlockClipCount;
     bool clips = false;
@@ -105,9 +112,10 @@ vec4 blockColour(uint record, vec4 colour) {
     }
     if (!crossed) return colour;
     vec3 d = vLocal + l * dir - uBlockOrigin;
-    ivec3 cell = ivec3(floor(vec3(dot(uBlockToGrid[0], d), dot(uBlockToGrid[1], d), dot(uBlockToGrid[2], d))));
-    if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, uBlockDims))) return colour;
-    uint k = texelFetch(uBlockClasses, cell, 0).r;
+    ivec3 c = ivec3(floor(vec3(dot(uBlockToGrid[0], d), dot(uBlockToGrid[1], d), dot(uBlockToGrid[2], d))));
+    if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, uBlockDims))) return colour;
+    cell = uint(c.x + uBlockDims.x * (c.y + uBlockDims.y * c.z)) + 1u;
+    uint k = texelFetch(uBlockClasses, c, 0).r;
     return k == 0u ? colour : uBlockColours[k - 1u];
 }
 #endif
@@ -156,7 +164,9 @@ void main() {
         if (at.y < table.y) colour = texelFetch(uColourTable, at, 0);
     }
 #if GS_BLOCKS
-    if (uFaceRole == 1) colour = blockColour(record, colour);
+    uint cell = 0u;
+    if (uFaceRole == 1) colour = blockColour(record, colour, cell);
+    oCell = cell;
 #endif
     if (pastExit && uFaceRole != 1) {
         oRecord = 0u;

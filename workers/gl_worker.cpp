@@ -42,6 +42,8 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
             m = m->first.rfind(model.id + "@", 0) == 0 ? models.erase(m) : std::next(m);
         for (auto b = blockTextures.begin(); b != blockTextures.end();)
             b = b->first.rfind(model.id + "@", 0) == 0 ? blockTextures.erase(b) : std::next(b);
+        for (auto b = blockCaps.begin(); b != blockCaps.end();)
+            b = b->first.rfind(model.id + "@", 0) == 0 ? blockCaps.erase(b) : std::next(b);
         GpuUploadOptions upload;
         upload.lod = lod ? GpuUploadOptions::Lod::Auto : GpuUploadOptions::Lod::Off;
         // A baked model draws its own mesh with UVs and fetches record ids from the
@@ -72,6 +74,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     req.background = plan.section.background;
     req.readColour = true;
     req.readIds = true;
+    req.antiAlias = antiAlias;
     req.cancel = cancel;
     if (plan.section.colour) {
         auto classes = api::blockClasses(model, plan.section);
@@ -82,15 +85,40 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
             std::snprintf(buf, sizeof buf, "%.17g,", b);
             colourKey += buf;
         }
-        auto tex = blockTextures.find(colourKey);
-        if (tex == blockTextures.end()) {
-            const PropertyClasses& pc = *classes.value();
-            auto uploaded = BlockTexture::upload(*context, *model.model.blocks, cellClassIndex(*model.model.blocks, pc),
-                                                 pc.colours, model.blockRecords);
-            if (!uploaded) return uploaded.error();
-            tex = blockTextures.emplace(colourKey, std::move(uploaded.value())).first;
+        const PropertyClasses& pc = *classes.value();
+        if (model.model.blocks->shape == CellShape::Box) {
+            auto tex = blockTextures.find(colourKey);
+            if (tex == blockTextures.end()) {
+                auto uploaded =
+                    BlockTexture::upload(*context, *model.model.blocks, cellClassIndex(*model.model.blocks, pc),
+                                         pc.colours, model.blockRecords);
+                if (!uploaded) return uploaded.error();
+                tex = blockTextures.emplace(colourKey, std::move(uploaded.value())).first;
+            }
+            req.blocks = tex->second.get();
+        } else {
+            std::string capsKey = colourKey + "|planes:";
+            for (const Plane& plane : cut.planes) {
+                char buf[128];
+                std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g;", plane.normal.x, plane.normal.y,
+                              plane.normal.z, plane.d);
+                capsKey += buf;
+            }
+            auto caps = blockCaps.find(capsKey);
+            if (caps == blockCaps.end()) {
+                for (auto b = blockCaps.begin(); b != blockCaps.end();)
+                    b = b->first.rfind(colourKey + "|", 0) == 0 ? blockCaps.erase(b) : std::next(b);
+                auto pieces = api::blockCapTriangles(model, pc, cut.planes);
+                if (!pieces) return pieces.error();
+                std::vector<BlockCaps::PlaneRange> ranges;
+                for (const auto& r : pieces->planes) ranges.push_back({r.first, r.valued, r.unvalued});
+                auto uploaded = BlockCaps::upload(*context, pieces->positions, pieces->cellClass, ranges, pc.colours,
+                                                  model.blockRecords);
+                if (!uploaded) return uploaded.error();
+                caps = blockCaps.emplace(capsKey, std::move(uploaded.value())).first;
+            }
+            req.blockCaps = caps->second.get();
         }
-        req.blocks = tex->second.get();
     }
     auto image = renderer->render(*it->second, req);
     if (!image) return image.error();
@@ -99,6 +127,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     v.height = plan.height;
     v.rgba = std::move(image.value().rgba);
     v.ids = std::move(image.value().ids);
+    v.cells = std::move(image.value().cells);  // coloured views: the cell + 1 of each cap pixel
     v.renderMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return v;
 }

@@ -13,6 +13,7 @@
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "model/result.hpp"
+#include "renderer/block_caps.hpp"
 #include "renderer/block_texture.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
@@ -27,7 +28,14 @@ struct GlWorker {
     // Block-model class textures (renderer/block_texture.hpp), keyed by id@version and the
     // colouring (property, ramp, breaks); dropped with their model's version.
     std::map<std::string, std::unique_ptr<BlockTexture>> blockTextures;
+    // Curvilinear block models' cell pieces on the cut planes (renderer/block_caps.hpp), keyed
+    // by the colouring and the planes; one plane set per colouring is kept (a view turning
+    // about a fixed cut reuses it), dropped with their model's version.
+    std::map<std::string, std::unique_ptr<BlockCaps>> blockCaps;
     bool lod = false;  // simplified context geometry in 3D views (CPU backends)
+    // Anti-aliasing of the colour of its views (the ID and cell buffers are never blended);
+    // tests set None to compare colours exactly.
+    AntiAlias antiAlias = AntiAlias::Auto;
 
     // Creates the context on the calling thread. Errors: the backend's, naming it.
     static Result<std::unique_ptr<GlWorker>> create(GlBackend backend, bool lod = false);
@@ -36,7 +44,8 @@ struct GlWorker {
     // A perspective view of the plan's section (the half-space a.x + b.y + c.z + d >= 0 kept,
     // cut faces filled) with per-body record ids. Uploads the model on first use. With the
     // plan's colour= the clipping bodies' caps take their block cells' class colours (the
-    // profile engine's rule; the class texture is uploaded on first use).
+    // profile engine's rule; a box grid's class texture is uploaded on first use, a
+    // curvilinear grid's cell pieces are cut for each new set of planes).
     // `cancel` (may be null): see SliceRequest::cancel.
     Result<api::ViewImage> renderPerspective(const api::CatalogModel& model, const api::ViewPlan& plan,
                                              const std::atomic<bool>* cancel = nullptr);

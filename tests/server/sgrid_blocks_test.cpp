@@ -77,8 +77,8 @@ TEST_F(ServerSGridBlocks, DescribedReservesSectionsAndQueries) {
     ASSERT_TRUE(png);
     EXPECT_EQ(png->status, 200) << png->body;
 
-    // (GL perspective colouring of an SGrid is refused by name: tests/gl/block_texture_test.cpp;
-    // this fixture serves with --gl none.)
+    // (GL perspective colouring of an SGrid: tests/gl/block_cells_test.cpp; this fixture serves
+    // with --gl none.)
 }
 
 }  // namespace

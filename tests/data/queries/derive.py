@@ -403,6 +403,13 @@ def perspective_hit(view, bounds, x, y, model):
     return add(o, mul(dw, best)), best, dw
 
 
+def on_cut_plane(view, p):
+    """Whether world point p lies on one of the view's cut planes (within 1e-6 m: rounding at
+    Gauss-Kruger eastings is ~1e-8 m)."""
+    planes = [parse_plane(t) for t in (view["planes"].split(";") if "planes" in view else [view["plane"]])]
+    return any(abs(dot(n, p) + d) < 1e-6 for n, d in planes)
+
+
 def perspective_body(view, bounds, x, y, model):
     """The body the ray through (x, y) enters first (the deepest box, or the tetrahedron's
     formation, holding the point 1 mm past the visible point along the ray), or None."""
@@ -474,8 +481,10 @@ def derive_case(case):
         for a, ll in zip(hits, lonlat_by_proj([a["world"] for a in hits])):
             a["lonlat"] = list(ll)
         for a in answers:
-            # The block cell of a pixel whose body clips the grid (the orebody), else none.
-            b = block_at(a["world"]) if a.get("body") == "orebody" else None
+            # The block cell of a pixel whose body clips the grid (the orebody), else none; in a
+            # perspective view only on a cut face (the point on a cut plane), where it is coloured.
+            on_cut = view.get("view") != "perspective" or (a["world"] is not None and on_cut_plane(view, a["world"]))
+            b = block_at(a["world"]) if a.get("body") == "orebody" and on_cut else None
             a["block"] = None if b is None else {"cell": b[0], "properties": {"grade": b[1]}}
     else:
         for a in answers:
