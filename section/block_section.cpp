@@ -141,40 +141,6 @@ std::vector<std::uint8_t> cellClassIndex(const BlockModel& blocks, const Propert
     return out;
 }
 
-void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& classes,
-                          const std::vector<RecordId>& clipRecords, const std::function<glm::dvec3(int, int)>& worldAt,
-                          int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells) {
-    const std::vector<double>& values = blocks.properties[std::size_t(classes.property)].values;
-    const std::size_t W = std::size_t(width);
-    std::size_t hint = BlockModel::kNoCell;  // the last cell: neighbouring pixels share it
-    for (int j = 0; j < height; ++j) {
-        RecordId lastRecord = kNoRecord;
-        bool lastClips = false;
-        for (int i = 0; i < width; ++i) {
-            const std::size_t p = std::size_t(j) * W + std::size_t(i);
-            const RecordId r = ids[p];
-            if (cells) cells[p] = 0;
-            if (r == kNoRecord) continue;
-            if (r != lastRecord) {
-                lastRecord = r;
-                lastClips = std::binary_search(clipRecords.begin(), clipRecords.end(), r);
-            }
-            if (!lastClips) continue;
-            const std::size_t cell = blocks.cellAt(worldAt(i, j), hint);
-            if (cell == BlockModel::kNoCell) continue;
-            if (cells) cells[p] = std::uint32_t(cell + 1);
-            const double v = values[cell];
-            if (!rgba || std::isnan(v)) continue;
-            const Rgba8 c = classes.colourOf(v);
-            std::uint8_t* o = rgba + 4 * p;
-            o[0] = c.r;
-            o[1] = c.g;
-            o[2] = c.b;
-            o[3] = 255;
-        }
-    }
-}
-
 namespace {
 
 // Whether the polygon's bounding box misses `limit` (u/v).

@@ -24,7 +24,9 @@
 // Pixels: the raster path (api/view.cpp) colours a pixel by the cell holding its centre
 // (BlockModel::cellAt: the cell whose tetrahedron holds it, for hexahedra) when its ID-buffer
 // record is a clipping body's: the point sampling of these same polygons, with the ID
-// buffer's rule for the body. Thread-safety: pure functions.
+// buffer's rule for the body. Along a row of a plane's pixels the box cells are walked as
+// spans (section/block_raster.cpp), with cellAt's answer at every pixel. Thread-safety:
+// pure functions.
 #pragma once
 
 #include <cstdint>
@@ -88,10 +90,16 @@ std::vector<RecordId> blockClipRecords(const Model& model, const BlockModel& blo
 // The raster rule (see above): for each pixel whose ids[] record is in `clipRecords`, the
 // cell holding worldAt(i, j) (the pixel centre, world) goes to cells[] as cell + 1 (0: none)
 // and, where the cell has a value, its class colour to rgba[] (opaque). rgba and cells may
-// be null. Pixel (i, j) is index j * width + i.
+// be null. Pixel (i, j) is index j * width + i. `worldStepX` (may be null): worldAt(i, j) is
+// affine in i along every row, up to rounding, with this step (world metres per pixel; a
+// profile view of a plane: PixelFrame::worldPerPixelX); the cells along a row are then
+// walked on that line and worldAt is called only near cell faces (section/block_raster.cpp),
+// with the same answer at every pixel. worldAt is called from the calling thread and its
+// partner thread (section/partner_thread.hpp): it must be safe to call concurrently.
 void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& classes,
                           const std::vector<RecordId>& clipRecords, const std::function<glm::dvec3(int, int)>& worldAt,
-                          int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells);
+                          int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells,
+                          const glm::dvec3* worldStepX = nullptr);
 
 // One cell's intersection with a plane (Box), or one tetrahedron's of it (Hexahedron): a
 // convex polygon in plane u/v, counter-clockwise.
