@@ -10,7 +10,10 @@
 //   uncoloured       median of `frames` frames of the view without colour=
 //   colouredFirst    the first coloured frame: class texture upload (box) or the pieces cut
 //                    and uploaded (sgrid), + the frame
-//   coloured         median of `frames` more (the texture or pieces kept by the worker)
+//   coloured         median of `frames` more (the texture or pieces kept by the worker),
+//                    alternating with the uncoloured frames
+//   ...CpuMedianMs   the same as CPU time of the whole process (all llvmpipe threads): on a
+//                    shared machine it shows the work without the waiting
 //   cutMs            sgrid: api::blockCapTriangles alone for the view's planes, and its triangles
 // Prints one JSON document with the load average at start and end (the machine is shared).
 #include <algorithm>
@@ -152,34 +155,38 @@ int main(int argc, char** argv) {
             p.insert({{"colour", "grade"}, {"breaks", "1.5,2,2.5"}});
             auto coloured = api::parseViewPlan(p, cm.value()->id, model.crs);
             if (!plain || !coloured) return 1;
-            std::vector<double> plainMs, colouredMs;
+            std::vector<double> plainMs, colouredMs, plainCpu, colouredCpu;
             double firstMs = 0.0;
             std::size_t cellPixels = 0;
-            auto frame = [&](const api::ViewPlan& plan, std::vector<double>* into) -> bool {
-                const double t0 = bench::nowSeconds();
+            auto frame = [&](const api::ViewPlan& plan, std::vector<double>* ms, std::vector<double>* cpu) -> bool {
+                const double t0 = bench::nowSeconds(), c0 = bench::processCpuSeconds();
                 auto v = worker.value()->renderPerspective(*cm.value(), plan);
                 if (!v) {
                     std::fprintf(stderr, "%s\n", v.error().message.c_str());
                     return false;
                 }
-                if (into) into->push_back(msSince(t0));
+                if (ms) ms->push_back(msSince(t0));
+                if (cpu) cpu->push_back((bench::processCpuSeconds() - c0) * 1000.0);
                 cellPixels = std::size_t(std::count_if(v->cells.begin(), v->cells.end(), [](auto x) { return x; }));
                 return true;
             };
-            if (!frame(plain.value(), nullptr)) return 1;  // upload + warm-up, not timed
-            for (int f = 0; f < frames; ++f)
-                if (!frame(plain.value(), &plainMs)) return 1;
+            if (!frame(plain.value(), nullptr, nullptr)) return 1;  // upload + warm-up, not timed
             t = bench::nowSeconds();
-            if (!frame(coloured.value(), nullptr)) return 1;
+            if (!frame(coloured.value(), nullptr, nullptr)) return 1;
             firstMs = msSince(t);
+            // Alternately, so that a change of the machine's load falls on both.
             for (int f = 0; f < frames; ++f)
-                if (!frame(coloured.value(), &colouredMs)) return 1;
+                if (!frame(plain.value(), &plainMs, &plainCpu) || !frame(coloured.value(), &colouredMs, &colouredCpu))
+                    return 1;
             json v = {{"view", view.name},
                       {"image", sizeText},
                       {"uncolouredMedianMs", bench::median(plainMs)},
                       {"colouredFirstMs", firstMs},
                       {"colouredMedianMs", bench::median(colouredMs)},
                       {"ratio", bench::median(colouredMs) / std::max(1e-9, bench::median(plainMs))},
+                      {"uncolouredCpuMedianMs", bench::median(plainCpu)},
+                      {"colouredCpuMedianMs", bench::median(colouredCpu)},
+                      {"cpuRatio", bench::median(colouredCpu) / std::max(1e-9, bench::median(plainCpu))},
                       {"cellPixels", cellPixels}};
             if (std::string(shape) == "sgrid") {
                 auto classes = api::blockClasses(*cm.value(), coloured->section);
