@@ -3,24 +3,33 @@
 //
 // The rule is per pixel: cell = BlockModel::cellAt(worldAt(i, j)), the function the pixel
 // query calls. Asking it at every pixel costs a world point, a grid transform and three
-// divisions per pixel, which was most of a coloured image's extra time (bench_blocks). When
+// divisions per pixel (box cells), or six barycentric tests and at times a BVH descent
+// (hexahedral cells), which was most of a coloured image's extra time (bench_blocks). When
 // the caller says that a row's pixel centres lie on a line (worldStepX: profile views of a
-// plane) and the cells are boxes, the cells along a row are found by walking that line: the
-// grid coordinates are affine in i, so the pixels whose cell cannot differ from a span's first
-// pixel's are known in closed form and filled as one span, and cellAt is asked only of
-// pixels whose estimate lies within a margin of a cell face. The margin (kMarginRel x the
-// largest coordinate involved) is far wider than the rounding of worldAt, toGrid and the
-// estimate (a few ulps each), so a pixel filled without asking gets the answer cellAt would
-// give: its real position lies between two pixels that the estimate puts inside the same
-// cell by more than the margin, and a box is convex. Same output, bit for bit, as asking
-// cellAt everywhere (tests/unit/block_raster_test.cpp compares both on planes through cell
-// faces, pixel centres on faces, at Gauss-Kruger magnitudes). Rows are shared with the
+// plane), the cells along a row are walked on that line instead:
+//  - box cells: the grid coordinates are affine in i, so the pixels whose cell cannot differ
+//    from a span's first pixel's are known in closed form and filled as one span;
+//  - hexahedral cells: the barycentric coordinates in each of a cell's six tetrahedra are
+//    affine in i, so the pixels that a tetrahedron holds with every coordinate above cellAt's
+//    own "inside" threshold (1e-9: no other cell can then hold the point) are that cell's;
+//    the next span's cell is guessed across the face the line leaves by, and checked.
+// cellAt is asked only of pixels whose estimate lies within a margin of a cell face (box) or
+// of that threshold (tetrahedra). The margin (kMarginRel x the largest coordinate involved,
+// in metres, times the gradient of a barycentric coordinate) is far wider than the rounding
+// of worldAt, toGrid, the coordinates and the estimate (a few ulps each), so a pixel filled
+// without asking gets the answer cellAt would give: its real position lies between two
+// pixels that the estimate puts inside the same box or tetrahedron by more than the margin,
+// and both are convex. Same output, bit for bit, as asking cellAt everywhere
+// (tests/unit/block_raster_test.cpp compares both on planes through cell faces, pixel centres
+// on faces, lattice and bent SGrids, at Gauss-Kruger magnitudes). Rows are shared with the
 // calling thread's partner thread (section/partner_thread.hpp) in bands.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
+#include "model/model.hpp"
 #include "section/block_section.hpp"
 #include "section/partner_thread.hpp"
 
@@ -161,6 +170,187 @@ void boxRun(const BlockModel& blocks, const std::function<glm::dvec3(int, int)>&
     }
 }
 
+// A hexahedral cell's six tetrahedra as seen along the rows of one image: for each, its first
+// corner, the gradients of its barycentric coordinates (world metres^-1), their change per
+// pixel step and the threshold each must exceed (cellAt's "inside" 1e-9 plus the margin in
+// that coordinate's units). Kept in a small per-thread table by cell, as the rows below
+// cross the same cells.
+struct TetLines {
+    std::size_t cell = BlockModel::kNoCell;
+    bool flat[6];
+    glm::dvec3 a[6];
+    glm::dvec3 g[6][3];  // coordinates 1..3; coordinate 0 = 1 - their sum
+    double dlam[6][4], invDlam[6][4], tau[6][4];
+};
+
+void makeTetLines(const BlockModel& blocks, std::size_t cell, const glm::dvec3& step, double margin, TetLines& out) {
+    constexpr double kInside = 1e-9;  // BlockModel::cellAt's threshold for keeping a hint
+    out.cell = cell;
+    const auto k = blocks.cellCorners(cell);
+    for (std::size_t t = 0; t < 6; ++t) {
+        const auto& tet = kCellTets[t];
+        const glm::dvec3 a = k[std::size_t(tet[0])], e1 = k[std::size_t(tet[1])] - a, e2 = k[std::size_t(tet[2])] - a,
+                         e3 = k[std::size_t(tet[3])] - a;
+        const double v = glm::dot(e1, glm::cross(e2, e3));
+        out.flat[t] = !(std::abs(v) > 0.0);
+        if (out.flat[t]) continue;
+        const double inv = 1.0 / v;
+        out.a[t] = a;
+        out.g[t][0] = glm::cross(e2, e3) * inv;
+        out.g[t][1] = glm::cross(e3, e1) * inv;
+        out.g[t][2] = glm::cross(e1, e2) * inv;
+        const glm::dvec3 g0 = -(out.g[t][0] + out.g[t][1] + out.g[t][2]);
+        // |g| <= its L1 norm: a wider margin, no square root.
+        auto l1 = [](const glm::dvec3& x) { return std::abs(x.x) + std::abs(x.y) + std::abs(x.z); };
+        out.dlam[t][0] = glm::dot(step, g0);
+        out.tau[t][0] = kInside + margin * l1(g0);
+        for (int c = 1; c < 4; ++c) {
+            out.dlam[t][c] = glm::dot(step, out.g[t][c - 1]);
+            out.tau[t][c] = kInside + margin * l1(out.g[t][c - 1]);
+        }
+        for (int c = 0; c < 4; ++c) out.invDlam[t][c] = out.dlam[t][c] != 0.0 ? 1.0 / out.dlam[t][c] : 0.0;
+    }
+}
+
+// The barycentric coordinates of w in each tetrahedron of tl's cell; whether one of them holds
+// w with every coordinate above its threshold (then cellAt gives that cell: see hexRun).
+bool tetCoordinates(const TetLines& tl, const glm::dvec3& w, double (&lam)[6][4]) {
+    bool inside = false;
+    for (std::size_t t = 0; t < 6; ++t) {
+        if (tl.flat[t]) continue;
+        const glm::dvec3 r = w - tl.a[t];
+        lam[t][1] = glm::dot(r, tl.g[t][0]);
+        lam[t][2] = glm::dot(r, tl.g[t][1]);
+        lam[t][3] = glm::dot(r, tl.g[t][2]);
+        lam[t][0] = 1.0 - lam[t][1] - lam[t][2] - lam[t][3];
+        inside = inside || (lam[t][0] > tl.tau[t][0] && lam[t][1] > tl.tau[t][1] && lam[t][2] > tl.tau[t][2] &&
+                            lam[t][3] > tl.tau[t][3]);
+    }
+    return inside;
+}
+
+// Where pixel q steps along the row from a span's first pixel probably lies: in the
+// tetrahedron that comes closest to holding it (largest smallest coordinate), beyond its
+// face of the most negative coordinate; when that face lies on the cell's face (its three
+// corners share a lattice bit), in the neighbour across it. Only a hint for
+// BlockModel::cellAt, which checks it (a wrong one costs the locator's search).
+std::size_t nextCellGuess(const BlockModel& blocks, const TetLines& tl, const double (&lam)[6][4], double q) {
+    int bestTet = -1, exitVertex = 0;
+    double best = -std::numeric_limits<double>::infinity();
+    for (int t = 0; t < 6; ++t) {
+        if (tl.flat[t]) continue;
+        int low = 0;
+        double lowest = std::numeric_limits<double>::infinity();
+        for (int c = 0; c < 4; ++c) {
+            const double l = lam[t][c] + q * tl.dlam[t][c];
+            if (l < lowest) {
+                lowest = l;
+                low = c;
+            }
+        }
+        if (lowest > best) {
+            best = lowest;
+            bestTet = t;
+            exitVertex = low;
+        }
+    }
+    if (bestTet < 0 || !(best < 0.0)) return tl.cell;
+    int f[3], n = 0;
+    for (int c = 0; c < 4; ++c)
+        if (c != exitVertex) f[n++] = kCellTets[std::size_t(bestTet)][std::size_t(c)];
+    const int common = ~(f[0] ^ f[1]) & ~(f[0] ^ f[2]) & 7;
+    if (common == 0) return tl.cell;  // an inner face: another tetrahedron of the cell
+    const int axis = common & 1 ? 0 : common & 2 ? 1 : 2;
+    auto ijk = blocks.ijk(tl.cell);
+    if (f[0] & (1 << axis)) {
+        if (++ijk[std::size_t(axis)] >= blocks.dims[std::size_t(axis)]) return BlockModel::kNoCell;
+    } else {
+        if (ijk[std::size_t(axis)]-- == 0) return BlockModel::kNoCell;
+    }
+    return blocks.linear(ijk[0], ijk[1], ijk[2]);
+}
+
+// Hexahedral cells along pixels [i0, i1) of row j. Each span starts at a pixel whose cell
+// cellAt gives (`hint`: the neighbour the last span ran towards, tried first); along the row,
+// the barycentric coordinates of the pixel centres in each of that cell's six tetrahedra are
+// affine in i, so the pixels that some tetrahedron holds with every coordinate above cellAt's
+// own "inside" threshold (1e-9, where no other cell can hold the point: model/block_model.hpp)
+// plus the margin are that cell's without asking, as far as they run on from the span's first
+// pixel. `table` caches TetLines by cell (its size a power of two).
+void hexRun(const BlockModel& blocks, const std::function<glm::dvec3(int, int)>& worldAt, const glm::dvec3& step,
+            double margin, int j, int i0, int i1, std::size_t rowBase, RowPainter& painter, std::size_t& hint,
+            std::vector<TetLines>& table) {
+    auto linesOf = [&](std::size_t cell) -> TetLines& {
+        TetLines& tl = table[cell & (table.size() - 1)];
+        if (tl.cell != cell) makeTetLines(blocks, cell, step, margin, tl);
+        return tl;
+    };
+    double lam[6][4];
+    int i = i0;
+    while (i < i1) {
+        const glm::dvec3 w = worldAt(i, j);
+        // The hint's own tetrahedra first: inside one of them by the threshold, the pixel is
+        // the hint's (what cellAt would answer); else cellAt decides.
+        std::size_t cell = hint;
+        if (cell == BlockModel::kNoCell || !tetCoordinates(linesOf(cell), w, lam)) {
+            cell = blocks.cellAt(w, hint);
+            if (cell != BlockModel::kNoCell) tetCoordinates(linesOf(cell), w, lam);
+        }
+        hint = cell;
+        const std::size_t p = rowBase + std::size_t(i);
+        painter.paint(p, p + 1, cell);
+        ++i;
+        if (cell == BlockModel::kNoCell || i >= i1) continue;
+        const TetLines& tl = linesOf(cell);
+        // Per tetrahedron: the pixels (span start) + q, q in [lo, hi], held with every
+        // coordinate above its threshold (integers, checked at both ends; empty when lo > hi).
+        int lo[6], hi[6];
+        for (std::size_t t = 0; t < 6; ++t) {
+            lo[t] = 1;
+            hi[t] = 0;
+            if (tl.flat[t]) continue;
+            double qlo = 1.0, qhi = double(i1 - i);
+            for (int c = 0; c < 4; ++c) {
+                const double room = lam[t][c] - tl.tau[t][c], d = tl.dlam[t][c];  // room at q = 0
+                if (d > 0.0)
+                    qlo = std::max(qlo, std::ceil(-room * tl.invDlam[t][c]));
+                else if (d < 0.0)
+                    qhi = std::min(qhi, std::floor(-room * tl.invDlam[t][c]));
+                else if (!(room > 0.0))
+                    qhi = 0.0;
+            }
+            if (!(qlo <= qhi)) continue;
+            // The products round: move each end inwards until the estimate itself holds there.
+            auto holds = [&](double q) {
+                for (int c = 0; c < 4; ++c)
+                    if (!(lam[t][c] + q * tl.dlam[t][c] > tl.tau[t][c])) return false;
+                return true;
+            };
+            while (qlo <= qhi && !holds(qlo)) qlo += 1.0;
+            while (qhi >= qlo && !holds(qhi)) qhi -= 1.0;
+            if (qlo <= qhi) {
+                lo[t] = int(qlo);
+                hi[t] = int(qhi);
+            }
+        }
+        // The union of the tetrahedra's runs that continues from the span's start without a gap.
+        int end = 0;  // pixels p + 1 .. p + end are the cell's
+        for (bool grew = true; grew;) {
+            grew = false;
+            for (int t = 0; t < 6; ++t)
+                if (lo[t] <= end + 1 && hi[t] > end) {
+                    end = hi[t];
+                    grew = true;
+                }
+        }
+        if (end > 0) {
+            painter.paint(p + 1, p + 1 + std::size_t(end), cell);
+            i += end;
+        }
+        if (i < i1) hint = nextCellGuess(blocks, tl, lam, double(end + 1));
+    }
+}
+
 }  // namespace
 
 void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& classes,
@@ -168,13 +358,28 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
                           int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells,
                           const glm::dvec3* worldStepX) {
     const std::size_t W = std::size_t(width);
-    const bool walk = worldStepX && blocks.shape == CellShape::Box && std::isfinite(maxAbs(*worldStepX));
+    const bool walk = worldStepX && std::isfinite(maxAbs(*worldStepX));
     // Rows in bands of kBandRows taken from a common counter by this thread and its partner
     // (section/partner_thread.hpp), which may never start: then this thread takes them all.
     constexpr int kBandRows = 16;
     std::atomic<int> nextBand{0};
+    // Hexahedral cells: one margin for the image, from the largest coordinate of its corners'
+    // pixel centres and of the grid (the pixel centres are affine in i and j).
+    double hexMargin = 0.0;
+    if (walk && blocks.shape == CellShape::Hexahedron) {
+        const Aabb box = blocks.bounds();
+        double M = std::max(maxAbs(box.min), maxAbs(box.max));
+        for (int c = 0; c < 4; ++c) M = std::max(M, maxAbs(worldAt(c & 1 ? width - 1 : 0, c & 2 ? height - 1 : 0)));
+        hexMargin = M * kMarginRel;
+    }
     auto work = [&] {
         RowPainter painter(blocks, classes, rgba, cells);
+        // TetLines of the cells met lately (hexahedral walk), per thread, emptied for each image.
+        thread_local std::vector<TetLines> table;
+        if (walk && blocks.shape == CellShape::Hexahedron) {
+            table.resize(512);
+            for (TetLines& t : table) t.cell = BlockModel::kNoCell;
+        }
         std::size_t hint = BlockModel::kNoCell;  // the last cell: neighbouring pixels share it
         RecordId lastRecord = kNoRecord;
         bool lastClips = false;
@@ -201,8 +406,12 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
                     }
                     // A run of pixels of clipping bodies (one or more).
                     while (i < width && row[i] != r && clips(row[i])) i = endOfRun(row, i, width, row[i]);
-                    if (walk) {
+                    if (walk && blocks.shape == CellShape::Box) {
                         boxRun(blocks, worldAt, *worldStepX, j, start, i, rowBase, painter);
+                        continue;
+                    }
+                    if (walk) {
+                        hexRun(blocks, worldAt, *worldStepX, hexMargin, j, start, i, rowBase, painter, hint, table);
                         continue;
                     }
                     for (int x = start; x < i; ++x) {

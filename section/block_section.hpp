@@ -24,9 +24,9 @@
 // Pixels: the raster path (api/view.cpp) colours a pixel by the cell holding its centre
 // (BlockModel::cellAt: the cell whose tetrahedron holds it, for hexahedra) when its ID-buffer
 // record is a clipping body's: the point sampling of these same polygons, with the ID
-// buffer's rule for the body. Along a row of a plane's pixels the box cells are walked as
-// spans (section/block_raster.cpp), with cellAt's answer at every pixel. Thread-safety:
-// pure functions.
+// buffer's rule for the body. Along a row of a plane's pixels the cells (boxes, or the
+// tetrahedra of hexahedra) are walked as spans (section/block_raster.cpp), with cellAt's
+// answer at every pixel. Thread-safety: pure functions.
 #pragma once
 
 #include <cstdint>

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "model/block_model.hpp"
+#include "model/model.hpp"
 #include "model/view_frame.hpp"
 #include "section/block_section.hpp"
 
@@ -93,6 +94,28 @@ PixelFrame frameOf(const Plane& plane, const glm::dvec3& modelOrigin, const Fram
 glm::dvec2 uvOf(const Plane& plane, const glm::dvec3& modelOrigin, const glm::dvec3& world) {
     const SectionFrame s = makeSectionFrame(plane, modelOrigin);
     return s.toPlane(world - modelOrigin);
+}
+
+// An SGrid block model of n^3 cells of `cell` metres from `origin`, every interior point's
+// elevation moved by bend x cell x a product of sines (bend 0: the lattice itself).
+BlockModel sgrid(const glm::dvec3& origin, double cell, int n, double bend) {
+    Grid g;
+    g.type = "SGrid";
+    for (int a = 0; a < 3; ++a) g.dims[a] = std::size_t(n + 1);
+    g.cellCentred = true;
+    for (int k = 0; k <= n; ++k)
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                glm::dvec3 p = origin + cell * glm::dvec3(i, j, k);
+                if (k > 0 && k < n) p.z += bend * cell * std::sin(0.9 * i) * std::sin(0.7 * j);
+                g.points.push_back(p);
+            }
+    GridProperty grade{"grade", "g/t", std::nullopt, {}};
+    for (int c = 0; c < n * n * n; ++c) grade.values.push_back(c % 13 == 5 ? NAN : float((c * 7) % 6));
+    g.properties.push_back(std::move(grade));
+    auto b = blockModelFromGrid(g);
+    EXPECT_TRUE(b.ok()) << b.error().message;
+    return std::move(b.value());
 }
 
 // A frame over the grid's section plus 3 pixels a side, with pixels pu x pv whose centres
@@ -180,4 +203,34 @@ TEST(BlockRaster, TheWalkGivesTheRulesCellAtEveryPixelOfBoxGrids) {
         expectWalkIsTheRule(rot, frameOf(plane, {0, 0, 0}, {cc.x - 90, cc.y - 50, cc.x + 90, cc.y + 50}, 250, 139),
                             "rotated oblique " + std::to_string(t));
     }
+}
+
+TEST(BlockRaster, TheWalkGivesTheRulesCellAtEveryPixelOfCurvilinearGrids) {
+    // Hexahedral cells: the walk follows the barycentric coordinates in each tetrahedron of
+    // the cell. A lattice SGrid (faces planar, sections through them: the tie rule of cellAt
+    // decides every pixel on a face) and a bent one, at Gauss-Kruger magnitudes.
+    const glm::dvec3 gk{35500000.0, 3388000.0, 150.0};
+    const glm::dvec3 modelOrigin{35500000.0, 3388000.0, 0.0};
+    std::size_t total = 0;
+    for (double bend : {0.0, 0.3}) {
+        const BlockModel b = sgrid(gk, 8.0, 14, bend);
+        const std::string what = bend == 0.0 ? "lattice SGrid" : "bent SGrid";
+        // On faces: z on a lattice plane (bent: only the top and bottom are), x on a face with
+        // pixel centres on the y and z faces.
+        total += expectWalkIsTheRule(
+            b, alignedFrame(b, Plane{{0, 0, 1}, -(150.0 + 8 * 5.0)}, modelOrigin, gk, 2.0, 2.0), what + ", horizontal");
+        total += expectWalkIsTheRule(b, alignedFrame(b, Plane{{1, 0, 0}, -(gk.x + 8 * 6.0)}, modelOrigin, gk, 2.0, 1.0),
+                                     what + ", vertical");
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> dir(-1.0, 1.0);
+        for (int t = 0; t < 6; ++t) {
+            glm::dvec3 n{dir(rng), dir(rng), 0.5 * dir(rng)};
+            if (t % 2 == 0) n.z = 0.0;
+            n = glm::normalize(n);
+            const Plane plane{n, -glm::dot(n, gk + glm::dvec3(56.0 + 9 * dir(rng), 56.0 + 9 * dir(rng), 56.0))};
+            total += expectWalkIsTheRule(b, alignedFrame(b, plane, modelOrigin, gk, 0.7, 0.6),
+                                         what + ", oblique " + std::to_string(t));
+        }
+    }
+    EXPECT_GT(total, 100000u);
 }
