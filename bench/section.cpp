@@ -11,6 +11,10 @@
 // --leaf-order 1 (default) puts the model in the BVH's leaf order first, as a baked package
 // stores it (section/leaf_order.hpp), and times the cut on a generator-ordered copy beside
 // it, plane by plane (leaf_order_vs_generator_order); --leaf-order 0 skips both.
+// --edge-walk 1 (default) times the cut and assembly steps with the edge walk
+// (section/adjacency.hpp), 0 with segments joined by edge key; either way computeSection is
+// timed both ways plane by plane, alternating (edge_walk_vs_segments), and the two sections
+// must be equal bit for bit.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -44,6 +48,24 @@ namespace {
 
 double ms(double t0) { return (bench::nowSeconds() - t0) * 1000.0; }
 
+// Bit for bit: the same bodies, rings (point by point), areas and traces.
+bool sameSection(const Section& a, const Section& b) {
+    if (a.bodies.size() != b.bodies.size() || a.traces.size() != b.traces.size()) return false;
+    for (std::size_t i = 0; i < a.bodies.size(); ++i) {
+        const BodySection &x = a.bodies[i], &y = b.bodies[i];
+        if (x.part != y.part || x.area != y.area || x.openChains != y.openChains ||
+            x.polygons.size() != y.polygons.size())
+            return false;
+        for (std::size_t j = 0; j < x.polygons.size(); ++j)
+            if (x.polygons[j].outer != y.polygons[j].outer || x.polygons[j].holes != y.polygons[j].holes) return false;
+    }
+    for (std::size_t i = 0; i < a.traces.size(); ++i)
+        if (a.traces[i].part != b.traces[i].part || a.traces[i].points != b.traces[i].points ||
+            a.traces[i].closed != b.traces[i].closed)
+            return false;
+    return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -51,7 +73,7 @@ int main(int argc, char** argv) {
     int planes = 50, side = 1024, tileSide = 256;
     unsigned leaf = 8;
     int oracleSide = 0;
-    bool leafOrder = true;
+    bool leafOrder = true, edgeWalk = true;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--sizes"))
             sizes = argv[i + 1];
@@ -67,6 +89,8 @@ int main(int argc, char** argv) {
             leaf = static_cast<unsigned>(std::stoul(argv[i + 1]));
         else if (!std::strcmp(argv[i], "--leaf-order"))
             leafOrder = std::stoi(argv[i + 1]) != 0;
+        else if (!std::strcmp(argv[i], "--edge-walk"))
+            edgeWalk = std::stoi(argv[i + 1]) != 0;
     }
     json results = json::array();
     std::stringstream list(sizes);
@@ -111,6 +135,11 @@ int main(int argc, char** argv) {
         const double rssAfter = bench::currentRssMiB();
         const double rssPeakBuild = bench::peakRssSinceResetMiB();
         const SectionIndex& idx = *index.value();
+        t = bench::nowSeconds();
+        const TriangleAdjacency adjacencyAgain = buildTriangleAdjacency(idx);
+        const double adjacencyS = bench::nowSeconds() - t;
+        std::size_t walkable = 0;
+        for (auto w : adjacencyAgain.walkable) walkable += w;
         std::unique_ptr<SectionIndex> plainIndex;
         if (plain) {
             auto pi = buildSectionIndex(*plain, bo);
@@ -121,6 +150,8 @@ int main(int argc, char** argv) {
             plainIndex = std::move(pi).value();
         }
         std::vector<double> abPlain, abLeaf, abRatio;
+        std::vector<double> ewSegCpu, ewWalkCpu, ewRatio, ewSegWall, ewWalkWall, ewSeg2, ewWalk2;
+        std::size_t ewDiffer = 0;
 
         std::vector<double> cSection1, cSection2, tSection1;
         std::vector<double> tQueryTris, tContours2, tEnd2, cCut, cAssemble, cFill, cEnd, nodesVisited, trisTested,
@@ -153,7 +184,7 @@ int main(int argc, char** argv) {
             tQueryTris.push_back(ms(s));
             crossing.push_back(double(tris.size()));
             // The section path: leaves (traversal only), then their triangles cut, then assembly.
-            beginCut(idx, p, cut);
+            beginCut(idx, p, cut, edgeWalk);
             CutStats cs;
             double c = bench::threadCpuSeconds();
             cutWithBvh(idx, nullptr, cut, 1, &cs);
@@ -196,6 +227,39 @@ int main(int argc, char** argv) {
                 tEnd2.push_back(ms(s));
             }
             for (const auto& b : section.bodies) openChains += b.openChains;
+            // computeSection with the edge walk and with segments joined by edge key,
+            // alternating which goes first (thread CPU and wall), then the same on two threads;
+            // the sections must be equal bit for bit.
+            {
+                double cpu[2], wall[2];
+                Section got[2];
+                for (int j = 0; j < 2; ++j) {
+                    const bool walkNow = ((k & 1) != 0) == (j == 0);
+                    SectionOptions o;
+                    o.edgeWalk = walkNow;
+                    const double c0 = bench::threadCpuSeconds(), w0 = bench::nowSeconds();
+                    auto sec = computeSection(idx, p, o);
+                    wall[walkNow] = ms(w0);
+                    cpu[walkNow] = 1000.0 * (bench::threadCpuSeconds() - c0);
+                    if (sec) got[walkNow] = std::move(sec).value();
+                }
+                ewSegCpu.push_back(cpu[0]);
+                ewWalkCpu.push_back(cpu[1]);
+                ewRatio.push_back(cpu[1] / cpu[0]);
+                ewSegWall.push_back(wall[0]);
+                ewWalkWall.push_back(wall[1]);
+                ewDiffer += !sameSection(got[0], got[1]);
+                for (int j = 0; j < 2; ++j) {
+                    const bool walkNow = ((k & 1) != 0) == (j == 0);
+                    SectionOptions o;
+                    o.edgeWalk = walkNow;
+                    o.threads = 2;
+                    const double w0 = bench::nowSeconds();
+                    auto sec = computeSection(idx, p, o);
+                    (walkNow ? ewWalk2 : ewSeg2).push_back(ms(w0));
+                    ewDiffer += !sec || !sameSection(sec.value(), got[walkNow]);
+                }
+            }
             // The same cut on the generator-ordered copy and on the leaf-ordered model,
             // alternating which goes first (thread CPU: the machine may be shared).
             if (plainIndex) {
@@ -394,6 +458,19 @@ int main(int argc, char** argv) {
               {"cut_cpu_ms_generator_order", bench::median(abPlain)},
               {"cut_cpu_ms_leaf_order", bench::median(abLeaf)},
               {"median_ratio", bench::median(abRatio)}}},
+            {"edge_walk_vs_segments",
+             {{"planes", ewRatio.size()},
+              {"walkable_bodies", walkable},
+              {"adjacency_build_s", adjacencyS},
+              {"adjacency_mib", double(adjacencyAgain.memoryBytes()) / (1024.0 * 1024.0)},
+              {"sections_differing", ewDiffer},
+              {"compute_section_cpu_ms_segments", bench::median(ewSegCpu)},
+              {"compute_section_cpu_ms_edge_walk", bench::median(ewWalkCpu)},
+              {"median_ratio_cpu", bench::median(ewRatio)},
+              {"compute_section_ms_segments", bench::median(ewSegWall)},
+              {"compute_section_ms_edge_walk", bench::median(ewWalkWall)},
+              {"compute_section_2_threads_ms_segments", bench::median(ewSeg2)},
+              {"compute_section_2_threads_ms_edge_walk", bench::median(ewWalk2)}}},
             {"median_nodes_visited", bench::median(nodesVisited)},
             {"median_leaf_triangles_cut", bench::median(trisTested)},
         });

@@ -166,6 +166,108 @@ bool walkEntries(const std::vector<CutSegment>& segs, const EntryTable& table, s
     return true;
 }
 
+// The edge walk (section/adjacency.hpp): the rings of walkable body `p` from its crossing
+// triangles (cut.crossings[p], in cut order), each started at the first triangle of the list
+// that no ring has passed yet, as walkEntries starts at the first segment not visited. A
+// ring's points are its first triangle's entry crossing, then every triangle's exit
+// crossing up to the one whose exit leads back to the first: walkEntries' points, computed
+// by the same function from the same values (edgeCrossing is symmetric), so bit for bit the
+// same, each computed once. The way on depends only on the table and the sides the cut
+// wrote (PlaneCut::state), not on the points, so the loads of the next steps are not held
+// up by the arithmetic. Each step checks the neighbour it is sent to (in range, crossing,
+// not yet passed, holding the edge the other way round); false when one fails (a table that
+// does not belong to the mesh): `loops` is then as on entry.
+bool walkRings(const SectionIndex& index, PlaneCut& cut, std::size_t p, std::vector<Ring>& loops) {
+    const Mesh& mesh = index.parts[p].part->mesh;
+    const glm::dvec3* pos = mesh.positions.data();
+    const std::uint32_t* idx = mesh.indices.data();
+    const std::uint32_t* across = index.adjacency.across.data() + 3 * std::size_t(index.bvh.meshFirst[p]);
+    std::uint8_t* state = cut.state.data() + index.bvh.meshFirst[p];
+    const std::size_t m = mesh.triangleCount();
+    const std::vector<std::uint32_t>& seeds = cut.crossings[p];
+    const LocalPlane& plane = cut.plane;
+    const SectionFrame& frame = cut.frame;
+    const glm::dvec3 origin = index.origin;
+    constexpr std::uint8_t kPassed = 8;
+    const std::size_t loopsBefore = loops.size();
+    std::size_t steps = 0;
+    for (const std::uint32_t t0 : seeds) {
+        if (state[t0] & kPassed) continue;
+        glm::dvec3 q[3];
+        double s[3];
+        for (int k = 0; k < 3; ++k) {
+            q[k] = pos[idx[3 * std::size_t(t0) + k]] - origin;
+            s[k] = plane.distance(q[k]);
+        }
+        // Entry edge: removed -> kept; exit edge: kept -> removed (triangle order).
+        int ke = 0, kx = 0;
+        for (int k = 0; k < 3; ++k) {
+            const int k1 = k == 2 ? 0 : k + 1;
+            if (s[k] < 0.0 && s[k1] >= 0.0) ke = k;
+            if (s[k] >= 0.0 && s[k1] < 0.0) kx = k;
+        }
+        Ring ring;
+        const int ke1 = ke == 2 ? 0 : ke + 1, kx1 = kx == 2 ? 0 : kx + 1;
+        pushPoint(ring, frame.toPlane(edgeCrossing(q[ke], s[ke], q[ke1], s[ke1])));
+        // The exit edge of the current triangle: kept end P, removed end R (vertex ids vp, vr).
+        glm::dvec3 P = q[kx], R = q[kx1];
+        double sP = s[kx], sR = s[kx1];
+        std::uint32_t vp = idx[3 * std::size_t(t0) + kx], vr = idx[3 * std::size_t(t0) + kx1];
+        std::uint32_t cur = t0, k = static_cast<std::uint32_t>(kx);
+        bool ok = true;
+        for (;;) {
+            state[cur] |= kPassed;
+            const std::uint32_t nb = across[3 * std::size_t(cur) + k];
+            const std::uint32_t t = nb >> 2, kk = nb & 3u;
+            if (t == t0) break;
+            if (t >= m || kk > 2 || ++steps > seeds.size()) {
+                ok = false;
+                break;
+            }
+            const std::uint32_t* tri = idx + 3 * std::size_t(t);
+            const std::uint32_t kk1 = kk == 2 ? 0 : kk + 1, ko = kk == 0 ? 2 : kk - 1;
+            // Both ways on from t are known before its side is: fetch what either needs.
+            {
+                const std::uint32_t* a = across + 3 * std::size_t(t);
+                for (const std::uint32_t c : {a[ko] >> 2, a[kk1] >> 2})
+                    if (c < m) {
+                        __builtin_prefetch(state + c);
+                        __builtin_prefetch(idx + 3 * std::size_t(c));
+                        __builtin_prefetch(across + 3 * std::size_t(c));
+                    }
+            }
+            const std::uint8_t st = state[t];
+            // In t the edge runs R -> P (entry, so bit kk clear, kk1 set); its third corner's
+            // side decides the exit edge: Q -> R (edge ko) when Q is kept, else P -> Q (kk1).
+            const bool keptQ = (st >> ko) & 1u;
+            if ((st & kPassed) || ((st >> kk) & 1u) || !((st >> kk1) & 1u) || tri[kk] != vr || tri[kk1] != vp) {
+                ok = false;
+                break;
+            }
+            pushPoint(ring, frame.toPlane(edgeCrossing(P, sP, R, sR)));
+            const std::uint32_t vq = tri[ko];
+            const glm::dvec3 Q = pos[vq] - origin;
+            const double sQ = plane.distance(Q);
+            // Selects, not branches: the side of Q is a coin toss for a predictor.
+            P = keptQ ? Q : P;
+            sP = keptQ ? sQ : sP;
+            vp = keptQ ? vq : vp;
+            R = keptQ ? R : Q;
+            sR = keptQ ? sR : sQ;
+            vr = keptQ ? vr : vq;
+            k = keptQ ? ko : kk1;
+            cur = t;
+        }
+        if (!ok) {
+            loops.resize(loopsBefore);
+            return false;
+        }
+        if (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
+        if (ring.size() >= 3) loops.push_back(std::move(ring));
+    }
+    return true;
+}
+
 struct RingInfo {
     Ring ring;
     double area = 0.0;  // signed
@@ -262,7 +364,7 @@ bool pointInRing(const glm::dvec2& p, const Ring& ring) {
     return inside;
 }
 
-void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& out, unsigned threads) {
+void assembleContours(const SectionIndex& index, PlaneCut& cut, Section& out, unsigned threads) {
     out.frame = cut.frame;
     out.bodies.clear();
     out.traces.clear();
@@ -274,7 +376,23 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
     std::vector<std::size_t> open(index.bodyCount, 0);
     std::vector<std::vector<SectionTrace>> partTraces(partCount);
     auto chainPart = [&](std::size_t p, EndTable& table, std::vector<char>& visited) {
-        const std::vector<CutSegment>& segs = cut.parts[p];
+        const std::vector<CutSegment>* partSegs = &cut.parts[p];
+        if (p < cut.crossings.size() && !cut.crossings[p].empty()) {
+            if (walkRings(index, cut, p, loops[p])) return;
+            // The table does not belong to this mesh: cut the part's crossing triangles into
+            // segments and chain them as any other part.
+            thread_local PlaneCut fallback;
+            fallback.frame = cut.frame;
+            fallback.plane = cut.plane;
+            fallback.walk = false;
+            fallback.parts.assign(index.parts.size(), {});
+            fallback.crossings.assign(index.parts.size(), {});
+            std::vector<std::uint32_t> ids(cut.crossings[p]);
+            for (auto& t : ids) t += index.bvh.meshFirst[p];
+            cutTriangles(index, ids.data(), ids.size(), fallback);
+            partSegs = &fallback.parts[p];
+        }
+        const std::vector<CutSegment>& segs = *partSegs;
         // A closed body's crossings pair each exit with one entry: one table of entries and
         // one probe per segment (an EndTable takes two inserts and a probe per segment).
         if (index.parts[p].kind == PartKind::Body && index.parts[p].closed) {
@@ -353,10 +471,13 @@ void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& o
     // Work lists, largest first (balance for two threads).
     std::vector<std::uint32_t> partOrder;
     std::size_t segments = 0;
+    auto partSize = [&](std::size_t p) {
+        return cut.parts[p].size() + (p < cut.crossings.size() ? cut.crossings[p].size() : 0);
+    };
     for (std::size_t p = 0; p < partCount; ++p)
-        if (!cut.parts[p].empty()) partOrder.push_back(static_cast<std::uint32_t>(p)), segments += cut.parts[p].size();
+        if (partSize(p) != 0) partOrder.push_back(static_cast<std::uint32_t>(p)), segments += partSize(p);
     std::stable_sort(partOrder.begin(), partOrder.end(),
-                     [&](std::uint32_t a, std::uint32_t b) { return cut.parts[a].size() > cut.parts[b].size(); });
+                     [&](std::uint32_t a, std::uint32_t b) { return partSize(a) > partSize(b); });
     std::atomic<std::size_t> nextPart{0}, nextBody{0};
     std::atomic<std::size_t> chained{0};  // parts chained
     auto linkChildren = [&] {
@@ -456,7 +577,7 @@ Result<Section> computeSection(const SectionIndex& index, const Plane& plane, co
     // The segments live only until assembly: each thread keeps its buffers between calls
     // (about 1 MiB at L4), so a section allocates and faults in none of them again.
     thread_local PlaneCut cut;
-    beginCut(index, checked.value(), cut);
+    beginCut(index, checked.value(), cut, options.edgeWalk);
     CutStats cs;
     cutWithBvh(index, nullptr, cut, options.threads, &cs);
     const auto t2 = std::chrono::steady_clock::now();

@@ -10,24 +10,6 @@
 namespace geoslice {
 namespace {
 
-bool lexLess(const glm::dvec3& a, const glm::dvec3& b) {
-    if (a.x != b.x) return a.x < b.x;
-    if (a.y != b.y) return a.y < b.y;
-    return a.z < b.z;
-}
-
-// Crossing of the edge pq (local) with the plane; sp and sq have opposite signs under the
-// rule (one >= 0, the other < 0). Symmetric in (p, q): bit-identical from either side.
-glm::dvec3 edgePoint(glm::dvec3 p, double sp, glm::dvec3 q, double sq) {
-    if (sp == 0.0) return p;
-    if (sq == 0.0) return q;
-    if (lexLess(q, p)) {
-        std::swap(p, q);
-        std::swap(sp, sq);
-    }
-    return p + (q - p) * (sp / (sp - sq));
-}
-
 std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
     return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
 }
@@ -36,16 +18,22 @@ std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
 struct PartArrays {
     const glm::dvec3* positions = nullptr;
     const std::uint32_t* indices = nullptr;
-    const std::uint32_t* canon = nullptr;  // null: identity weld
+    const std::uint32_t* canon = nullptr;   // null: identity weld
+    const std::uint32_t* across = nullptr;  // the part's adjacency when it is walked, else null
+    std::uint8_t* state = nullptr;          // the part's PlaneCut::state when it is walked
 };
 
-std::vector<PartArrays> partArrays(const SectionIndex& index) {
+std::vector<PartArrays> partArrays(const SectionIndex& index, PlaneCut& out) {
     std::vector<PartArrays> a(index.parts.size());
     for (std::size_t p = 0; p < a.size(); ++p) {
         const Mesh& mesh = index.parts[p].part->mesh;
         a[p].positions = mesh.positions.data();
         a[p].indices = mesh.indices.data();
         a[p].canon = index.parts[p].canon.empty() ? nullptr : index.parts[p].canon.data();
+        if (out.walk && index.adjacency.walkablePart(p) && index.parts[p].closed) {
+            a[p].across = index.adjacency.across.data() + 3 * std::size_t(index.bvh.meshFirst[p]);
+            a[p].state = out.state.data() + index.bvh.meshFirst[p];
+        }
     }
     return a;
 }
@@ -85,6 +73,13 @@ inline __attribute__((always_inline)) void cutOne(const PartArrays& part, const 
         positive += s[k] >= 0.0;
     }
     if (positive == 0 || positive == 3) return;
+    if (part.across) {  // walked by contour assembly: its neighbours and state are read next
+        __builtin_prefetch(part.across + 3 * t);
+        part.state[t] = static_cast<std::uint8_t>((s[0] >= 0.0) | (s[1] >= 0.0) << 1 | (s[2] >= 0.0) << 2);
+        out.crossings[p].push_back(static_cast<std::uint32_t>(t));
+        ++out.segments;
+        return;
+    }
     if (!std::isfinite(s[0] + s[1] + s[2])) return;  // left out of the BVH too
     std::uint32_t w[3] = {tri[0], tri[1], tri[2]};
     if (part.canon)
@@ -95,7 +90,7 @@ inline __attribute__((always_inline)) void cutOne(const PartArrays& part, const 
         const int k1 = k == 2 ? 0 : k + 1;
         const bool in = s[k] >= 0.0, in1 = s[k1] >= 0.0;
         if (in == in1) continue;
-        const glm::dvec2 uv = out.frame.toPlane(edgePoint(q[k], s[k], q[k1], s[k1]));
+        const glm::dvec2 uv = out.frame.toPlane(edgeCrossing(q[k], s[k], q[k1], s[k1]));
         if (!in) {  // removed -> kept: the segment starts here
             seg.a = uv;
             seg.keyA = edgeKey(w[k], w[k1]);
@@ -115,17 +110,21 @@ constexpr std::size_t kTwoThreadMinTriangles = 100000;
 
 }  // namespace
 
-void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out) {
+void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out, bool walk) {
     out.frame = makeSectionFrame(plane, index.origin);
     out.plane = toLocal(plane, index.origin);
     out.parts.resize(index.parts.size());
     for (auto& v : out.parts) v.clear();
+    out.crossings.resize(index.parts.size());
+    for (auto& v : out.crossings) v.clear();
+    out.walk = walk && !index.adjacency.across.empty();
+    if (out.walk) out.state.resize(index.adjacency.across.size() / 3);
     out.segments = 0;
 }
 
 void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std::size_t count, PlaneCut& out) {
     const Bvh& bvh = index.bvh;
-    const std::vector<PartArrays> arrays = partArrays(index);
+    const std::vector<PartArrays> arrays = partArrays(index, out);
     PartCursor cursor{&bvh};
     for (std::size_t i = 0; i < count; ++i) {
         const std::uint32_t id = triangles[i];
@@ -137,6 +136,7 @@ void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std
 void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out, unsigned threads, CutStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
     const Bvh& bvh = index.bvh;
+    if (rect) out.walk = false;  // a walk would follow its rings out of the rectangle
     // The traversal runs in units (subtrees near the root) so that two threads can share it;
     // the leaves are taken unit by unit in unit order whatever the thread count, so the
     // output never depends on it.
@@ -162,7 +162,7 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
         for (const auto& l : unitLeaves) leaves.insert(leaves.end(), l.begin(), l.end());
     };
     std::chrono::steady_clock::time_point t1;
-    const std::vector<PartArrays> arrays = partArrays(index);
+    const std::vector<PartArrays> arrays = partArrays(index, out);
     // The cut is bound by memory latency along a chain of four dependent loads per leaf:
     // node -> its triangle ids -> their vertex indices -> the vertices. Each link is
     // prefetched in its own stage, kGap leaves apart (node 8 leaves ahead, ids 6, indices
@@ -238,6 +238,8 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
                 dst.plane = out.plane;
                 dst.parts.resize(out.parts.size());
                 for (auto& v : dst.parts) v.clear();
+                dst.crossings.resize(out.crossings.size());
+                for (auto& v : dst.crossings) v.clear();
                 dst.segments = 0;
                 cutRange(chunkStart[c], chunkStart[c + 1], dst);
             }
@@ -271,8 +273,11 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
         if (worker.wait()) {
             qs.nodesVisited += workerStats.nodesVisited;
             for (std::size_t c = mine; c < kChunks; ++c) {
-                for (std::size_t p = 0; p < out.parts.size(); ++p)
+                for (std::size_t p = 0; p < out.parts.size(); ++p) {
                     out.parts[p].insert(out.parts[p].end(), chunkCut[c].parts[p].begin(), chunkCut[c].parts[p].end());
+                    out.crossings[p].insert(out.crossings[p].end(), chunkCut[c].crossings[p].begin(),
+                                            chunkCut[c].crossings[p].end());
+                }
                 out.segments += chunkCut[c].segments;
             }
         }
@@ -292,7 +297,7 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
 }
 
 void cutAllTriangles(const SectionIndex& index, PlaneCut& out) {
-    const std::vector<PartArrays> arrays = partArrays(index);
+    const std::vector<PartArrays> arrays = partArrays(index, out);
     for (std::size_t p = 0; p < index.parts.size(); ++p) {
         const std::size_t n = index.parts[p].part->mesh.triangleCount();
         for (std::size_t t = 0; t < n; ++t) cutOne(arrays[p], index.origin, p, t, out);

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "model/plane.hpp"
@@ -33,12 +34,38 @@ struct PlaneCut {
     SectionFrame frame;
     LocalPlane plane;
     std::vector<std::vector<CutSegment>> parts;  // per SectionIndex part
-    std::size_t segments = 0;
+    // With `walk`, the bodies that SectionIndex::adjacency can walk get no segments: their
+    // crossing triangles are listed here instead (part-local ids, in cut order), and
+    // contour assembly walks the rings from them (section/contours.hpp).
+    std::vector<std::vector<std::uint32_t>> crossings;  // per SectionIndex part
+    // Per body triangle (global id), written for each crossing triangle of a walked body:
+    // bit k = vertex k on the kept side; bit 3 = passed by a ring (set by the walk). Other
+    // entries keep stale values (1 byte a body triangle, kept between cuts).
+    std::vector<std::uint8_t> state;
+    bool walk = false;
+    std::size_t segments = 0;  // segments and crossing triangles (one segment each)
 };
 
 // Prepares `out` for a cut of `index` by `plane` (world): frame, local plane, empty parts
-// (vectors keep their capacity between calls).
-void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out);
+// (vectors keep their capacity between calls). `walk`: list crossing triangles of walkable
+// bodies instead of cutting them (see PlaneCut); only for whole-plane cuts (rect null), as
+// a walk follows its rings out of any rectangle.
+void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out, bool walk = false);
+
+// The point where the plane crosses the edge pq (local frame, metres), sp and sq the two
+// ends' signed distances with opposite signs under the rule (one >= 0, the other < 0).
+// Symmetric in (p, q), computed from the lexicographically smaller end (exactly the vertex
+// when its distance is 0), so the two triangles of an edge get bit-identical points.
+inline glm::dvec3 edgeCrossing(glm::dvec3 p, double sp, glm::dvec3 q, double sq) {
+    if (sp == 0.0) return p;
+    if (sq == 0.0) return q;
+    const bool swap = q.x != p.x ? q.x < p.x : q.y != p.y ? q.y < p.y : q.z < p.z;
+    if (swap) {
+        std::swap(p, q);
+        std::swap(sp, sq);
+    }
+    return p + (q - p) * (sp / (sp - sq));
+}
 
 // Cuts the listed global triangles (e.g. from queryPlane), appending to out.parts.
 void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std::size_t count, PlaneCut& out);

@@ -291,27 +291,6 @@ TEST(SectionContours, TwoThreadsGiveTheSameSectionBitForBit) {
     }
 }
 
-namespace {
-
-void expectSameSection(const Section& x, const Section& y, const std::string& what) {
-    ASSERT_EQ(x.bodies.size(), y.bodies.size()) << what;
-    for (std::size_t i = 0; i < x.bodies.size(); ++i) {
-        const BodySection &a = x.bodies[i], &b = y.bodies[i];
-        EXPECT_EQ(a.part, b.part) << what;
-        EXPECT_EQ(a.area, b.area) << what;
-        EXPECT_EQ(a.openChains, b.openChains) << what;
-        ASSERT_EQ(a.polygons.size(), b.polygons.size()) << what;
-        for (std::size_t j = 0; j < a.polygons.size(); ++j) {
-            EXPECT_EQ(a.polygons[j].outer, b.polygons[j].outer) << what;
-            EXPECT_EQ(a.polygons[j].holes, b.polygons[j].holes) << what;
-        }
-    }
-    ASSERT_EQ(x.traces.size(), y.traces.size()) << what;
-    for (std::size_t i = 0; i < x.traces.size(); ++i) EXPECT_EQ(x.traces[i].points, y.traces[i].points) << what;
-}
-
-}  // namespace
-
 TEST(SectionContours, ClosedBodiesChainByEntryKeysLikeTheGeneralJoin) {
     // A closed body's segments are chained through a table of entry keys only (each exit
     // meets exactly one entry); any other part through the table of both ends. Marking the

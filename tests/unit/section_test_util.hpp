@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <string>
 
 #include "model/synthetic.hpp"
 #include "model/validate.hpp"
@@ -53,6 +54,24 @@ inline double bruteForceArea(const Mesh& mesh, const Plane& plane, const Section
         area += 0.5 * (a.x * b.y - a.y * b.x);
     }
     return area;
+}
+
+// Bit for bit: the same bodies (rings point by point, areas) and traces (tolerance: none).
+inline void expectSameSection(const Section& x, const Section& y, const std::string& what) {
+    ASSERT_EQ(x.bodies.size(), y.bodies.size()) << what;
+    for (std::size_t i = 0; i < x.bodies.size(); ++i) {
+        const BodySection &a = x.bodies[i], &b = y.bodies[i];
+        EXPECT_EQ(a.part, b.part) << what;
+        EXPECT_EQ(a.area, b.area) << what;
+        EXPECT_EQ(a.openChains, b.openChains) << what;
+        ASSERT_EQ(a.polygons.size(), b.polygons.size()) << what;
+        for (std::size_t j = 0; j < a.polygons.size(); ++j) {
+            EXPECT_EQ(a.polygons[j].outer, b.polygons[j].outer) << what;
+            EXPECT_EQ(a.polygons[j].holes, b.polygons[j].holes) << what;
+        }
+    }
+    ASSERT_EQ(x.traces.size(), y.traces.size()) << what;
+    for (std::size_t i = 0; i < x.traces.size(); ++i) EXPECT_EQ(x.traces[i].points, y.traces[i].points) << what;
 }
 
 inline double bodyArea(const Section& s, std::uint32_t part) {
