@@ -11,10 +11,10 @@
 // --leaf-order 1 (default) puts the model in the BVH's leaf order first, as a baked package
 // stores it (section/leaf_order.hpp), and times the cut on a generator-ordered copy beside
 // it, plane by plane (leaf_order_vs_generator_order); --leaf-order 0 skips both.
-// --edge-walk 1 (default) times the cut and assembly steps with the edge walk
-// (section/adjacency.hpp), 0 with segments joined by edge key; either way computeSection is
-// timed both ways plane by plane, alternating (edge_walk_vs_segments), and the two sections
-// must be equal bit for bit.
+// --exits-only 1 (default) times the cut and assembly steps with closed bodies' exit points
+// only (PlaneCut::exitsOnly), 0 with both points of every segment; either way computeSection
+// is timed both ways plane by plane, alternating (exits_only_vs_both_points), and the two
+// sections must be equal bit for bit.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
     int planes = 50, side = 1024, tileSide = 256;
     unsigned leaf = 8;
     int oracleSide = 0;
-    bool leafOrder = true, edgeWalk = true;
+    bool leafOrder = true, exitsOnly = true;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--sizes"))
             sizes = argv[i + 1];
@@ -89,8 +89,8 @@ int main(int argc, char** argv) {
             leaf = static_cast<unsigned>(std::stoul(argv[i + 1]));
         else if (!std::strcmp(argv[i], "--leaf-order"))
             leafOrder = std::stoi(argv[i + 1]) != 0;
-        else if (!std::strcmp(argv[i], "--edge-walk"))
-            edgeWalk = std::stoi(argv[i + 1]) != 0;
+        else if (!std::strcmp(argv[i], "--exits-only"))
+            exitsOnly = std::stoi(argv[i + 1]) != 0;
     }
     json results = json::array();
     std::stringstream list(sizes);
@@ -135,11 +135,6 @@ int main(int argc, char** argv) {
         const double rssAfter = bench::currentRssMiB();
         const double rssPeakBuild = bench::peakRssSinceResetMiB();
         const SectionIndex& idx = *index.value();
-        t = bench::nowSeconds();
-        const TriangleAdjacency adjacencyAgain = buildTriangleAdjacency(idx);
-        const double adjacencyS = bench::nowSeconds() - t;
-        std::size_t walkable = 0;
-        for (auto w : adjacencyAgain.walkable) walkable += w;
         std::unique_ptr<SectionIndex> plainIndex;
         if (plain) {
             auto pi = buildSectionIndex(*plain, bo);
@@ -150,7 +145,7 @@ int main(int argc, char** argv) {
             plainIndex = std::move(pi).value();
         }
         std::vector<double> abPlain, abLeaf, abRatio;
-        std::vector<double> ewSegCpu, ewWalkCpu, ewRatio, ewSegWall, ewWalkWall, ewSeg2, ewWalk2;
+        std::vector<double> ewBothCpu, ewExitsCpu, ewRatio, ewBothWall, ewExitsWall, ewBoth2, ewExits2;
         std::size_t ewDiffer = 0;
 
         std::vector<double> cSection1, cSection2, tSection1;
@@ -184,7 +179,7 @@ int main(int argc, char** argv) {
             tQueryTris.push_back(ms(s));
             crossing.push_back(double(tris.size()));
             // The section path: leaves (traversal only), then their triangles cut, then assembly.
-            beginCut(idx, p, cut, edgeWalk);
+            beginCut(idx, p, cut, exitsOnly);
             CutStats cs;
             double c = bench::threadCpuSeconds();
             cutWithBvh(idx, nullptr, cut, 1, &cs);
@@ -227,37 +222,37 @@ int main(int argc, char** argv) {
                 tEnd2.push_back(ms(s));
             }
             for (const auto& b : section.bodies) openChains += b.openChains;
-            // computeSection with the edge walk and with segments joined by edge key,
-            // alternating which goes first (thread CPU and wall), then the same on two threads;
-            // the sections must be equal bit for bit.
+            // computeSection with closed bodies' exit points only and with both points of every
+            // segment, alternating which goes first (thread CPU and wall), then the same on two
+            // threads; the sections must be equal bit for bit.
             {
                 double cpu[2], wall[2];
                 Section got[2];
                 for (int j = 0; j < 2; ++j) {
-                    const bool walkNow = ((k & 1) != 0) == (j == 0);
+                    const bool exitsNow = ((k & 1) != 0) == (j == 0);
                     SectionOptions o;
-                    o.edgeWalk = walkNow;
+                    o.exitsOnly = exitsNow;
                     const double c0 = bench::threadCpuSeconds(), w0 = bench::nowSeconds();
                     auto sec = computeSection(idx, p, o);
-                    wall[walkNow] = ms(w0);
-                    cpu[walkNow] = 1000.0 * (bench::threadCpuSeconds() - c0);
-                    if (sec) got[walkNow] = std::move(sec).value();
+                    wall[exitsNow] = ms(w0);
+                    cpu[exitsNow] = 1000.0 * (bench::threadCpuSeconds() - c0);
+                    if (sec) got[exitsNow] = std::move(sec).value();
                 }
-                ewSegCpu.push_back(cpu[0]);
-                ewWalkCpu.push_back(cpu[1]);
+                ewBothCpu.push_back(cpu[0]);
+                ewExitsCpu.push_back(cpu[1]);
                 ewRatio.push_back(cpu[1] / cpu[0]);
-                ewSegWall.push_back(wall[0]);
-                ewWalkWall.push_back(wall[1]);
+                ewBothWall.push_back(wall[0]);
+                ewExitsWall.push_back(wall[1]);
                 ewDiffer += !sameSection(got[0], got[1]);
                 for (int j = 0; j < 2; ++j) {
-                    const bool walkNow = ((k & 1) != 0) == (j == 0);
+                    const bool exitsNow = ((k & 1) != 0) == (j == 0);
                     SectionOptions o;
-                    o.edgeWalk = walkNow;
+                    o.exitsOnly = exitsNow;
                     o.threads = 2;
                     const double w0 = bench::nowSeconds();
                     auto sec = computeSection(idx, p, o);
-                    (walkNow ? ewWalk2 : ewSeg2).push_back(ms(w0));
-                    ewDiffer += !sec || !sameSection(sec.value(), got[walkNow]);
+                    (exitsNow ? ewExits2 : ewBoth2).push_back(ms(w0));
+                    ewDiffer += !sec || !sameSection(sec.value(), got[exitsNow]);
                 }
             }
             // The same cut on the generator-ordered copy and on the leaf-ordered model,
@@ -458,19 +453,16 @@ int main(int argc, char** argv) {
               {"cut_cpu_ms_generator_order", bench::median(abPlain)},
               {"cut_cpu_ms_leaf_order", bench::median(abLeaf)},
               {"median_ratio", bench::median(abRatio)}}},
-            {"edge_walk_vs_segments",
+            {"exits_only_vs_both_points",
              {{"planes", ewRatio.size()},
-              {"walkable_bodies", walkable},
-              {"adjacency_build_s", adjacencyS},
-              {"adjacency_mib", double(adjacencyAgain.memoryBytes()) / (1024.0 * 1024.0)},
               {"sections_differing", ewDiffer},
-              {"compute_section_cpu_ms_segments", bench::median(ewSegCpu)},
-              {"compute_section_cpu_ms_edge_walk", bench::median(ewWalkCpu)},
+              {"compute_section_cpu_ms_both_points", bench::median(ewBothCpu)},
+              {"compute_section_cpu_ms_exits_only", bench::median(ewExitsCpu)},
               {"median_ratio_cpu", bench::median(ewRatio)},
-              {"compute_section_ms_segments", bench::median(ewSegWall)},
-              {"compute_section_ms_edge_walk", bench::median(ewWalkWall)},
-              {"compute_section_2_threads_ms_segments", bench::median(ewSeg2)},
-              {"compute_section_2_threads_ms_edge_walk", bench::median(ewWalk2)}}},
+              {"compute_section_ms_both_points", bench::median(ewBothWall)},
+              {"compute_section_ms_exits_only", bench::median(ewExitsWall)},
+              {"compute_section_2_threads_ms_both_points", bench::median(ewBoth2)},
+              {"compute_section_2_threads_ms_exits_only", bench::median(ewExits2)}}},
             {"median_nodes_visited", bench::median(nodesVisited)},
             {"median_leaf_triangles_cut", bench::median(trisTested)},
         });

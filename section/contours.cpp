@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "section/partner_thread.hpp"
 
@@ -144,127 +145,43 @@ Chain walk(const std::vector<CutSegment>& segs, EndTable& table, std::vector<cha
 // the part's crossings are not a perfect matching of exits to entries (an exit with no
 // entry, or an entry reached twice): the caller then chains the part with an EndTable.
 // Otherwise the chain is walk()'s: each edge holds exactly one a end and one b end.
-bool walkEntries(const std::vector<CutSegment>& segs, const EntryTable& table, std::vector<char>& state,
+// Over exit segments (PlaneCut::exitsOnly) a segment's entry point is the exit point of the
+// one before it, so the chain's points are the exits, the last one first, with the same
+// repeats dropped: the same ring, point for point.
+template <class Segment>
+bool walkEntries(const std::vector<Segment>& segs, const EntryTable& table, std::vector<char>& state,
                  std::uint32_t start, Chain& c) {
+    constexpr bool exits = std::is_same_v<Segment, ExitSegment>;
     constexpr char kVisited = 1, kEntered = 2;
     c.points.clear();
+    if constexpr (exits) c.points.push_back(glm::dvec2(0.0));  // the first entry: the last exit, known at the end
     c.closed = false;
     std::uint32_t cur = start;
     for (;;) {
         state[cur] |= kVisited;
-        const CutSegment& s = segs[cur];
-        pushPoint(c.points, s.a);
+        const Segment& s = segs[cur];
+        if constexpr (!exits) pushPoint(c.points, s.a);
         const std::uint32_t next = table.find(s.keyB);
         if (next == kNone || (state[next] & kEntered)) return false;
         state[next] |= kEntered;
-        if (next == start) break;
+        if (next == start) {
+            if constexpr (exits) c.points[0] = s.b;
+            break;
+        }
         if (state[next] & kVisited) return false;  // entered a chain walked before: not a matching
+        if constexpr (exits) {
+            if (c.points.size() == 1)
+                c.points.push_back(s.b);  // not compared with the slot, which is not known yet
+            else
+                pushPoint(c.points, s.b);
+        }
         cur = next;
     }
+    // The repeat pushPoint would have dropped after the first entry.
+    if constexpr (exits)
+        if (c.points.size() > 1 && c.points[1] == c.points[0]) c.points.erase(c.points.begin() + 1);
     c.closed = true;
     if (c.points.size() > 1 && c.points.back() == c.points.front()) c.points.pop_back();
-    return true;
-}
-
-// The edge walk (section/adjacency.hpp): the rings of walkable body `p` from its crossing
-// triangles (cut.crossings[p], in cut order), each started at the first triangle of the list
-// that no ring has passed yet, as walkEntries starts at the first segment not visited. A
-// ring's points are its first triangle's entry crossing, then every triangle's exit
-// crossing up to the one whose exit leads back to the first: walkEntries' points, computed
-// by the same function from the same values (edgeCrossing is symmetric), so bit for bit the
-// same, each computed once. The way on depends only on the table and the sides the cut
-// wrote (PlaneCut::state), not on the points, so the loads of the next steps are not held
-// up by the arithmetic. Each step checks the neighbour it is sent to (in range, crossing,
-// not yet passed, holding the edge the other way round); false when one fails (a table that
-// does not belong to the mesh): `loops` is then as on entry.
-bool walkRings(const SectionIndex& index, PlaneCut& cut, std::size_t p, std::vector<Ring>& loops) {
-    const Mesh& mesh = index.parts[p].part->mesh;
-    const glm::dvec3* pos = mesh.positions.data();
-    const std::uint32_t* idx = mesh.indices.data();
-    const std::uint32_t* across = index.adjacency.across.data() + 3 * std::size_t(index.bvh.meshFirst[p]);
-    std::uint8_t* state = cut.state.data() + index.bvh.meshFirst[p];
-    const std::size_t m = mesh.triangleCount();
-    const std::vector<std::uint32_t>& seeds = cut.crossings[p];
-    const LocalPlane& plane = cut.plane;
-    const SectionFrame& frame = cut.frame;
-    const glm::dvec3 origin = index.origin;
-    constexpr std::uint8_t kPassed = 8;
-    const std::size_t loopsBefore = loops.size();
-    std::size_t steps = 0;
-    for (const std::uint32_t t0 : seeds) {
-        if (state[t0] & kPassed) continue;
-        glm::dvec3 q[3];
-        double s[3];
-        for (int k = 0; k < 3; ++k) {
-            q[k] = pos[idx[3 * std::size_t(t0) + k]] - origin;
-            s[k] = plane.distance(q[k]);
-        }
-        // Entry edge: removed -> kept; exit edge: kept -> removed (triangle order).
-        int ke = 0, kx = 0;
-        for (int k = 0; k < 3; ++k) {
-            const int k1 = k == 2 ? 0 : k + 1;
-            if (s[k] < 0.0 && s[k1] >= 0.0) ke = k;
-            if (s[k] >= 0.0 && s[k1] < 0.0) kx = k;
-        }
-        Ring ring;
-        const int ke1 = ke == 2 ? 0 : ke + 1, kx1 = kx == 2 ? 0 : kx + 1;
-        pushPoint(ring, frame.toPlane(edgeCrossing(q[ke], s[ke], q[ke1], s[ke1])));
-        // The exit edge of the current triangle: kept end P, removed end R (vertex ids vp, vr).
-        glm::dvec3 P = q[kx], R = q[kx1];
-        double sP = s[kx], sR = s[kx1];
-        std::uint32_t vp = idx[3 * std::size_t(t0) + kx], vr = idx[3 * std::size_t(t0) + kx1];
-        std::uint32_t cur = t0, k = static_cast<std::uint32_t>(kx);
-        bool ok = true;
-        for (;;) {
-            state[cur] |= kPassed;
-            const std::uint32_t nb = across[3 * std::size_t(cur) + k];
-            const std::uint32_t t = nb >> 2, kk = nb & 3u;
-            if (t == t0) break;
-            if (t >= m || kk > 2 || ++steps > seeds.size()) {
-                ok = false;
-                break;
-            }
-            const std::uint32_t* tri = idx + 3 * std::size_t(t);
-            const std::uint32_t kk1 = kk == 2 ? 0 : kk + 1, ko = kk == 0 ? 2 : kk - 1;
-            // Both ways on from t are known before its side is: fetch what either needs.
-            {
-                const std::uint32_t* a = across + 3 * std::size_t(t);
-                for (const std::uint32_t c : {a[ko] >> 2, a[kk1] >> 2})
-                    if (c < m) {
-                        __builtin_prefetch(state + c);
-                        __builtin_prefetch(idx + 3 * std::size_t(c));
-                        __builtin_prefetch(across + 3 * std::size_t(c));
-                    }
-            }
-            const std::uint8_t st = state[t];
-            // In t the edge runs R -> P (entry, so bit kk clear, kk1 set); its third corner's
-            // side decides the exit edge: Q -> R (edge ko) when Q is kept, else P -> Q (kk1).
-            const bool keptQ = (st >> ko) & 1u;
-            if ((st & kPassed) || ((st >> kk) & 1u) || !((st >> kk1) & 1u) || tri[kk] != vr || tri[kk1] != vp) {
-                ok = false;
-                break;
-            }
-            pushPoint(ring, frame.toPlane(edgeCrossing(P, sP, R, sR)));
-            const std::uint32_t vq = tri[ko];
-            const glm::dvec3 Q = pos[vq] - origin;
-            const double sQ = plane.distance(Q);
-            // Selects, not branches: the side of Q is a coin toss for a predictor.
-            P = keptQ ? Q : P;
-            sP = keptQ ? sQ : sP;
-            vp = keptQ ? vq : vp;
-            R = keptQ ? R : Q;
-            sR = keptQ ? sR : sQ;
-            vr = keptQ ? vr : vq;
-            k = keptQ ? ko : kk1;
-            cur = t;
-        }
-        if (!ok) {
-            loops.resize(loopsBefore);
-            return false;
-        }
-        if (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
-        if (ring.size() >= 3) loops.push_back(std::move(ring));
-    }
     return true;
 }
 
@@ -364,7 +281,7 @@ bool pointInRing(const glm::dvec2& p, const Ring& ring) {
     return inside;
 }
 
-void assembleContours(const SectionIndex& index, PlaneCut& cut, Section& out, unsigned threads) {
+void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& out, unsigned threads) {
     out.frame = cut.frame;
     out.bodies.clear();
     out.traces.clear();
@@ -375,44 +292,48 @@ void assembleContours(const SectionIndex& index, PlaneCut& cut, Section& out, un
     std::vector<std::vector<Ring>> loops(index.bodyCount);  // closed loops of every body
     std::vector<std::size_t> open(index.bodyCount, 0);
     std::vector<std::vector<SectionTrace>> partTraces(partCount);
+    // A closed body's crossings pair each exit with one entry: one table of entries and one
+    // probe per segment (an EndTable takes two inserts and a probe per segment). False when
+    // they are not a perfect matching (loops[p] is then as before).
+    auto chainByEntries = [&](std::size_t p, const auto& segs, std::vector<char>& visited) {
+        thread_local EntryTable entries;
+        entries.reset(segs.size());
+        bool matching = true;
+        for (std::uint32_t i = 0; i < segs.size() && matching; ++i) matching = entries.insert(segs[i].keyA, i);
+        if (!matching) return false;
+        visited.assign(segs.size(), 0);
+        const std::size_t loopsBefore = loops[p].size();
+        Chain c;
+        for (std::uint32_t i = 0; i < segs.size() && matching; ++i) {
+            if (visited[i]) continue;
+            matching = walkEntries(segs, entries, visited, i, c);
+            if (matching && c.points.size() >= 3) loops[p].push_back(std::move(c.points));
+        }
+        if (!matching) loops[p].resize(loopsBefore);
+        return matching;
+    };
     auto chainPart = [&](std::size_t p, EndTable& table, std::vector<char>& visited) {
         const std::vector<CutSegment>* partSegs = &cut.parts[p];
-        if (p < cut.crossings.size() && !cut.crossings[p].empty()) {
-            if (walkRings(index, cut, p, loops[p])) return;
-            // The table does not belong to this mesh: cut the part's crossing triangles into
-            // segments and chain them as any other part.
-            thread_local PlaneCut fallback;
-            fallback.frame = cut.frame;
-            fallback.plane = cut.plane;
-            fallback.walk = false;
-            fallback.parts.assign(index.parts.size(), {});
-            fallback.crossings.assign(index.parts.size(), {});
-            std::vector<std::uint32_t> ids(cut.crossings[p]);
-            for (auto& t : ids) t += index.bvh.meshFirst[p];
-            cutTriangles(index, ids.data(), ids.size(), fallback);
-            partSegs = &fallback.parts[p];
+        if (p < cut.exits.size() && !cut.exits[p].empty()) {
+            const std::vector<ExitSegment>& exits = cut.exits[p];
+            if (chainByEntries(p, exits, visited)) return;
+            // Not a matching (a body marked closed that is not): its triangles cut whole, then
+            // chained as any other part's.
+            thread_local PlaneCut whole;
+            whole.frame = cut.frame;
+            whole.plane = cut.plane;
+            whole.exitsOnly = false;
+            whole.parts.assign(index.parts.size(), {});
+            whole.exits.assign(index.parts.size(), {});
+            std::vector<std::uint32_t> ids(exits.size());
+            for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = exits[i].triangle;
+            cutTriangles(index, ids.data(), ids.size(), whole);
+            partSegs = &whole.parts[p];
+        } else if (index.parts[p].kind == PartKind::Body && index.parts[p].closed &&
+                   chainByEntries(p, cut.parts[p], visited)) {
+            return;
         }
         const std::vector<CutSegment>& segs = *partSegs;
-        // A closed body's crossings pair each exit with one entry: one table of entries and
-        // one probe per segment (an EndTable takes two inserts and a probe per segment).
-        if (index.parts[p].kind == PartKind::Body && index.parts[p].closed) {
-            thread_local EntryTable entries;
-            entries.reset(segs.size());
-            bool matching = true;
-            for (std::uint32_t i = 0; i < segs.size() && matching; ++i) matching = entries.insert(segs[i].keyA, i);
-            if (matching) {
-                visited.assign(segs.size(), 0);
-                const std::size_t loopsBefore = loops[p].size();
-                Chain c;
-                for (std::uint32_t i = 0; i < segs.size() && matching; ++i) {
-                    if (visited[i]) continue;
-                    matching = walkEntries(segs, entries, visited, i, c);
-                    if (matching && c.points.size() >= 3) loops[p].push_back(std::move(c.points));
-                }
-                if (matching) return;
-                loops[p].resize(loopsBefore);
-            }
-        }
         table.reset(2 * segs.size());
         for (std::uint32_t i = 0; i < segs.size(); ++i) {
             table.insert(segs[i].keyA, 2 * i);
@@ -472,7 +393,7 @@ void assembleContours(const SectionIndex& index, PlaneCut& cut, Section& out, un
     std::vector<std::uint32_t> partOrder;
     std::size_t segments = 0;
     auto partSize = [&](std::size_t p) {
-        return cut.parts[p].size() + (p < cut.crossings.size() ? cut.crossings[p].size() : 0);
+        return cut.parts[p].size() + (p < cut.exits.size() ? cut.exits[p].size() : 0);
     };
     for (std::size_t p = 0; p < partCount; ++p)
         if (partSize(p) != 0) partOrder.push_back(static_cast<std::uint32_t>(p)), segments += partSize(p);
@@ -577,7 +498,7 @@ Result<Section> computeSection(const SectionIndex& index, const Plane& plane, co
     // The segments live only until assembly: each thread keeps its buffers between calls
     // (about 1 MiB at L4), so a section allocates and faults in none of them again.
     thread_local PlaneCut cut;
-    beginCut(index, checked.value(), cut, options.edgeWalk);
+    beginCut(index, checked.value(), cut, options.exitsOnly);
     CutStats cs;
     cutWithBvh(index, nullptr, cut, options.threads, &cs);
     const auto t2 = std::chrono::steady_clock::now();

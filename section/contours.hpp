@@ -60,11 +60,10 @@ struct Section {
     bool empty() const { return bodies.empty() && traces.empty(); }
 };
 
-// Chains `cut` and assembles polygons and traces into `out` (frame and plane copied); the
-// bodies cut with PlaneCut::walk are walked (marking cut.state). threads = 2 shares the
-// parts' chaining and the bodies' assembly between two threads (above a few thousand
-// segments); the output is the same for any thread count.
-void assembleContours(const SectionIndex& index, PlaneCut& cut, Section& out, unsigned threads = 1);
+// Chains `cut` and assembles polygons and traces into `out` (frame and plane copied).
+// threads = 2 shares the parts' chaining and the bodies' assembly between two threads
+// (above a few thousand segments); the output is the same for any thread count.
+void assembleContours(const SectionIndex& index, const PlaneCut& cut, Section& out, unsigned threads = 1);
 
 struct SectionTimings {
     double queryMs = 0.0, cutMs = 0.0, contourMs = 0.0;
@@ -73,10 +72,9 @@ struct SectionTimings {
 
 struct SectionOptions {
     unsigned threads = 1;  // 1 or 2: the BVH traversal and cut (see cutWithBvh), then contour assembly
-    // Walk the rings of closed bodies over SectionIndex::adjacency (section/adjacency.hpp)
-    // instead of cutting each crossing triangle and joining segments by edge key: the same
-    // output; false only to compare the two.
-    bool edgeWalk = true;
+    // Closed bodies' crossing points computed once each, at the triangle the ring leaves by
+    // (PlaneCut::exitsOnly), not twice: the same output; false only to compare the two.
+    bool exitsOnly = true;
 };
 
 // Validates the plane, queries the BVH, cuts and assembles.

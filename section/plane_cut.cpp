@@ -18,22 +18,21 @@ std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
 struct PartArrays {
     const glm::dvec3* positions = nullptr;
     const std::uint32_t* indices = nullptr;
-    const std::uint32_t* canon = nullptr;   // null: identity weld
-    const std::uint32_t* across = nullptr;  // the part's adjacency when it is walked, else null
-    std::uint8_t* state = nullptr;          // the part's PlaneCut::state when it is walked
+    const std::uint32_t* canon = nullptr;  // null: identity weld
+    std::uint32_t first = 0;               // global id of the part's triangle 0
+    bool exitsOnly = false;                // a closed body cut with PlaneCut::exitsOnly
 };
 
-std::vector<PartArrays> partArrays(const SectionIndex& index, PlaneCut& out) {
+std::vector<PartArrays> partArrays(const SectionIndex& index, const PlaneCut& out) {
     std::vector<PartArrays> a(index.parts.size());
     for (std::size_t p = 0; p < a.size(); ++p) {
-        const Mesh& mesh = index.parts[p].part->mesh;
+        const SectionPart& part = index.parts[p];
+        const Mesh& mesh = part.part->mesh;
         a[p].positions = mesh.positions.data();
         a[p].indices = mesh.indices.data();
-        a[p].canon = index.parts[p].canon.empty() ? nullptr : index.parts[p].canon.data();
-        if (out.walk && index.adjacency.walkablePart(p) && index.parts[p].closed) {
-            a[p].across = index.adjacency.across.data() + 3 * std::size_t(index.bvh.meshFirst[p]);
-            a[p].state = out.state.data() + index.bvh.meshFirst[p];
-        }
+        a[p].canon = part.canon.empty() ? nullptr : part.canon.data();
+        a[p].first = index.bvh.meshFirst[p];
+        a[p].exitsOnly = out.exitsOnly && part.kind == PartKind::Body && part.closed;
     }
     return a;
 }
@@ -73,18 +72,29 @@ inline __attribute__((always_inline)) void cutOne(const PartArrays& part, const 
         positive += s[k] >= 0.0;
     }
     if (positive == 0 || positive == 3) return;
-    if (part.across) {  // walked by contour assembly: its neighbours and state are read next
-        __builtin_prefetch(part.across + 3 * t);
-        part.state[t] = static_cast<std::uint8_t>((s[0] >= 0.0) | (s[1] >= 0.0) << 1 | (s[2] >= 0.0) << 2);
-        out.crossings[p].push_back(static_cast<std::uint32_t>(t));
-        ++out.segments;
-        return;
-    }
     if (!std::isfinite(s[0] + s[1] + s[2])) return;  // left out of the BVH too
     std::uint32_t w[3] = {tri[0], tri[1], tri[2]};
     if (part.canon)
         for (auto& v : w) v = part.canon[v];
     if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) return;  // degenerate: no edges of its own
+    if (part.exitsOnly) {
+        ExitSegment e;
+        for (int k = 0; k < 3; ++k) {
+            const int k1 = k == 2 ? 0 : k + 1;
+            const bool in = s[k] >= 0.0, in1 = s[k1] >= 0.0;
+            if (in == in1) continue;
+            if (!in) {
+                e.keyA = edgeKey(w[k], w[k1]);
+            } else {  // kept -> removed: the only point computed
+                e.b = out.frame.toPlane(edgeCrossing(q[k], s[k], q[k1], s[k1]));
+                e.keyB = edgeKey(w[k], w[k1]);
+            }
+        }
+        e.triangle = part.first + static_cast<std::uint32_t>(t);
+        out.exits[p].push_back(e);
+        ++out.segments;
+        return;
+    }
     CutSegment seg;
     for (int k = 0; k < 3; ++k) {
         const int k1 = k == 2 ? 0 : k + 1;
@@ -110,15 +120,14 @@ constexpr std::size_t kTwoThreadMinTriangles = 100000;
 
 }  // namespace
 
-void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out, bool walk) {
+void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out, bool exitsOnly) {
     out.frame = makeSectionFrame(plane, index.origin);
     out.plane = toLocal(plane, index.origin);
     out.parts.resize(index.parts.size());
     for (auto& v : out.parts) v.clear();
-    out.crossings.resize(index.parts.size());
-    for (auto& v : out.crossings) v.clear();
-    out.walk = walk && !index.adjacency.across.empty();
-    if (out.walk) out.state.resize(index.adjacency.across.size() / 3);
+    out.exits.resize(index.parts.size());
+    for (auto& v : out.exits) v.clear();
+    out.exitsOnly = exitsOnly;
     out.segments = 0;
 }
 
@@ -136,7 +145,7 @@ void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std
 void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out, unsigned threads, CutStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
     const Bvh& bvh = index.bvh;
-    if (rect) out.walk = false;  // a walk would follow its rings out of the rectangle
+    if (rect) out.exitsOnly = false;  // rings cut off by the rectangle have first entries of their own
     // The traversal runs in units (subtrees near the root) so that two threads can share it;
     // the leaves are taken unit by unit in unit order whatever the thread count, so the
     // output never depends on it.
@@ -238,8 +247,8 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
                 dst.plane = out.plane;
                 dst.parts.resize(out.parts.size());
                 for (auto& v : dst.parts) v.clear();
-                dst.crossings.resize(out.crossings.size());
-                for (auto& v : dst.crossings) v.clear();
+                dst.exits.resize(out.exits.size());
+                for (auto& v : dst.exits) v.clear();
                 dst.segments = 0;
                 cutRange(chunkStart[c], chunkStart[c + 1], dst);
             }
@@ -275,8 +284,7 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
             for (std::size_t c = mine; c < kChunks; ++c) {
                 for (std::size_t p = 0; p < out.parts.size(); ++p) {
                     out.parts[p].insert(out.parts[p].end(), chunkCut[c].parts[p].begin(), chunkCut[c].parts[p].end());
-                    out.crossings[p].insert(out.crossings[p].end(), chunkCut[c].crossings[p].begin(),
-                                            chunkCut[c].crossings[p].end());
+                    out.exits[p].insert(out.exits[p].end(), chunkCut[c].exits[p].begin(), chunkCut[c].exits[p].end());
                 }
                 out.segments += chunkCut[c].segments;
             }

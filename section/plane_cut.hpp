@@ -30,27 +30,33 @@ struct CutSegment {
     glm::dvec2 a{0.0}, b{0.0};         // plane u/v, metres
 };
 
+// A closed body's crossing triangle when the cut computes exit points only: its entry and
+// exit edge keys and the exit point. Its entry point is the exit point of the triangle
+// before it on the ring (each crossed edge of a closed, consistently oriented body is one
+// triangle's exit and the other's entry, and edgeCrossing gives both the same bits), so
+// each crossing point is computed once.
+struct ExitSegment {
+    std::uint64_t keyA = 0, keyB = 0;  // welded edge (lo << 32 | hi) entered and left by
+    glm::dvec2 b{0.0};                 // plane u/v, metres
+    std::uint32_t triangle = 0;        // global id: to cut it whole when its part is not a matching
+};
+
 struct PlaneCut {
     SectionFrame frame;
     LocalPlane plane;
     std::vector<std::vector<CutSegment>> parts;  // per SectionIndex part
-    // With `walk`, the bodies that SectionIndex::adjacency can walk get no segments: their
-    // crossing triangles are listed here instead (part-local ids, in cut order), and
-    // contour assembly walks the rings from them (section/contours.hpp).
-    std::vector<std::vector<std::uint32_t>> crossings;  // per SectionIndex part
-    // Per body triangle (global id), written for each crossing triangle of a walked body:
-    // bit k = vertex k on the kept side; bit 3 = passed by a ring (set by the walk). Other
-    // entries keep stale values (1 byte a body triangle, kept between cuts).
-    std::vector<std::uint8_t> state;
-    bool walk = false;
-    std::size_t segments = 0;  // segments and crossing triangles (one segment each)
+    // With `exitsOnly`, closed bodies' crossings go here instead of `parts` (per part).
+    std::vector<std::vector<ExitSegment>> exits;
+    bool exitsOnly = false;
+    std::size_t segments = 0;  // segments and exit segments
 };
 
 // Prepares `out` for a cut of `index` by `plane` (world): frame, local plane, empty parts
-// (vectors keep their capacity between calls). `walk`: list crossing triangles of walkable
-// bodies instead of cutting them (see PlaneCut); only for whole-plane cuts (rect null), as
-// a walk follows its rings out of any rectangle.
-void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out, bool walk = false);
+// (vectors keep their capacity between calls). `exitsOnly`: closed bodies' crossings as
+// ExitSegments (contour assembly chains them, section/contours.hpp); only for cuts whose
+// rings close (no rectangle), as a ring's first entry point is the exit point of its last
+// triangle.
+void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out, bool exitsOnly = false);
 
 // The point where the plane crosses the edge pq (local frame, metres), sp and sq the two
 // ends' signed distances with opposite signs under the rule (one >= 0, the other < 0).

@@ -56,8 +56,7 @@ std::vector<std::uint32_t> weld(const std::vector<glm::dvec3>& pos) {
 }  // namespace
 
 std::size_t SectionIndex::memoryBytes() const {
-    std::size_t b = bvh.memoryBytes() + adjacency.memoryBytes() + meshes.capacity() * sizeof(BvhMesh) +
-                    parts.capacity() * sizeof(SectionPart);
+    std::size_t b = bvh.memoryBytes() + meshes.capacity() * sizeof(BvhMesh) + parts.capacity() * sizeof(SectionPart);
     for (const auto& p : parts) b += p.canon.capacity() * 4;
     return b;
 }
@@ -112,29 +111,16 @@ Result<std::unique_ptr<SectionIndex>> makeIndex(const Model& model, MakeBvh&& ma
 }  // namespace
 
 Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, const BvhOptions& options) {
-    auto built = makeIndex(model, [&](const SectionIndex& index) {
+    return makeIndex(model, [&](const SectionIndex& index) {
         return buildBvh(index.meshes.data(), index.meshes.size(), model.origin, options);
     });
-    if (built) built.value()->adjacency = buildTriangleAdjacency(*built.value(), options.threads);
-    return built;
 }
 
 Result<std::unique_ptr<SectionIndex>> loadSectionIndex(const Model& model, std::span<const std::uint8_t> savedBvh,
-                                                       const std::string& source,
-                                                       std::span<const std::uint8_t> savedAdjacency) {
-    auto loaded = makeIndex(model, [&](const SectionIndex& index) {
+                                                       const std::string& source) {
+    return makeIndex(model, [&](const SectionIndex& index) {
         return loadBvh(savedBvh, index.meshes.data(), index.meshes.size(), model.origin, source);
     });
-    if (!loaded) return loaded;
-    SectionIndex& idx = *loaded.value();
-    if (savedAdjacency.empty()) {
-        idx.adjacency = buildTriangleAdjacency(idx);
-    } else {
-        auto adj = loadTriangleAdjacency(savedAdjacency, idx, source);
-        if (!adj) return adj.error();
-        idx.adjacency = std::move(adj).value();
-    }
-    return loaded;
 }
 
 }  // namespace geoslice

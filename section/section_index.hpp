@@ -16,7 +16,6 @@
 
 #include "model/model.hpp"
 #include "model/result.hpp"
-#include "section/adjacency.hpp"
 #include "section/bvh.hpp"
 
 namespace geoslice {
@@ -44,7 +43,6 @@ struct SectionIndex {
     std::vector<SectionPart> parts;
     std::vector<BvhMesh> meshes;  // one per part, for the BVH
     Bvh bvh;
-    TriangleAdjacency adjacency;  // for the contour walk (section/adjacency.hpp)
     std::size_t bodyCount = 0;
 
     std::size_t memoryBytes() const;
@@ -55,12 +53,9 @@ struct SectionIndex {
 Result<std::unique_ptr<SectionIndex>> buildSectionIndex(const Model& model, const BvhOptions& options = {});
 
 // The same index with the BVH read from saveBvh() bytes made for this model (a baked
-// package's section.bvh) instead of built, and the triangle adjacency from
-// saveTriangleAdjacency() bytes (section.adjacency; built when `savedAdjacency` is empty):
-// the sections are the same, bit for bit.
-// Errors: loadBvh's and loadTriangleAdjacency's (ParseError naming `source`).
+// package's section.bvh) instead of built: the sections are the same, bit for bit.
+// Errors: loadBvh's (ParseError naming `source`).
 Result<std::unique_ptr<SectionIndex>> loadSectionIndex(const Model& model, std::span<const std::uint8_t> savedBvh,
-                                                       const std::string& source,
-                                                       std::span<const std::uint8_t> savedAdjacency = {});
+                                                       const std::string& source);
 
 }  // namespace geoslice
