@@ -277,6 +277,8 @@ std::size_t nextCellGuess(const BlockModel& blocks, const TetLines& tl, const do
 // own "inside" threshold (1e-9, where no other cell can hold the point: model/block_model.hpp)
 // plus the margin are that cell's without asking, as far as they run on from the span's first
 // pixel. `table` caches TetLines by cell (its size a power of two).
+constexpr int kWalkSteps = 3;
+
 void hexRun(const BlockModel& blocks, const std::function<glm::dvec3(int, int)>& worldAt, const glm::dvec3& step,
             double margin, int j, int i0, int i1, std::size_t rowBase, RowPainter& painter, std::size_t& hint,
             std::vector<TetLines>& table) {
@@ -289,11 +291,23 @@ void hexRun(const BlockModel& blocks, const std::function<glm::dvec3(int, int)>&
     int i = i0;
     while (i < i1) {
         const glm::dvec3 w = worldAt(i, j);
-        // The hint's own tetrahedra first: inside one of them by the threshold, the pixel is
-        // the hint's (what cellAt would answer); else cellAt decides.
-        std::size_t cell = hint;
-        if (cell == BlockModel::kNoCell || !tetCoordinates(linesOf(cell), w, lam)) {
-            cell = blocks.cellAt(w, hint);
+        // The guess's own tetrahedra first: inside one of them by the threshold, the pixel is
+        // that cell's (what cellAt would answer); else a step on to the neighbour across the
+        // face the pixel lies beyond (a walk of at most kWalkSteps cells: crossings near a
+        // cell's edge or corner), and where that ends nowhere, cellAt decides.
+        std::size_t cell = BlockModel::kNoCell;
+        for (int steps = 0; steps < kWalkSteps && hint != BlockModel::kNoCell; ++steps) {
+            const TetLines& tl = linesOf(hint);
+            if (tetCoordinates(tl, w, lam)) {
+                cell = hint;
+                break;
+            }
+            const std::size_t next = nextCellGuess(blocks, tl, lam, 0.0);
+            if (next == hint) break;  // inside it, near a face: cellAt's tie rule decides
+            hint = next;
+        }
+        if (cell == BlockModel::kNoCell) {
+            cell = blocks.cellAt(w);
             if (cell != BlockModel::kNoCell) tetCoordinates(linesOf(cell), w, lam);
         }
         hint = cell;
