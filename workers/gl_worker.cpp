@@ -93,6 +93,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
                     BlockTexture::upload(*context, *model.model.blocks, cellClassIndex(*model.model.blocks, pc),
                                          pc.colours, model.blockRecords);
                 if (!uploaded) return uploaded.error();
+                if (blockTextures.size() >= kMaxKeptColourings) blockTextures.erase(blockTextures.begin());
                 tex = blockTextures.emplace(colourKey, std::move(uploaded.value())).first;
             }
             req.blocks = tex->second.get();
@@ -115,6 +116,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
                 auto uploaded = BlockCaps::upload(*context, pieces->positions, pieces->cellClass, ranges, pc.colours,
                                                   model.blockRecords);
                 if (!uploaded) return uploaded.error();
+                if (blockCaps.size() >= kMaxKeptColourings) blockCaps.erase(blockCaps.begin());
                 caps = blockCaps.emplace(capsKey, std::move(uploaded.value())).first;
             }
             req.blockCaps = caps->second.get();

@@ -32,6 +32,10 @@ struct GlWorker {
     // by the colouring and the planes; one plane set per colouring is kept (a view turning
     // about a fixed cut reuses it), dropped with their model's version.
     std::map<std::string, std::unique_ptr<BlockCaps>> blockCaps;
+    // At most this many of each are kept (another is made by dropping one), so that requests
+    // with ever new breaks cannot grow a worker's GPU memory without bound (a 1M-cell grid's
+    // texture is 1 MB; a plane set's pieces of it up to ~10 MB).
+    static constexpr std::size_t kMaxKeptColourings = 8;
     bool lod = false;  // simplified context geometry in 3D views (CPU backends)
     // Anti-aliasing of the colour of its views (the ID and cell buffers are never blended);
     // tests set None to compare colours exactly.

@@ -395,3 +395,31 @@ TEST(BlockCells, SGridCapsAreTheExactPieces) {
     ASSERT_EQ(sg.shape, CellShape::Hexahedron);
     checkAllCuts(sceneWith(std::move(sg)));
 }
+
+// A worker keeps at most kMaxKeptColourings class textures and plane sets of pieces: requests
+// with ever new breaks do not grow its GPU memory, and each view is still coloured.
+TEST(BlockCells, AWorkerKeepsABoundedNumberOfColourings) {
+    for (auto cm : {sceneWith(boxGrid()), sceneWith(sgridGrid())}) {
+        ASSERT_TRUE(cm);
+        auto worker = workers::GlWorker::create(GlBackend::Auto);
+        ASSERT_TRUE(worker.ok()) << worker.error().message;
+        workers::GlWorker& w = *worker.value();
+        const CutCase cut = cutCases()[0];
+        for (int n = 0; n < 12; ++n) {
+            auto plan = api::parseViewPlan({{"plane", planesParam(cut)},
+                                            {"view", "perspective"},
+                                            {"eye", "35500000,3379600,400"},
+                                            {"target", "35500100,3380100,200"},
+                                            {"size", "64x64"},
+                                            {"colour", "grade"},
+                                            {"breaks", std::to_string(5 + n) + ",20"}},
+                                           cm->id, cm->model.crs);
+            ASSERT_TRUE(plan.ok()) << plan.error().message;
+            auto v = w.renderPerspective(*cm, plan.value());
+            ASSERT_TRUE(v.ok()) << v.error().message;
+            EXPECT_GT(std::count_if(v->cells.begin(), v->cells.end(), [](std::uint32_t c) { return c != 0; }), 50);
+        }
+        EXPECT_LE(w.blockTextures.size() + w.blockCaps.size(), workers::GlWorker::kMaxKeptColourings);
+        EXPECT_EQ(w.blockTextures.size() + w.blockCaps.size(), workers::GlWorker::kMaxKeptColourings);
+    }
+}
