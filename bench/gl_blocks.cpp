@@ -4,17 +4,18 @@
 // A synthetic model (L4 = 10M triangles) with a cells^3 block model over its bounds clipped
 // by every body; sgrid: the same lattice with every interior point's elevation moved by up
 // to 0.3 of a cell (no cell is a box), coloured through its cells' exact pieces on the cut
-// (renderer/block_caps.hpp), box: through the class texture (renderer/block_texture.hpp).
+// (renderer/block_caps.hpp); box: the boxes, both through the class texture
+// (renderer/block_texture.hpp, "box-texture") and through their pieces ("box-pieces").
 // Per view (one vertical plane through the middle; a corner cut out by three planes), wall
 // clock ms of the worker's renderPerspective:
 //   uncoloured       median of `frames` frames of the view without colour=
-//   colouredFirst    the first coloured frame: class texture upload (box) or the pieces cut
-//                    and uploaded (sgrid), + the frame
+//   colouredFirst    the first coloured frame: class texture upload or the pieces cut and
+//                    uploaded, + the frame
 //   coloured         median of `frames` more (the texture or pieces kept by the worker),
 //                    alternating with the uncoloured frames
 //   ...CpuMedianMs   the same as CPU time of the whole process (all llvmpipe threads): on a
 //                    shared machine it shows the work without the waiting
-//   cutMs            sgrid: api::blockCapTriangles alone for the view's planes, and its triangles
+//   cutMs            pieces: api::blockCapTriangles alone for the view's planes, and its triangles
 // Prints one JSON document with the load average at start and end (the machine is shared).
 #include <algorithm>
 #include <cmath>
@@ -130,11 +131,14 @@ int main(int argc, char** argv) {
         {"corner cut out (3 planes)", {{"planes", planes}, {"cut", "intersection"}}},
     };
 
-    for (const char* shape : {"box", "sgrid"}) {
-        if (shapes != "both" && shapes != shape) continue;
+    for (const char* shape : {"box-texture", "box-pieces", "sgrid"}) {
+        const bool sgrid = std::string(shape) == "sgrid";
+        if (shapes != "both" && shapes != (sgrid ? "sgrid" : "box")) continue;
+        worker.value()->boxBlocks = std::string(shape) == "box-texture" ? workers::GlWorker::BoxBlocks::Texture
+                                                                        : workers::GlWorker::BoxBlocks::Pieces;
         Model model = base;
         double t = bench::nowSeconds();
-        auto blocks = latticeBlocks(b, cells, std::string(shape) == "sgrid");
+        auto blocks = latticeBlocks(b, cells, sgrid);
         if (!blocks) {
             std::fprintf(stderr, "%s\n", blocks.error().message.c_str());
             return 1;
@@ -188,7 +192,7 @@ int main(int argc, char** argv) {
                       {"colouredCpuMedianMs", bench::median(colouredCpu)},
                       {"cpuRatio", bench::median(colouredCpu) / std::max(1e-9, bench::median(plainCpu))},
                       {"cellPixels", cellPixels}};
-            if (std::string(shape) == "sgrid") {
+            if (std::string(shape) != "box-texture") {
                 auto classes = api::blockClasses(*cm.value(), coloured->section);
                 const api::CutOut cut = api::sectionCut(coloured->section);
                 if (!classes || !classes.value()) return 1;

@@ -261,8 +261,14 @@ Result<std::vector<CellPolygon>> cellPolygons(const BlockModel& blocks, const Se
                 lo = std::min(lo, gm);
                 hi = std::max(hi, gm);
             }
-            const double k0 = std::max(0.0, std::floor(lo / s[m]));
-            const double k1 = std::min(double(blocks.dims[std::size_t(m)]) - 1.0, std::floor(hi / s[m]));
+            // The cells the column's crossing spans, and the neighbour too where it lies within
+            // 1e-7 of a cell of a grid plane: the plane's offset c carries rounding of ~1e-8 m
+            // at Gauss-Kruger eastings, so a plane on a grid plane (a cut through the lattice's
+            // middle) would otherwise find its gm on one side and the corners' signs on the
+            // other and give no polygon at all (the crossing test below decides).
+            constexpr double kFaceSlack = 1e-7;  // cells
+            const double k0 = std::max(0.0, std::floor(lo / s[m] - kFaceSlack));
+            const double k1 = std::min(double(blocks.dims[std::size_t(m)]) - 1.0, std::floor(hi / s[m] + kFaceSlack));
             for (double kk = k0; kk <= k1; ++kk) {
                 std::size_t idx[3];
                 idx[a] = ia;

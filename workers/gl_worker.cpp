@@ -86,7 +86,10 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
             colourKey += buf;
         }
         const PropertyClasses& pc = *classes.value();
-        if (model.model.blocks->shape == CellShape::Box) {
+        const bool texture =
+            model.model.blocks->shape == CellShape::Box &&
+            (boxBlocks == BoxBlocks::Texture || (boxBlocks == BoxBlocks::Auto && !context->info().software));
+        if (texture) {
             auto tex = blockTextures.find(colourKey);
             if (tex == blockTextures.end()) {
                 auto uploaded =

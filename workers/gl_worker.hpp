@@ -37,6 +37,14 @@ struct GlWorker {
     // texture is 1 MB; a plane set's pieces of it up to ~10 MB).
     static constexpr std::size_t kMaxKeptColourings = 8;
     bool lod = false;  // simplified context geometry in 3D views (CPU backends)
+    // How box-cell block models colour caps: Texture, a class texture looked up per fragment
+    // (renderer/block_texture.hpp; no CPU work for a new plane), or Pieces, the cells' exact
+    // pieces per plane as for curvilinear grids (renderer/block_caps.hpp; a CPU cut per new
+    // plane set, then about the cost of the plain frame). Auto: Pieces on a software
+    // rasteriser (llvmpipe, L4 1024x1024, CPU time: texture 1.25-1.43x the plain frame,
+    // pieces 1.02x), Texture on a GPU. Curvilinear grids always use Pieces.
+    enum class BoxBlocks { Auto, Texture, Pieces };
+    BoxBlocks boxBlocks = BoxBlocks::Auto;
     // Anti-aliasing of the colour of its views (the ID and cell buffers are never blended);
     // tests set None to compare colours exactly.
     AntiAlias antiAlias = AntiAlias::Auto;

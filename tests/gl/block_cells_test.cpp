@@ -1,6 +1,7 @@
 // The GL cell buffer of perspective views coloured by a block model (issue 15 item 2: the ID
 // buffer and the pixel query agree at every pixel for block properties as for records), for
-// box grids (renderer/block_texture.hpp) and curvilinear SGrid grids (renderer/block_caps.hpp).
+// box grids (the class texture, renderer/block_texture.hpp, and the cells' pieces) and
+// curvilinear SGrid grids (the cells' pieces, renderer/block_caps.hpp).
 //
 // Scene: a box orebody (record 2) nested in a box host (record 1) at a Gauss-Kruger easting,
 // a 20 x 20 x 20 block grid of 10 m cells over the host clipped by the orebody (grade =
@@ -337,11 +338,13 @@ glm::dvec3 eyeFor(const CutCase& cut) {
     return 0.5 * (kOreLo + kOreHi) + 420.0 * glm::normalize(away) + glm::dvec3(0.0, 0.0, 30.0);
 }
 
-void checkAllCuts(const std::shared_ptr<const api::CatalogModel>& cm) {
+void checkAllCuts(const std::shared_ptr<const api::CatalogModel>& cm,
+                  workers::GlWorker::BoxBlocks boxBlocks = workers::GlWorker::BoxBlocks::Auto) {
     ASSERT_TRUE(cm);
     auto worker = workers::GlWorker::create(GlBackend::Auto);
     ASSERT_TRUE(worker.ok()) << worker.error().message;
     worker.value()->antiAlias = AntiAlias::None;
+    worker.value()->boxBlocks = boxBlocks;
     int noValue = 0, bent = 0;
     // With MSAA the cell buffer is resolved like the ids (one sample's value per pixel): the
     // same cells as without, but where a pixel's samples see two cells or bodies (edges).
@@ -387,7 +390,11 @@ void checkAllCuts(const std::shared_ptr<const api::CatalogModel>& cm) {
 
 }  // namespace
 
-TEST(BlockCells, BoxGridCellBufferIsTheQuerysCell) { checkAllCuts(sceneWith(boxGrid())); }
+// A box grid both ways: the class texture and the cells' pieces (renderer/block_caps.hpp).
+TEST(BlockCells, BoxGridCellBufferIsTheQuerysCell) {
+    checkAllCuts(sceneWith(boxGrid()), workers::GlWorker::BoxBlocks::Texture);
+    checkAllCuts(sceneWith(boxGrid()), workers::GlWorker::BoxBlocks::Pieces);
+}
 
 // The same views of a curvilinear grid: the caps are its cells' exact pieces.
 TEST(BlockCells, SGridCapsAreTheExactPieces) {

@@ -192,6 +192,30 @@ TEST(BlockModel, CellPolygonsOfAHorizontalAndAnObliquePlane) {
     EXPECT_NEAR(sum, ringArea(whole->front().ring), kSameQuantityRelTol * sum);  // rounding only
 }
 
+// A plane lying on a grid plane (a cut through the lattice's middle) at a Gauss-Kruger
+// easting, either normal: its polygons tile the grid's 30 x 30 m section, as off the grid
+// planes. (The plane's offset carries ~1e-8 m of rounding there: the column walk once found
+// the crossing in one cell and the corners' signs in the other, and gave no polygon.)
+TEST(BlockModel, CellPolygonsOfAPlaneOnAGridPlane) {
+    const glm::dvec3 o(35500000.0, 3380000.0, 100.0);
+    auto b = blockModelFromCsv(gridCsv(o, 10.0, 3, 3, 3, [](glm::dvec3) { return 1.0; }), "g.csv");
+    ASSERT_TRUE(b.ok());
+    for (int axis = 0; axis < 3; ++axis)
+        for (double sign : {1.0, -1.0})
+            for (double at : {10.0, 20.0}) {
+                glm::dvec3 n(0.0);
+                n[axis] = sign;
+                auto p = makePlane(n.x, n.y, n.z, -sign * (o[axis] + at));
+                ASSERT_TRUE(p.ok());
+                auto cells = cellPolygons(b.value(), makeSectionFrame(p.value(), o));
+                ASSERT_TRUE(cells.ok());
+                double sum = 0.0;
+                for (const CellPolygon& c : cells.value()) sum += ringArea(c.ring);
+                // 900 m² of 10 m squares; 1e-6 m² = the offset's rounding x the 30 m side x a few
+                EXPECT_NEAR(sum, 900.0, 1e-6) << "axis " << axis << " sign " << sign << " at " << at;
+            }
+}
+
 TEST(BlockModel, ExactCellVolumesOfBoxesAndASphere) {
     // A 10 x 8 x 6 grid of 10 m cells from (-20, -10, -5).
     auto b = blockModelFromCsv(gridCsv({-20, -10, -5}, 10.0, 10, 8, 6, [](glm::dvec3) { return 1.0; }), "g.csv");
