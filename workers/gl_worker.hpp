@@ -41,8 +41,8 @@ struct GlWorker {
     // (renderer/block_texture.hpp; no CPU work for a new plane), or Pieces, the cells' exact
     // pieces per plane as for curvilinear grids (renderer/block_caps.hpp; a CPU cut per new
     // plane set, then about the cost of the plain frame). Auto: Pieces on a software
-    // rasteriser (llvmpipe, L4 1024x1024, CPU time: texture 1.25-1.43x the plain frame,
-    // pieces 1.02x), Texture on a GPU. Curvilinear grids always use Pieces.
+    // rasteriser (llvmpipe, L4 1024x1024, CPU time: texture 1.24-1.43x the plain frame,
+    // pieces 0.99-1.03x), Texture on a GPU. Curvilinear grids always use Pieces.
     enum class BoxBlocks { Auto, Texture, Pieces };
     BoxBlocks boxBlocks = BoxBlocks::Auto;
     // Anti-aliasing of the colour of its views (the ID and cell buffers are never blended);
