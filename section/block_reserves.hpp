@@ -69,7 +69,9 @@
 // one ray per face-connected group of them. Coordinates are relative to the body's centre
 // (rounding of large eastings). Cost: the triangles near each tetrahedron near the surface
 // (a BVH over the body's triangles, section/bvh.hpp), a ray to the body's bounds for each
-// such tetrahedron, and the cells in the body's bounds. clippedCellBodyVolumes, the whole body clipped to
+// lattice point v2 farther than the margin from every triangle's bounds (its winding number
+// is then the body's in any plane: cached) and for each tetrahedron whose v2 is not, and
+// the cells in the body's bounds. clippedCellBodyVolumes, the whole body clipped to
 // each tetrahedron (keptSideShell once per face: clipToConvex), is the tests' oracle.
 //
 // Grade-tonnage: per body, for each cut-off c, the cells whose grade >= c (cells with no

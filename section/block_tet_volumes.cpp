@@ -9,6 +9,7 @@
 #include <deque>
 #include <limits>
 #include <memory>
+#include <unordered_map>
 
 #include "model/cell_locator.hpp"
 #include "section/bvh.hpp"
@@ -29,14 +30,21 @@ struct Tetra {
     glm::dvec3 v[4];
     glm::dvec3 n[4];
     double d[4] = {0, 0, 0, 0};
-    double volume = 0.0;  // m³
-    glm::dvec3 u{0.0};    // unit, v2 -> v3
-    double length = 0.0;  // |v3 - v2|
-    Aabb box;             // bounds, widened by the margin
+    double volume = 0.0;                  // m³
+    glm::dvec3 u{0.0};                    // unit, v2 -> v3
+    double length = 0.0;                  // |v3 - v2|
+    Aabb box;                             // bounds, widened by the margin
+    std::size_t point[4] = {0, 0, 0, 0};  // the corners' lattice indices
 
-    Tetra(const std::array<glm::dvec3, 4>& corners, double margin) {
-        for (int m = 0; m < 4; ++m) v[m] = corners[std::size_t(m)];
-        if (orient(v[0], v[1], v[2], v[3]) < 0.0) std::swap(v[2], v[3]);
+    Tetra(const std::array<glm::dvec3, 4>& corners, const std::array<std::size_t, 4>& points, double margin) {
+        for (int m = 0; m < 4; ++m) {
+            v[m] = corners[std::size_t(m)];
+            point[m] = points[std::size_t(m)];
+        }
+        if (orient(v[0], v[1], v[2], v[3]) < 0.0) {
+            std::swap(v[2], v[3]);
+            std::swap(point[2], point[3]);
+        }
         volume = orient(v[0], v[1], v[2], v[3]) / 6.0;
         for (int m = 0; m < 4; ++m) {
             const glm::dvec3 &a = v[(m + 1) % 4], &b = v[(m + 2) % 4], &c = v[(m + 3) % 4];
@@ -127,6 +135,12 @@ struct Segment {
     }
 };
 
+// A body triangle near a cell: its vertices (local frame) and bounds.
+struct NearTriangle {
+    Poly tri;
+    Aabb box;
+};
+
 class TetVolumes {
 public:
     TetVolumes(const Mesh& body, const glm::dvec3& origin, double margin)
@@ -142,28 +156,43 @@ public:
         for (std::size_t t = 0; t < triBounds_.size(); ++t)
             for (int k = 0; k < 3; ++k) triBounds_[t].extend(local_[body.indices[3 * t + std::size_t(k)]]);
         const BvhMesh mesh{body.positions.data(), body.positions.size(), body.indices.data(), body.triangleCount()};
-        auto bvh = buildBvh(&mesh, 1, origin);
+        // One thread: the caller may run several bodies at once, and the tree is the same.
+        auto bvh = buildBvh(&mesh, 1, origin, BvhOptions{8, 1});
         // A closed body has fewer than 2^32 - 2 triangles (its indices are 32-bit).
         if (bvh) bvh_ = std::move(bvh.value());
     }
 
     const glm::dvec3& origin() const { return origin_; }
 
-    // The triangles whose bounds meet `box` (local, already widened).
-    void near(const Aabb& box, std::vector<std::uint32_t>& out) const {
+    // The triangles whose bounds meet `box` (local, already widened), copied out (a cell's six
+    // tetrahedra read them in turn).
+    void near(const Aabb& box, std::vector<NearTriangle>& out) const {
         out.clear();
-        visit([&](const Aabb& b) { return b.meets(box); }, [&](std::uint32_t t) { out.push_back(t); });
+        visit([&](const Aabb& b) { return b.meets(box); },
+              [&](std::uint32_t t) {
+                  if (!triBounds_[t].meets(box)) return;
+                  NearTriangle n;
+                  n.tri.n = 3;
+                  for (int k = 0; k < 3; ++k)
+                      n.tri.v[std::size_t(k)] = {local_[body_.indices[3 * std::size_t(t) + std::size_t(k)]], false};
+                  n.box = triBounds_[t];
+                  out.push_back(n);
+              });
     }
 
     // vol(T ∩ body) from `candidates`, a superset of the triangles meeting T's box.
-    double volume(const Tetra& t, const std::vector<std::uint32_t>& candidates) {
+    double volume(const Tetra& t, const std::vector<NearTriangle>& candidates) {
         double sum6 = 0.0;      // 6 x the 3D and 2D sums
         double lengthIn = 0.0;  // the 1D sum without the inside state at v2
-        Poly tri, a, b;
+        Poly a, b;
         glm::dvec3 x, e, c;
-        for (std::uint32_t id : candidates) {
-            if (!triBounds_[id].meets(t.box)) continue;
-            loadTriangle(id, tri);
+        bool clear = true;  // no triangle's bounds come within the margin of v2
+        const glm::dvec3 lo = t.v[2] - glm::dvec3(margin_), hi = t.v[2] + glm::dvec3(margin_);
+        for (const NearTriangle& n : candidates) {
+            clear = clear &&
+                    !(glm::all(glm::lessThanEqual(n.box.min, hi)) && glm::all(glm::greaterThanEqual(n.box.max, lo)));
+            if (!n.box.meets(t.box)) continue;
+            const Poly& tri = n.tri;
             if (missed(t, tri)) continue;
             const bool cut = sectionEdge(tri, t, a, x, e);
             if (a.n == 0) continue;
@@ -181,7 +210,19 @@ public:
                 if (p.on0 && q.on0) sum6 += orient(t.v[1], p.p, q.p, t.v[0]);
             }
         }
-        return sum6 / 6.0 + t.volume * (double(insideAtV2(t)) * t.length + lengthIn) / t.length;
+        // Off the surface by more than the margin, v2's winding number is the body's, whatever
+        // plane the ray's crossings are taken in: one ray per such lattice point. On it (within
+        // rounding), only this tetrahedron's own ray agrees with its other decisions.
+        int inside = 0;
+        if (!clear) {
+            inside = insideAtV2(t);
+        } else if (const auto it = insideAt_.find(t.point[2]); it != insideAt_.end()) {
+            inside = it->second;
+        } else {
+            inside = insideAtV2(t);
+            insideAt_.emplace(t.point[2], inside);
+        }
+        return sum6 / 6.0 + t.volume * (double(inside) * t.length + lengthIn) / t.length;
     }
 
     // The winding number of the body's section by face 0's plane at v2 (1 inside, 0 outside):
@@ -274,6 +315,7 @@ private:
     std::vector<Aabb> triBounds_;
     Bvh bvh_;
     std::vector<std::uint32_t> rayHits_;
+    std::unordered_map<std::size_t, int> insideAt_;  // lattice point -> winding number
 };
 
 }  // namespace
@@ -309,11 +351,15 @@ std::vector<CellVolume> tetCellBodyVolumes(const BlockModel& blocks, const Mesh&
     };
     enum : std::uint8_t { kAway = 0, kMissed = 1, kDone = 2 };
     std::vector<std::uint8_t> state(ni * nj * nk, kAway);
-    std::vector<std::uint32_t> near;
-    auto tetraOf = [&](const std::array<glm::dvec3, 8>& k, const std::array<int, 4>& tet) {
+    std::vector<NearTriangle> near;
+    auto tetraOf = [&](std::size_t cell, const std::array<glm::dvec3, 8>& k, const std::array<int, 4>& tet) {
         std::array<glm::dvec3, 4> v;
-        for (int m = 0; m < 4; ++m) v[std::size_t(m)] = k[std::size_t(tet[std::size_t(m)])] - tv.origin();
-        return Tetra(v, margin);
+        std::array<std::size_t, 4> points;
+        for (int m = 0; m < 4; ++m) {
+            v[std::size_t(m)] = k[std::size_t(tet[std::size_t(m)])] - tv.origin();
+            points[std::size_t(m)] = blocks.cornerIndex(cell, tet[std::size_t(m)]);
+        }
+        return Tetra(v, points, margin);
     };
     for (std::size_t cell : cells) {
         const auto k = blocks.cellCorners(cell);
@@ -328,7 +374,7 @@ std::vector<CellVolume> tetCellBodyVolumes(const BlockModel& blocks, const Mesh&
         }
         state[local(blocks.ijk(cell))] = kDone;
         double v = 0.0;
-        for (const auto& tet : kCellTets) v += tv.volume(tetraOf(k, tet), near);
+        for (const auto& tet : kCellTets) v += tv.volume(tetraOf(cell, k, tet), near);
         out.push_back({cell, v});
     }
     // Cells the surface misses are wholly inside or outside, as are their face neighbours
@@ -336,7 +382,7 @@ std::vector<CellVolume> tetCellBodyVolumes(const BlockModel& blocks, const Mesh&
     std::deque<std::array<std::size_t, 3>> queue;
     for (std::size_t cell : cells) {
         if (state[local(blocks.ijk(cell))] != kMissed) continue;
-        const int inside = tv.insideAtV2(tetraOf(blocks.cellCorners(cell), kCellTets[0]));
+        const int inside = tv.insideAtV2(tetraOf(cell, blocks.cellCorners(cell), kCellTets[0]));
         queue.push_back(blocks.ijk(cell));
         state[local(blocks.ijk(cell))] = kDone;
         while (!queue.empty()) {
