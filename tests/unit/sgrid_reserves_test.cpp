@@ -3,7 +3,7 @@
 // independent oracles:
 //  - the whole body clipped to every tetrahedron (clippedCellBodyVolumes: clipToConvex +
 //    meshVolume), per cell, on random bent lattices with random bodies (convex, rotated,
-//    hollow), whole and on the kept side of a plane;
+//    hollow; one lattice left-handed), whole and on the kept side of a plane;
 //  - the body's own volume (meshVolume) for the sum over cells when the body is inside the
 //    grid;
 //  - analytic volumes where every tie of the tie rule comes up: a box whose faces lie on
@@ -107,7 +107,9 @@ TEST(SGridReserves, TheLocalSumMatchesTheWholeBodyClipOnRandomLatticesAndBodies)
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (int round = 0; round < 4; ++round) {
         // 9 x 8 x 7 cells of about 8 x 7 x 5 m at ~1000 m, every point moved by up to 0.2 of a
-        // cell along each axis (bent cells; the boundary moves too).
+        // cell along each axis (bent cells; the boundary moves too); the last round's lattice is
+        // mirrored (i runs towards -x: a left-handed grid, its tetrahedra negatively oriented).
+        const double mirror = round == 3 ? -1.0 : 1.0;
         const glm::dvec3 origin{1000.0 + 100 * u(rng), 2000.0 + 100 * u(rng), 100.0 * u(rng)};
         std::vector<glm::dvec3> jitter(10 * 9 * 8);
         for (glm::dvec3& j : jitter) j = {u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5};
@@ -115,12 +117,12 @@ TEST(SGridReserves, TheLocalSumMatchesTheWholeBodyClipOnRandomLatticesAndBodies)
             9, 8, 7,
             [&](int i, int j, int k) {
                 const glm::dvec3 d = jitter[std::size_t(i + 10 * (j + 9 * k))] * 0.4;
-                return origin + glm::dvec3((i + d.x) * 8.0, (j + d.y) * 7.0, (k + d.z) * 5.0);
+                return origin + glm::dvec3(mirror * (i + d.x) * 8.0, (j + d.y) * 7.0, (k + d.z) * 5.0);
             },
             [](int i, int j, int k) { return i + j + k; });
         auto b = blockModelFromGrid(g);
         ASSERT_TRUE(b.ok()) << b.error().message;
-        const glm::dvec3 mid = origin + glm::dvec3(36, 28, 17.5);
+        const glm::dvec3 mid = origin + glm::dvec3(mirror * 36, 28, 17.5);
         // A sphere inside the grid, a rotated box half out of it, a hollow sphere (a box taken
         // out), a coarse sphere larger than the grid.
         Mesh hollow = sphereMesh(mid + glm::dvec3(3 * u(rng), -2 * u(rng), u(rng)), 14.0, 24, 12);
