@@ -96,12 +96,17 @@ void colourByBlocks(const CatalogModel& model, const PropertyClasses& classes, c
     const std::size_t pixels = std::size_t(image.width) * std::size_t(image.height);
     image.cells.assign(pixels, 0);
     if (!model.model.blocks || image.ids.size() != pixels) return;
-    // Plane and elevation views: pixel centres along a row are on a line (the walk of block_raster.cpp).
-    const glm::dvec3 step = mapping.planar.worldPerPixelX();
+    // Where pixel centres along a row lie on a line (the walk of section/block_raster.cpp): a
+    // plane's whole row, a polyline's columns on each leg.
+    const std::vector<RowLine> lines = mapping.geometry == Geometry::Line
+                                           ? polylineRowLines(
+                                                 mapping.line, [&](int i) { return mapping.sectionAt(i, 0).x; },
+                                                 mapping.width, (mapping.rect.u1 - mapping.rect.u0) / mapping.width)
+                                           : std::vector<RowLine>{{0, image.width, mapping.planar.worldPerPixelX()}};
     colourPixelsByBlocks(
         *model.model.blocks, classes, model.blockRecords, [&](int i, int j) { return mapping.worldAt(i, j); },
         image.width, image.height, image.ids.data(), image.rgba.size() == 4 * pixels ? image.rgba.data() : nullptr,
-        image.cells.data(), mapping.geometry == Geometry::Line ? nullptr : &step);
+        image.cells.data(), lines);
 }
 
 glm::dvec2 PixelMapping::sectionAt(int i, int j) const {

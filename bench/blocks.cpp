@@ -1,5 +1,5 @@
 // bench_blocks [--size L4] [--cells 100] [--image 1024] [--planes 8] [--cutoffs 10] [--shape box|sgrid]
-// [--all-bodies 1] [--repeats 1]:
+// [--all-bodies 1] [--repeats 1] [--line 0]:
 // block models on sections (issue 15). A synthetic model (L4 = 10M triangles) with a
 // cells^3 block model over its bounds (grade varying smoothly), clipped by every body;
 // --shape sgrid makes it a curvilinear grid (an SGrid, model/block_model.hpp Hexahedron:
@@ -8,7 +8,8 @@
 //  - section: the exact profile image (api::renderProfile) of `planes` vertical planes
 //    through the model, uncoloured and coloured by grade (colour=grade&breaks=...), median
 //    ms of each and their ratio (goal: coloured <= 2x uncoloured); each plane `repeats` times
-//    (uncoloured and coloured alternately), the medians over all of them;
+//    (uncoloured and coloured alternately), the medians over all of them; --line 1: polyline
+//    sections of three legs along those planes' traces instead;
 //  - grade-tonnage: computeGradeTonnage over the orebody (the model's record of kind
 //    "orebody") for `cutoffs` cut-offs, median ms of 3 (goal <= 200 ms; and the CPU ms of the
 //    thread that runs it, less sensitive to other processes on the cores), and the same for
@@ -52,7 +53,7 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
     std::string size = "L4";
-    int cells = 100, side = 1024, planes = 8, cutoffCount = 10, allBodies = 1, repeats = 1;
+    int cells = 100, side = 1024, planes = 8, cutoffCount = 10, allBodies = 1, repeats = 1, line = 0;
     std::string shape = "box";
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--size"))
@@ -69,6 +70,8 @@ int main(int argc, char** argv) {
             shape = argv[i + 1];
         else if (!std::strcmp(argv[i], "--all-bodies"))
             allBodies = std::stoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--line"))
+            line = std::stoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--repeats"))
             repeats = std::max(1, std::stoi(argv[i + 1]));
     }
@@ -175,10 +178,23 @@ int main(int argc, char** argv) {
         const glm::dvec3 n{std::cos(angle), std::sin(angle), 0.0};
         char plane[160];
         std::snprintf(plane, sizeof plane, "%.17g,%.17g,0,%.17g", n.x, n.y, -glm::dot(n, c));
-        auto base = api::parseViewPlan({{"plane", plane}, {"size", sizeText}}, "bench", model.crs);
-        auto col =
-            api::parseViewPlan({{"plane", plane}, {"size", sizeText}, {"colour", "grade"}, {"breaks", "1,1.5,2,2.5,3"}},
-                               "bench", model.crs);
+        // --line 1: a polyline section instead, three legs across the same plane's trace (bent
+        // by a fifth of the model's width either way).
+        std::string key = "plane", value = plane;
+        if (line) {
+            const glm::dvec3 along{-n.y, n.x, 0.0}, w = b.max - b.min;
+            const double half = 0.45 * std::max(w.x, w.y), bend = 0.2 * std::max(w.x, w.y);
+            char buf[320];
+            const glm::dvec3 p0 = c - half * along, p1 = c - 0.3 * half * along + bend * n,
+                             p2 = c + 0.3 * half * along - bend * n, p3 = c + half * along;
+            std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", p0.x, p0.y, p1.x, p1.y,
+                          p2.x, p2.y, p3.x, p3.y);
+            key = "line";
+            value = buf;
+        }
+        auto base = api::parseViewPlan({{key, value}, {"size", sizeText}}, "bench", model.crs);
+        auto col = api::parseViewPlan(
+            {{key, value}, {"size", sizeText}, {"colour", "grade"}, {"breaks", "1,1.5,2,2.5,3"}}, "bench", model.crs);
         if (!base || !col) return 1;
         for (int r = 0; r < repeats; ++r) {
             t = bench::nowSeconds();
@@ -200,6 +216,7 @@ int main(int argc, char** argv) {
         }
     }
     out["section"] = {{"image", sizeText},
+                      {"geometry", line ? "polyline, 3 legs" : "plane"},
                       {"planes", planes},
                       {"repeats", repeats},
                       {"uncolouredMedianMs", median(plain)},

@@ -366,10 +366,14 @@ void addSection(CLI::App& app, int& exitCode) {
                     return section->frame.toWorld({rect.u0 + (i + 0.5) * pu, rect.v1 - (j + 0.5) * pv});
                 };
             }
-            // A plane's rows are lines in the world (the walk of section/block_raster.cpp).
-            const glm::dvec3 step = polyline ? glm::dvec3(0.0) : section->frame.u * pu;
+            // Where rows are lines in the world (the walk of section/block_raster.cpp): a plane's
+            // whole row, a polyline's columns on each leg.
+            const std::vector<RowLine> rowLines =
+                polyline ? polylineRowLines(
+                               *line, [&](int i) { return rect.u0 + (i + 0.5) * pu; }, width, pu)
+                         : std::vector<RowLine>{{0, width, section->frame.u * pu}};
             colourPixelsByBlocks(*model->blocks, *classes, blockClipRecords(model.value(), *model->blocks), worldAt,
-                                 width, height, ids.data(), rgba.data(), nullptr, polyline ? nullptr : &step);
+                                 width, height, ids.data(), rgba.data(), nullptr, rowLines);
             if (!o->svg.empty() || !o->geojson.empty()) {
                 auto p = polyline ? blockPieces(*model->blocks, *lineSection, idx.origin, &rect)
                                   : blockPieces(*model->blocks, *section, &rect);

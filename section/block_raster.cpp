@@ -5,8 +5,8 @@
 // query calls. Asking it at every pixel costs a world point, a grid transform and three
 // divisions per pixel (box cells), or six barycentric tests and at times a BVH descent
 // (hexahedral cells), which was most of a coloured image's extra time (bench_blocks). When
-// the caller says that a row's pixel centres lie on a line (worldStepX: profile views of a
-// plane), the cells along a row are walked on that line instead:
+// the caller says where a row's pixel centres lie on a line (RowLine: a plane's whole row, a
+// polyline's columns on one leg), the cells along it are walked on that line instead:
 //  - box cells: the grid coordinates are affine in i, so the pixels whose cell cannot differ
 //    from a span's first pixel's are known in closed form and filled as one span;
 //  - hexahedral cells: the barycentric coordinates in each of a cell's six tetrahedra are
@@ -173,10 +173,11 @@ void boxRun(const BlockModel& blocks, const std::function<glm::dvec3(int, int)>&
 // A hexahedral cell's six tetrahedra as seen along the rows of one image: for each, its first
 // corner, the gradients of its barycentric coordinates (world metres^-1), their change per
 // pixel step and the threshold each must exceed (cellAt's "inside" 1e-9 plus the margin in
-// that coordinate's units). Kept in a small per-thread table by cell, as the rows below
-// cross the same cells.
+// that coordinate's units). Kept in a small per-thread table by cell and step, as the rows
+// below cross the same cells.
 struct TetLines {
     std::size_t cell = BlockModel::kNoCell;
+    glm::dvec3 step{0.0};  // the line's step they were made for (a polyline has one a leg)
     bool flat[6];
     glm::dvec3 a[6];
     glm::dvec3 g[6][3];  // coordinates 1..3; coordinate 0 = 1 - their sum
@@ -186,6 +187,7 @@ struct TetLines {
 void makeTetLines(const BlockModel& blocks, std::size_t cell, const glm::dvec3& step, double margin, TetLines& out) {
     constexpr double kInside = 1e-9;  // BlockModel::cellAt's threshold for keeping a hint
     out.cell = cell;
+    out.step = step;
     const auto k = blocks.cellCorners(cell);
     for (std::size_t t = 0; t < 6; ++t) {
         const auto& tet = kCellTets[t];
@@ -284,7 +286,7 @@ void hexRun(const BlockModel& blocks, const std::function<glm::dvec3(int, int)>&
             std::vector<TetLines>& table) {
     auto linesOf = [&](std::size_t cell) -> TetLines& {
         TetLines& tl = table[cell & (table.size() - 1)];
-        if (tl.cell != cell) makeTetLines(blocks, cell, step, margin, tl);
+        if (tl.cell != cell || tl.step != step) makeTetLines(blocks, cell, step, margin, tl);
         return tl;
     };
     double lam[6][4];
@@ -367,30 +369,57 @@ void hexRun(const BlockModel& blocks, const std::function<glm::dvec3(int, int)>&
 
 }  // namespace
 
+std::vector<RowLine> polylineRowLines(const SectionLine& line, const std::function<double(int)>& chainageAt, int width,
+                                      double pixelChainage) {
+    std::vector<RowLine> out;
+    if (line.points.size() < 2) return out;
+    for (int i = 0; i < width; ++i) {
+        const std::size_t k = line.legAt(chainageAt(i));
+        const glm::dvec2 d =
+            (line.points[k + 1] - line.points[k]) / (line.chainage[k + 1] - line.chainage[k]) * pixelChainage;
+        const glm::dvec3 step{d.x, d.y, 0.0};
+        if (!out.empty() && out.back().end == i && out.back().step == step)
+            ++out.back().end;
+        else
+            out.push_back({i, i + 1, step});
+    }
+    return out;
+}
+
 void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& classes,
                           const std::vector<RecordId>& clipRecords, const std::function<glm::dvec3(int, int)>& worldAt,
                           int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells,
-                          const glm::dvec3* worldStepX) {
+                          const std::vector<RowLine>& rowLines) {
     const std::size_t W = std::size_t(width);
-    const bool walk = worldStepX && std::isfinite(maxAbs(*worldStepX));
+    // The usable lines, clamped to the image and in column order.
+    std::vector<RowLine> lines;
+    for (RowLine l : rowLines) {
+        l.begin = std::max(l.begin, 0);
+        l.end = std::min(l.end, width);
+        if (l.begin < l.end && std::isfinite(maxAbs(l.step))) lines.push_back(l);
+    }
+    std::sort(lines.begin(), lines.end(), [](const RowLine& a, const RowLine& b) { return a.begin < b.begin; });
+    const bool hex = blocks.shape == CellShape::Hexahedron;
     // Rows in bands of kBandRows taken from a common counter by this thread and its partner
     // (section/partner_thread.hpp), which may never start: then this thread takes them all.
     constexpr int kBandRows = 16;
     std::atomic<int> nextBand{0};
     // Hexahedral cells: one margin for the image, from the largest coordinate of its corners'
-    // pixel centres and of the grid (the pixel centres are affine in i and j).
+    // pixel centres and of the grid (the pixel centres are affine in i and j on each line).
     double hexMargin = 0.0;
-    if (walk && blocks.shape == CellShape::Hexahedron) {
+    if (!lines.empty() && hex) {
         const Aabb box = blocks.bounds();
         double M = std::max(maxAbs(box.min), maxAbs(box.max));
-        for (int c = 0; c < 4; ++c) M = std::max(M, maxAbs(worldAt(c & 1 ? width - 1 : 0, c & 2 ? height - 1 : 0)));
+        for (const RowLine& l : lines)
+            for (int c = 0; c < 4; ++c)
+                M = std::max(M, maxAbs(worldAt(c & 1 ? l.end - 1 : l.begin, c & 2 ? height - 1 : 0)));
         hexMargin = M * kMarginRel;
     }
     auto work = [&] {
         RowPainter painter(blocks, classes, rgba, cells);
         // TetLines of the cells met lately (hexahedral walk), per thread, emptied for each image.
         thread_local std::vector<TetLines> table;
-        if (walk && blocks.shape == CellShape::Hexahedron) {
+        if (!lines.empty() && hex) {
             table.resize(512);
             for (TetLines& t : table) t.cell = BlockModel::kNoCell;
         }
@@ -403,6 +432,29 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
                 lastClips = r != kNoRecord && std::binary_search(clipRecords.begin(), clipRecords.end(), r);
             }
             return lastClips;
+        };
+        // Pixels [a, b) of row j, all of clipping bodies: walked where a line covers them.
+        auto colourRun = [&](int j, std::size_t rowBase, int a, int b) {
+            std::size_t l = 0;
+            while (a < b) {
+                while (l < lines.size() && lines[l].end <= a) ++l;
+                const int lineBegin = l < lines.size() ? lines[l].begin : b;
+                if (a < lineBegin) {  // no line: the rule at every pixel
+                    const int e = std::min(b, lineBegin);
+                    for (int x = a; x < e; ++x) {
+                        const std::size_t p = rowBase + std::size_t(x);
+                        painter.paint(p, p + 1, blocks.cellAt(worldAt(x, j), hint));
+                    }
+                    a = e;
+                    continue;
+                }
+                const int e = std::min(b, lines[l].end);
+                if (hex)
+                    hexRun(blocks, worldAt, lines[l].step, hexMargin, j, a, e, rowBase, painter, hint, table);
+                else
+                    boxRun(blocks, worldAt, lines[l].step, j, a, e, rowBase, painter);
+                a = e;
+            }
         };
         for (int band = nextBand++; band * kBandRows < height; band = nextBand++)
             for (int j = band * kBandRows; j < std::min(height, (band + 1) * kBandRows); ++j) {
@@ -420,18 +472,7 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
                     }
                     // A run of pixels of clipping bodies (one or more).
                     while (i < width && row[i] != r && clips(row[i])) i = endOfRun(row, i, width, row[i]);
-                    if (walk && blocks.shape == CellShape::Box) {
-                        boxRun(blocks, worldAt, *worldStepX, j, start, i, rowBase, painter);
-                        continue;
-                    }
-                    if (walk) {
-                        hexRun(blocks, worldAt, *worldStepX, hexMargin, j, start, i, rowBase, painter, hint, table);
-                        continue;
-                    }
-                    for (int x = start; x < i; ++x) {
-                        const std::size_t p = rowBase + std::size_t(x);
-                        painter.paint(p, p + 1, blocks.cellAt(worldAt(x, j), hint));
-                    }
+                    colourRun(j, rowBase, start, i);
                 }
             }
     };

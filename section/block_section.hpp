@@ -87,19 +87,31 @@ std::vector<std::uint8_t> cellClassIndex(const BlockModel& blocks, const Propert
 // Sorted records of the bodies that clip `blocks` (BlockModel::clipBodyIndex) in `model`.
 std::vector<RecordId> blockClipRecords(const Model& model, const BlockModel& blocks);
 
+// A stretch of every row's pixels, columns [begin, end), along which worldAt(i, j) is affine
+// in i, up to rounding, with `step` world metres per pixel: a plane's whole row
+// (PixelFrame::worldPerPixelX), or a polyline section's columns on one leg.
+struct RowLine {
+    int begin = 0, end = 0;
+    glm::dvec3 step{0.0};
+};
+// The RowLines of a polyline section's image: columns grouped by the leg SectionLine::legAt
+// gives their chainage s(i) = chainageAt(i) (the same s as its worldAt's), the leg's map
+// direction times `pixelChainage` (metres of s per pixel) as the step.
+std::vector<RowLine> polylineRowLines(const SectionLine& line, const std::function<double(int)>& chainageAt, int width,
+                                      double pixelChainage);
+
 // The raster rule (see above): for each pixel whose ids[] record is in `clipRecords`, the
 // cell holding worldAt(i, j) (the pixel centre, world) goes to cells[] as cell + 1 (0: none)
 // and, where the cell has a value, its class colour to rgba[] (opaque). rgba and cells may
-// be null. Pixel (i, j) is index j * width + i. `worldStepX` (may be null): worldAt(i, j) is
-// affine in i along every row, up to rounding, with this step (world metres per pixel; a
-// profile view of a plane: PixelFrame::worldPerPixelX); the cells along a row are then
-// walked on that line and worldAt is called only near cell faces (section/block_raster.cpp),
-// with the same answer at every pixel. worldAt is called from the calling thread and its
-// partner thread (section/partner_thread.hpp): it must be safe to call concurrently.
+// be null. Pixel (i, j) is index j * width + i. `rowLines` (may be empty): where worldAt is
+// affine along rows; there the cells are walked on those lines and worldAt is called only
+// near cell faces (section/block_raster.cpp), with the same answer at every pixel; elsewhere
+// cellAt is asked at every pixel. worldAt is called from the calling thread and its partner
+// thread (section/partner_thread.hpp): it must be safe to call concurrently.
 void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& classes,
                           const std::vector<RecordId>& clipRecords, const std::function<glm::dvec3(int, int)>& worldAt,
                           int width, int height, const std::uint32_t* ids, std::uint8_t* rgba, std::uint32_t* cells,
-                          const glm::dvec3* worldStepX = nullptr);
+                          const std::vector<RowLine>& rowLines = {});
 
 // One cell's intersection with a plane (Box), or one tetrahedron's of it (Hexahedron): a
 // convex polygon in plane u/v, counter-clockwise.

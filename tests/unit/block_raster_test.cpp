@@ -9,13 +9,20 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <string>
 
+#include "api/catalog.hpp"
+#include "api/pixel_query.hpp"
+#include "api/plan.hpp"
+#include "api/view.hpp"
 #include "model/block_model.hpp"
 #include "model/model.hpp"
 #include "model/view_frame.hpp"
 #include "section/block_section.hpp"
+#include "section/polyline.hpp"
+#include "test_meshes.hpp"
 
 using namespace geoslice;
 
@@ -41,11 +48,12 @@ BlockModel boxGrid(const glm::dvec3& origin, const std::array<glm::dvec3, 3>& ax
     return b;
 }
 
-// Colours frame f's pixels with and without the walk and checks every pixel against the rule.
-// Records: mostly the clipping body, with a few other records and background pixels in every
-// row so runs start and stop anywhere. Returns the number of pixels given a cell.
-std::size_t expectWalkIsTheRule(const BlockModel& b, const PixelFrame& f, const std::string& what) {
-    const int W = f.width, H = f.height;
+// Colours W x H pixels (world point worldAt(i, j)) with and without the walk on `lines` and
+// checks every pixel against the rule. Records: mostly the clipping body, with a few other
+// records and background pixels in every row so runs start and stop anywhere. Returns the
+// number of pixels given a cell.
+std::size_t expectWalkIsTheRule(const BlockModel& b, const std::function<glm::dvec3(int, int)>& worldAt,
+                                const std::vector<RowLine>& lines, int W, int H, const std::string& what) {
     const std::size_t n = std::size_t(W) * std::size_t(H);
     std::vector<std::uint32_t> ids(n, kClip);
     for (int j = 0; j < H; ++j)
@@ -57,17 +65,15 @@ std::size_t expectWalkIsTheRule(const BlockModel& b, const PixelFrame& f, const 
     auto classes = makePropertyClasses(0, "viridis", {1.0, 2.0, 3.0, 4.0, 5.0});
     EXPECT_TRUE(classes.ok());
     const std::vector<RecordId> clip{kClip};
-    auto worldAt = [&](int i, int j) { return f.pixelCentreWorld(i, j); };
-    const glm::dvec3 step = f.worldPerPixelX();
     std::vector<std::uint8_t> rgbaWalk(4 * n, 17), rgbaRule(4 * n, 17);
     std::vector<std::uint32_t> cellsWalk(n, 99), cellsRule(n, 99);
-    colourPixelsByBlocks(b, classes.value(), clip, worldAt, W, H, ids.data(), rgbaWalk.data(), cellsWalk.data(), &step);
+    colourPixelsByBlocks(b, classes.value(), clip, worldAt, W, H, ids.data(), rgbaWalk.data(), cellsWalk.data(), lines);
     colourPixelsByBlocks(b, classes.value(), clip, worldAt, W, H, ids.data(), rgbaRule.data(), cellsRule.data());
     std::size_t withCell = 0, mismatches = 0;
     for (int j = 0; j < H; ++j)
         for (int i = 0; i < W; ++i) {
             const std::size_t p = std::size_t(j) * std::size_t(W) + std::size_t(i);
-            const std::size_t rule = ids[p] == kClip ? b.cellAt(f.pixelCentreWorld(i, j)) : BlockModel::kNoCell;
+            const std::size_t rule = ids[p] == kClip ? b.cellAt(worldAt(i, j)) : BlockModel::kNoCell;
             const std::uint32_t expected = rule == BlockModel::kNoCell ? 0u : std::uint32_t(rule + 1);
             withCell += expected != 0;
             if (cellsWalk[p] != expected || cellsRule[p] != expected) {
@@ -79,6 +85,26 @@ std::size_t expectWalkIsTheRule(const BlockModel& b, const PixelFrame& f, const 
     EXPECT_EQ(mismatches, 0u) << what;
     EXPECT_TRUE(rgbaWalk == rgbaRule) << what << ": colours differ";
     return withCell;
+}
+
+// The same for the pixels of a plane's frame (one line a row).
+std::size_t expectWalkIsTheRule(const BlockModel& b, const PixelFrame& f, const std::string& what) {
+    return expectWalkIsTheRule(
+        b, [&](int i, int j) { return f.pixelCentreWorld(i, j); }, {{0, f.width, f.worldPerPixelX()}}, f.width,
+        f.height, what);
+}
+
+// The same for a polyline section's pixels (a line per leg): chainage s and elevation z.
+std::size_t expectWalkIsTheRuleOnALine(const BlockModel& b, const std::vector<glm::dvec2>& points, const FrameRect& r,
+                                       int W, int H, const std::string& what) {
+    auto line = makeSectionLine(points);
+    EXPECT_TRUE(line.ok());
+    const double pu = (r.u1 - r.u0) / W, pv = (r.v1 - r.v0) / H;
+    auto worldAt = [&](int i, int j) { return line->worldAt(r.u0 + (i + 0.5) * pu, r.v1 - (j + 0.5) * pv); };
+    const auto lines = polylineRowLines(
+        line.value(), [&](int i) { return r.u0 + (i + 0.5) * pu; }, W, pu);
+    EXPECT_EQ(lines.size(), points.size() - 1) << what;  // every leg in the frame
+    return expectWalkIsTheRule(b, worldAt, lines, W, H, what);
 }
 
 PixelFrame frameOf(const Plane& plane, const glm::dvec3& modelOrigin, const FrameRect& rect, int w, int h) {
@@ -195,6 +221,20 @@ TEST(BlockRaster, TheWalkGivesTheRulesCellAtEveryPixelOfBoxGrids) {
     const Plane onFace{axes[0], -glm::dot(axes[0], rot.origin + 12 * 4.0 * axes[0])};
     EXPECT_GT(expectWalkIsTheRule(rot, alignedFrame(rot, onFace, {0, 0, 0}, rot.origin, 1.5, 1.25), "rotated, face"),
               1000u);
+    // Polyline sections: a line per leg, legs turning at vertices inside cells and on a face.
+    {
+        const std::vector<glm::dvec2> pts{{gk.x - 20.0, gk.y + 13.0},
+                                          {gk.x + 7 * 11.0, gk.y + 5 * 7.0},
+                                          {gk.x + 150.0, gk.y + 121.3},
+                                          {gk.x + 301.0, gk.y + 40.0}};
+        auto len = makeSectionLine(pts);
+        ASSERT_TRUE(len.ok());
+        total += expectWalkIsTheRuleOnALine(b, pts, {-5.0, 140.0, len->length() + 5.0, 222.0}, 333, 97, "polyline");
+        // Vertices on a face (x = 7 k) and elevations on faces (pixel rows 3 m apart from 150 m).
+        const std::vector<glm::dvec2> facePts{
+            {gk.x + 7 * 3.0, gk.y + 5 * 2.0}, {gk.x + 7 * 20.0, gk.y + 5 * 2.0}, {gk.x + 7 * 20.0, gk.y + 5 * 25.0}};
+        total += expectWalkIsTheRuleOnALine(b, facePts, {-1.5, 148.5, 260.5, 213.5}, 262, 65, "polyline on faces");
+    }
     for (int t = 0; t < 4; ++t) {
         const glm::dvec3 n = glm::normalize(glm::dvec3{dir(rng), dir(rng), 0.5 * dir(rng)});
         const glm::dvec3 c = rot.toWorld({60.0, 75.0, 20.0});
@@ -231,6 +271,49 @@ TEST(BlockRaster, TheWalkGivesTheRulesCellAtEveryPixelOfCurvilinearGrids) {
             total += expectWalkIsTheRule(b, alignedFrame(b, plane, modelOrigin, gk, 0.7, 0.6),
                                          what + ", oblique " + std::to_string(t));
         }
+        const std::vector<glm::dvec2> pts{
+            {gk.x - 3.0, gk.y + 8 * 4.0}, {gk.x + 8 * 6.0, gk.y + 8 * 9.5}, {gk.x + 121.0, gk.y + 17.0}};
+        total += expectWalkIsTheRuleOnALine(b, pts, {-2.0, 148.0, 170.0, 264.0}, 172, 116, what + ", polyline");
     }
     EXPECT_GT(total, 100000u);
+}
+
+TEST(BlockRaster, CachedAndFreshQueriesAnswerTheCellOfEveryPixelOfPolylineImages) {
+    // Over the API (api::renderProfile, api::answerPixel): a polyline section coloured by a box
+    // grid and by a bent SGrid, the cell buffer against the query without the image (the
+    // exact classifier and BlockModel::cellAt) at every pixel where the records agree.
+    Model m = test::modelOf(
+        {test::makePart("host", PartKind::Body, 1, test::boxMesh({0, 0, 0}, {100, 100, 100})),
+         test::makePart("ore", PartKind::Body, 2, test::boxMesh({20.5, 20.5, 20.5}, {70.5, 60.5, 50.5}))});
+    for (const bool bent : {false, true}) {
+        BlockModel b = bent ? sgrid({0.0, 0.0, 0.0}, 10.0, 10, 0.3)
+                            : boxGrid({0, 0, 0}, {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)},
+                                      {10.0, 10.0, 10.0}, {10, 10, 10});
+        b.clipBodies = {"ore"};
+        ASSERT_TRUE(resolveBlockClip(m, b).ok());
+        m.blocks = std::make_shared<const BlockModel>(std::move(b));
+        auto cm = api::catalogModelOf("box", m, "v1");
+        ASSERT_TRUE(cm.ok()) << cm.error().message;
+        auto plan = api::parseViewPlan(
+            {{"line", "10.3,30.2,45.7,47.1,83.9,33.3"}, {"colour", "grade"}, {"breaks", "1,3"}, {"size", "200x90"}},
+            "box", m.crs);
+        ASSERT_TRUE(plan.ok()) << plan.error().message;
+        auto image = api::renderProfile(*cm.value(), plan.value());
+        ASSERT_TRUE(image.ok()) << image.error().message;
+        const api::ViewImage& v = image.value();
+        std::size_t compared = 0, withCell = 0;
+        for (int j = 0; j < v.height; ++j)
+            for (int i = 0; i < v.width; ++i) {
+                const std::size_t p = std::size_t(j) * std::size_t(v.width) + std::size_t(i);
+                auto fresh = api::answerPixel(*cm.value(), plan.value(), i, j, nullptr);
+                ASSERT_TRUE(fresh.ok());
+                if (fresh->record != v.ids[p]) continue;  // the classifier's boundary band
+                ++compared;
+                const std::size_t cell = v.cells[p] == 0 ? BlockModel::kNoCell : v.cells[p] - 1;
+                withCell += cell != BlockModel::kNoCell;
+                ASSERT_EQ(fresh->cell, cell) << (bent ? "SGrid " : "box ") << i << "," << j;
+            }
+        EXPECT_GT(compared, 17000u);
+        EXPECT_GT(withCell, 1000u);
+    }
 }
