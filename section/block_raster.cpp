@@ -63,8 +63,7 @@ int endOfRun(const std::uint32_t* row, int i, int n, std::uint32_t r) {
 class RowPainter {
 public:
     RowPainter(const BlockModel& blocks, const PropertyClasses& classes, std::uint8_t* rgba, std::uint32_t* cells)
-        : blocks_(blocks),
-          classes_(classes),
+        : classes_(classes),
           values_(blocks.properties[std::size_t(classes.property)].values),
           rgba_(rgba),
           cells_(cells) {}
@@ -90,7 +89,6 @@ public:
     }
 
 private:
-    const BlockModel& blocks_;
     const PropertyClasses& classes_;
     const std::vector<double>& values_;
     std::uint8_t* rgba_;
