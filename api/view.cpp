@@ -38,16 +38,16 @@ std::size_t blockCellAt(const CatalogModel& model, RecordId record, const glm::d
     return model.model.blocks->cellAt(world);
 }
 
-Result<BlockCapTriangles> blockCapTriangles(const CatalogModel& model, const PropertyClasses& classes,
+Result<BlockCapTriangles> blockCapTriangles(const Model& model, const PropertyClasses& classes,
                                             const std::vector<Plane>& planes, std::size_t maxPieces) {
     const auto t0 = std::chrono::steady_clock::now();
     BlockCapTriangles out;
-    if (!model.model.blocks) return out;
-    const BlockModel& blocks = *model.model.blocks;
+    if (!model.blocks) return out;
+    const BlockModel& blocks = *model.blocks;
     const std::vector<double>& values = blocks.properties[std::size_t(classes.property)].values;
     Aabb clipBounds;
-    for (std::uint32_t b : blocks.clipBodyIndex) clipBounds.extend(model.model.bodies[b].mesh.bounds());
-    const glm::dvec3 origin = model.model.origin;
+    for (std::uint32_t b : blocks.clipBodyIndex) clipBounds.extend(model.bodies[b].mesh.bounds());
+    const glm::dvec3 origin = model.origin;
     for (const Plane& plane : planes) {
         const SectionFrame frame = makeSectionFrame(plane, origin);
         // Only the pieces whose bounds meet the clipping bodies' bounds' shadow on the plane

@@ -82,7 +82,7 @@ struct BlockCapTriangles {
     std::vector<Range> planes;
     double cutMs = 0.0;  // wall clock of the cuts
 };
-Result<BlockCapTriangles> blockCapTriangles(const CatalogModel& model, const PropertyClasses& classes,
+Result<BlockCapTriangles> blockCapTriangles(const Model& model, const PropertyClasses& classes,
                                             const std::vector<Plane>& planes, std::size_t maxPieces = 4000000);
 
 // A profile view (plane, elevation or polyline section) with the exact engine. A plane that

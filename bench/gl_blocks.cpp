@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
                 auto classes = api::blockClasses(*cm.value(), coloured->section);
                 const api::CutOut cut = api::sectionCut(coloured->section);
                 if (!classes || !classes.value()) return 1;
-                auto pieces = api::blockCapTriangles(*cm.value(), *classes.value(), cut.planes);
+                auto pieces = api::blockCapTriangles(cm.value()->model, *classes.value(), cut.planes);
                 if (!pieces) return 1;
                 v["cutMs"] = pieces->cutMs;
                 v["pieceTriangles"] = pieces->positions.size() / 3;

@@ -4,6 +4,7 @@
 //   [--gl auto|egl-device|egl-surfaceless|osmesa] [--device N] [--clip clip-distance|discard]
 //   [--background transparent|#rrggbb[aa]] [--exaggeration F] [--aa auto|none|fxaa|msaa]
 //   [--no-traces] [--lod auto|on|off] [--baked [--bake-size N]]
+//   [--colour PROP [--breaks a,b,..] [--ramp NAME] [--cells cells.png|cells.pgm]]
 // Renders one frame of the slicing pass (renderer/slice_renderer.hpp) on a headless context.
 // Planes are world (a,b,c,d), kept where a*x+b*y+c*z+d >= 0; points are world easting,
 // northing, elevation in metres. The profile looks at the first plane's cut face (along +n).
@@ -16,7 +17,10 @@
 // as HTTP's frame=, and without it the profile has the default frame of model/view_frame.hpp,
 // so `render --profile` and GET section.png frame a plane alike. --baked bakes the model's attribute texture in memory
 // first (bake/bake.hpp, N x N texels per page) and takes every fragment's record id from it (issue 4 item 8), as the
-// server does with a baked package.
+// server does with a baked package. --colour colours the block model's clipping bodies' cut faces by a
+// block property, as HTTP's colour= (workers/block_colouring.hpp, the render workers' own colouring:
+// box grids by a class texture on a GPU, else every cell's exact piece on the planes); --cells writes
+// each pixel's block cell + 1 (0 = none) as 16-bit grey.
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -34,6 +38,7 @@
 #include "renderer/image_encode.hpp"
 #include "renderer/image_io.hpp"
 #include "renderer/slice_renderer.hpp"
+#include "workers/block_colouring.hpp"
 
 namespace geoslice::cli {
 namespace {
@@ -70,7 +75,19 @@ struct RenderArgs {
     bool noTraces = false;
     bool baked = false;
     unsigned bakeSize = 4096;
+    ColourOptions colour;
+    std::string cells;
 };
+
+// Values 0..65535 (record ids, cell + 1) as a 16-bit grey .png, or else .pgm, at `path`.
+Status writeGray16(const std::string& path, const std::vector<std::uint32_t>& values, int width, int height) {
+    if (path.ends_with(".png")) {
+        auto bytes = encodeGray16Png(values.data(), width, height);
+        if (!bytes) return makeError(bytes.error().code, path + ": " + bytes.error().message);
+        return writeFile(path, *bytes);
+    }
+    return writeIdsPgm16(path, values, width, height);
+}
 
 int run(const RenderArgs& a) {
     auto fail = [](const std::string& m) {
@@ -146,9 +163,20 @@ int run(const RenderArgs& a) {
     enc.webpLossless = a.lossless;
     if (!a.ids.empty() && !a.ids.ends_with(".pgm") && !a.ids.ends_with(".png"))
         return fail("--ids " + a.ids + ": expected a .png or .pgm path (16-bit record ids)");
+    if (!a.cells.empty() && !a.cells.ends_with(".pgm") && !a.cells.ends_with(".png"))
+        return fail("--cells " + a.cells + ": expected a .png or .pgm path (16-bit block cell + 1)");
+    if (!a.cells.empty() && a.colour.colour.empty()) return fail("--cells: needs --colour (the cells it shows)");
 
     auto model = loadModel(a.model, a.load);
     if (!model) return fail(model.error().message);
+    auto classes = colourClasses(*model, a.colour);
+    if (!classes) {
+        std::fprintf(stderr, "geoslice render: %s\n", classes.error().message.c_str());
+        return 2;
+    }
+    if (!a.cells.empty() && model->blocks->cellCount() > 65535)
+        return fail("--cells: the block model has " + std::to_string(model->blocks->cellCount()) +
+                    " cells; a 16-bit image holds cell + 1 up to 65535");
     if (!cut.planes.empty())
         if (auto s = api::checkCutKeepsSomething("--plane", cut, model->bounds()); !s) return fail(s.error().message);
     req.exaggeration = VerticalExaggeration::aboutCentreOf(a.exaggeration, model->bounds());
@@ -203,17 +231,25 @@ int run(const RenderArgs& a) {
     if (!gpu) return fail(gpu.error().message);
     auto renderer = SliceRenderer::create(**ctx);
     if (!renderer) return fail(renderer.error().message);
-    req.readIds = !a.ids.empty();
+    workers::BlockColouring colouring;
+    if (classes.value()) {
+        const bool texture = workers::colourWithTexture(*model->blocks, workers::BoxBlocks::Auto, **ctx);
+        auto made = workers::uploadBlockColouring(**ctx, *model, blockClipRecords(*model, *model->blocks),
+                                                  *classes.value(), cut.planes, texture);
+        if (!made) return fail("--colour: " + made.error().message);
+        colouring = std::move(made.value());
+        colouring.setOn(req);
+        std::fprintf(stderr, "geoslice render: coloured by %s, %zu classes, through %s\n", a.colour.colour.c_str(),
+                     classes.value()->colours.size(), texture ? "a class texture" : "the cells' pieces on the planes");
+    }
+    req.readIds = !a.ids.empty() || !a.cells.empty();
     auto img = (*renderer)->render(**gpu, req);
     if (!img) return fail(img.error().message);
     if (auto s = writeImage(a.out, img->rgba.data(), img->width, img->height, enc); !s) return fail(s.error().message);
-    if (a.ids.ends_with(".png")) {
-        auto bytes = encodeGray16Png(img->ids.data(), img->width, img->height);
-        if (!bytes) return fail(a.ids + ": " + bytes.error().message);
-        if (auto s = writeFile(a.ids, *bytes); !s) return fail(s.error().message);
-    } else if (!a.ids.empty()) {
-        if (auto s = writeIdsPgm16(a.ids, img->ids, img->width, img->height); !s) return fail(s.error().message);
-    }
+    if (!a.ids.empty())
+        if (auto s = writeGray16(a.ids, img->ids, img->width, img->height); !s) return fail(s.error().message);
+    if (!a.cells.empty())
+        if (auto s = writeGray16(a.cells, img->cells, img->width, img->height); !s) return fail(s.error().message);
     std::fprintf(stderr,
                  "geoslice render: %dx%d, %zu triangles, %s, draw+finish %.1f ms (first frame, includes JIT), "
                  "anti-aliasing %s %.1f ms, readback %.2f ms, %zu trace segments, %zu triangles drawn%s -> %s\n",
@@ -263,6 +299,11 @@ void addRender(CLI::App& app, int& exitCode) {
     cmd->add_flag("--no-traces", a->noTraces, "Do not draw fault traces on the cut");
     cmd->add_flag("--baked", a->baked, "Bake the attribute texture first and take record ids from it");
     cmd->add_option("--bake-size", a->bakeSize, "Texels per side of a baked page (default 4096)");
+    addColourOptions(cmd, a->colour,
+                     "Colour the block model's clipping bodies' cut faces by this block property; same as colour= "
+                     "over HTTP");
+    cmd->add_option("--cells", a->cells,
+                    "With --colour: each pixel's block cell + 1 (0 = none), 16-bit grey .png or .pgm");
     cmd->callback([a, &exitCode] { exitCode = run(*a); });
 }
 

@@ -157,8 +157,7 @@ void addSection(CLI::App& app, int& exitCode) {
         std::string model, plane, line, size = "1024x1024", frame, geojson, geojsonFrame = "plane", svg;
         std::string sheet, paper = "A3", orientation = "landscape", date;
         double scale = NAN, dpi = 150.0;
-        std::string colour, ramp = "viridis";
-        std::vector<double> breaks;
+        ColourOptions colour;
         std::vector<std::string> outs;
         double elevation = NAN, exaggeration = 1.0;
         bool areas = false;
@@ -205,12 +204,9 @@ void addSection(CLI::App& app, int& exitCode) {
     cmd->add_option("--date", o->date, "The title block's date, YYYY-MM-DD (default: today, UTC)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
     cmd->add_option("--threads", o->threads, "Threads for the cut: 1 or 2 (default 1)");
-    cmd->add_option("--colour", o->colour,
-                    "Colour the block model's clipping bodies by this block property (images; SVG and GeoJSON of "
-                    "plane sections: each cell's exact piece); same as colour= over HTTP");
-    cmd->add_option("--breaks", o->breaks, "Class breaks of --colour, comma-separated (default: 5 equal classes)")
-        ->delimiter(',');
-    cmd->add_option("--ramp", o->ramp, "Colour ramp of --colour: viridis (default), magma, greys, spectral");
+    addColourOptions(cmd, o->colour,
+                     "Colour the block model's clipping bodies by this block property (images; SVG and GeoJSON of "
+                     "plane sections: each cell's exact piece); same as colour= over HTTP");
     cmd->callback([o, &exitCode] {
         auto fail = [&](const std::string& msg, int code) {
             std::fprintf(stderr, "geoslice section: %s\n", msg.c_str());
@@ -345,12 +341,10 @@ void addSection(CLI::App& app, int& exitCode) {
         VectorSource source = polyline ? vectorSource(*lineSection) : vectorSource(*section);
         std::optional<PropertyClasses> classes;
         std::vector<BlockPiece> pieces;
-        if (!o->colour.empty()) {
-            if (!model->blocks) return fail("--colour: the model has no block model (--blocks or a sidecar)", 2);
-            auto c = propertyClasses(*model->blocks, o->colour, o->ramp,
-                                     o->breaks.empty() ? std::nullopt : std::optional(o->breaks));
-            if (!c) return fail("--colour: " + c.error().message, 2);
-            classes = std::move(c.value());
+        auto requested = colourClasses(model.value(), o->colour);
+        if (!requested) return fail(requested.error().message, 2);
+        if (requested.value()) {
+            classes = std::move(requested.value());
             const double pu = (rect.u1 - rect.u0) / width, pv = (rect.v1 - rect.v0) / height;
             std::function<glm::dvec3(int, int)> worldAt;
             std::optional<SectionLine> line;
@@ -414,7 +408,7 @@ void addSection(CLI::App& app, int& exitCode) {
                                                  : "elevation=" + formatNumber(o->elevation);
             if (o->exaggeration != 1.0) info.definition += "&vx=" + formatNumber(o->exaggeration);
             if (classes) {
-                info.definition += "&colour=" + o->colour;
+                info.definition += "&colour=" + o->colour.colour;
                 sheetOptions->blocks =
                     print::SheetBlocks{model->blocks.get(), *classes, blockClipRecords(model.value(), *model->blocks)};
             }

@@ -34,6 +34,23 @@ void addLoadOptions(CLI::App* cmd, LoadOptions& options) {
         ->delimiter(',');
 }
 
+void addColourOptions(CLI::App* cmd, ColourOptions& options, const std::string& colourHelp) {
+    cmd->add_option("--colour", options.colour, colourHelp);
+    cmd->add_option("--breaks", options.breaks, "Class breaks of --colour, comma-separated (default: 5 equal classes)")
+        ->delimiter(',');
+    cmd->add_option("--ramp", options.ramp, "Colour ramp of --colour: viridis (default), magma, greys, spectral");
+}
+
+Result<std::optional<PropertyClasses>> colourClasses(const Model& model, const ColourOptions& options) {
+    if (options.colour.empty()) return std::optional<PropertyClasses>();
+    if (!model.blocks)
+        return makeError(ErrorCode::InvalidArgument, "--colour: the model has no block model (--blocks or a sidecar)");
+    auto c = propertyClasses(*model.blocks, options.colour, options.ramp,
+                             options.breaks.empty() ? std::nullopt : std::optional(options.breaks));
+    if (!c) return makeError(c.error().code, "--colour: " + c.error().message);
+    return std::optional<PropertyClasses>(std::move(c.value()));
+}
+
 }  // namespace geoslice::cli
 
 int main(int argc, char** argv) {

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cstdio>
 
-#include "section/block_section.hpp"
 #include "workers/render_pool.hpp"
 
 namespace geoslice::workers {
@@ -40,10 +39,8 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
         // One resident copy per model: drop other versions of the same id.
         for (auto m = models.begin(); m != models.end();)
             m = m->first.rfind(model.id + "@", 0) == 0 ? models.erase(m) : std::next(m);
-        for (auto b = blockTextures.begin(); b != blockTextures.end();)
-            b = b->first.rfind(model.id + "@", 0) == 0 ? blockTextures.erase(b) : std::next(b);
-        for (auto b = blockCaps.begin(); b != blockCaps.end();)
-            b = b->first.rfind(model.id + "@", 0) == 0 ? blockCaps.erase(b) : std::next(b);
+        for (auto b = colourings.begin(); b != colourings.end();)
+            b = b->first.rfind(model.id + "@", 0) == 0 ? colourings.erase(b) : std::next(b);
         GpuUploadOptions upload;
         upload.lod = lod ? GpuUploadOptions::Lod::Auto : GpuUploadOptions::Lod::Off;
         // A baked model draws its own mesh with UVs and fetches record ids from the
@@ -79,51 +76,33 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     if (plan.section.colour) {
         auto classes = api::blockClasses(model, plan.section);
         if (!classes) return classes.error();
+        const PropertyClasses& pc = *classes.value();
+        const bool texture = colourWithTexture(*model.model.blocks, boxBlocks, *context);
+        // A texture serves every plane set; pieces are per plane set, and one set per
+        // colouring is kept (the others of that colouring are dropped when a new one is made).
         std::string colourKey = key + "|" + plan.section.colour->property + "|" + plan.section.colour->ramp + "|";
-        for (double b : classes.value()->breaks) {
+        for (double b : pc.breaks) {
             char buf[32];
             std::snprintf(buf, sizeof buf, "%.17g,", b);
             colourKey += buf;
         }
-        const PropertyClasses& pc = *classes.value();
-        const bool texture =
-            model.model.blocks->shape == CellShape::Box &&
-            (boxBlocks == BoxBlocks::Texture || (boxBlocks == BoxBlocks::Auto && !context->info().software));
-        if (texture) {
-            auto tex = blockTextures.find(colourKey);
-            if (tex == blockTextures.end()) {
-                auto uploaded =
-                    BlockTexture::upload(*context, *model.model.blocks, cellClassIndex(*model.model.blocks, pc),
-                                         pc.colours, model.blockRecords);
-                if (!uploaded) return uploaded.error();
-                if (blockTextures.size() >= kMaxKeptColourings) blockTextures.erase(blockTextures.begin());
-                tex = blockTextures.emplace(colourKey, std::move(uploaded.value())).first;
-            }
-            req.blocks = tex->second.get();
-        } else {
-            std::string capsKey = colourKey + "|planes:";
-            for (const Plane& plane : cut.planes) {
-                char buf[128];
-                std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g;", plane.normal.x, plane.normal.y,
-                              plane.normal.z, plane.d);
-                capsKey += buf;
-            }
-            auto caps = blockCaps.find(capsKey);
-            if (caps == blockCaps.end()) {
-                for (auto b = blockCaps.begin(); b != blockCaps.end();)
-                    b = b->first.rfind(colourKey + "|", 0) == 0 ? blockCaps.erase(b) : std::next(b);
-                auto pieces = api::blockCapTriangles(model, pc, cut.planes);
-                if (!pieces) return pieces.error();
-                std::vector<BlockCaps::PlaneRange> ranges;
-                for (const auto& r : pieces->planes) ranges.push_back({r.first, r.valued, r.unvalued});
-                auto uploaded = BlockCaps::upload(*context, pieces->positions, pieces->cellClass, ranges, pc.colours,
-                                                  model.blockRecords);
-                if (!uploaded) return uploaded.error();
-                if (blockCaps.size() >= kMaxKeptColourings) blockCaps.erase(blockCaps.begin());
-                caps = blockCaps.emplace(capsKey, std::move(uploaded.value())).first;
-            }
-            req.blockCaps = caps->second.get();
+        std::string fullKey = colourKey + (texture ? "|texture" : "|planes:");
+        for (const Plane& plane : texture ? std::vector<Plane>() : cut.planes) {
+            char buf[128];
+            std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g;", plane.normal.x, plane.normal.y, plane.normal.z,
+                          plane.d);
+            fullKey += buf;
         }
+        auto kept = colourings.find(fullKey);
+        if (kept == colourings.end()) {
+            for (auto b = colourings.begin(); b != colourings.end();)
+                b = b->first.rfind(colourKey + "|", 0) == 0 ? colourings.erase(b) : std::next(b);
+            auto made = uploadBlockColouring(*context, model.model, model.blockRecords, pc, cut.planes, texture);
+            if (!made) return made.error();
+            if (colourings.size() >= kMaxKeptColourings) colourings.erase(colourings.begin());
+            kept = colourings.emplace(fullKey, std::move(made.value())).first;
+        }
+        kept->second.setOn(req);
     }
     auto image = renderer->render(*it->second, req);
     if (!image) return image.error();

@@ -13,11 +13,10 @@
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "model/result.hpp"
-#include "renderer/block_caps.hpp"
-#include "renderer/block_texture.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/slice_renderer.hpp"
+#include "workers/block_colouring.hpp"
 
 namespace geoslice::workers {
 
@@ -25,25 +24,18 @@ struct GlWorker {
     std::unique_ptr<GlContext> context;
     std::unique_ptr<SliceRenderer> renderer;
     std::map<std::string, std::unique_ptr<GpuModel>> models;
-    // Block-model class textures (renderer/block_texture.hpp), keyed by id@version and the
-    // colouring (property, ramp, breaks); dropped with their model's version.
-    std::map<std::string, std::unique_ptr<BlockTexture>> blockTextures;
-    // Curvilinear block models' cell pieces on the cut planes (renderer/block_caps.hpp), keyed
-    // by the colouring and the planes; one plane set per colouring is kept (a view turning
-    // about a fixed cut reuses it), dropped with their model's version.
-    std::map<std::string, std::unique_ptr<BlockCaps>> blockCaps;
-    // At most this many of each are kept (another is made by dropping one), so that requests
-    // with ever new breaks cannot grow a worker's GPU memory without bound (a 1M-cell grid's
+    // Block-model colourings (workers/block_colouring.hpp), keyed by id@version and the
+    // colouring (property, ramp, breaks): a box grid's class texture, or a grid's cell pieces
+    // on one set of cut planes (a view turning about a fixed cut reuses them; a new plane set
+    // replaces that colouring's pieces); dropped with their model's version.
+    std::map<std::string, BlockColouring> colourings;
+    // At most this many are kept (another is made by dropping one), so that requests with
+    // ever new breaks cannot grow a worker's GPU memory without bound (a 1M-cell grid's
     // texture is 1 MB; a plane set's pieces of it up to ~10 MB).
     static constexpr std::size_t kMaxKeptColourings = 8;
     bool lod = false;  // simplified context geometry in 3D views (CPU backends)
-    // How box-cell block models colour caps: Texture, a class texture looked up per fragment
-    // (renderer/block_texture.hpp; no CPU work for a new plane), or Pieces, the cells' exact
-    // pieces per plane as for curvilinear grids (renderer/block_caps.hpp; a CPU cut per new
-    // plane set, then about the cost of the plain frame). Auto: Pieces on a software
-    // rasteriser (llvmpipe, L4 1024x1024, CPU time: texture 1.24-1.43x the plain frame,
-    // pieces 0.99-1.03x), Texture on a GPU. Curvilinear grids always use Pieces.
-    enum class BoxBlocks { Auto, Texture, Pieces };
+    // How box-cell block models colour caps (workers/block_colouring.hpp).
+    using BoxBlocks = workers::BoxBlocks;
     BoxBlocks boxBlocks = BoxBlocks::Auto;
     // Anti-aliasing of the colour of its views (the ID and cell buffers are never blended);
     // tests set None to compare colours exactly.

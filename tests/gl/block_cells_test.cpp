@@ -426,7 +426,7 @@ TEST(BlockCells, AWorkerKeepsABoundedNumberOfColourings) {
             ASSERT_TRUE(v.ok()) << v.error().message;
             EXPECT_GT(std::count_if(v->cells.begin(), v->cells.end(), [](std::uint32_t c) { return c != 0; }), 50);
         }
-        EXPECT_LE(w.blockTextures.size() + w.blockCaps.size(), workers::GlWorker::kMaxKeptColourings);
-        EXPECT_EQ(w.blockTextures.size() + w.blockCaps.size(), workers::GlWorker::kMaxKeptColourings);
+        EXPECT_LE(w.colourings.size(), workers::GlWorker::kMaxKeptColourings);
+        EXPECT_EQ(w.colourings.size(), workers::GlWorker::kMaxKeptColourings);
     }
 }
