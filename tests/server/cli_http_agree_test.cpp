@@ -14,7 +14,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -24,6 +23,7 @@
 
 #include "renderer/image_encode.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/buffer_agree.hpp"
 #include "tests/common/run_command.hpp"
 #include "tests/server/server_fixture.hpp"
 
@@ -34,26 +34,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr int kW = 96, kH = 48;  // kW x kH = 4608 pixels: one batch query (at most 5000)
-
-std::string readAll(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// 16-bit binary PGM (what `render --ids x.pgm` writes): big-endian samples.
-std::vector<std::uint32_t> readPgm16(const fs::path& p, int& w, int& h) {
-    const std::string bytes = readAll(p);
-    int maxval = 0, consumed = 0;
-    if (std::sscanf(bytes.c_str(), "P5 %d %d %d%n", &w, &h, &maxval, &consumed) != 3 || maxval != 65535) return {};
-    const std::size_t start = std::size_t(consumed) + 1, n = std::size_t(w) * std::size_t(h);
-    if (bytes.size() < start + 2 * n) return {};
-    std::vector<std::uint32_t> ids(n);
-    for (std::size_t i = 0; i < n; ++i)
-        ids[i] = (std::uint32_t(std::uint8_t(bytes[start + 2 * i])) << 8) | std::uint8_t(bytes[start + 2 * i + 1]);
-    return ids;
-}
 
 class CliHttpAgree : public InProcessServer {
 protected:
@@ -151,7 +131,7 @@ TEST_F(CliHttpAgree, RenderCommandAndHttpShowTheSameBodies) {
                                    " --no-traces --ids " + ids.string() + " --out " + (dir_ / "gl.png").string());
         ASSERT_EQ(r.exitCode, 0);
         int w = 0, h = 0;
-        const std::vector<std::uint32_t> gl = readPgm16(ids, w, h);
+        const std::vector<std::uint32_t> gl = test::readPgm16(ids, w, h);
         ASSERT_EQ(w, kW);
         ASSERT_EQ(h, kH);
         ASSERT_EQ(gl.size(), std::size_t(kW * kH));
@@ -177,18 +157,7 @@ TEST_F(CliHttpAgree, RenderCommandAndHttpShowTheSameBodies) {
             EXPECT_EQ(results[i]["source"], "id-buffer");
             exact[i] = results[i]["hit"] ? results[i]["record"]["id"].get<std::uint32_t>() : 0u;
         }
-        std::size_t compared = 0, agree = 0;
-        for (int y = 1; y + 1 < kH; ++y)
-            for (int x = 1; x + 1 < kW; ++x) {
-                const std::uint32_t id = exact[std::size_t(y) * kW + std::size_t(x)];
-                bool uniform = id != 0;
-                for (int dy = -1; dy <= 1 && uniform; ++dy)
-                    for (int dx = -1; dx <= 1 && uniform; ++dx)
-                        uniform = exact[std::size_t(y + dy) * kW + std::size_t(x + dx)] == id;
-                if (!uniform) continue;
-                ++compared;
-                agree += gl[std::size_t(y) * kW + std::size_t(x)] == id;
-            }
+        const auto [compared, agree] = test::agreeWhereUniform(exact, gl, kW, kH, false);
         std::printf("[ cli/http ] vx=%s: %zu/%zu interior pixels agree\n", vx, agree, compared);
         // The dipping plane's section is a band of the image and its layers are a few pixels
         // thick at this size: 500 (vx 1) and 160 (vx 3) interior pixels; a frame that differed

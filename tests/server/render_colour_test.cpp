@@ -17,7 +17,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -27,6 +26,7 @@
 #include "model/gltf_io.hpp"
 #include "renderer/image_encode.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/buffer_agree.hpp"
 #include "tests/common/gocad_samples.hpp"
 #include "tests/common/run_command.hpp"
 #include "tests/server/server_fixture.hpp"
@@ -58,28 +58,6 @@ void writeBoxGroup(const fs::path& dir) {
             for (int i = 0; i < 12; ++i)
                 csv << 10 * i + 5 << "," << 10 * j + 5 << "," << 10 * k + 5 << ",10,10,10," << 0.1 * i << "\n";
     std::ofstream(dir / "box.blocks.json") << R"({"source": "box_cells.csv", "clip": ["ore"]})";
-}
-
-std::string readAll(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// 16-bit binary PGM (what `render --cells x.pgm` writes): big-endian samples.
-std::vector<std::uint32_t> readPgm16(const fs::path& p, int w, int h) {
-    const std::string bytes = readAll(p);
-    int pw = 0, ph = 0, maxval = 0, consumed = 0;
-    if (std::sscanf(bytes.c_str(), "P5 %d %d %d%n", &pw, &ph, &maxval, &consumed) != 3 || maxval != 65535 || pw != w ||
-        ph != h)
-        return {};
-    const std::size_t start = std::size_t(consumed) + 1, n = std::size_t(w) * std::size_t(h);
-    if (bytes.size() < start + 2 * n) return {};
-    std::vector<std::uint32_t> v(n);
-    for (std::size_t i = 0; i < n; ++i)
-        v[i] = (std::uint32_t(std::uint8_t(bytes[start + 2 * i])) << 8) | std::uint8_t(bytes[start + 2 * i + 1]);
-    return v;
 }
 
 // geoslice with stderr kept (the refusals' messages).
@@ -176,7 +154,10 @@ TEST_F(RenderColour, PerspectiveCliAndHttpGiveTheSameImage) {
         EXPECT_EQ(differ, 0u) << "pixels that differ between the CLI and HTTP images";
         // The orebody's caps cover a few hundred pixels of these views: the colouring must show.
         EXPECT_GT(coloured, 50u) << "pixels the colouring changed in the CLI image";
-        const std::vector<std::uint32_t> cellBuffer = readPgm16(cells, kW, kH);
+        int cellsW = 0, cellsH = 0;
+        const std::vector<std::uint32_t> cellBuffer = test::readPgm16(cells, cellsW, cellsH);
+        ASSERT_EQ(cellsW, kW);
+        ASSERT_EQ(cellsH, kH);
         ASSERT_EQ(cellBuffer.size(), std::size_t(kW * kH));
         EXPECT_GT(std::count_if(cellBuffer.begin(), cellBuffer.end(), [](std::uint32_t x) { return x != 0; }), 50);
     }
@@ -194,7 +175,10 @@ TEST_F(RenderColour, ProfileCellsAgreeWithTheExactPixelQuery) {
                                std::to_string(kW) + "x" + std::to_string(kH) + " --colour grade --cells " +
                                cells.string() + " --out " + (dir_ / "profile.png").string());
         ASSERT_EQ(r.exitCode, 0) << r.out;
-        const std::vector<std::uint32_t> gl = readPgm16(cells, kW, kH);
+        int w = 0, h = 0;
+        const std::vector<std::uint32_t> gl = test::readPgm16(cells, w, h);
+        ASSERT_EQ(w, kW);
+        ASSERT_EQ(h, kH);
         ASSERT_EQ(gl.size(), std::size_t(kW * kH));
         auto dims = getJson("/v1/models/" + v.model)["blocks"]["dims"];
         ASSERT_EQ(dims.size(), 3u);
@@ -216,18 +200,7 @@ TEST_F(RenderColour, ProfileCellsAgreeWithTheExactPixelQuery) {
                            dims[0].get<std::uint32_t>() * (ijk[1].get<std::uint32_t>() +
                                                            dims[1].get<std::uint32_t>() * ijk[2].get<std::uint32_t>());
             }
-        std::size_t compared = 0, agree = 0;
-        for (int y = 1; y + 1 < kH; ++y)
-            for (int x = 1; x + 1 < kW; ++x) {
-                const std::uint32_t cell = exact[std::size_t(y) * kW + std::size_t(x)];
-                bool uniform = true;
-                for (int dy = -1; dy <= 1 && uniform; ++dy)
-                    for (int dx = -1; dx <= 1 && uniform; ++dx)
-                        uniform = exact[std::size_t(y + dy) * kW + std::size_t(x + dx)] == cell;
-                if (!uniform) continue;
-                ++compared;
-                agree += gl[std::size_t(y) * kW + std::size_t(x)] == cell;
-            }
+        const auto [compared, agree] = test::agreeWhereUniform(exact, gl, kW, kH, true);
         std::printf("[ render --cells ] %s: %zu/%zu interior pixels agree\n", v.model.c_str(), agree, compared);
         // The orebody's section covers about a third of these frames.
         EXPECT_GE(compared, 1000u);
