@@ -249,6 +249,11 @@ Result<std::vector<CellPolygon>> cellPolygons(const BlockModel& blocks, const Se
         if (std::abs(N[a]) > std::abs(N[m])) m = a;
     if (!(std::abs(N[m]) > 0.0)) return out;
     const int a = (m + 1) % 3, b = (m + 2) % 3;
+    // A plane parallel to a grid plane may lie on one (a cut through the lattice): its pieces
+    // are then the faces between two layers, and which layer's side signs give them is the
+    // rounding of the plane's offset. They go to the cell cellAt names at the piece's centre,
+    // the one rule the images, the query and the GL caps share (none there: no piece).
+    const bool gridParallel = std::abs(N[a]) + std::abs(N[b]) <= 1e-12 * std::abs(N[m]);
     const glm::dvec3 s{blocks.size[0], blocks.size[1], blocks.size[2]};
     static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                       {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
@@ -293,6 +298,12 @@ Result<std::vector<CellPolygon>> cellPolygons(const BlockModel& blocks, const Se
                 }
                 CellPolygon cp{blocks.linear(idx[0], idx[1], idx[2]), convexRing(pts.data(), n)};
                 if (cp.ring.empty() || outsideLimit(cp.ring, limit)) continue;
+                if (gridParallel) {
+                    glm::dvec2 centre(0.0);
+                    for (const glm::dvec2& p : cp.ring) centre += p;
+                    cp.cell = blocks.cellAt(frame.toWorld(centre / double(cp.ring.size())));
+                    if (cp.cell == BlockModel::kNoCell) continue;
+                }
                 if (out.size() >= maxCells)
                     return makeError(ErrorCode::OutOfRange,
                                      "the section crosses more than " + std::to_string(maxCells) + " block cells");

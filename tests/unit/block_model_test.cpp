@@ -210,7 +210,22 @@ TEST(BlockModel, CellPolygonsOfAPlaneOnAGridPlane) {
                 auto cells = cellPolygons(b.value(), makeSectionFrame(p.value(), o));
                 ASSERT_TRUE(cells.ok());
                 double sum = 0.0;
-                for (const CellPolygon& c : cells.value()) sum += ringArea(c.ring);
+                const SectionFrame frame = makeSectionFrame(p.value(), o);
+                for (const CellPolygon& c : cells.value()) {
+                    sum += ringArea(c.ring);
+                    // The face between two layers goes to the cell cellAt names there (the
+                    // layer above along the axis: floor), at its centre and at its corners'
+                    // midpoints, as the images and the pixel query see it.
+                    glm::dvec2 centre(0.0);
+                    for (const glm::dvec2& q : c.ring) centre += q;
+                    centre /= double(c.ring.size());
+                    EXPECT_EQ(c.cell, b->cellAt(frame.toWorld(centre))) << "axis " << axis << " at " << at;
+                    for (const glm::dvec2& q : c.ring)
+                        EXPECT_EQ(c.cell, b->cellAt(frame.toWorld(0.5 * (q + centre))))
+                            << "axis " << axis << " sign " << sign << " at " << at;
+                    std::array<std::size_t, 3> expect = b->ijk(c.cell);
+                    EXPECT_EQ(expect[std::size_t(axis)], std::size_t(at / 10.0)) << "axis " << axis << " at " << at;
+                }
                 // 900 m² of 10 m squares; 1e-6 m² = the offset's rounding x the 30 m side x a few
                 EXPECT_NEAR(sum, 900.0, 1e-6) << "axis " << axis << " sign " << sign << " at " << at;
             }
