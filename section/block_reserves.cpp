@@ -8,7 +8,7 @@
 
 #include "model/cell_locator.hpp"
 #include "section/block_tet_volumes.hpp"
-#include "section/cut_point.hpp"
+#include "section/edge_crossing.hpp"
 #include "section/reserves.hpp"
 
 namespace geoslice {
@@ -107,7 +107,7 @@ Mesh keptSideShell(const Mesh& body, const Plane& plane) {
             const int k1 = (k + 1) % 3;
             if (s[k] >= 0.0) poly[n++] = {p[k], s[k] == 0.0};
             if ((s[k] >= 0.0) != (s[k1] >= 0.0)) {
-                poly[n++] = {cutAt(p[k], p[k1], s[k], s[k1]), true};
+                poly[n++] = {edgeCrossing(p[k], s[k], p[k1], s[k1]), true};
                 cutSum += poly[n - 1].p;
                 ++cutCount;
             }

@@ -61,7 +61,7 @@
 // Tie rule: per tetrahedron, a point with side_i = 0 counts as inside face i (the faces
 // moved outward by an infinitesimal), and every decision, at every level, is that test on
 // the same bits: the pieces are clipped by face 0 first, from the body's own vertices, with
-// cut points from section/cut_point.hpp (one point per edge, whichever triangle asks), so
+// cut points from section/edge_crossing.hpp (one point per edge, whichever triangle asks), so
 // the lid's edges are the section edges, whose crossings of face 1 and sides of faces 2
 // and 3 decide the 1D sum and the ray count alike. Body vertices on lattice points, faces
 // on lattice planes or on the cells' diagonal planes are counted once (tested against the

@@ -13,7 +13,7 @@
 
 #include "model/cell_locator.hpp"
 #include "section/bvh.hpp"
-#include "section/cut_point.hpp"
+#include "section/edge_crossing.hpp"
 
 namespace geoslice {
 namespace {
@@ -73,7 +73,7 @@ struct Poly {
 };
 
 // Keeps the part of `in` where side(face, p) >= 0 (Sutherland-Hodgman; the cut points from
-// cut_point.hpp, so the same edge gives the same point wherever it is cut).
+// edge_crossing.hpp, so the same edge gives the same point wherever it is cut).
 void clip(const Poly& in, const Tetra& t, int face, Poly& out) {
     out.n = 0;
     double s[8];
@@ -83,7 +83,7 @@ void clip(const Poly& in, const Tetra& t, int face, Poly& out) {
         const Vertex &a = in.v[std::size_t(k)], &b = in.v[std::size_t(k1)];
         if (s[k] >= 0.0) out.v[std::size_t(out.n++)] = a;
         if ((s[k] >= 0.0) != (s[k1] >= 0.0))
-            out.v[std::size_t(out.n++)] = {cutAt(a.p, b.p, s[k], s[k1]), face == 0 || (a.on0 && b.on0)};
+            out.v[std::size_t(out.n++)] = {edgeCrossing(a.p, s[k], b.p, s[k1]), face == 0 || (a.on0 && b.on0)};
     }
     if (out.n < 3) out.n = 0;
 }
@@ -109,7 +109,7 @@ bool sectionEdge(const Poly& tri, const Tetra& t, Poly& kept, glm::dvec3& x, glm
 int crossing(const Tetra& t, const glm::dvec3& x, const glm::dvec3& e, glm::dvec3& c) {
     const double sx = t.side(1, x), se = t.side(1, e);
     if ((sx >= 0.0) == (se >= 0.0)) return 0;
-    c = cutAt(x, e, sx, se);
+    c = edgeCrossing(x, sx, e, se);
     return se >= 0.0 ? 1 : -1;
 }
 

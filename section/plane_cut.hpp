@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "model/plane.hpp"
+#include "section/edge_crossing.hpp"
 #include "section/section_index.hpp"
 
 namespace geoslice {
@@ -57,21 +58,6 @@ struct PlaneCut {
 // rings close (no rectangle), as a ring's first entry point is the exit point of its last
 // triangle.
 void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out, bool exitsOnly = false);
-
-// The point where the plane crosses the edge pq (local frame, metres), sp and sq the two
-// ends' signed distances with opposite signs under the rule (one >= 0, the other < 0).
-// Symmetric in (p, q), computed from the lexicographically smaller end (exactly the vertex
-// when its distance is 0), so the two triangles of an edge get bit-identical points.
-inline glm::dvec3 edgeCrossing(glm::dvec3 p, double sp, glm::dvec3 q, double sq) {
-    if (sp == 0.0) return p;
-    if (sq == 0.0) return q;
-    const bool swap = q.x != p.x ? q.x < p.x : q.y != p.y ? q.y < p.y : q.z < p.z;
-    if (swap) {
-        std::swap(p, q);
-        std::swap(sp, sq);
-    }
-    return p + (q - p) * (sp / (sp - sq));
-}
 
 // Cuts the listed global triangles (e.g. from queryPlane), appending to out.parts.
 void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std::size_t count, PlaneCut& out);
