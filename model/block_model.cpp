@@ -50,7 +50,6 @@ double cellDepth(const BlockModel& b, std::size_t cell, const glm::dvec3& p) {
 }
 
 constexpr double kOnCell = -1e-12;  // barycentric slack: rounding of p - corner (see cellAt)
-constexpr double kInsideHint = 1e-9;
 
 }  // namespace
 

@@ -114,8 +114,10 @@ struct BlockModel {
     std::size_t cellAt(const glm::dvec3& world) const;
     // The same answer, sooner for coherent points (a raster): `hint` (a cell, or kNoCell) is
     // tried first and kept when one of its tetrahedra holds the point with every barycentric
-    // coordinate > 1e-9 (no other cell of a grid that does not overlap itself can then hold
-    // it as well); `hint` is updated to the answer.
+    // coordinate > kInsideHint (no other cell of a grid that does not overlap itself can then
+    // hold it as well); `hint` is updated to the answer. section/block_raster.cpp fills
+    // pixels without asking on the same threshold.
+    static constexpr double kInsideHint = 1e-9;
     std::size_t cellAt(const glm::dvec3& world, std::size_t& hint) const;
 
     // Corner (i, j, k) of the lattice, 0 <= i <= dims[0] (world).

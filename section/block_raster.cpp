@@ -183,7 +183,7 @@ struct TetLines {
 };
 
 void makeTetLines(const BlockModel& blocks, std::size_t cell, const glm::dvec3& step, double margin, TetLines& out) {
-    constexpr double kInside = 1e-9;  // BlockModel::cellAt's threshold for keeping a hint
+    constexpr double kInside = BlockModel::kInsideHint;  // cellAt's threshold for keeping a hint
     out.cell = cell;
     out.step = step;
     const auto k = blocks.cellCorners(cell);
