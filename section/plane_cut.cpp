@@ -59,9 +59,49 @@ struct PartCursor {
     }
 };
 
+// Appends the segment of triangle t of part p, crossed by the plane (corners' local
+// positions q, distances s and welded ids w, in the triangle's vertex order).
+inline __attribute__((always_inline)) void emitSegment(const PartArrays& part, std::size_t p, std::size_t t,
+                                                       const glm::dvec3* const q[3], const double s[3],
+                                                       const std::uint32_t w[3], PlaneCut& out) {
+    if (part.exitsOnly) {
+        ExitSegment e;
+        for (int k = 0; k < 3; ++k) {
+            const int k1 = k == 2 ? 0 : k + 1;
+            const bool in = s[k] >= 0.0, in1 = s[k1] >= 0.0;
+            if (in == in1) continue;
+            if (!in) {
+                e.keyA = edgeKey(w[k], w[k1]);
+            } else {  // kept -> removed: the only point computed
+                e.b = out.frame.toPlane(edgeCrossing(*q[k], s[k], *q[k1], s[k1]));
+                e.keyB = edgeKey(w[k], w[k1]);
+            }
+        }
+        e.triangle = part.first + static_cast<std::uint32_t>(t);
+        out.exits[p].push_back(e);
+        ++out.segments;
+        return;
+    }
+    CutSegment seg;
+    for (int k = 0; k < 3; ++k) {
+        const int k1 = k == 2 ? 0 : k + 1;
+        const bool in = s[k] >= 0.0, in1 = s[k1] >= 0.0;
+        if (in == in1) continue;
+        const glm::dvec2 uv = out.frame.toPlane(edgeCrossing(*q[k], s[k], *q[k1], s[k1]));
+        if (!in) {  // removed -> kept: the segment starts here
+            seg.a = uv;
+            seg.keyA = edgeKey(w[k], w[k1]);
+        } else {
+            seg.b = uv;
+            seg.keyB = edgeKey(w[k], w[k1]);
+        }
+    }
+    out.parts[p].push_back(seg);
+    ++out.segments;
+}
+
 // Cuts triangle t of part p; appends at most one segment.
-inline __attribute__((always_inline)) void cutOne(const PartArrays& part, const glm::dvec3& origin, std::size_t p,
-                                                  std::size_t t, PlaneCut& out) {
+inline void cutOne(const PartArrays& part, const glm::dvec3& origin, std::size_t p, std::size_t t, PlaneCut& out) {
     const std::uint32_t* tri = part.indices + 3 * t;
     glm::dvec3 q[3];
     double s[3];
@@ -77,40 +117,62 @@ inline __attribute__((always_inline)) void cutOne(const PartArrays& part, const 
     if (part.canon)
         for (auto& v : w) v = part.canon[v];
     if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) return;  // degenerate: no edges of its own
-    if (part.exitsOnly) {
-        ExitSegment e;
-        for (int k = 0; k < 3; ++k) {
-            const int k1 = k == 2 ? 0 : k + 1;
-            const bool in = s[k] >= 0.0, in1 = s[k1] >= 0.0;
-            if (in == in1) continue;
-            if (!in) {
-                e.keyA = edgeKey(w[k], w[k1]);
-            } else {  // kept -> removed: the only point computed
-                e.b = out.frame.toPlane(edgeCrossing(q[k], s[k], q[k1], s[k1]));
-                e.keyB = edgeKey(w[k], w[k1]);
-            }
+    const glm::dvec3* const corners[3] = {&q[0], &q[1], &q[2]};
+    emitSegment(part, p, t, corners, s, w, out);
+}
+
+// Cuts one leaf from its table (section/leaf_tables.hpp): each distinct vertex is loaded
+// and measured once, each triangle tested through its corner bytes. The same segments in
+// the same order as cutOne over the leaf's triangles: a welded vertex has the position of
+// the vertices welded to it, and degenerate triangles are not in the table.
+inline __attribute__((always_inline)) void cutLeaf(const std::uint32_t* table, const PartArrays* arrays,
+                                                   const glm::dvec3& origin, PlaneCut& out) {
+    const std::uint32_t head = table[0];
+    const std::uint32_t runs = head & 0xFFu, vertexCount = (head >> 8) & 0xFFu;
+    const std::uint32_t* run = table + 1;
+    const std::uint32_t* vertex = run + 3 * runs;
+    const std::uint32_t* cornerWords = vertex + vertexCount;
+    glm::dvec3 q[LeafTables::kMaxVertices];
+    double s[LeafTables::kMaxVertices];
+    std::uint32_t v0 = 0, c = 0;  // the run's first vertex and corner in the leaf
+    for (std::uint32_t r = 0; r < runs; ++r, run += 3) {
+        const std::uint32_t p = run[0], first = run[1], triangles = run[2] & 0xFFu, vertices = run[2] >> 8;
+        const PartArrays& part = arrays[p];
+        std::uint32_t positive = 0;
+        for (std::uint32_t k = v0; k < v0 + vertices; ++k) {
+            q[k] = part.positions[vertex[k]] - origin;
+            s[k] = out.plane.distance(q[k]);
+            positive += s[k] >= 0.0;
         }
-        e.triangle = part.first + static_cast<std::uint32_t>(t);
-        out.exits[p].push_back(e);
-        ++out.segments;
-        return;
-    }
-    CutSegment seg;
-    for (int k = 0; k < 3; ++k) {
-        const int k1 = k == 2 ? 0 : k + 1;
-        const bool in = s[k] >= 0.0, in1 = s[k1] >= 0.0;
-        if (in == in1) continue;
-        const glm::dvec2 uv = out.frame.toPlane(edgeCrossing(q[k], s[k], q[k1], s[k1]));
-        if (!in) {  // removed -> kept: the segment starts here
-            seg.a = uv;
-            seg.keyA = edgeKey(w[k], w[k1]);
-        } else {
-            seg.b = uv;
-            seg.keyB = edgeKey(w[k], w[k1]);
+        v0 += vertices;
+        if (positive == 0 || positive == vertices) {  // the run's triangles all on one side
+            c += 3 * triangles;
+            continue;
+        }
+        for (std::uint32_t t = 0; t < triangles; ++t) {
+            std::uint32_t k[3];
+            for (int j = 0; j < 3; ++j, ++c) k[j] = (cornerWords[c >> 2] >> (8 * (c & 3u))) & 0xFFu;
+            const double d[3] = {s[k[0]], s[k[1]], s[k[2]]};
+            const int in = int(d[0] >= 0.0) + int(d[1] >= 0.0) + int(d[2] >= 0.0);
+            if (in == 0 || in == 3) continue;
+            if (!std::isfinite(d[0] + d[1] + d[2])) continue;  // left out of the BVH too
+            const glm::dvec3* const corners[3] = {&q[k[0]], &q[k[1]], &q[k[2]]};
+            const std::uint32_t w[3] = {vertex[k[0]], vertex[k[1]], vertex[k[2]]};
+            emitSegment(part, p, first + t, corners, d, w, out);
         }
     }
-    out.parts[p].push_back(seg);
-    ++out.segments;
+}
+
+// A software prefetch the optimiser keeps: GCC 12 deletes a loop whose only effect is
+// __builtin_prefetch (it has no effect on the program's behaviour), which is what a loop
+// over a leaf's vertices is.
+inline void prefetch(const void* p) {
+#if defined(__x86_64__) || defined(__i386__)
+    asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
+#else
+    asm volatile("" : : "r"(p));  // keeps the loop; the hint itself is the compiler's
+    __builtin_prefetch(p);
+#endif
 }
 
 // Units of the traversal (section/bvh.hpp queryPlaneUnits): enough for two threads to
@@ -172,50 +234,40 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
     };
     std::chrono::steady_clock::time_point t1;
     const std::vector<PartArrays> arrays = partArrays(index, out);
-    // The cut is bound by memory latency along a chain of four dependent loads per leaf:
-    // node -> its triangle ids -> their vertex indices -> the vertices. Each link is
-    // prefetched in its own stage, kGap leaves apart (node 8 leaves ahead, ids 6, indices
-    // 4, vertices 2), so every load a stage needs was requested kGap leaves earlier (gaps
-    // of 3 and 4 measured the same on L4).
-    constexpr std::size_t kGap = 2;  // leaves between stages
-    auto prefetchIndices = [&](std::size_t l, PartCursor& cursor) {
-        const BvhNode& nd = bvh.nodes[leaves[l]];
-        for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
-            const std::uint32_t id = bvh.triangles[i];
-            const std::uint32_t p = cursor(id);
-            __builtin_prefetch(arrays[p].indices + 3 * std::size_t(id - bvh.meshFirst[p]));
-        }
-    };
-    auto prefetchVertices = [&](std::size_t l, PartCursor& cursor) {
-        const BvhNode& nd = bvh.nodes[leaves[l]];
-        for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
-            const std::uint32_t id = bvh.triangles[i];
-            const std::uint32_t p = cursor(id);
-            const PartArrays& a = arrays[p];
-            const std::uint32_t* tri = a.indices + 3 * std::size_t(id - bvh.meshFirst[p]);
-            for (int k = 0; k < 3; ++k) __builtin_prefetch(&a.positions[tri[k]]);
+    // The cut is bound by memory latency along a chain of three dependent loads per leaf:
+    // its table's offset -> the table -> the table's vertices. Each link is prefetched in its
+    // own stage, kGap leaves apart (offset 3 kGap leaves ahead, table 2 kGap, vertices kGap),
+    // so every load a stage needs was requested kGap leaves earlier.
+    constexpr std::size_t kGap = 3;  // leaves between stages
+    const LeafTables& tables = index.leafTables;
+    auto tableOf = [&](std::size_t l) { return tables.words.data() + tables.tableOf[leaves[l]]; };
+    auto prefetchVertices = [&](std::size_t l) {
+        const std::uint32_t* table = tableOf(l);
+        const std::uint32_t runs = table[0] & 0xFFu;
+        const std::uint32_t* run = table + 1;
+        const std::uint32_t* vertex = run + 3 * runs;
+        for (std::uint32_t r = 0; r < runs; ++r, run += 3) {
+            const glm::dvec3* positions = arrays[run[0]].positions;
+            for (std::uint32_t k = 0, n = run[2] >> 8; k < n; ++k, ++vertex) {
+                // Both ends: 3 vertices in 8 straddle two cache lines.
+                prefetch(&positions[*vertex].x);
+                prefetch(&positions[*vertex].z);
+            }
         }
     };
     // Cuts leaves [lo, hi) into dst; the prefetch stages run on past hi (into a range the
     // other thread may be cutting: reads only), so a range starts with its pipeline full.
     auto cutRange = [&](std::size_t lo, std::size_t hi, PlaneCut& dst) {
-        PartCursor cut{&bvh}, ahead4{&bvh}, ahead2{&bvh};
         const std::size_t end = leaves.size();
         for (std::size_t l = lo; l < hi; ++l) {
-            if (l + 4 * kGap < end) __builtin_prefetch(&bvh.nodes[leaves[l + 4 * kGap]]);
-            if (l + 3 * kGap < end) {
-                const BvhNode& nd = bvh.nodes[leaves[l + 3 * kGap]];
-                __builtin_prefetch(&bvh.triangles[nd.first]);
-                __builtin_prefetch(&bvh.triangles[nd.first + nd.count - 1]);
+            if (l + 3 * kGap < end) __builtin_prefetch(&tables.tableOf[leaves[l + 3 * kGap]]);
+            if (l + 2 * kGap < end) {
+                const std::uint32_t* table = tableOf(l + 2 * kGap);
+                __builtin_prefetch(table);
+                __builtin_prefetch(table + 16);
             }
-            if (l + 2 * kGap < end) prefetchIndices(l + 2 * kGap, ahead4);
-            if (l + kGap < end) prefetchVertices(l + kGap, ahead2);
-            const BvhNode& nd = bvh.nodes[leaves[l]];
-            for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
-                const std::uint32_t id = bvh.triangles[i];
-                const std::uint32_t p = cut(id);
-                cutOne(arrays[p], index.origin, p, id - bvh.meshFirst[p], dst);
-            }
+            if (l + kGap < end) prefetchVertices(l + kGap);
+            cutLeaf(tableOf(l), arrays.data(), index.origin, dst);
         }
     };
     if (two) {

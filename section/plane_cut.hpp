@@ -68,7 +68,8 @@ struct CutStats {
 };
 
 // The cut through the BVH: the leaves that straddle the plane (and overlap `rect` when not
-// null) are found first, then their triangles are cut, each vertex read once. With
+// null) are found first, then their triangles are cut from the leaf tables
+// (section/leaf_tables.hpp): each distinct vertex of a leaf read and measured once. With
 // threads = 2 the calling thread's partner (section/partner_thread.hpp) takes traversal
 // units and chunks of leaves (equal triangle counts) from common counters, its chunks from
 // the back; the segments are appended in chunk order, so the output never depends on

@@ -56,7 +56,8 @@ std::vector<std::uint32_t> weld(const std::vector<glm::dvec3>& pos) {
 }  // namespace
 
 std::size_t SectionIndex::memoryBytes() const {
-    std::size_t b = bvh.memoryBytes() + meshes.capacity() * sizeof(BvhMesh) + parts.capacity() * sizeof(SectionPart);
+    std::size_t b = bvh.memoryBytes() + leafTables.memoryBytes() + meshes.capacity() * sizeof(BvhMesh) +
+                    parts.capacity() * sizeof(SectionPart);
     for (const auto& p : parts) b += p.canon.capacity() * 4;
     return b;
 }
@@ -105,6 +106,9 @@ Result<std::unique_ptr<SectionIndex>> makeIndex(const Model& model, MakeBvh&& ma
     welder.join();
     if (!bvh) return bvh.error();
     index->bvh = std::move(bvh).value();
+    auto tables = buildLeafTables(index->bvh, index->parts);
+    if (!tables) return tables.error();
+    index->leafTables = std::move(tables).value();
     return index;
 }
 

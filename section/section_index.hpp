@@ -1,6 +1,7 @@
 // Everything the section engine precomputes for one model: the part table (bodies then
 // surfaces, with records, colours and nesting), welded vertex ids per part (so that
-// contour chaining follows mesh edges, not float matching) and the triangle BVH.
+// contour chaining follows mesh edges, not float matching), the triangle BVH and the
+// cut's table of each of its leaves.
 //
 // Part p < model.bodies.size() is model.bodies[p]; the others are model.surfaces in order.
 // Triangle ids are global: part p owns [bvh.meshFirst[p], bvh.meshFirst[p + 1]).
@@ -17,6 +18,7 @@
 #include "model/model.hpp"
 #include "model/result.hpp"
 #include "section/bvh.hpp"
+#include "section/leaf_tables.hpp"
 
 namespace geoslice {
 
@@ -43,6 +45,7 @@ struct SectionIndex {
     std::vector<SectionPart> parts;
     std::vector<BvhMesh> meshes;  // one per part, for the BVH
     Bvh bvh;
+    LeafTables leafTables;  // the cut's table of each BVH leaf (section/leaf_tables.hpp)
     std::size_t bodyCount = 0;
 
     std::size_t memoryBytes() const;
