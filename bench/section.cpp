@@ -152,7 +152,8 @@ int main(int argc, char** argv) {
 
         std::vector<double> cSection1, cSection2, tSection1;
         std::vector<double> tQueryTris, tContours2, tEnd2, cCut, cAssemble, cFill, cEnd, nodesVisited, trisTested,
-            tFillReused, tSection, tQuery, tCut, tAssemble, tContours, tFill, tTile, tEnd, tBrute, crossing, segments;
+            tFillReused, tFillIds, tFillColour, tSection, tQuery, tCut, tAssemble, tContours, tFill, tTile, tEnd,
+            tBrute, crossing, segments;
         std::mt19937_64 rng(7);
         const Aabb bounds = model->bounds();
         std::size_t openChains = 0, oraclePixels = 0, oracleDiffer = 0;
@@ -209,13 +210,6 @@ int main(int argc, char** argv) {
                 auto sec2 = computeSection(idx, p, two);
                 tContours2.push_back(ms(s));
                 cSection2.push_back(1000.0 * (bench::processCpuSeconds() - pc));
-                // The same on one thread, timed the same way (wall and process CPU).
-                const double pc1 = bench::processCpuSeconds();
-                s = bench::nowSeconds();
-                auto sec1 = computeSection(idx, p);
-                tSection1.push_back(ms(s));
-                cSection1.push_back(1000.0 * (bench::processCpuSeconds() - pc1));
-                (void)sec1;
                 if (sec2) {
                     RasterOptions ro;
                     auto img2 =
@@ -223,6 +217,13 @@ int main(int argc, char** argv) {
                     (void)img2;
                 }
                 tEnd2.push_back(ms(s));
+                // The same on one thread, timed the same way (wall and process CPU).
+                const double pc1 = bench::processCpuSeconds();
+                s = bench::nowSeconds();
+                auto sec1 = computeSection(idx, p);
+                tSection1.push_back(ms(s));
+                cSection1.push_back(1000.0 * (bench::processCpuSeconds() - pc1));
+                (void)sec1;
             }
             for (const auto& b : section.bodies) openChains += b.openChains;
             // computeSection with closed bodies' exit points only and with both points of every
@@ -314,6 +315,15 @@ int main(int argc, char** argv) {
             ok = rasterizeSection(idx, section, full, side, side, RasterOptions{}, reused).ok() && ok;
             tFillReused.push_back(ms(s));
             cFill.push_back(1000.0 * (bench::threadCpuSeconds() - c));
+            // Its two parts alone: the ID buffer, then the anti-aliased colour.
+            for (int part = 0; part < 2; ++part) {
+                RasterOptions one;
+                one.colour = part == 1;
+                one.ids = part == 0;
+                s = bench::nowSeconds();
+                ok = rasterizeSection(idx, section, full, side, side, one, reused).ok() && ok;
+                (part == 0 ? tFillIds : tFillColour).push_back(ms(s));
+            }
             // A tile of tileSide pixels at the same scale, at the frame centre, from the BVH.
             const double pu = (full.u1 - full.u0) / side, pv = (full.v1 - full.v0) / side;
             const double cu = 0.5 * (full.u0 + full.u1), cv = 0.5 * (full.v0 + full.v1);
@@ -428,6 +438,8 @@ int main(int argc, char** argv) {
               {"compute_section_1_thread_next_to_2", bench::median(tSection1)},
               {"fill_" + std::to_string(side) + "_fresh_buffers", bench::median(tFill)},
               {"fill_" + std::to_string(side), bench::median(tFillReused)},
+              {"fill_" + std::to_string(side) + "_ids_only", bench::median(tFillIds)},
+              {"fill_" + std::to_string(side) + "_colour_only", bench::median(tFillColour)},
               {"tile_" + std::to_string(tileSide), bench::median(tTile)},
               {"compute_section", bench::median(tSection)},
               {"end_to_end_" + std::to_string(side), bench::median(tEnd)},
