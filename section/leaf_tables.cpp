@@ -1,6 +1,7 @@
 #include "section/leaf_tables.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 #include <thread>
 
@@ -19,6 +20,8 @@ void buildRange(const Bvh& bvh, const std::vector<SectionPart>& parts, std::size
     std::vector<Run> runs;
     std::vector<std::uint32_t> vertices;  // welded, run by run
     std::vector<std::uint8_t> corners;
+    // The part of the previous triangle: a leaf lists its ids ascending, in runs per part.
+    std::uint32_t part = 0, partLo = 0, partHi = 0;
     for (std::size_t n = lo; n < hi; ++n) {
         const BvhNode& nd = bvh.nodes[n];
         if (nd.count == 0) continue;
@@ -26,20 +29,23 @@ void buildRange(const Bvh& bvh, const std::vector<SectionPart>& parts, std::size
         vertices.clear();
         corners.clear();
         std::size_t runVertices = 0;  // the current run's first entry in `vertices`
-        std::uint32_t prevPart = 0, prevLocal = 0;
+        std::uint32_t prevLocal = 0;
         for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
             const std::uint32_t id = bvh.triangles[i];
-            const std::uint32_t p = bvh.meshOf(id);
-            const std::uint32_t t = id - bvh.meshFirst[p];
-            const SectionPart& sp = parts[p];
+            if (id - partLo >= partHi - partLo) {  // unsigned: outside [partLo, partHi)
+                part = bvh.meshOf(id);
+                partLo = bvh.meshFirst[part];
+                partHi = bvh.meshFirst[part + 1];
+            }
+            const std::uint32_t t = id - partLo;
+            const SectionPart& sp = parts[part];
             const std::uint32_t* tri = sp.part->mesh.indices.data() + 3 * std::size_t(t);
             const std::uint32_t w[3] = {sp.weld(tri[0]), sp.weld(tri[1]), sp.weld(tri[2])};
             if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) continue;  // degenerate: never cut
-            if (runs.empty() || p != prevPart || t != prevLocal + 1) {
-                runs.push_back(Run{p, t, 0, 0});
+            if (runs.empty() || part != runs.back().part || t != prevLocal + 1) {
+                runs.push_back(Run{part, t, 0, 0});
                 runVertices = vertices.size();
             }
-            prevPart = p;
             prevLocal = t;
             ++runs.back().triangles;
             for (std::uint32_t v : w) {
@@ -61,10 +67,12 @@ void buildRange(const Bvh& bvh, const std::vector<SectionPart>& parts, std::size
             words.push_back(r.triangles | r.vertices << 8);
         }
         words.insert(words.end(), vertices.begin(), vertices.end());
-        const std::size_t at = words.size();
-        words.resize(at + (corners.size() + 3) / 4, 0);
-        for (std::size_t c = 0; c < corners.size(); ++c)
-            words[at + c / 4] |= std::uint32_t(corners[c]) << (8 * (c % 4));
+        for (std::size_t c = 0; c < corners.size(); c += 4) {
+            std::uint32_t packed = 0;
+            for (std::size_t k = c; k < std::min(c + 4, corners.size()); ++k)
+                packed |= std::uint32_t(corners[k]) << (8 * (k - c));
+            words.push_back(packed);
+        }
     }
 }
 
@@ -72,29 +80,47 @@ void buildRange(const Bvh& bvh, const std::vector<SectionPart>& parts, std::size
 
 Result<LeafTables> buildLeafTables(const Bvh& bvh, const std::vector<SectionPart>& parts, unsigned threads) {
     LeafTables t;
-    t.tableOf.assign(bvh.nodes.size(), 0);
-    if (bvh.nodes.empty()) return t;
-    // About 20 words a leaf on the generator's models: reserve for that.
-    const std::size_t mid = threads >= 2 ? bvh.nodes.size() / 2 : bvh.nodes.size();
-    t.words.reserve(bvh.triangles.size() * 5);
-    std::vector<std::uint32_t> second;
-    std::thread worker;
-    if (mid < bvh.nodes.size()) {
-        second.reserve(bvh.triangles.size() * 5 / 2);
-        worker = std::thread([&] { buildRange(bvh, parts, mid, bvh.nodes.size(), second, t.tableOf); });
+    const std::size_t nodes = bvh.nodes.size();
+    t.tableOf.assign(nodes, 0);
+    // Two threads take the nodes before and after the one where half the triangles are
+    // behind (the leaves are not spread evenly over the node array).
+    std::size_t mid = nodes;
+    if (threads >= 2) {
+        std::size_t acc = 0;
+        for (std::size_t n = 0; n < nodes; ++n)
+            if ((acc += bvh.nodes[n].count) * 2 >= bvh.triangles.size()) {
+                mid = n + 1;
+                break;
+            }
     }
-    buildRange(bvh, parts, 0, mid, t.words, t.tableOf);
+    // About 4.1 words a triangle on the generator's models: reserved so that no table moves
+    // while it is built (reserved pages never written cost no memory).
+    auto reserveFor = [&](std::size_t triangles) { return triangles * 5 + 1024; };
+    std::vector<std::uint32_t> first, second;
+    first.reserve(reserveFor(mid < nodes ? bvh.triangles.size() / 2 : bvh.triangles.size()));
+    std::thread worker;
+    if (mid < nodes)
+        worker = std::thread([&] {
+            second.reserve(reserveFor(bvh.triangles.size() / 2));
+            buildRange(bvh, parts, mid, nodes, second, t.tableOf);
+        });
+    buildRange(bvh, parts, 0, mid, first, t.tableOf);
     if (worker.joinable()) worker.join();
-    if (t.words.size() + second.size() > 0xFFFFFFFFull)
+    t.wordCount = first.size() + second.size();
+    if (t.wordCount > 0xFFFFFFFFull)
         return Error{ErrorCode::OutOfRange, "the section cut's leaf tables would pass 2^32 words (" +
                                                 std::to_string(bvh.triangles.size()) + " triangles)"};
-    if (!second.empty()) {
-        const auto shift = static_cast<std::uint32_t>(t.words.size());
-        for (std::size_t n = mid; n < bvh.nodes.size(); ++n)
-            if (bvh.nodes[n].count != 0) t.tableOf[n] += shift;
-        t.words.insert(t.words.end(), second.begin(), second.end());
-    }
-    t.words.shrink_to_fit();
+    // One block of exactly the tables' size, each half copied in by the thread that built it.
+    t.words.reset(new std::uint32_t[std::max<std::size_t>(t.wordCount, 1)]);
+    const auto shift = static_cast<std::uint32_t>(first.size());
+    if (!second.empty())
+        worker = std::thread([&] {
+            std::memcpy(t.words.get() + shift, second.data(), second.size() * 4);
+            for (std::size_t n = mid; n < nodes; ++n)
+                if (bvh.nodes[n].count != 0) t.tableOf[n] += shift;
+        });
+    if (!first.empty()) std::memcpy(t.words.get(), first.data(), first.size() * 4);
+    if (worker.joinable()) worker.join();
     return t;
 }
 

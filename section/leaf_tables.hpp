@@ -24,13 +24,14 @@
 //
 // Memory (L4, 10M triangles, leaves of <= 8, measured): 174 MiB, 17 bytes a triangle (2.1M
 // leaves of 4.8 triangles, 9.5 distinct vertices and 1.8 runs on average), next to the
-// tree's 167; built in 0.25-0.3 s on 2 threads. For it the cut of a new L4 plane takes
-// 0.73-0.76x the time (bench/section.cpp, README "Performance").
+// tree's 167; built in 164-169 ms on 2 threads (306 ms on one). For it the cut of a new L4
+// plane takes 0.73-0.76x the time (bench/section.cpp, README "Performance").
 // Thread-safety: build once; read from any number of threads.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "model/result.hpp"
@@ -41,10 +42,12 @@ namespace geoslice {
 struct SectionPart;
 
 struct LeafTables {
-    std::vector<std::uint32_t> words;    // every leaf's table
+    std::unique_ptr<std::uint32_t[]> words;  // every leaf's table (wordCount of them)
+    std::size_t wordCount = 0;
     std::vector<std::uint32_t> tableOf;  // node index -> its table's first word (leaves only)
 
-    std::size_t memoryBytes() const { return words.capacity() * 4 + tableOf.capacity() * 4; }
+    const std::uint32_t* table(std::size_t node) const { return words.get() + tableOf[node]; }
+    std::size_t memoryBytes() const { return wordCount * 4 + tableOf.capacity() * 4; }
 
     static constexpr std::size_t kMaxVertices = 192;  // 3 x the largest leaf (BvhOptions::maxLeafSize)
 };

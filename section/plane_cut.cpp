@@ -240,7 +240,7 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
     // so every load a stage needs was requested kGap leaves earlier.
     constexpr std::size_t kGap = 3;  // leaves between stages
     const LeafTables& tables = index.leafTables;
-    auto tableOf = [&](std::size_t l) { return tables.words.data() + tables.tableOf[leaves[l]]; };
+    auto tableOf = [&](std::size_t l) { return tables.table(leaves[l]); };
     auto prefetchVertices = [&](std::size_t l) {
         const std::uint32_t* table = tableOf(l);
         const std::uint32_t runs = table[0] & 0xFFu;

@@ -146,7 +146,7 @@ TEST(SectionLeafTables, EveryLeafListsItsNonDegenerateTrianglesOnce) {
         const BvhNode& nd = idx->bvh.nodes[n];
         if (nd.count == 0) continue;
         ++leaves;
-        const std::uint32_t* w = t.words.data() + t.tableOf[n];
+        const std::uint32_t* w = t.table(n);
         const std::uint32_t runs = w[0] & 0xFFu, vertices = (w[0] >> 8) & 0xFFu, triangles = (w[0] >> 16) & 0xFFu;
         ASSERT_LE(vertices, LeafTables::kMaxVertices);
         std::vector<std::uint32_t> ids;
