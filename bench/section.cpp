@@ -73,7 +73,7 @@ bool sameSection(const Section& a, const Section& b) {
 int main(int argc, char** argv) {
     std::string sizes = "L1,L4";
     int planes = 50, side = 1024, tileSide = 256;
-    unsigned leaf = 8;
+    unsigned leaf = BvhOptions{}.maxLeafSize;
     int oracleSide = 0;
     bool leafOrder = true, exitsOnly = true;
     for (int i = 1; i + 1 < argc; i += 2) {

@@ -15,9 +15,14 @@
 // Queries take the plane in the local frame (double) and test each candidate triangle
 // with the exact sign rule of model/plane.hpp.
 //
-// Memory (L4, 10M triangles, leaves of <= 8, measured): 4.19M nodes x 32 B = 134 MB plus
-// 40 MB of triangle ids, 185 MB in all with the welds; the build peaks 280 MB above the
-// model (12 B per triangle more while it runs) and takes 1.9 s on 2 cores.
+// Leaves hold up to 64 triangles by default: the cut reads a leaf through its table
+// (section/leaf_tables.hpp), where a triangle costs three byte tests, so a shallower tree
+// with fewer nodes to visit wins. L4, cold planes (bench_section, load 1.5-1.7): leaves of
+// 8 / 16 / 32 / 64 gave traversal 0.57 / 0.41 / 0.31 / 0.22 ms and cut + contours
+// 1.99 / 1.81 / 1.76-1.81 / 1.68-1.72 ms, the cut itself about equal.
+//
+// Memory (L4, 10M triangles, leaves of <= 64, measured): 524k nodes x 32 B = 17 MB plus
+// 40 MB of triangle ids (with leaves of <= 8: 4.19M nodes, 134 MB).
 // Thread-safety: build once; queries are const and may run on any number of threads.
 #pragma once
 
@@ -84,8 +89,8 @@ struct Bvh {
 };
 
 struct BvhOptions {
-    unsigned maxLeafSize = 8;  // 1..64
-    unsigned threads = 0;      // 0 = hardware concurrency (at most 2 subtrees run at once per level)
+    unsigned maxLeafSize = 64;  // 1..64
+    unsigned threads = 0;       // 0 = hardware concurrency (at most 2 subtrees run at once per level)
 };
 
 // Triangles with a non-finite vertex are left out (they cannot cross a plane).

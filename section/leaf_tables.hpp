@@ -22,10 +22,11 @@
 // are left out; so are those the BVH leaves out. With leaves of at most 64 triangles a
 // leaf has at most 192 vertices: every count fits its byte.
 //
-// Memory (L4, 10M triangles, leaves of <= 8, measured): 174 MiB, 17 bytes a triangle (2.1M
-// leaves of 4.8 triangles, 9.5 distinct vertices and 1.8 runs on average), next to the
-// tree's 167; built in 164-169 ms on 2 threads (306 ms on one). For it the cut of a new L4
-// plane takes 0.73-0.76x the time (bench/section.cpp, README "Performance").
+// Memory (L4, 10M triangles, measured): with leaves of <= 64 (the default) 78 MB, 7.8 bytes
+// a triangle, built in 149 ms on 2 threads (245 ms on one); with leaves of <= 8, 174 MiB
+// (2.1M leaves of 4.8 triangles, 9.5 distinct vertices and 1.8 runs on average). At leaves
+// of 8 the cut of a new L4 plane took 0.73-0.76x the time of the per-triangle path
+// (bench/section.cpp, A/B in one run; README "Performance").
 // Thread-safety: build once; read from any number of threads.
 #pragma once
 

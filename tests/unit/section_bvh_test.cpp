@@ -33,7 +33,12 @@ std::vector<std::uint32_t> bruteCrossing(const SectionIndex& idx, const LocalPla
 
 TEST(SectionBvh, PlaneQueryEqualsBruteForce) {
     Model m = syntheticModel(20000);
-    auto idx = indexFor(m);
+    // Leaves of 8 (the default is 64): 4,096 nodes, enough for the pruning check below.
+    BvhOptions small;
+    small.maxLeafSize = 8;
+    auto built = buildSectionIndex(m, small);
+    ASSERT_TRUE(built.ok());
+    auto idx = std::move(built).value();
     EXPECT_EQ(idx->bvh.triangles.size(), m.triangleCount());
     std::mt19937_64 rng(1);
     for (int k = 0; k < 40; ++k) {
