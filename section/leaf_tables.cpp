@@ -24,7 +24,8 @@ void buildRange(const Bvh& bvh, const std::vector<SectionPart>& parts, std::size
     std::uint32_t part = 0, partLo = 0, partHi = 0;
     for (std::size_t n = lo; n < hi; ++n) {
         const BvhNode& nd = bvh.nodes[n];
-        if (nd.count == 0) continue;
+        // Node 1 is padding (section/bvh.hpp): never read, and not checked in a loaded tree.
+        if (nd.count == 0 || n == 1) continue;
         runs.clear();
         vertices.clear();
         corners.clear();
@@ -88,7 +89,7 @@ Result<LeafTables> buildLeafTables(const Bvh& bvh, const std::vector<SectionPart
     if (threads >= 2) {
         std::size_t acc = 0;
         for (std::size_t n = 0; n < nodes; ++n)
-            if ((acc += bvh.nodes[n].count) * 2 >= bvh.triangles.size()) {
+            if (n != 1 && (acc += bvh.nodes[n].count) * 2 >= bvh.triangles.size()) {
                 mid = n + 1;
                 break;
             }
@@ -117,7 +118,7 @@ Result<LeafTables> buildLeafTables(const Bvh& bvh, const std::vector<SectionPart
         worker = std::thread([&] {
             std::memcpy(t.words.get() + shift, second.data(), second.size() * 4);
             for (std::size_t n = mid; n < nodes; ++n)
-                if (bvh.nodes[n].count != 0) t.tableOf[n] += shift;
+                if (bvh.nodes[n].count != 0 && n != 1) t.tableOf[n] += shift;
         });
     if (!first.empty()) std::memcpy(t.words.get(), first.data(), first.size() * 4);
     if (worker.joinable()) worker.join();

@@ -1,6 +1,7 @@
 // libFuzzer target for the saved section BVH (section/bvh.hpp loadBvh, a baked package's
-// section.bvh): any bytes must give a tree whose traversal stays in bounds and ends, or an
-// error, never a crash, a hang or an unbounded allocation. The mesh is fixed (a quad of two
+// section.bvh): any bytes must give a tree whose traversal stays in bounds and ends, and whose
+// leaf tables (built by loadSectionIndex) cut in bounds, or an error, never a crash, a hang or
+// an unbounded allocation. The mesh is fixed (a quad of two
 // triangles and a triangle, two meshes, origin 0); seeds (corpus/bvh/) are saved trees of it:
 // a root leaf and a root with two leaf children.
 #include <cstddef>
@@ -8,7 +9,10 @@
 #include <span>
 #include <vector>
 
-#include "section/bvh.hpp"
+#include "model/model.hpp"
+#include "section/contours.hpp"
+#include "section/plane_cut.hpp"
+#include "section/section_index.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace geoslice;
@@ -31,5 +35,31 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (std::uint32_t leaf : leaves)
             if (leaf >= bvh->nodes.size()) __builtin_trap();
     }
+    // The same bytes as a model's stored tree: the section index builds the cut's leaf tables
+    // from it (section/leaf_tables.hpp), and cuts through them on one and two threads must
+    // stay in bounds (the sanitizers watch) and give at most one segment per listed triangle
+    // (a stored tree's leaves may list an id twice: the package's checksums vouch for it).
+    static const Model model = [] {
+        Model m;
+        Part a, b;
+        a.kind = b.kind = PartKind::Surface;
+        a.mesh.positions.assign(positions, positions + 4);
+        a.mesh.indices.assign(quad, quad + 6);
+        b.mesh.positions.assign(positions + 4, positions + 7);
+        b.mesh.indices = {0, 1, 2};
+        m.surfaces = {a, b};
+        return m;
+    }();
+    auto index = loadSectionIndex(model, std::span<const std::uint8_t>(data, size), "fuzz");
+    if (!index) return 0;
+    for (double z : {0.5, 1.5, -10.0})
+        for (unsigned threads : {1u, 2u}) {
+            PlaneCut cut;
+            beginCut(**index, Plane{glm::dvec3(0, 0, 1), -z}, cut);
+            cutWithBvh(**index, nullptr, cut, threads);
+            if (cut.segments > 64 * (*index)->bvh.nodes.size()) __builtin_trap();  // leaves may share ids
+            Section section;
+            assembleContours(**index, cut, section, threads);
+        }
     return 0;
 }
