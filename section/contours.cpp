@@ -161,7 +161,12 @@ bool walkEntries(const std::vector<Segment>& segs, const EntryTable& table, std:
         state[cur] |= kVisited;
         const Segment& s = segs[cur];
         if constexpr (!exits) pushPoint(c.points, s.a);
-        const std::uint32_t next = table.find(s.keyB);
+        // The segment after (or before) this one in the cut's order is often the next on the
+        // ring: its triangle is a neighbour in the same leaf. Entry keys are unique once the
+        // table holds them all, so a match there is the table's answer without a probe.
+        const std::uint32_t next = cur + 1 < segs.size() && segs[cur + 1].keyA == s.keyB ? cur + 1
+                                   : cur > 0 && segs[cur - 1].keyA == s.keyB             ? cur - 1
+                                                                                         : table.find(s.keyB);
         if (next == kNone || (state[next] & kEntered)) return false;
         state[next] |= kEntered;
         if (next == start) {
