@@ -1,4 +1,4 @@
-// bench_section [--sizes L1,L4] [--planes 50] [--size 1024] [--tile 256] [--leaf 8] [--oracle 256]:
+// bench_section [--sizes L1,L4] [--planes 50] [--size 1024] [--tile 256] [--leaf 64] [--oracle 256]:
 // the exact section engine. For each model size: generate + validate, build the section
 // index (BVH + welds), then for `planes` random planes through the model time separately
 // the BVH query, the cut (segments), contour assembly (first, with nothing of the plane in
@@ -177,7 +177,6 @@ int main(int argc, char** argv) {
             // (traversal only), then their triangles cut, then assembly, timed one by one.
             beginCut(idx, p, cut, exitsOnly);
             CutStats cs;
-            double s = bench::nowSeconds();
             double c = bench::threadCpuSeconds();
             cutWithBvh(idx, nullptr, cut, 1, &cs);
             cCut.push_back(1000.0 * (bench::threadCpuSeconds() - c));
@@ -188,7 +187,7 @@ int main(int argc, char** argv) {
             Section section;
             section.plane = p;
             c = bench::threadCpuSeconds();
-            s = bench::nowSeconds();
+            double s = bench::nowSeconds();
             assembleContours(idx, cut, section);
             tAssemble.push_back(ms(s));
             cAssemble.push_back(1000.0 * (bench::threadCpuSeconds() - c));

@@ -31,6 +31,7 @@
 #include <new>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -85,6 +86,28 @@ struct Bvh {
     std::uint32_t meshOf(std::uint32_t globalTriangle) const;
     std::size_t memoryBytes() const {
         return nodes.capacity() * sizeof(BvhNode) + triangles.capacity() * 4 + meshFirst.capacity() * 4;
+    }
+};
+
+// Global triangle id -> mesh, remembering the last two meshes' id ranges: ids met in
+// ascending runs per mesh (a leaf lists its ids in ascending order, and a leaf on the
+// boundary of two bodies holds both bodies' copies of the shared faces) cost a binary search
+// of Bvh::meshFirst only at a new pair of meshes. After a call, [lo, hi) is the returned
+// mesh's id range.
+struct BvhMeshCursor {
+    const Bvh* bvh = nullptr;
+    std::uint32_t mesh = 0, lo = 0, hi = 0;     // empty ranges until the first lookups
+    std::uint32_t mesh2 = 0, lo2 = 0, hi2 = 0;  // the mesh before
+    std::uint32_t operator()(std::uint32_t id) {
+        if (id - lo < hi - lo) return mesh;  // unsigned: lo <= id < hi
+        std::swap(mesh, mesh2);
+        std::swap(lo, lo2);
+        std::swap(hi, hi2);
+        if (id - lo < hi - lo) return mesh;
+        mesh = bvh->meshOf(id);
+        lo = bvh->meshFirst[mesh];
+        hi = bvh->meshFirst[mesh + 1];
+        return mesh;
     }
 };
 

@@ -20,8 +20,7 @@ void buildRange(const Bvh& bvh, const std::vector<SectionPart>& parts, std::size
     std::vector<Run> runs;
     std::vector<std::uint32_t> vertices;  // welded, run by run
     std::vector<std::uint8_t> corners;
-    // The part of the previous triangle: a leaf lists its ids ascending, in runs per part.
-    std::uint32_t part = 0, partLo = 0, partHi = 0;
+    BvhMeshCursor partOf{&bvh};
     for (std::size_t n = lo; n < hi; ++n) {
         const BvhNode& nd = bvh.nodes[n];
         // Node 1 is padding (section/bvh.hpp): never read, and not checked in a loaded tree.
@@ -33,12 +32,7 @@ void buildRange(const Bvh& bvh, const std::vector<SectionPart>& parts, std::size
         std::uint32_t prevLocal = 0;
         for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
             const std::uint32_t id = bvh.triangles[i];
-            if (id - partLo >= partHi - partLo) {  // unsigned: outside [partLo, partHi)
-                part = bvh.meshOf(id);
-                partLo = bvh.meshFirst[part];
-                partHi = bvh.meshFirst[part + 1];
-            }
-            const std::uint32_t t = id - partLo;
+            const std::uint32_t part = partOf(id), t = id - partOf.lo;
             const SectionPart& sp = parts[part];
             const std::uint32_t* tri = sp.part->mesh.indices.data() + 3 * std::size_t(t);
             const std::uint32_t w[3] = {sp.weld(tri[0]), sp.weld(tri[1]), sp.weld(tri[2])};

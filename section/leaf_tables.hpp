@@ -42,6 +42,35 @@ namespace geoslice {
 
 struct SectionPart;
 
+// One leaf's table read through the layout above.
+struct LeafTable {
+    struct Run {
+        std::uint32_t part, first, triangles, vertices;
+    };
+    explicit LeafTable(const std::uint32_t* words)
+        : runs(words[0] & 0xFFu),
+          vertexCount((words[0] >> 8) & 0xFFu),
+          triangleCount((words[0] >> 16) & 0xFFu),
+          runWords(words + 1),
+          vertices(runWords + 3 * runs),
+          cornerWords(vertices + vertexCount) {}
+
+    std::uint32_t runs, vertexCount, triangleCount;
+    const std::uint32_t* runWords;     // 3 words a run
+    const std::uint32_t* vertices;     // welded vertex indices, run by run
+    const std::uint32_t* cornerWords;  // corner bytes, 4 a word
+
+    Run run(std::uint32_t r) const {
+        const std::uint32_t* w = runWords + 3 * r;
+        return {w[0], w[1], w[2] & 0xFFu, w[2] >> 8};
+    }
+    // Corner c of the leaf (triangle c / 3, in run order): an index into `vertices`.
+    std::uint32_t corner(std::uint32_t c) const { return (cornerWords[c >> 2] >> (8 * (c & 3u))) & 0xFFu; }
+    std::size_t words() const {
+        return 1 + 3 * std::size_t(runs) + vertexCount + (3 * std::size_t(triangleCount) + 3) / 4;
+    }
+};
+
 struct LeafTables {
     std::unique_ptr<std::uint32_t[]> words;  // every leaf's table (wordCount of them)
     std::size_t wordCount = 0;

@@ -37,28 +37,6 @@ std::vector<PartArrays> partArrays(const SectionIndex& index, const PlaneCut& ou
     return a;
 }
 
-// Global triangle id -> part, remembering the last two parts' id ranges: a leaf lists its
-// ids in ascending order, so its triangles come in runs per part, and a leaf on the
-// boundary of two bodies holds both bodies' copies of the shared faces. Two ranges turn the
-// binary search of Bvh::meshOf from once per run (about 14k times per L4 section) into
-// once per new pair of parts (about 1k).
-struct PartCursor {
-    const Bvh* bvh = nullptr;
-    std::uint32_t part = 0, lo = 0, hi = 0;     // empty ranges until the first lookups
-    std::uint32_t part2 = 0, lo2 = 0, hi2 = 0;  // the part before
-    std::uint32_t operator()(std::uint32_t id) {
-        if (id - lo < hi - lo) return part;  // unsigned: lo <= id < hi
-        std::swap(part, part2);
-        std::swap(lo, lo2);
-        std::swap(hi, hi2);
-        if (id - lo < hi - lo) return part;
-        part = bvh->meshOf(id);
-        lo = bvh->meshFirst[part];
-        hi = bvh->meshFirst[part + 1];
-        return part;
-    }
-};
-
 // Appends the segment of triangle t of part p, crossed by the plane (corners' local
 // positions q, distances s and welded ids w, in the triangle's vertex order).
 inline __attribute__((always_inline)) void emitSegment(const PartArrays& part, std::size_t p, std::size_t t,
@@ -125,40 +103,35 @@ inline void cutOne(const PartArrays& part, const glm::dvec3& origin, std::size_t
 // and measured once, each triangle tested through its corner bytes. The same segments in
 // the same order as cutOne over the leaf's triangles: a welded vertex has the position of
 // the vertices welded to it, and degenerate triangles are not in the table.
-inline __attribute__((always_inline)) void cutLeaf(const std::uint32_t* table, const PartArrays* arrays,
+inline __attribute__((always_inline)) void cutLeaf(const LeafTable& table, const PartArrays* arrays,
                                                    const glm::dvec3& origin, PlaneCut& out) {
-    const std::uint32_t head = table[0];
-    const std::uint32_t runs = head & 0xFFu, vertexCount = (head >> 8) & 0xFFu;
-    const std::uint32_t* run = table + 1;
-    const std::uint32_t* vertex = run + 3 * runs;
-    const std::uint32_t* cornerWords = vertex + vertexCount;
     glm::dvec3 q[LeafTables::kMaxVertices];
     double s[LeafTables::kMaxVertices];
     std::uint32_t v0 = 0, c = 0;  // the run's first vertex and corner in the leaf
-    for (std::uint32_t r = 0; r < runs; ++r, run += 3) {
-        const std::uint32_t p = run[0], first = run[1], triangles = run[2] & 0xFFu, vertices = run[2] >> 8;
-        const PartArrays& part = arrays[p];
+    for (std::uint32_t r = 0; r < table.runs; ++r) {
+        const LeafTable::Run run = table.run(r);
+        const PartArrays& part = arrays[run.part];
         std::uint32_t positive = 0;
-        for (std::uint32_t k = v0; k < v0 + vertices; ++k) {
-            q[k] = part.positions[vertex[k]] - origin;
+        for (std::uint32_t k = v0; k < v0 + run.vertices; ++k) {
+            q[k] = part.positions[table.vertices[k]] - origin;
             s[k] = out.plane.distance(q[k]);
             positive += s[k] >= 0.0;
         }
-        v0 += vertices;
-        if (positive == 0 || positive == vertices) {  // the run's triangles all on one side
-            c += 3 * triangles;
+        v0 += run.vertices;
+        if (positive == 0 || positive == run.vertices) {  // the run's triangles all on one side
+            c += 3 * run.triangles;
             continue;
         }
-        for (std::uint32_t t = 0; t < triangles; ++t) {
+        for (std::uint32_t t = 0; t < run.triangles; ++t) {
             std::uint32_t k[3];
-            for (int j = 0; j < 3; ++j, ++c) k[j] = (cornerWords[c >> 2] >> (8 * (c & 3u))) & 0xFFu;
+            for (int j = 0; j < 3; ++j, ++c) k[j] = table.corner(c);
             const double d[3] = {s[k[0]], s[k[1]], s[k[2]]};
             const int in = int(d[0] >= 0.0) + int(d[1] >= 0.0) + int(d[2] >= 0.0);
             if (in == 0 || in == 3) continue;
             if (!std::isfinite(d[0] + d[1] + d[2])) continue;  // left out of the BVH too
             const glm::dvec3* const corners[3] = {&q[k[0]], &q[k[1]], &q[k[2]]};
-            const std::uint32_t w[3] = {vertex[k[0]], vertex[k[1]], vertex[k[2]]};
-            emitSegment(part, p, first + t, corners, d, w, out);
+            const std::uint32_t w[3] = {table.vertices[k[0]], table.vertices[k[1]], table.vertices[k[2]]};
+            emitSegment(part, run.part, run.first + t, corners, d, w, out);
         }
     }
 }
@@ -196,7 +169,7 @@ void beginCut(const SectionIndex& index, const Plane& plane, PlaneCut& out, bool
 void cutTriangles(const SectionIndex& index, const std::uint32_t* triangles, std::size_t count, PlaneCut& out) {
     const Bvh& bvh = index.bvh;
     const std::vector<PartArrays> arrays = partArrays(index, out);
-    PartCursor cursor{&bvh};
+    BvhMeshCursor cursor{&bvh};
     for (std::size_t i = 0; i < count; ++i) {
         const std::uint32_t id = triangles[i];
         const std::uint32_t p = cursor(id);
@@ -246,17 +219,15 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
     const LeafTables& tables = index.leafTables;
     auto tableOf = [&](std::size_t l) { return tables.table(leaves[l]); };
     auto prefetchVertices = [&](std::size_t l) {
-        const std::uint32_t* table = tableOf(l);
+        const std::uint32_t* words = tableOf(l);
+        const LeafTable table(words);
         // The rest of the table (its corner bytes), beyond the lines the stage before took.
-        const std::uint32_t words =
-            1 + 3 * (table[0] & 0xFFu) + ((table[0] >> 8) & 0xFFu) + (3 * ((table[0] >> 16) & 0xFFu) + 3) / 4;
-        for (std::uint32_t w = 16 * kTableLines; w < words; w += 16) prefetch(table + w);
-        const std::uint32_t runs = table[0] & 0xFFu;
-        const std::uint32_t* run = table + 1;
-        const std::uint32_t* vertex = run + 3 * runs;
-        for (std::uint32_t r = 0; r < runs; ++r, run += 3) {
-            const glm::dvec3* positions = arrays[run[0]].positions;
-            for (std::uint32_t k = 0, n = run[2] >> 8; k < n; ++k, ++vertex) {
+        for (std::size_t w = 16 * kTableLines; w < table.words(); w += 16) prefetch(words + w);
+        const std::uint32_t* vertex = table.vertices;
+        for (std::uint32_t r = 0; r < table.runs; ++r) {
+            const LeafTable::Run run = table.run(r);
+            const glm::dvec3* positions = arrays[run.part].positions;
+            for (std::uint32_t k = 0; k < run.vertices; ++k, ++vertex) {
                 // Both ends: 3 vertices in 8 straddle two cache lines.
                 prefetch(&positions[*vertex].x);
                 prefetch(&positions[*vertex].z);
@@ -274,7 +245,7 @@ void cutWithBvh(const SectionIndex& index, const PlaneRect* rect, PlaneCut& out,
                 for (std::size_t line = 0; line < kTableLines; ++line) prefetch(table + 16 * line);
             }
             if (l + kGap < end) prefetchVertices(l + kGap);
-            cutLeaf(tableOf(l), arrays.data(), index.origin, dst);
+            cutLeaf(LeafTable(tableOf(l)), arrays.data(), index.origin, dst);
         }
     };
     if (two) {
