@@ -13,6 +13,7 @@
 #include "model/validate.hpp"
 #include "section/block_section.hpp"
 #include "section/leaf_order.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -81,7 +82,7 @@ Status indexModel(CatalogModel& m, RayBuild rays) {
     RaySceneOptions sceneOptions;
     sceneOptions.quality = RTC_BUILD_QUALITY_LOW;
     m.rays = RayQueries::create(m.model, sceneOptions);
-    for (const auto& [id, record] : m.model.attributes.records()) m.recordJson[id] = record.toJson().dump();
+    for (const auto& [id, record] : m.model.attributes.records()) m.recordJson[id] = jsonText(record.toJson());
     for (const Part& p : m.model.bodies) m.bodyName.emplace(p.record, p.name);
     if (m.model.blocks) m.blockRecords = blockClipRecords(m.model, *m.model.blocks);
     chooseWgs84Transform(m);

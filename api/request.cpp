@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "model/view_limits.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::api {
 
@@ -28,7 +29,7 @@ Result<Params> paramsFromJson(const nlohmann::json& j, const std::string& what) 
         else if (v.is_number()) {
             const double d = v.get<double>();
             if (!std::isfinite(d)) return makeError(ErrorCode::InvalidArgument, what + ": '" + k + "' is not finite");
-            p[k] = v.is_number_float() ? formatNumber(d) : v.dump();
+            p[k] = v.is_number_float() ? formatNumber(d) : jsonText(v);
         } else if (v.is_array()) {
             // [n, n, ...] -> "n,n,..."; [[n, ...], [n, ...]] (planes) -> "n,...;n,...".
             std::string s;

@@ -7,6 +7,7 @@
 #include "api/legend.hpp"
 #include "section/contours.hpp"
 #include "section/vector_export.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -206,7 +207,7 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     auto emit = [&](const VectorSource& source) -> Result<std::string> {
         if (auto c = checkCancel(cancel); !c) return c.error();
         if (svg) return toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro);
-        return toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane).dump();
+        return jsonText(toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane));
     };
     // The cells' exact pieces inside the clipping bodies (plane u/v or line s/z), drawn over the
     // bodies' own fills.
@@ -242,7 +243,7 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     auto features = blockPiecesGeoJson(blocks, pc, pieces.value(), world ? &source.toWorld : nullptr);
     for (auto& f : features) doc["features"].push_back(std::move(f));
     doc["blockLegend"] = blockLegendJson(blocks, pc);
-    return doc.dump();
+    return jsonText(doc);
 }
 
 }  // namespace geoslice::api

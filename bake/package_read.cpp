@@ -13,6 +13,7 @@
 
 #include "bake/package_internal.hpp"
 #include "model/validate.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::bake {
 namespace {
@@ -118,7 +119,7 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
                 return parseError(source, kManifestFile, "no checksum (corrupt or not a geoslice package)");
             const std::string expect = manifest["checksum"].get<std::string>();
             manifest.erase("checksum");
-            const std::string compact = manifest.dump();
+            const std::string compact = jsonText(manifest);
             if (hex64(xxh64(compact.data(), compact.size())) != expect)
                 return parseError(source, kManifestFile, "checksum differs from the content (corrupt file)");
         }
@@ -126,7 +127,7 @@ Result<Package> parsePackage(std::string_view manifestText, std::span<const std:
             return parseError(source, kManifestFile, std::string("format is not \"") + kPackageFormat + "\"");
         if (manifest.at("version").get<int>() != kPackageVersion)
             return makeError(ErrorCode::Unsupported, source + "/" + kManifestFile + ": package version " +
-                                                         manifest.at("version").dump() + ", this build reads " +
+                                                         jsonText(manifest.at("version")) + ", this build reads " +
                                                          std::to_string(kPackageVersion) + " (bake the model again)");
         for (const char* f : {kMeshFile, kTextureFile, kAttributesFile})
             if (!manifest.at("files").contains(f))

@@ -10,6 +10,7 @@
 
 #include "bake/package_internal.hpp"
 #include "model/version.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::bake {
 
@@ -68,7 +69,7 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
     if (ZSTD_isError(packed)) return makeError(ErrorCode::Internal, std::string("zstd: ") + ZSTD_getErrorName(packed));
     texture.resize(packed);
     const AttributeTable table = mergedAttributes(model, baked);
-    const std::string attributes = table.toJson().dump(1);
+    const std::string attributes = jsonText(table.toJson(), 1);
 
     const fs::path root(dir);
     if (auto s = writeFile(root / kMeshFile, mesh->data(), mesh->size()); !s) return s;
@@ -119,8 +120,9 @@ Status writePackage(const Model& model, const BakedModel& baked, const std::stri
         {kVertexMapFile,
          {{"bytes", vertexMapBytes.size()}, {"xxh64", hex64(xxh64(vertexMapBytes.data(), vertexMapBytes.size()))}}}};
     // The manifest's own checksum: XXH64 of its compact dump without this field.
-    manifest["checksum"] = hex64(xxh64(manifest.dump().data(), manifest.dump().size()));
-    const std::string text = manifest.dump(2) + "\n";
+    const std::string compactManifest = jsonText(manifest);
+    manifest["checksum"] = hex64(xxh64(compactManifest.data(), compactManifest.size()));
+    const std::string text = jsonText(manifest, 2) + "\n";
     return writeFile(root / kManifestFile, text.data(), text.size());
 }
 

@@ -13,6 +13,7 @@
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
 #include "section/borehole.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 namespace {
@@ -81,7 +82,7 @@ void addBorehole(CLI::App& app, int& exitCode) {
         if (o->json) {
             json j = {{"model", o->model}};
             j.update(boreholeJson(m, b));
-            std::printf("%s\n", j.dump(2).c_str());
+            std::printf("%s\n", jsonText(j, 2).c_str());
             return;
         }
         std::printf("hole from (%.3f, %.3f, %.3f) along (%.6f, %.6f, %.6f), %.3f m; collar ", b.origin.x, b.origin.y,
@@ -104,7 +105,7 @@ void addBorehole(CLI::App& app, int& exitCode) {
         for (const auto& c : b.crossings) records.insert(c.record);
         for (RecordId id : records)
             if (const AttributeRecord* r = m.attributes.find(id))
-                std::printf("record %u: %s\n", id, r->toJson().dump().c_str());
+                std::printf("record %u: %s\n", id, jsonText(r->toJson()).c_str());
     });
 }
 

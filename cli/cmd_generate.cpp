@@ -8,6 +8,7 @@
 #include "model/gltf_io.hpp"
 #include "model/synthetic.hpp"
 #include "model/validate.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 
@@ -80,7 +81,7 @@ void addGenerate(CLI::App& app, int& exitCode) {
         std::filesystem::path p(o->out);
         std::string side = (p.parent_path() / (p.stem().string() + ".attributes.json")).string();
         std::ofstream f(side);
-        f << model->attributes.toJson().dump(2) << "\n";
+        f << jsonText(model->attributes.toJson(), 2) << "\n";
         if (!f) return fail(side + ": cannot write the attribute table", 1);
         const auto t2 = std::chrono::steady_clock::now();
         std::printf("wrote %s (%zu triangles, %zu bodies, %zu surfaces, %s) and %s in %.2f s (generate %.2f s)\n",

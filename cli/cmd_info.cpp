@@ -7,6 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "model/loaders.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 namespace {
@@ -235,7 +236,7 @@ void addInfo(CLI::App& app, int& exitCode) {
             if (!*asJson) printText(j);
             all.push_back(std::move(j));
         }
-        if (*asJson) std::printf("%s\n", (all.size() == 1 ? all[0] : all).dump(2).c_str());
+        if (*asJson) std::printf("%s\n", jsonText(all.size() == 1 ? all[0] : all, 2).c_str());
     });
 }
 

@@ -12,6 +12,7 @@
 #include "model/loaders.hpp"
 #include "section/block_reserves.hpp"
 #include "section/reserves.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 
@@ -68,7 +69,7 @@ void addReserves(CLI::App& app, int& exitCode) {
         if (o->json) {
             auto doc = api::reservesJson(m, r.value(), o->model);
             if (table) doc["grade_tonnage"] = api::gradeTonnageJson(m, *table);
-            std::printf("%s\n", doc.dump(2).c_str());
+            std::printf("%s\n", jsonText(doc, 2).c_str());
             return;
         }
         if (o->csv) {

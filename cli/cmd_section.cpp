@@ -36,6 +36,7 @@
 #include "section/raster.hpp"
 #include "section/section_index.hpp"
 #include "section/vector_export.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 namespace {
@@ -388,7 +389,7 @@ void addSection(CLI::App& app, int& exitCode) {
                 for (auto& f : blockPiecesGeoJson(*model->blocks, *classes, pieces,
                                                   o->geojsonFrame == "world" ? &source.toWorld : nullptr))
                     g["features"].push_back(std::move(f));
-            if (Status s = writeText(o->geojson, g.dump() + "\n"); !s) return fail(s.error().message, 1);
+            if (Status s = writeText(o->geojson, jsonText(g) + "\n"); !s) return fail(s.error().message, 1);
         }
         if (!o->svg.empty()) {
             auto svg = toSvg(idx, source, rect, width, height, ro);
@@ -434,7 +435,7 @@ void addSection(CLI::App& app, int& exitCode) {
             j["image"] = imageJson;
             j["bodies"] = bodiesJson(model.value(), bodies);
             j["traces"] = traces;
-            std::printf("%s\n", j.dump(2).c_str());
+            std::printf("%s\n", jsonText(j, 2).c_str());
         }
     });
 }

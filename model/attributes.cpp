@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "model/text_scan.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice {
 namespace {
@@ -149,7 +150,7 @@ nlohmann::ordered_json AttributeTable::toJson() const {
 }
 
 Result<AttributeTable> AttributeTable::fromJson(const nlohmann::json& j, const std::string& source) {
-    return fromJson(nlohmann::ordered_json::parse(j.dump()), source);
+    return fromJson(nlohmann::ordered_json::parse(jsonText(j)), source);
 }
 
 Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j, const std::string& source) {

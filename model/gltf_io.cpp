@@ -12,6 +12,7 @@
 #include <draco/mesh/mesh.h>
 
 #include "model/version.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice {
 namespace {
@@ -84,7 +85,7 @@ GlbBuilder::json& GlbBuilder::finishDocument(const Model& model, const Attribute
 }
 
 Result<std::vector<std::uint8_t>> GlbBuilder::pack(const std::string& what) const {
-    return packGlb(doc_.dump(), bin_, what);
+    return packGlb(jsonText(doc_), bin_, what);
 }
 
 Result<std::vector<std::uint8_t>> encodeGlb(const Model& model, const GlbWriteOptions& options) {

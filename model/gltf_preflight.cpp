@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "model/gltf_read.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::gltf {
 namespace {
@@ -219,7 +220,7 @@ Result<std::optional<std::string>> preflightJson(const char* text, std::size_t s
         }
     }
     if (!deferred) return std::optional<std::string>();
-    return std::optional<std::string>(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    return std::optional<std::string>(jsonText(doc));
 }
 
 }  // namespace geoslice::gltf

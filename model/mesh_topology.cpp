@@ -282,13 +282,21 @@ MeshReport analyseMesh(Mesh& mesh, bool fix) {
         if (sorted[i] == sorted[i - 1]) ++r.duplicateTriangles;
     std::vector<std::array<std::uint32_t, 3>>().swap(sorted);
 
-    // Topology, then outward orientation per shell; the pairing around split edges depends
-    // on the orientation, so it is redone when a shell that uses such an edge was flipped.
+    // Topology, then outward orientation per shell. The topology's corner classes name
+    // corner slots (3 t + k) of the mesh as it was wound when they were built, and the
+    // pairing around split edges depends on the orientation: after any flip both are stale,
+    // so the topology is built again from the flipped mesh before anything reads it. A
+    // second pass never flips a shell the first one oriented, unless flipping changed the
+    // pairing around a pinch-out edge; the loop ends on the pass that flips nothing (at most
+    // kPasses; a mesh still flipping then keeps its last topology, rebuilt after the flip).
     Topology topo;
     std::vector<std::vector<std::uint32_t>> comps;
     std::vector<double> vols;
     bool anyFlip = false;
-    for (int pass = 0; pass < 3; ++pass) {
+    constexpr int kPasses = 4;
+    bool topologyStale = false;
+    for (int pass = 0; pass < kPasses; ++pass) {
+        topologyStale = false;
         topo = buildTopology(mesh, canon, skip);
         r.boundaryEdges = topo.boundaryEdges;
         r.nonManifoldEdges = topo.nonManifoldEdges;
@@ -325,7 +333,6 @@ MeshReport analyseMesh(Mesh& mesh, bool fix) {
                 for (int k = 0; k < 3; ++k)
                     boxes[c].extend(mesh.positions[mesh.indices[3 * t + static_cast<std::uint32_t>(k)]]);
         }
-        std::vector<char> flipped(comps.size(), 0);
         bool flipNow = false;
         for (std::size_t c = 0; c < comps.size(); ++c) {
             int containers = 0;
@@ -346,20 +353,14 @@ MeshReport analyseMesh(Mesh& mesh, bool fix) {
                 if (fix) {
                     for (std::uint32_t t : comps[c]) std::swap(mesh.indices[3 * t + 1], mesh.indices[3 * t + 2]);
                     vols[c] = -vols[c];
-                    flipped[c] = 1;
                     flipNow = true;
                 }
             }
         }
-        if (!flipNow || topo.splitFaces.empty()) break;
-        bool redo = false;
-        std::vector<char> faceFlipped(nt, 0);
-        for (std::size_t c = 0; c < comps.size(); ++c)
-            if (flipped[c])
-                for (std::uint32_t t : comps[c]) faceFlipped[t] = 1;
-        for (std::uint32_t t : topo.splitFaces) redo = redo || faceFlipped[t];
-        if (!redo) break;
+        if (!flipNow) break;
+        topologyStale = true;
     }
+    if (topologyStale) topo = buildTopology(mesh, canon, skip);
     r.flipped = anyFlip && fix;
     r.signedVolume = std::accumulate(vols.begin(), vols.end(), 0.0);
     if (fix) {

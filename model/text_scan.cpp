@@ -106,6 +106,41 @@ std::string toUtf8(std::string_view s) {
     return out;
 }
 
+bool isUtf8(std::string_view s) {
+    for (std::size_t i = 0; i < s.size();) {
+        if (static_cast<unsigned char>(s[i]) < 0x80) {
+            ++i;
+            continue;
+        }
+        const std::size_t n = utf8Length(s, i);
+        if (n == 0) return false;
+        i += n;
+    }
+    return true;
+}
+
+std::string escapeText(std::string_view s, std::size_t maxBytes) {
+    static const char* kHex = "0123456789ABCDEF";
+    std::string out;
+    out.reserve(std::min(s.size(), maxBytes) + 8);
+    std::size_t i = 0;
+    while (i < s.size() && i < maxBytes) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        const std::size_t n = c < 0x80 ? 1 : utf8Length(s, i);
+        if (n == 0 || c < 0x20 || c == 0x7F) {
+            out += "\\x";
+            out += kHex[c >> 4];
+            out += kHex[c & 15];
+            ++i;
+        } else {
+            out.append(s.substr(i, n));
+            i += n;
+        }
+    }
+    if (i < s.size()) out += "...";
+    return out;
+}
+
 std::string lower(std::string_view s) {
     std::string out(s);
     for (char& c : out)

@@ -39,6 +39,15 @@ std::size_t findNonText(std::string_view s, bool utf8);
 std::string nonTextMessage(std::string_view line, std::size_t column, bool utf8);
 // Bytes that are not UTF-8 become U+FFFD (names go into JSON, which needs UTF-8).
 std::string toUtf8(std::string_view s);
+// True when every byte of `s` belongs to a well-formed UTF-8 sequence (RFC 3629: no
+// overlong forms, no surrogates, nothing past U+10FFFF). Control characters are UTF-8.
+bool isUtf8(std::string_view s);
+// `s` made safe to show in an error message, a log line, JSON or SVG: well-formed UTF-8 is
+// kept as it is (names in Chinese stay readable), every byte that is not, and every control
+// character, becomes \xNN; cut to `maxBytes` of input with "..." after. The one place where
+// text taken from a request or a file is made printable (the request path uses it for
+// paths, parameters and headers; problem() for every detail it sends).
+std::string escapeText(std::string_view s, std::size_t maxBytes = 256);
 std::string lower(std::string_view s);                               // ASCII only
 bool equalsNoCase(std::string_view a, std::string_view b);           // ASCII letters folded
 bool startsWithNoCase(std::string_view s, std::string_view prefix);  // ASCII letters folded

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "model/loaders.hpp"
+#include "model/json_text.hpp"
 
 extern char** environ;
 
@@ -77,15 +78,15 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
 
 }  // namespace
 
-Status applyConfigJson(ServerConfig& config, const std::string& jsonText, const std::string& source) {
-    nlohmann::json j = nlohmann::json::parse(jsonText, nullptr, false);
+Status applyConfigJson(ServerConfig& config, const std::string& configText, const std::string& source) {
+    nlohmann::json j = nlohmann::json::parse(configText, nullptr, false);
     if (j.is_discarded() || !j.is_object()) return makeError(ErrorCode::ParseError, source + ": not a JSON object");
     for (const auto& [key, value] : j.items()) {
         std::string text;
         if (value.is_string())
             text = value.get<std::string>();
         else if (value.is_number_integer() || value.is_number_unsigned())
-            text = value.dump();
+            text = jsonText(value);
         else
             return makeError(ErrorCode::InvalidArgument, source + ": '" + key + "' must be a string or a whole number");
         if (auto s = setField(config, key, text, source); !s) return s;

@@ -52,7 +52,12 @@ private:
             queue_.pop_front();
             ++busy_;
             lock.unlock();
-            job();
+            try {
+                job();
+            } catch (...) {
+                // A job answers its own errors (the connection's last catch); nothing may
+                // leave a pool thread, which would end the process.
+            }
             lock.lock();
             --busy_;
         }

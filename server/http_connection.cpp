@@ -3,6 +3,10 @@
 
 #include <boost/asio/post.hpp>
 
+#include <string_view>
+#include <utility>
+#include <vector>
+
 namespace geoslice::server::transport_detail {
 
 void Connection::start() {
@@ -29,6 +33,32 @@ void Connection::nextRequest() {
 
 void Connection::readHeader() {
     setPhase(Phase::Header);
+    // The whole header block first: Beast unfolds obs-fold lines silently, and RFC 9112 5.2
+    // wants them refused, which only the raw bytes show. Bytes already scanned are not
+    // scanned again (a client sending a byte at a time costs linear time).
+    const std::string_view have(static_cast<const char*>(buffer.data().data()), buffer.size());
+    std::size_t lead = 0;
+    while (lead < have.size() && (have[lead] == '\r' || have[lead] == '\n')) ++lead;
+    const std::size_t end = headerBlockEnd(have, std::max(lead, headerScanned > 2 ? headerScanned - 2 : 0));
+    if (end == std::string_view::npos) {
+        headerScanned = have.size();
+        if (have.size() < owner.config.maxHeaderBytes) {
+            stream.expires_at(headerDeadline);
+            stream.async_read_some(buffer.prepare(kReadChunk),
+                                   [self = shared_from_this()](beast::error_code ec, std::size_t n) {
+                                       if (self->readFailed(ec, false)) return;
+                                       self->buffer.commit(n);
+                                       self->readHeader();
+                                   });
+            return;
+        }
+        // Over the limit without its end: Beast's header_limit answers 431 below.
+    } else if (const std::size_t line = findObsFold(have.substr(lead, end - lead)); line > 0) {
+        headerScanned = 0;
+        return answerError(400, "header line " + std::to_string(line) +
+                                    " is folded onto the line before it (obs-fold, RFC 9112 5.2): not accepted");
+    }
+    headerScanned = 0;
     parser.emplace();
     parser->header_limit(std::uint32_t(owner.config.maxHeaderBytes));
     parser->body_limit(owner.config.maxBodyBytes);
@@ -60,6 +90,12 @@ bool Connection::readFailed(beast::error_code ec, bool body) {
 
 void Connection::onHeader(beast::error_code ec) {
     if (readFailed(ec, false)) return;
+    {
+        const auto& msg = parser->get();
+        std::vector<std::pair<std::string_view, std::string_view>> fields;
+        for (const auto& f : msg) fields.emplace_back(f.name_string(), f.value());
+        if (auto refusal = checkFraming(msg.version(), fields)) return answerError(refusal->status, refusal->detail);
+    }
     if (parser->is_done()) return dispatch();
     setPhase(Phase::Body);
     stream.expires_after(std::chrono::milliseconds(owner.config.bodyTimeoutMs));
@@ -99,14 +135,17 @@ void Connection::dispatch() {
     setPhase(Phase::Handling);
     watch();
     owner.pool->submit([self = shared_from_this(), req, head, keepAlive, gzip, version] {
-        HttpResponse res;
+        std::shared_ptr<Response> out;
         try {
+            HttpResponse res;
             self->owner.handler(*req, res);
-        } catch (const std::exception& e) {
-            res = HttpResponse();
-            self->owner.errorBody(res, 500, std::string("internal error: ") + e.what(), req->path);
+            out = std::make_shared<Response>(toBeast(std::move(res), version, keepAlive, head, gzip));
+        } catch (...) {
+            // The last catch: a fixed answer built from nothing the request holds, so
+            // nothing here can throw again (the router catches what handlers throw; this
+            // is for the router, the answer's conversion, or memory).
+            out = fixedInternalError(version);
         }
-        auto out = std::make_shared<Response>(toBeast(std::move(res), version, keepAlive, head, gzip));
         net::post(self->stream.get_executor(), [self, out] { self->onHandled(out); });
     });
 }
@@ -145,6 +184,35 @@ Response Connection::toBeast(HttpResponse&& res, unsigned version, bool keepAliv
     return out;
 }
 
+std::shared_ptr<Response> Connection::fixedInternalError(unsigned version) noexcept {
+    // Built once per version on first use; a copy of a prepared message per failure.
+    static const Response kFixed[2] = {[] {
+                                           Response r;
+                                           r.version(10);
+                                           r.result(500);
+                                           r.set(http::field::content_type, "application/problem+json");
+                                           r.body() = kInternalErrorBody;
+                                           r.keep_alive(false);
+                                           r.prepare_payload();
+                                           return r;
+                                       }(),
+                                       [] {
+                                           Response r;
+                                           r.version(11);
+                                           r.result(500);
+                                           r.set(http::field::content_type, "application/problem+json");
+                                           r.body() = kInternalErrorBody;
+                                           r.keep_alive(false);
+                                           r.prepare_payload();
+                                           return r;
+                                       }()};
+    try {
+        return std::make_shared<Response>(kFixed[version >= 11 ? 1 : 0]);
+    } catch (...) {
+        return nullptr;  // out of memory: onHandled closes the connection
+    }
+}
+
 void Connection::watch() {
     if (buffer.size() + kReadChunk > buffer.max_size()) return;  // a full pipeline: stop reading
     watching = true;
@@ -174,7 +242,7 @@ void Connection::onWatch(beast::error_code ec, std::size_t n) {
 
 void Connection::onHandled(const std::shared_ptr<Response>& out) {
     if (currentPhase() != Phase::Handling) return;  // closed meanwhile (peer gone or stopping)
-    if (peerGone) return closeNow();
+    if (peerGone || !out) return closeNow();
     setPhase(Phase::Writing);
     const auto perChunk = std::chrono::milliseconds(owner.config.sendTimeoutMs);
     stream.expires_after(perChunk * (1 + out->body().size() / (8u << 20)));

@@ -46,6 +46,10 @@ inline std::int64_t nowNs() {
 
 using Response = http::response<http::string_body>;
 
+inline constexpr const char* kInternalErrorBody =
+    R"({"type":"about:blank","title":"Internal Server Error","status":500,"detail":"internal error",)"
+    R"("code":"internal"})";
+
 struct Connection;
 using Handler = HttpTransport::Handler;
 using ErrorBody = HttpTransport::ErrorBody;
@@ -111,6 +115,7 @@ struct Connection : std::enable_shared_from_this<Connection> {
     enum class AfterWatch { Nothing, NextRequest, LingerClose } afterWatch = AfterWatch::Nothing;
     bool peerGone = false;
     std::size_t lingered = 0;
+    std::size_t headerScanned = 0;  // bytes of the buffer searched for the header's end
 
     // A request header (with what is pipelined behind it) must fit here.
     static constexpr std::size_t kReadChunk = 16 << 10;
@@ -140,6 +145,9 @@ struct Connection : std::enable_shared_from_this<Connection> {
     void dispatch();
     // Runs on a handler thread (compression is CPU work the I/O threads should not do).
     static Response toBeast(HttpResponse&& res, unsigned version, bool keepAlive, bool head, bool gzip);
+    // The handler thread's last resort: a prepared 500 (connection: close) that formats
+    // nothing from the request; null only when even its copy cannot be allocated.
+    static std::shared_ptr<Response> fixedInternalError(unsigned version) noexcept;
     // While a request is handled, read on: a closed or failed connection trips the
     // request's cancel token; pipelined bytes are kept for the next request.
     void watch();

@@ -95,6 +95,57 @@ void parseTarget(std::string_view target, std::string& path, std::multimap<std::
     }
 }
 
+std::optional<Refusal> checkFraming(unsigned version,
+                                    const std::vector<std::pair<std::string_view, std::string_view>>& fields) {
+    std::size_t hosts = 0, encodings = 0, lengths = 0;
+    std::string_view encoding;
+    for (const auto& [name, value] : fields) {
+        if (equalsNoCase(name, "Host")) ++hosts;
+        if (equalsNoCase(name, "Content-Length")) ++lengths;
+        if (equalsNoCase(name, "Transfer-Encoding")) {
+            ++encodings;
+            encoding = value;
+        }
+    }
+    auto shown = [](std::string_view v) { return "'" + std::string(v.substr(0, 80)) + "'"; };
+    if (encodings > 0) {
+        if (version < 11)
+            return Refusal{400, "Transfer-Encoding in an HTTP/1.0 request: its framing cannot be trusted"};
+        std::string_view v = encoding;
+        while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
+        while (!v.empty() && (v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
+        if (encodings > 1 || !equalsNoCase(v, "chunked"))
+            return Refusal{501, "Transfer-Encoding " + (encodings > 1 ? std::string("given more than once") : shown(v)) +
+                                    " is not supported: only a lone 'chunked' is"};
+        if (lengths > 0) return Refusal{400, "both Transfer-Encoding and Content-Length: the body's length is ambiguous"};
+    }
+    if (version >= 11 && hosts != 1)
+        return Refusal{400, hosts == 0 ? std::string("an HTTP/1.1 request must have a Host header")
+                                       : "an HTTP/1.1 request must have one Host header, not " + std::to_string(hosts)};
+    return std::nullopt;
+}
+
+std::size_t headerBlockEnd(std::string_view bytes, std::size_t from) {
+    for (std::size_t i = bytes.find('\n', from); i != std::string_view::npos; i = bytes.find('\n', i + 1)) {
+        if (i + 1 < bytes.size() && bytes[i + 1] == '\n') return i + 2;
+        if (i + 2 < bytes.size() && bytes[i + 1] == '\r' && bytes[i + 2] == '\n') return i + 3;
+    }
+    return std::string_view::npos;
+}
+
+std::size_t findObsFold(std::string_view headerBlock) {
+    // Empty lines before the request line are allowed (RFC 9112 2.2) and skipped.
+    std::size_t start = 0;
+    while (start < headerBlock.size() && (headerBlock[start] == '\r' || headerBlock[start] == '\n')) ++start;
+    std::size_t line = 1;
+    for (std::size_t i = headerBlock.find('\n', start); i != std::string_view::npos && i + 1 < headerBlock.size();
+         i = headerBlock.find('\n', i + 1)) {
+        ++line;
+        if (headerBlock[i + 1] == ' ' || headerBlock[i + 1] == '\t') return line;
+    }
+    return 0;
+}
+
 bool acceptsGzip(std::string_view acceptEncoding) {
     // "gzip;q=0.5, br" (RFC 9110 12.5.3). Not Beast's http::ext_list: fuzz_http found it
     // reading past the end of a malformed list (",1,0,*;q;Q") in Boost 1.74.

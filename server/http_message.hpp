@@ -7,6 +7,7 @@
 #include <atomic>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -48,6 +49,26 @@ struct HttpResponse {
 // Splits a request-target into its percent-decoded path and query parameters ('+' is a
 // space in the query). Malformed escapes are kept as they are.
 void parseTarget(std::string_view target, std::string& path, std::multimap<std::string, std::string>& params);
+// A request the transport must refuse before routing: its status and why.
+struct Refusal {
+    int status = 400;
+    std::string detail;
+};
+// RFC 9112 framing rules that Beast's parser does not enforce, checked on the parsed header
+// (`version` 10 or 11; the header fields as received): a Transfer-Encoding other than one
+// lone "chunked" is 501 (6.1: the body's length is unknown, so the connection closes), one
+// on HTTP/1.0 or beside a Content-Length is 400 (6.1, 6.3); an HTTP/1.1 request without
+// exactly one Host is 400 (3.2). The caller answers and closes the connection.
+std::optional<Refusal> checkFraming(unsigned version,
+                                    const std::vector<std::pair<std::string_view, std::string_view>>& fields);
+// Where a request's header block ends: the offset just past its empty line ("\r\n\r\n", or
+// "\n\n"), searching `bytes` from `from`; npos when it has not arrived yet.
+std::size_t headerBlockEnd(std::string_view bytes, std::size_t from = 0);
+// A header line folded onto the one before it (obs-fold: a line that starts with a space
+// or a tab, RFC 9112 5.2), which a server must refuse or unfold; Beast unfolds silently, so
+// the transport refuses it here from the raw block. The 1-based line number, or 0.
+std::size_t findObsFold(std::string_view headerBlock);
+
 // True when an Accept-Encoding value accepts gzip (a q of 0 refuses it).
 bool acceptsGzip(std::string_view acceptEncoding);
 // True for content types worth compressing (text, JSON, SVG, XML, JavaScript).

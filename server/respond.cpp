@@ -1,6 +1,8 @@
 #include "server/respond.hpp"
 
 #include "api/request.hpp"
+#include "model/json_text.hpp"
+#include "model/text_scan.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -9,6 +11,10 @@ const char* statusTitle(int status) {
     switch (status) {
         case 400:
             return "Bad Request";
+        case 401:
+            return "Unauthorized";
+        case 403:
+            return "Forbidden";
         case 404:
             return "Not Found";
         case 405:
@@ -19,8 +25,12 @@ const char* statusTitle(int status) {
             return "Unsupported Media Type";
         case 422:
             return "Unprocessable Content";
+        case 431:
+            return "Request Header Fields Too Large";
         case 500:
             return "Internal Server Error";
+        case 501:
+            return "Not Implemented";
         case 503:
             return "Service Unavailable";
         case 504:
@@ -58,11 +68,13 @@ void problem(HttpResponse& res, int status, const std::string& detail, const std
     j["type"] = "about:blank";
     j["title"] = statusTitle(status);
     j["status"] = status;
-    j["detail"] = detail;
-    j["instance"] = instance;
+    // Both may hold bytes from the request (a path, a parameter): escaped here, so that the
+    // body is UTF-8 and shows what was sent.
+    j["detail"] = text::escapeText(detail, 4096);
+    j["instance"] = text::escapeText(instance, 512);
     if (code) j["code"] = code;
     res.status = status;
-    res.set_content(j.dump(), "application/problem+json");
+    res.set_content(jsonText(j), "application/problem+json");
 }
 
 void problem(HttpResponse& res, const Error& e, const std::string& instance) {
@@ -72,7 +84,7 @@ void problem(HttpResponse& res, const Error& e, const std::string& instance) {
 
 void sendJson(HttpResponse& res, const Json& j, int status) {
     res.status = status;
-    res.set_content(j.dump(), "application/json");
+    res.set_content(jsonText(j), "application/json");
 }
 
 bool etagMatches(const std::string& ifNoneMatch, const std::string& etag) {

@@ -1,8 +1,11 @@
 // The router: routes are added once at start-up (method, a name for metrics and logs, a
 // regular expression that must match the whole path); dispatch() then runs on handler
-// threads. Around every handler: 503 while draining, a stray exception becomes a 500
-// with a JSON body, the request is counted and timed per route. OPTIONS answers any path
-// (CORS preflight); no match is a 404.
+// threads. Before any route: a path, query parameter or read header that is not UTF-8 is a
+// 400 naming it (checkRequestText; nothing from a request reaches JSON, a log line or a
+// metric label unchecked). Around every handler: 503 while draining, any exception becomes
+// a 500 with a JSON body, the request is counted and timed per route. OPTIONS answers a
+// routed path with its Allow (and the CORS preflight headers); a path routed for other
+// methods is a 405 with Allow; no match is a 404.
 //
 // Threads: add() before the transport starts (the route table is then read-only);
 // dispatch() from any number of handler threads at once.
@@ -14,10 +17,15 @@
 #include <string>
 #include <vector>
 
+#include "model/result.hpp"
 #include "server/http_message.hpp"
 #include "server/metrics.hpp"
 
 namespace geoslice::server {
+
+// OK when the request's path, query parameter names and values, and the header values the
+// routes read are UTF-8; otherwise an InvalidArgument naming the part, its bytes escaped.
+Status checkRequestText(const HttpRequest& req);
 
 class Router {
 public:
@@ -39,6 +47,8 @@ private:
         Handler fn;
     };
     void run(const Route& route, const HttpRequest& req, HttpResponse& res) const;
+    // "GET, HEAD, OPTIONS" for the methods routed on `path`; "" when no route matches it.
+    std::string allowedMethods(const std::string& path) const;
     Metrics& metrics_;
     const std::string cors_;
     const std::atomic<bool>& draining_;

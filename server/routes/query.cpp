@@ -9,6 +9,7 @@
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -45,7 +46,7 @@ void queryPost(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     if (!pixels) return problem(res, pixels.error(), req.path);
     const std::size_t count = pixels.value().size();
     // Keyed by the request itself: identical concurrent batches share one answer.
-    const std::string key = cache_key::queryBatch(*m, plan.value(), batch.value().pixels.dump());
+    const std::string key = cache_key::queryBatch(*m, plan.value(), jsonText(batch.value().pixels));
     auto result = st.cache->render(
         key,
         [&st, m, plan = plan.value(), pixels = std::move(pixels.value())](workers::WorkerState&,

@@ -7,6 +7,7 @@
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -17,7 +18,7 @@ Result<std::string> reservesBody(const api::CatalogModel& m, const api::Reserves
     if (!figures) return figures.error();
     if (!r.cutoffs)
         return r.csv ? api::reservesCsv(m.model, figures.value())
-                     : api::reservesJson(m.model, figures.value(), m.id).dump();
+                     : jsonText(api::reservesJson(m.model, figures.value(), m.id));
     auto property = api::gradeProperty(m.model, r.property);
     if (!property) return property.error();
     auto table = computeGradeTonnage(m.model, property.value(), *r.cutoffs, r.plane);
@@ -25,7 +26,7 @@ Result<std::string> reservesBody(const api::CatalogModel& m, const api::Reserves
     if (r.csv) return api::gradeTonnageCsv(m.model, table.value());
     auto doc = api::reservesJson(m.model, figures.value(), m.id);
     doc["grade_tonnage"] = api::gradeTonnageJson(m.model, table.value());
-    return doc.dump();
+    return jsonText(doc);
 }
 
 void reserves(ServerState& st, const HttpRequest& req, HttpResponse& res, bool csvPath) {
