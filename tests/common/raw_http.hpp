@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <string>
@@ -77,13 +78,20 @@ inline std::vector<int> statusCodes(std::string_view reply) {
     return codes;
 }
 
-// The body of the first answer in `reply` (after its empty line), "" when none.
+// The body of the first answer in `reply` (its Content-Length bytes after the empty line),
+// "" when none.
 inline std::string firstBody(std::string_view reply) {
     const auto at = reply.find("\r\n\r\n");
     if (at == std::string_view::npos) return {};
-    std::string_view rest = reply.substr(at + 4);
-    const auto next = rest.find("HTTP/1.");
-    return std::string(rest.substr(0, next));
+    const std::string_view head = reply.substr(0, at);
+    std::size_t length = reply.size() - at - 4;
+    for (std::size_t line = head.find("\r\n"); line != std::string_view::npos; line = head.find("\r\n", line + 2)) {
+        constexpr std::string_view kName = "content-length:";
+        std::string name(head.substr(line + 2, kName.size()));
+        for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (name == kName) length = std::strtoul(std::string(head.substr(line + 2 + kName.size(), 20)).c_str(), nullptr, 10);
+    }
+    return std::string(reply.substr(at + 4, length));
 }
 
 }  // namespace geoslice::test
