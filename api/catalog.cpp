@@ -8,19 +8,16 @@
 #include <string_view>
 
 #include "api/plan.hpp"
-#include "model/loaders.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "section/block_section.hpp"
-#include "section/leaf_order.hpp"
+#include "model/clock.hpp"
+#include "model/io/loaders.hpp"
 #include "model/json_text.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/index/leaf_order.hpp"
 
 namespace geoslice::api {
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // CatalogModel::toWgs84 / wgs84Note for the model's CRS and extent (the section index's
 // bounds: the model's, already computed).
@@ -252,7 +249,7 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
             auto bakeInto = [&]() -> Status {
                 auto model = loadModel(path);
                 if (!model) return model.error();
-                // The package stores the mesh in the section BVH's leaf order (section/leaf_order.hpp).
+                // The package stores the mesh in the section BVH's leaf order (section/index/leaf_order.hpp).
                 if (auto s = reorderForSection(model.value()); !s) return s.error();
                 auto baked = bake::bakeModel(model.value());
                 if (!baked) return makeError(baked.error().code, "baking model '" + id + "': " + baked.error().message);

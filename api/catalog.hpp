@@ -24,8 +24,8 @@
 #include "bake/package.hpp"
 #include "model/model.hpp"
 #include "model/result.hpp"
-#include "section/ray_queries.hpp"
-#include "section/section_index.hpp"
+#include "section/index/section_index.hpp"
+#include "section/rays/ray_queries.hpp"
 
 namespace geoslice::api {
 
@@ -36,7 +36,7 @@ struct CatalogModel {
     Model model;
     std::unique_ptr<SectionIndex> index;
     // The point classifier and borehole tracer (one Embree scene), built on a background
-    // thread after the model is served (section/ray_queries.hpp): pixel queries without a
+    // thread after the model is served (section/rays/ray_queries.hpp): pixel queries without a
     // cached ID buffer, perspective pixel queries and boreholes wait for it (rays->wait).
     // Declared after `model`, which it reads: destroyed first (a build under way is cancelled).
     std::unique_ptr<RayQueries> rays;
@@ -50,7 +50,7 @@ struct CatalogModel {
     // Set when loading fell back to slower work it should not have needed (logged).
     std::string loadWarning;
     // The model's CRS to WGS 84 (EPSG:4326): one operation chosen at load for the model's
-    // lon/lat extent (model/crs.hpp CrsTransform). Null for a local model, and where PROJ
+    // lon/lat extent (model/crs/crs.hpp CrsTransform). Null for a local model, and where PROJ
     // has no operation or only a ballpark one; then `wgs84Note` says why, and answers give
     // that note instead of WGS 84 coordinates.
     std::shared_ptr<const CrsTransform> toWgs84;

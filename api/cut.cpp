@@ -8,7 +8,7 @@
 #include <tuple>
 
 #include "api/params.hpp"
-#include "model/view_limits.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::api {
 namespace {

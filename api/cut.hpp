@@ -31,8 +31,8 @@
 #include <glm/glm.hpp>
 
 #include "model/model.hpp"
-#include "model/plane.hpp"
 #include "model/result.hpp"
+#include "view/plane.hpp"
 
 namespace geoslice::api {
 

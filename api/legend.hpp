@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/catalog.hpp"
-#include "section/block_section.hpp"
+#include "section/blocks/block_section.hpp"
 
 namespace geoslice::api {
 

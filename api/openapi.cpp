@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "model/view_limits.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -41,7 +41,7 @@ J viewParams() {
         queryParam("eye", "string", "x,y,z: perspective camera position, world m"),
         queryParam("target", "string", "x,y,z: perspective look-at point, world m"),
         queryParam("up", "string", "x,y,z: perspective up vector (default 0,0,1)"),
-        // The limits as model/view_limits.hpp states them (the CLI checks the same ones).
+        // The limits as view/view_limits.hpp states them (the CLI checks the same ones).
         queryParam("fov", "number",
                    "perspective vertical field of view, degrees " + limitNumber(kMinFovDeg) + ".." +
                        limitNumber(kMaxFovDeg) + " (default 45)"),

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "api/json_writer.hpp"
 
@@ -291,6 +293,26 @@ Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, 
     std::string out;
     out.reserve(1536);
     writeQueryAnswer(model, a.value(), out);
+    return out;
+}
+
+Result<std::string> answerBatch(const CatalogModel& model, const ViewPlan& plan, const std::vector<PixelXY>& pixels,
+                                const ViewImage* cached, const RayWait& wait, const std::atomic<bool>* cancel,
+                                const std::string& batchName, const std::function<std::string(std::size_t)>& nameOf) {
+    std::string out = "{\"results\":[";
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+        if ((i & 63) == 0)
+            if (auto c = checkCancel(cancel); !c) return c.error();
+        auto a = answerPixel(model, plan, pixels[i].x, pixels[i].y, cached, wait);
+        if (!a) return makeError(a.error().code, nameOf(i) + ": " + a.error().message);
+        if (i) out += ',';
+        writeQueryAnswer(model, a.value(), out);
+        if (out.size() > kMaxBatchAnswerBytes)
+            return makeError(ErrorCode::OutOfRange, batchName + ": the answer passed " +
+                                                        std::to_string(kMaxBatchAnswerBytes >> 20) + " MiB after " +
+                                                        std::to_string(i + 1) + " pixels; ask for fewer pixels");
+    }
+    out += "]}";
     return out;
 }
 

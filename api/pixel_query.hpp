@@ -3,10 +3,15 @@
 // in every coordinate system of the model's CRS. Pixel frames as in api/view.hpp. Any thread.
 #pragma once
 
+#include <atomic>
+#include <cstddef>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "api/request.hpp"
 #include "api/view.hpp"
 
 namespace geoslice::api {
@@ -31,7 +36,7 @@ struct QueryAnswer {
 // InvalidArgument naming the parameter ('plane', 'planes' or 'elevation') when the cut of a
 // perspective view keeps no part of the model's bounds (api/cut.hpp).
 Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan);
-// The ray through a pixel of a perspective view: pixelRay of model/camera.hpp.
+// The ray through a pixel of a perspective view: pixelRay of view/camera.hpp.
 // A query that needs the model's rays (perspective, or no cached ID buffer) waits for them
 // (CatalogModel::rays) as `wait` allows: DeadlineExceeded when they are not built in time.
 Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
@@ -43,6 +48,14 @@ void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& answer, std:
 // answerPixel + writeQueryAnswer.
 Result<std::string> queryPixel(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
                                const ViewImage* cached, const RayWait& wait = {});
+// A batch of pixel queries as one JSON document {"results": [answer, ...]}, in the order
+// given: the one writer of batch answers (the POST query route and `geoslice query`).
+// Stops at the first pixel that fails, with an error naming it by `nameOf(i)`, or when the
+// answer passes kMaxBatchAnswerBytes (OutOfRange naming `batchName`); `cancel` (may be
+// null) is checked every 64 pixels.
+Result<std::string> answerBatch(const CatalogModel& model, const ViewPlan& plan, const std::vector<PixelXY>& pixels,
+                                const ViewImage* cached, const RayWait& wait, const std::atomic<bool>* cancel,
+                                const std::string& batchName, const std::function<std::string(std::size_t)>& nameOf);
 
 // The JSON of a world point: {x, y, z, crs, axes, projected: {...}, geodetic: {...},
 // wgs84: {...} or wgs84Note} (README "Query answer coordinates").

@@ -7,7 +7,7 @@
 #include <functional>
 #include <limits>
 
-#include "section/block_section.hpp"
+#include "section/blocks/block_section.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -276,10 +276,7 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
             auto f = parseNumberList("frame", *frame, 4);
             if (!f) return f.error();
             FrameRect r{f.value()[0], f.value()[2], f.value()[1], f.value()[3]};
-            if (!(r.u1 > r.u0) || !(r.v1 > r.v0))
-                return makeError(ErrorCode::InvalidArgument,
-                                 "parameter 'frame': '" + std::string(*frame) + "' needs u0 < u1 and v0 < v1");
-            // The pixel size too, before any work (model/view_limits.hpp).
+            // The pixel size too, before any work (view/view_limits.hpp).
             if (auto s = checkFrame(r, plan.width, plan.height); !s)
                 return makeError(s.error().code, "parameter 'frame' (with 'size' " + std::to_string(plan.width) + "x" +
                                                      std::to_string(plan.height) + "): " + s.error().message);

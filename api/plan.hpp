@@ -15,7 +15,7 @@
 //                               bounds projected on the plane, 2 % margin, fitted to the size)
 //   eye=x,y,z target=x,y,z up=x,y,z fov=deg   perspective camera (world; defaults around the model)
 //   size=WxH                    pixels, each side 1..8192, at most 2^26 pixels (default 1024x1024)
-//   vx=k                        vertical exaggeration 0.1..100 (default 1), model/exaggeration.hpp:
+//   vx=k                        vertical exaggeration 0.1..100 (default 1), view/exaggeration.hpp:
 //                               elevation stretched k times about the bounds' centre elevation
 //   bg=transparent|#rrggbb[aa]  background (default transparent)
 //   colour=PROP breaks=b1,.. ramp=NAME   colour by a block property (BlockColouring)
@@ -33,15 +33,15 @@
 #include "api/cut.hpp"
 #include "api/params.hpp"
 #include "model/attributes.hpp"
-#include "model/camera.hpp"
-#include "model/crs.hpp"
-#include "model/exaggeration.hpp"
+#include "model/crs/crs.hpp"
 #include "model/model.hpp"
-#include "model/plane.hpp"
 #include "model/result.hpp"
-#include "model/view_frame.hpp"
-#include "model/view_limits.hpp"
-#include "section/raster.hpp"
+#include "section/fill/raster.hpp"
+#include "view/camera.hpp"
+#include "view/exaggeration.hpp"
+#include "view/plane.hpp"
+#include "view/view_frame.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::api {
 
@@ -51,7 +51,7 @@ enum class Geometry { Plane, Line, Elevation };
 enum class ViewKind { Profile, Perspective };
 
 // What a section is, independent of the view of it (a tile pyramid shares one).
-// Colouring by a block property (model/block_model.hpp): colour=PROP [&breaks=b1,b2,...]
+// Colouring by a block property (model/blocks/block_model.hpp): colour=PROP [&breaks=b1,b2,...]
 // [&ramp=viridis|magma|greys|spectral]. Without breaks: five equal classes over the
 // property's range. PROP is [A-Za-z0-9_.-]{1,64}.
 struct BlockColouring {
@@ -107,11 +107,11 @@ Plane sectionPlane(const SectionDef& def);
 // plane alone, or the planes of a cut-out.
 CutOut sectionCut(const SectionDef& def);
 
-// Profile frames (FrameRect, defaultFrame, projectedBounds): model/view_frame.hpp.
-// The perspective camera, its pixel rays and the default camera: model/camera.hpp.
+// Profile frames (FrameRect, defaultFrame, projectedBounds): view/view_frame.hpp.
+// The perspective camera, its pixel rays and the default camera: view/camera.hpp.
 
 // The section's vertical exaggeration: SectionDef::exaggeration about the centre elevation
-// of the model's bounds (the one pivot rule, model/exaggeration.hpp). Perspective cameras
+// of the model's bounds (the one pivot rule, view/exaggeration.hpp). Perspective cameras
 // given in a request are world points; they are mapped like the model.
 VerticalExaggeration exaggerationOf(const SectionDef& def, const Aabb& bounds);
 // The camera of a perspective plan in display space: the request's camera mapped, or the

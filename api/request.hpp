@@ -59,7 +59,7 @@ Result<PixelXY> parseQueryPixel(const Params& params);
 Result<Params> parseSectionBody(std::string_view body);
 
 // POST /query: {"view": {view parameters}, "pixels": [[px, py], ...]}, at most
-// kMaxBatchPixels pixels (model/view_limits.hpp). `view` is checked against `viewNames`;
+// kMaxBatchPixels pixels (view/view_limits.hpp). `view` is checked against `viewNames`;
 // the pixels are read by parseBatchPixels once the view itself is known to be good, so a
 // bad view is reported before a bad pixel.
 struct QueryBatch {

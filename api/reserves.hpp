@@ -1,6 +1,6 @@
 // Reserves as documents: the one JSON form (`geoslice reserves --json` and
 // GET /v1/models/{id}/reserves) and its CSV twin, and the HTTP parameters of the route.
-// The figures come from section/reserves.hpp (computeReserves); this file only lays them out.
+// The figures come from section/volumes/reserves.hpp (computeReserves); this file only lays them out.
 //
 // JSON: {"model", "plane": [a,b,c,d] (unit normal) | null, "method", "bodies": [...],
 //        "totals": {...}, "skipped_open_bodies"}; one body per closed body, Model::bodies
@@ -25,8 +25,8 @@
 
 #include "api/params.hpp"
 #include "model/model.hpp"
-#include "section/block_reserves.hpp"
-#include "section/reserves.hpp"
+#include "section/blocks/block_reserves.hpp"
+#include "section/volumes/reserves.hpp"
 
 namespace geoslice::api {
 
@@ -41,9 +41,9 @@ std::string reservesCsv(const Model& model, const Reserves& reserves);
 // path reserves.csv means csv, and format=json there is a conflict). Any other parameter
 // is an InvalidArgument naming it.
 //
-// With a block model (model/block_model.hpp): `cutoffs=c1,c2,...` (increasing, at most 64)
+// With a block model (model/blocks/block_model.hpp): `cutoffs=c1,c2,...` (increasing, at most 64)
 // and `property=NAME` (default: the first block property not named density) ask for
-// grade-tonnage tables (section/block_reserves.hpp); JSON then carries "grade_tonnage"
+// grade-tonnage tables (section/blocks/block_reserves.hpp); JSON then carries "grade_tonnage"
 // (gradeTonnageJson) beside the bodies, and CSV is the grade-tonnage table
 // (gradeTonnageCsv) instead of the body table. With `plane` too, the tables are of the
 // kept side only (cell ∩ body ∩ half-space volumes).

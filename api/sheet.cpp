@@ -8,8 +8,8 @@
 #include "print/section_sheet.hpp"
 #include "print/sheet_date.hpp"
 #include "print/svg_output.hpp"
-#include "section/contours.hpp"
-#include "section/polyline.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/polyline.hpp"
 
 namespace geoslice::api {
 namespace {

@@ -1,14 +1,11 @@
 #include "api/tile_grid.hpp"
+#include "model/clock.hpp"
 
 #include <chrono>
 #include <cmath>
 
 namespace geoslice::api {
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 Status requirePlanar(const SectionDef& def) {
     if (def.geometry == Geometry::Line)
@@ -79,10 +76,10 @@ nlohmann::ordered_json TileGrid::describe() const {
 
 Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def) {
     if (auto s = requirePlanar(def); !s) return s.error();
-    auto plane = checkSectionPlane(*model.index, sectionPlane(def));
+    auto plane = checkPlaneMeetsBounds(sectionPlane(def), model.index->bounds, model.index->origin);
     if (!plane) return plane.error();
     TileGrid g;
-    // The picture's stretch of plane v (model/exaggeration.hpp): def.exaggeration on a
+    // The picture's stretch of plane v (view/exaggeration.hpp): def.exaggeration on a
     // vertical plane, 1 on a horizontal one.
     g.exaggeration = exaggerationOf(def, model.index->bounds).vStretch(plane.value().normal);
     // The model's bounds on the plane, no margin; the grid is anchored at its top-left corner.

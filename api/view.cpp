@@ -5,19 +5,12 @@
 #include <limits>
 
 #include "api/legend.hpp"
-#include "section/contours.hpp"
-#include "section/vector_export.hpp"
+#include "model/clock.hpp"
 #include "model/json_text.hpp"
+#include "section/cut/contours.hpp"
+#include "section/fill/vector_export.hpp"
 
 namespace geoslice::api {
-namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
-
 Result<std::optional<PropertyClasses>> blockClasses(const CatalogModel& model, const SectionDef& def) {
     if (!def.colour) return std::optional<PropertyClasses>();
     if (!model.model.blocks)
@@ -97,7 +90,7 @@ void colourByBlocks(const CatalogModel& model, const PropertyClasses& classes, c
     const std::size_t pixels = std::size_t(image.width) * std::size_t(image.height);
     image.cells.assign(pixels, 0);
     if (!model.model.blocks || image.ids.size() != pixels) return;
-    // Where pixel centres along a row lie on a line (the walk of section/block_raster.cpp): a
+    // Where pixel centres along a row lie on a line (the walk of section/blocks/block_raster.cpp): a
     // plane's whole row, a polyline's columns on each leg.
     const std::vector<RowLine> lines = mapping.geometry == Geometry::Line
                                            ? polylineRowLines(
@@ -136,7 +129,7 @@ Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& p
                             : defaultLineFrame(m.line.length(), model.index->bounds, plan.width, plan.height,
                                                exaggerationOf(plan.section, model.index->bounds));
     } else {
-        auto plane = checkSectionPlane(*model.index, sectionPlane(plan.section));
+        auto plane = checkPlaneMeetsBounds(sectionPlane(plan.section), model.index->bounds, model.index->origin);
         if (!plane)
             return makeError(plane.error().code,
                              std::string(plan.section.geometry == Geometry::Elevation ? "parameter 'elevation': "

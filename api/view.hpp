@@ -17,9 +17,9 @@
 #include "api/catalog.hpp"
 #include "api/plan.hpp"
 #include "model/result.hpp"
-#include "section/block_section.hpp"
-#include "section/polyline.hpp"
-#include "section/raster.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/cut/polyline.hpp"
+#include "section/fill/raster.hpp"
 
 namespace geoslice::api {
 
@@ -65,9 +65,9 @@ void colourByBlocks(const CatalogModel& model, const PropertyClasses& classes, c
                     ViewImage& image);
 
 // The exact cell pieces of a perspective view's cut faces, for the GL renderer
-// (renderer/block_caps.hpp; what it draws for block models with curvilinear cells, whose
+// (renderer/passes/block_caps.hpp; what it draws for block models with curvilinear cells, whose
 // cells a 3D texture cannot address): for each plane of `planes` (world, in the view's
-// order), the cut of every tetrahedron of every cell it crosses (section/block_section.hpp
+// order), the cut of every tetrahedron of every cell it crosses (section/blocks/block_section.hpp
 // cellPolygons: the profile engine's own polygons) near the clipping bodies (their bounds'
 // shadow on the plane), fanned into triangles in the model's local frame (world -
 // Model::origin, float32), each vertex with (cell + 1, class: 0 = no value, k + 1 = class k).

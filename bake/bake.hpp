@@ -187,7 +187,7 @@ struct BlockModel {
 
 // CSV with a header row naming x,y,z (block centre, world: easting, northing, elevation),
 // dx,dy,dz (block size) and exactly one more column, the value; any column order, ',' or ';'.
-// Read by the project's one block CSV reader (model/block_model.hpp readBlockRows); sizes may
+// Read by the project's one block CSV reader (model/blocks/block_model.hpp readBlockRows); sizes may
 // differ here (sub-blocks). Errors name the source and line: a missing column, a
 // non-number, a non-finite or empty value or a size <= 0.
 Result<BlockModel> parseBlockCsv(std::string_view text, const std::string& source);

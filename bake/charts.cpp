@@ -8,7 +8,7 @@
 #include <numeric>
 
 #include "bake/bake.hpp"
-#include "model/union_find.hpp"
+#include "model/mesh/union_find.hpp"
 
 namespace geoslice::bake {
 namespace {

@@ -1,13 +1,12 @@
 // writeFeatureGlb: the baked model as one glTF 2.0 binary for CesiumJS and other glTF tools,
 // the package's mesh plus EXT_mesh_features (a feature-ID texture) and EXT_structural_metadata
 // (one property-table row per record). encodeMesh (package_mesh.cpp) calls the pieces below.
-#include <png.h>
-
 #include <algorithm>
 #include <cstring>
 #include <optional>
 
 #include "bake/package_internal.hpp"
+#include "image/image_encode.hpp"
 
 namespace geoslice::bake {
 namespace package_detail {
@@ -31,19 +30,14 @@ Result<std::vector<std::uint8_t>> encodeFeaturePng(const BakedModel& baked, cons
                                    std::uint8_t(row >> 24)};
         std::memcpy(&texels[i], b, 4);
     }
-    png_image image{};
-    image.version = PNG_IMAGE_VERSION;
-    image.width = baked.width;
-    image.height = baked.height;
-    image.format = PNG_FORMAT_RGBA;
-    png_alloc_size_t size = 0;
-    if (!png_image_write_to_memory(&image, nullptr, &size, 0, texels.data(), 0, nullptr))
-        return makeError(ErrorCode::Internal, std::string("libpng: ") + image.message);
-    std::vector<std::uint8_t> png(size);
-    if (!png_image_write_to_memory(&image, png.data(), &size, 0, texels.data(), 0, nullptr))
-        return makeError(ErrorCode::Internal, std::string("libpng: ") + image.message);
-    png.resize(size);
-    return png;
+    // Lossless RGBA: the channels are bytes of a row number, not colours (image/image_encode.hpp).
+    EncodeOptions o;
+    o.keepAlpha = true;
+    o.pngLevel = 6;
+    auto png = encodeImage(reinterpret_cast<const std::uint8_t*>(texels.data()), int(baked.width), int(baked.height),
+                           ImageFormat::Png, o);
+    if (!png) return makeError(png.error().code, "feature texture: " + png.error().message);
+    return std::move(png.value());
 }
 
 }  // namespace

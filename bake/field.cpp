@@ -11,7 +11,7 @@
 
 #include "bake/bake.hpp"
 #include "bake/field.hpp"
-#include "model/block_model.hpp"
+#include "model/blocks/block_model.hpp"
 
 namespace geoslice::bake {
 Result<BlockModel> parseBlockCsv(std::string_view text, const std::string& source) {

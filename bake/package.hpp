@@ -6,12 +6,12 @@
 //                    in glTF axes: X east, Y up, Z = -north; the root node's translation is the
 //                    origin), TEXCOORD_0 (float32, page + u, v; see bake/bake.hpp), uint32
 //                    indices; node extras.geoslice = {kind, record}, scene extras.geoslice as
-//                    model/gltf_io.hpp writes them, so geoslice's own loader reads it as a model
+//                    model/io/gltf/gltf_io.hpp writes them, so geoslice's own loader reads it as a model
 //   ids.r32ui.zst    the index texture T_ID: one zstd frame holding pages x height x width
 //                    little-endian uint32 record ids, row 0 (v = 0) first
 //   attributes.json  the attribute table, {"records": [...]} (model/attributes.hpp)
 //   section.bvh      the section engine's BVH over the model as packageModel() reads it
-//                    (section/bvh.hpp saveBvh: flat arrays, memory-mapped and copied once)
+//                    (section/index/bvh.hpp saveBvh: flat arrays, memory-mapped and copied once)
 //   vertices.map     per part, how validation turns the stored (chart-split) vertices into
 //                    the model's (welded) ones: packageModel() replays it
 
@@ -47,7 +47,7 @@ namespace geoslice::bake {
 // package that passes its checksums is not validated again when it is loaded, and the
 // package holds the section BVH (section.bvh).
 // 3: the mesh is stored in the section BVH's leaf order and the BVH's leaves list their
-// triangle ids in ascending order (section/leaf_order.hpp), so a version-2 package, which
+// triangle ids in ascending order (section/index/leaf_order.hpp), so a version-2 package, which
 // would still cut correctly but slower, is baked again.
 constexpr int kPackageVersion = 3;
 constexpr const char* kPackageFormat = "geoslice-baked-model";
@@ -55,7 +55,7 @@ constexpr const char* kManifestFile = "manifest.json";
 constexpr const char* kMeshFile = "mesh.glb";
 constexpr const char* kTextureFile = "ids.r32ui.zst";
 constexpr const char* kAttributesFile = "attributes.json";
-// The section engine's BVH over the package's model (section/bvh.hpp saveBvh), so that a
+// The section engine's BVH over the package's model (section/index/bvh.hpp saveBvh), so that a
 // server loads it instead of building it.
 constexpr const char* kSectionBvhFile = "section.bvh";
 // How validation turns the stored mesh into the served model (bake/package_validation.cpp: chart seams
@@ -114,7 +114,7 @@ struct Package {
     // section.bvh's bytes (loadPackage; checksum verified), empty from parsePackage.
     std::span<const std::uint8_t> sectionBvh;
     std::span<const std::uint8_t> vertexMap;  // vertices.map, likewise
-    // mesh.glb's scene: its name, the geoslice scene extras (CRS, notes; model/gltf_io.hpp)
+    // mesh.glb's scene: its name, the geoslice scene extras (CRS, notes; model/io/gltf/gltf_io.hpp)
     // and the root node's translation (glTF axes), which packageModel() needs.
     std::string sceneName;
     nlohmann::json sceneExtras;

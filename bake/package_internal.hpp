@@ -21,7 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/package.hpp"
-#include "model/gltf_io.hpp"
+#include "model/io/gltf/gltf_io.hpp"
 
 namespace geoslice::bake::package_detail {
 

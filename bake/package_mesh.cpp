@@ -155,7 +155,7 @@ Status parseMesh(std::span<const std::uint8_t> mesh, const std::string& source, 
         PackagePart part;
         part.name = node.value("name", std::string());
         const std::size_t meshIndex = node.at("mesh").get<std::size_t>();
-        // Named as model/gltf_io.cpp names a part: the node, else the mesh, else "mesh N".
+        // Named as model/io/gltf/gltf_io.cpp names a part: the node, else the mesh, else "mesh N".
         if (part.name.empty()) part.name = doc.at("meshes").at(meshIndex).value("name", std::string());
         if (part.name.empty()) part.name = "mesh " + std::to_string(meshIndex);
         const auto& gs = node.at("extras").at("geoslice");

@@ -6,9 +6,9 @@
 #include <optional>
 
 #include "bake/package_internal.hpp"
-#include "model/loaders.hpp"
-#include "model/validate.hpp"
-#include "section/section_index.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
+#include "section/index/section_index.hpp"
 
 namespace geoslice::bake {
 namespace package_detail {
@@ -111,7 +111,7 @@ Status applyValidation(Model& model, const nlohmann::json& v, const std::string&
     return {};
 }
 
-// The package's model as model/gltf_io.cpp + finishLoadedModel read its mesh.glb, without
+// The package's model as model/io/gltf/gltf_io.cpp + finishLoadedModel read its mesh.glb, without
 // validation: world = glTF-to-world axes of (POSITION + _POSITION_LO) + the root translation,
 // in that order of double operations (the loader's node transform is that translation).
 Result<Model> unvalidatedModel(const Package& pkg) {

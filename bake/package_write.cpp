@@ -9,8 +9,8 @@
 #include <fstream>
 
 #include "bake/package_internal.hpp"
-#include "model/version.hpp"
 #include "model/json_text.hpp"
+#include "model/version.hpp"
 
 namespace geoslice::bake {
 

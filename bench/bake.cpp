@@ -20,7 +20,7 @@
 #include "bake/bake.hpp"
 #include "bake/package.hpp"
 #include "bench/bench_util.hpp"
-#include "model/synthetic.hpp"
+#include "model/synthetic/synthetic.hpp"
 
 using namespace geoslice;
 using json = nlohmann::ordered_json;

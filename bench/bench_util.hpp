@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "model/synthetic.hpp"
+#include "model/synthetic/synthetic.hpp"
 
 namespace geoslice::bench {
 

@@ -2,7 +2,7 @@
 // [--all-bodies 1] [--repeats 1] [--line 0]:
 // block models on sections (issue 15). A synthetic model (L4 = 10M triangles) with a
 // cells^3 block model over its bounds (grade varying smoothly), clipped by every body;
-// --shape sgrid makes it a curvilinear grid (an SGrid, model/block_model.hpp Hexahedron:
+// --shape sgrid makes it a curvilinear grid (an SGrid, model/blocks/block_model.hpp Hexahedron:
 // the same lattice with every point's elevation moved by 0.3 of a cell x a product of sines,
 // so no cell is a box), located and cut through its tetrahedra:
 //  - section: the exact profile image (api::renderProfile) of `planes` vertical planes
@@ -32,10 +32,10 @@
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "bench/bench_util.hpp"
-#include "model/block_model.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "section/block_reserves.hpp"
+#include "model/blocks/block_model.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "section/blocks/block_reserves.hpp"
 
 using namespace geoslice;
 using json = nlohmann::ordered_json;

@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_util.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "section/classify.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "section/rays/classify.hpp"
 
 using namespace geoslice;
 

@@ -3,7 +3,7 @@
 // (loadPackage), the model from it (packageModel: no validation), the section index from the
 // stored BVH (loadSectionIndex), the one shared Embree scene (RayScene), and in all (the
 // catalog's loadCatalogModel, what a server does before /readyz, and catalogRays: the ray
-// scene it then builds in the background, section/ray_queries.hpp). With
+// scene it then builds in the background, section/rays/ray_queries.hpp). With
 // --rebuild it also times what start-up did before packages carried these: the model through
 // the glTF loader with validation, the BVH built, and the two Embree scenes of the classifier
 // and the tracer. --quality low|medium|high and --compact choose the Embree build, and the
@@ -24,11 +24,11 @@
 #include "api/catalog.hpp"
 #include "bake/package.hpp"
 #include "bench/bench_util.hpp"
-#include "model/loaders.hpp"
-#include "section/borehole.hpp"
-#include "section/classify.hpp"
-#include "section/ray_scene.hpp"
-#include "section/section_index.hpp"
+#include "model/io/loaders.hpp"
+#include "section/index/section_index.hpp"
+#include "section/rays/borehole.hpp"
+#include "section/rays/classify.hpp"
+#include "section/rays/ray_scene.hpp"
 
 using namespace geoslice;
 

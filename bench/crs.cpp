@@ -2,7 +2,7 @@
 // writeWorldPoint): the projected point to lon/lat on its own datum, and to WGS 84 through
 // the model's chosen transformation; plus cs2cs-style conversions (`geoslice coords`).
 // Each on 1 thread and on N threads at once (PROJ contexts come from a pool,
-// model/proj_pool.hpp). Prints one JSON document; medians of 5 runs, ns per point.
+// model/crs/proj_pool.hpp). Prints one JSON document; medians of 5 runs, ns per point.
 //   bench_crs [--points 200000] [--threads 2]
 #include <algorithm>
 #include <atomic>
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "bench/bench_util.hpp"
-#include "model/crs.hpp"
+#include "model/crs/crs.hpp"
 
 using namespace geoslice;
 

@@ -1,4 +1,4 @@
-// bench_encode [--size 1024] [--reps 15]: the image encoders of renderer/image_encode.hpp on
+// bench_encode [--size 1024] [--reps 15]: the image encoders of image/image_encode.hpp on
 // a section-like RGBA8 frame (size x size): wavy strata of flat colour with a light shading
 // ramp, dark fault traces, and a transparent background outside the cut face. Prints JSON:
 // per format and setting the median and min wall time (ms) and the encoded bytes, and for
@@ -31,7 +31,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_util.hpp"
-#include "renderer/image_encode.hpp"
+#include "image/image_encode.hpp"
 
 using namespace geoslice;
 using json = nlohmann::ordered_json;

@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_util.hpp"
-#include "model/gltf_io.hpp"
-#include "model/synthetic.hpp"
+#include "model/io/gltf/gltf_io.hpp"
+#include "model/synthetic/synthetic.hpp"
 
 using namespace geoslice;
 

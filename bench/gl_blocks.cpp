@@ -4,8 +4,8 @@
 // A synthetic model (L4 = 10M triangles) with a cells^3 block model over its bounds clipped
 // by every body; sgrid: the same lattice with every interior point's elevation moved by up
 // to 0.3 of a cell (no cell is a box), coloured through its cells' exact pieces on the cut
-// (renderer/block_caps.hpp); box: the boxes, both through the class texture
-// (renderer/block_texture.hpp, "box-texture") and through their pieces ("box-pieces").
+// (renderer/passes/block_caps.hpp); box: the boxes, both through the class texture
+// (renderer/passes/block_texture.hpp, "box-texture") and through their pieces ("box-pieces").
 // Per view (one vertical plane through the middle; a corner cut out by three planes), wall
 // clock ms of the worker's renderPerspective:
 //   uncoloured       median of `frames` frames of the view without colour=
@@ -30,9 +30,9 @@
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "bench/bench_util.hpp"
-#include "model/block_model.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
+#include "model/blocks/block_model.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
 #include "workers/gl_worker.hpp"
 
 using namespace geoslice;

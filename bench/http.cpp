@@ -33,8 +33,8 @@
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "bench/bench_util.hpp"
-#include "model/gltf_io.hpp"
-#include "model/synthetic.hpp"
+#include "model/io/gltf/gltf_io.hpp"
+#include "model/synthetic/synthetic.hpp"
 #include "server/http_server.hpp"
 
 namespace {

@@ -4,7 +4,7 @@
 //    pinched-out lens) of about N tetrahedra (default 1,000,000) written as .vtu with
 //    appended zlib-compressed data and as ascii (tests/common/vtu_writer.hpp);
 //  - a GOCAD Model3d (TSURF/TFACE patches + REGION definitions) of a synthetic model
-//    (model/synthetic.hpp) of about 10M triangles (writeModel3d below).
+//    (model/synthetic/synthetic.hpp) of about 10M triangles (writeModel3d below).
 // Each case is loaded with loadModel() in a forked child; `load_peak_rss_mib` is that
 // child's peak resident memory when the load (and a second validate) is done. Phases:
 // `load_s` is loadModel end to end (read + parse + boundary shells + validate);
@@ -29,10 +29,10 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_util.hpp"
-#include "model/loaders.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "model/volume_mesh.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/mesh/volume_mesh.hpp"
+#include "model/synthetic/synthetic.hpp"
 #include "tests/common/tet_model.hpp"
 #include "tests/common/vtu_writer.hpp"
 
@@ -68,7 +68,7 @@ nlohmann::ordered_json inChild(const std::string& label, F&& f) {
     return j;
 }
 
-// A GOCAD Model3d of a synthetic model (model/synthetic.hpp): every part is a TSURF with one
+// A GOCAD Model3d of a synthetic model (model/synthetic/synthetic.hpp): every part is a TSURF with one
 // TFACE (its key triangle = its first triangle); every closed body is a REGION bounded by its
 // own shell, listed as -id (outward triangles: the region lies against the key triangle's
 // normal); the Universe lists every shell as +id. Surfaces (faults) are TSURFs in no region.

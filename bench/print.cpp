@@ -13,15 +13,15 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_util.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
 #include "print/cairo_output.hpp"
 #include "print/paper.hpp"
 #include "print/section_sheet.hpp"
 #include "print/svg_output.hpp"
-#include "section/contours.hpp"
-#include "section/polyline.hpp"
-#include "section/section_index.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/polyline.hpp"
+#include "section/index/section_index.hpp"
 
 using namespace geoslice;
 using json = nlohmann::ordered_json;

@@ -25,11 +25,11 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_util.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "renderer/gl_context.hpp"
+#include "image/image_encode.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "renderer/gl/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
-#include "renderer/image_encode.hpp"
 #include "renderer/slice_renderer.hpp"
 
 using namespace geoslice;

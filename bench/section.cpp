@@ -9,9 +9,9 @@
 // `planes` vertical boreholes, `planes` 3-point polyline sections (W x W/2 image) and the
 // reserves of every body (whole, and on one side of a plane). Prints JSON
 // with medians (ms) and the per-size build figures. --oracle N also compares an N x N ID
-// buffer per plane with the Embree oracle (section/classify.hpp) at every pixel centre.
+// buffer per plane with the Embree oracle (section/rays/classify.hpp) at every pixel centre.
 // --leaf-order 1 (default) puts the model in the BVH's leaf order first, as a baked package
-// stores it (section/leaf_order.hpp), and times the cut on a generator-ordered copy beside
+// stores it (section/index/leaf_order.hpp), and times the cut on a generator-ordered copy beside
 // it, plane by plane (leaf_order_vs_generator_order); --leaf-order 0 skips both.
 // --exits-only 1 (default) times the cut and assembly steps with closed bodies' exit points
 // only (PlaneCut::exitsOnly), 0 with both points of every segment; either way computeSection
@@ -30,17 +30,17 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_util.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "section/borehole.hpp"
-#include "section/classify.hpp"
-#include "section/contours.hpp"
-#include "section/leaf_order.hpp"
-#include "section/plane_cut.hpp"
-#include "section/polyline.hpp"
-#include "section/raster.hpp"
-#include "section/reserves.hpp"
-#include "section/section_index.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/plane_cut.hpp"
+#include "section/cut/polyline.hpp"
+#include "section/fill/raster.hpp"
+#include "section/index/leaf_order.hpp"
+#include "section/index/section_index.hpp"
+#include "section/rays/borehole.hpp"
+#include "section/rays/classify.hpp"
+#include "section/volumes/reserves.hpp"
 #include "tests/common/random_plane.hpp"
 
 using namespace geoslice;
@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
         }
         validate(model.value());
         const double genS = bench::nowSeconds() - t;
-        // A baked package stores its mesh in the section BVH's leaf order (section/leaf_order.hpp).
+        // A baked package stores its mesh in the section BVH's leaf order (section/index/leaf_order.hpp).
         double reorderS = 0.0;
         std::optional<Model> plain;  // generator order, for the interleaved comparison
         if (leafOrder) {

@@ -12,8 +12,8 @@
 #include "bake/bake.hpp"
 #include "bake/package.hpp"
 #include "cli/commands.hpp"
-#include "model/loaders.hpp"
-#include "section/leaf_order.hpp"
+#include "model/io/loaders.hpp"
+#include "section/index/leaf_order.hpp"
 
 namespace geoslice::cli {
 namespace {
@@ -92,7 +92,7 @@ int runBake(const BakeArgs& a) {
         }
         blocks = std::move(parsed).value();
     }
-    // The package stores the mesh in the section BVH's leaf order (section/leaf_order.hpp).
+    // The package stores the mesh in the section BVH's leaf order (section/index/leaf_order.hpp).
     if (auto s = reorderForSection(model.value()); !s) {
         std::fprintf(stderr, "geoslice bake: %s\n", s.error().message.c_str());
         return 1;

@@ -1,5 +1,5 @@
 // geoslice borehole MODEL (--x X --y Y | --from x,y,z --dir dx,dy,dz [--length L]) [--json]:
-// a virtual borehole (section/borehole.hpp). Prints one line per interval (depths along
+// a virtual borehole (section/rays/borehole.hpp). Prints one line per interval (depths along
 // the hole from the collar, elevations, record and its attributes) and per surface
 // crossed, or with --json one JSON object. World coordinates: x easting, y northing,
 // z elevation, metres, the model's CRS.
@@ -11,18 +11,19 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
-#include "model/loaders.hpp"
-#include "section/borehole.hpp"
+#include "model/io/loaders.hpp"
 #include "model/json_text.hpp"
+#include "section/rays/borehole.hpp"
 
 namespace geoslice::cli {
 namespace {
 
 using json = nlohmann::ordered_json;
 
-bool parse3(const std::string& text, glm::dvec3& v) {
-    char extra = 0;
-    return std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v.x, &v.y, &v.z, &extra) == 3;
+Result<glm::dvec3> parse3(const std::string& flag, const std::string& text) {
+    auto v = parseNumbersFlag(flag, text, 3);
+    if (!v) return v.error();
+    return glm::dvec3(v.value()[0], v.value()[1], v.value()[2]);
 }
 
 std::string recordName(const Model& m, RecordId id) {
@@ -65,8 +66,12 @@ void addBorehole(CLI::App& app, int& exitCode) {
             if (!std::isfinite(o->x) || !std::isfinite(o->y))
                 return fail("give --x X --y Y (finite easting and northing) or --from x,y,z --dir dx,dy,dz", 2);
         } else {
-            if (!parse3(o->from, from)) return fail("--from \"" + o->from + "\" is not x,y,z (three numbers)", 2);
-            if (!parse3(o->dir, dir)) return fail("--dir \"" + o->dir + "\" is not dx,dy,dz (three numbers)", 2);
+            auto f = parse3("--from", o->from);
+            if (!f) return fail(f.error().message, 2);
+            auto d = parse3("--dir", o->dir);
+            if (!d) return fail(d.error().message, 2);
+            from = f.value();
+            dir = d.value();
         }
         auto model = loadModel(o->model, o->load);
         if (!model) return fail(model.error().message, 1);

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "model/loaders.hpp"
-#include "section/classify.hpp"
+#include "model/io/loaders.hpp"
+#include "section/rays/classify.hpp"
 
 namespace geoslice::cli {
 namespace {

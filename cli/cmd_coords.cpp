@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "model/crs.hpp"
+#include "model/crs/crs.hpp"
 
 namespace geoslice::cli {
 namespace {

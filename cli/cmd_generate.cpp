@@ -5,10 +5,10 @@
 #include <fstream>
 
 #include "cli/commands.hpp"
-#include "model/gltf_io.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
+#include "model/io/gltf/gltf_io.hpp"
 #include "model/json_text.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
 
 namespace geoslice::cli {
 
@@ -57,12 +57,9 @@ void addGenerate(CLI::App& app, int& exitCode) {
             so.crs = crs.value();
         }
         if (!o->at.empty()) {
-            double lon = 0, lat = 0;
-            char extra = 0;
-            if (std::sscanf(o->at.c_str(), "%lf,%lf%c", &lon, &lat, &extra) != 2 || !std::isfinite(lon) ||
-                !std::isfinite(lat))
-                return fail("--at \"" + o->at + "\" is not LON,LAT in degrees", 2);
-            so.atLonLat = glm::dvec2(lon, lat);
+            auto at = parseNumbersFlag("--at", o->at, 2);
+            if (!at) return fail(at.error().message + " (LON,LAT in degrees)", 2);
+            so.atLonLat = glm::dvec2(at.value()[0], at.value()[1]);
         }
         const auto t0 = std::chrono::steady_clock::now();
         auto model = generateSynthetic(so);

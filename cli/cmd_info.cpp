@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "cli/commands.hpp"
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 #include "model/json_text.hpp"
 
 namespace geoslice::cli {

@@ -62,14 +62,10 @@ int runQuery(const QueryArgs& a) {
     const api::CatalogModel& m = *model.value();
     auto plan = api::parseViewPlan(params.value(), m.id, m.model.crs);
     if (!plan) return fail(plan.error().message, 2);
-    std::string out = "{\"results\":[";
-    for (std::size_t i = 0; i < pixels.size(); ++i) {
-        auto answer = api::answerPixel(m, plan.value(), pixels[i].x, pixels[i].y, nullptr);
-        if (!answer) return fail("--pixel " + a.pixels[i] + ": " + answer.error().message, 1);
-        if (i) out += ',';
-        api::writeQueryAnswer(m, answer.value(), out);
-    }
-    out += "]}\n";
+    auto answer = api::answerBatch(m, plan.value(), pixels, nullptr, {}, nullptr, "--pixel",
+                                   [&a](std::size_t i) { return "--pixel " + a.pixels[i]; });
+    if (!answer) return fail(answer.error().message, 1);
+    const std::string out = answer.value() + "\n";
     std::fwrite(out.data(), 1, out.size(), stdout);
     return 0;
 }

@@ -12,9 +12,9 @@
 // --cut union removes the union of the planes' removed sides, --cut intersection removes what
 // lies on the removed side of every plane (a wedge, octant or box taken out).
 // With --exaggeration F the picture is stretched vertically by F about the centre elevation
-// of the model's bounds, as HTTP's vx= (model/exaggeration.hpp): --eye/--target are true
+// of the model's bounds, as HTTP's vx= (view/exaggeration.hpp): --eye/--target are true
 // world points (mapped into display space here); --frame is in the plane's true u/v metres,
-// as HTTP's frame=, and without it the profile has the default frame of model/view_frame.hpp,
+// as HTTP's frame=, and without it the profile has the default frame of view/view_frame.hpp,
 // so `render --profile` and GET section.png frame a plane alike. --baked bakes the model's attribute texture in memory
 // first (bake/bake.hpp, N x N texels per page) and takes every fragment's record id from it (issue 4 item 8), as the
 // server does with a baked package. --colour colours the block model's clipping bodies' cut faces by a
@@ -32,32 +32,16 @@
 #include "api/params.hpp"
 #include "bake/bake.hpp"
 #include "cli/commands.hpp"
-#include "model/loaders.hpp"
-#include "renderer/gl_context.hpp"
+#include "image/image_encode.hpp"
+#include "image/image_io.hpp"
+#include "model/io/loaders.hpp"
+#include "renderer/gl/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
-#include "renderer/image_encode.hpp"
-#include "renderer/image_io.hpp"
 #include "renderer/slice_renderer.hpp"
 #include "workers/block_colouring.hpp"
 
 namespace geoslice::cli {
 namespace {
-
-bool parseNumbers(const std::string& text, std::size_t count, std::vector<double>& out) {
-    out.clear();
-    const char* s = text.data();
-    const char* end = s + text.size();
-    while (s < end) {
-        double v = 0.0;
-        auto [next, ec] = std::from_chars(s, end, v);
-        if (ec != std::errc() || !std::isfinite(v)) return false;
-        out.push_back(v);
-        s = next;
-        if (s < end && *s != ',') return false;
-        if (s < end) ++s;
-    }
-    return out.size() == count;
-}
 
 struct RenderArgs {
     std::string model, out, ids, gl = "auto", clip = "clip-distance", size = "1024x1024", frame, eye, target,
@@ -95,7 +79,6 @@ int run(const RenderArgs& a) {
         return 1;
     };
     SliceRequest req;
-    std::vector<double> v;
     api::CutOut cut;
     if (!a.planes.empty()) {
         std::string list;
@@ -116,7 +99,7 @@ int run(const RenderArgs& a) {
     }
     // The renderer names what is kept: --cut union keeps the intersection of the kept sides.
     req.combine = cut.mode == api::CutMode::Union ? PlaneCombine::Intersection : PlaneCombine::Union;
-    // Size, exaggeration and field of view against the limits HTTP checks (model/view_limits.hpp).
+    // Size, exaggeration and field of view against the limits HTTP checks (view/view_limits.hpp).
     auto size = api::parseSize("--size", a.size, kMaxImageSide, static_cast<long long>(kMaxImagePixels));
     if (!size) return fail(size.error().message);
     req.width = size.value().width;
@@ -184,12 +167,15 @@ int run(const RenderArgs& a) {
     const bool perspective = !a.eye.empty();
     if (perspective) {
         PerspectiveCamera pv;
-        if (!parseNumbers(a.eye, 3, v)) return fail("--eye: expected x,y,z");
-        pv.eye = ve.toDisplay({v[0], v[1], v[2]});
-        if (!parseNumbers(a.target.empty() ? std::string() : a.target, 3, v)) return fail("--target: expected x,y,z");
-        pv.target = ve.toDisplay({v[0], v[1], v[2]});
-        if (!parseNumbers(a.up, 3, v)) return fail("--up: expected x,y,z");
-        pv.up = {v[0], v[1], v[2]};
+        auto eye = parseNumbersFlag("--eye", a.eye, 3);
+        if (!eye) return fail(eye.error().message);
+        pv.eye = ve.toDisplay({eye.value()[0], eye.value()[1], eye.value()[2]});
+        auto target = parseNumbersFlag("--target", a.target, 3);
+        if (!target) return fail(target.error().message);
+        pv.target = ve.toDisplay({target.value()[0], target.value()[1], target.value()[2]});
+        auto up = parseNumbersFlag("--up", a.up, 3);
+        if (!up) return fail(up.error().message);
+        pv.up = {up.value()[0], up.value()[1], up.value()[2]};
         if (auto s = checkCameraDistance("--eye and --target", pv.eye, pv.target); !s) return fail(s.error().message);
         pv.fovYDegrees = a.fov;
         req.view = pv;
@@ -200,10 +186,10 @@ int run(const RenderArgs& a) {
         if (!plane) return fail("--plane: " + plane.error().message);
         FrameRect frame = defaultFrame(*plane, model->bounds(), model->origin, req.width, req.height, ve);
         if (!a.frame.empty()) {
-            if (!parseNumbers(a.frame, 4, v)) return fail("--frame: expected u0,u1,v0,v1 (plane metres)");
-            frame = FrameRect{v[0], v[2], v[1], v[3]};
-            if (!(frame.u1 > frame.u0) || !(frame.v1 > frame.v0))
-                return fail("--frame " + a.frame + ": needs u0 < u1 and v0 < v1");
+            auto f = parseNumbersFlag("--frame", a.frame, 4);
+            if (!f) return fail(f.error().message + " (u0,u1,v0,v1 in plane metres)");
+            frame = FrameRect{f.value()[0], f.value()[2], f.value()[1], f.value()[3]};
+            if (auto s = checkFrame(frame, req.width, req.height); !s) return fail("--frame: " + s.error().message);
         }
         req.view = profileCamera(*plane, frame, ve);
     }

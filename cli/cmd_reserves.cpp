@@ -1,6 +1,6 @@
 // geoslice reserves MODEL [--plane a,b,c,d] [--json]: volume (m³, gross and net of nested
 // bodies), tonnage (t) and metal of every closed body, whole or on the kept side of a plane
-// (section/reserves.hpp says how and in which units; api/reserves.hpp lays out the JSON,
+// (section/volumes/reserves.hpp says how and in which units; api/reserves.hpp lays out the JSON,
 // which GET /v1/models/{id}/reserves serves too).
 #include <cstdio>
 #include <optional>
@@ -9,10 +9,10 @@
 
 #include "api/reserves.hpp"
 #include "cli/commands.hpp"
-#include "model/loaders.hpp"
-#include "section/block_reserves.hpp"
-#include "section/reserves.hpp"
+#include "model/io/loaders.hpp"
 #include "model/json_text.hpp"
+#include "section/blocks/block_reserves.hpp"
+#include "section/volumes/reserves.hpp"
 
 namespace geoslice::cli {
 

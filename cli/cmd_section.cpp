@@ -1,13 +1,13 @@
 // geoslice section MODEL (--plane a,b,c,d | --elevation z | --line x1,y1,x2,y2[,...])
 // [--size WxH] [--frame u0,u1,v0,v1 | --exaggeration k] [--out F.png|F.jpg|F.webp|F.ppm|F.pgm]... [--geojson F]
 // [--geojson-frame plane|world] [--svg F] [--areas]: the exact section engine from the
-// command line. Colour images go through renderer/image_encode.hpp (PNG, JPEG, WebP) or
+// command line. Colour images go through image/image_encode.hpp (PNG, JPEG, WebP) or
 // binary PPM (composited over white); the ID buffer is written as 16-bit binary PGM
 // (record ids, big-endian, 0 = none). --geojson / --svg write the polygons and traces
-// (section/vector_export.hpp). --areas prints JSON (plane or line, frame, pixel -> world
+// (section/fill/vector_export.hpp). --areas prints JSON (plane or line, frame, pixel -> world
 // transform, area of each body in m², trace count) on stdout. With --line the section is
 // vertical along the map polyline: u = distance along the line (m), v = elevation (m).
-// Without --frame the image has the default frame of HTTP plans (model/view_frame.hpp):
+// Without --frame the image has the default frame of HTTP plans (view/view_frame.hpp):
 // the same request gives the same picture here and from GET section.png.
 #include <algorithm>
 #include <cmath>
@@ -22,21 +22,21 @@
 
 #include "api/params.hpp"
 #include "cli/commands.hpp"
-#include "model/loaders.hpp"
+#include "image/image_encode.hpp"
+#include "model/io/loaders.hpp"
+#include "model/json_text.hpp"
 #include "print/cairo_output.hpp"
 #include "print/map_scale.hpp"
 #include "print/paper.hpp"
 #include "print/section_sheet.hpp"
 #include "print/sheet_date.hpp"
 #include "print/svg_output.hpp"
-#include "renderer/image_encode.hpp"
-#include "section/block_section.hpp"
-#include "section/contours.hpp"
-#include "section/polyline.hpp"
-#include "section/raster.hpp"
-#include "section/section_index.hpp"
-#include "section/vector_export.hpp"
-#include "model/json_text.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/polyline.hpp"
+#include "section/fill/raster.hpp"
+#include "section/fill/vector_export.hpp"
+#include "section/index/section_index.hpp"
 
 namespace geoslice::cli {
 namespace {
@@ -222,18 +222,9 @@ void addSection(CLI::App& app, int& exitCode) {
         } else if (std::isfinite(o->elevation)) {
             plane = horizontalPlane(o->elevation);
         } else if (!o->line.empty()) {
-            std::vector<double> v;
-            std::string item;
-            for (std::size_t pos = 0; pos <= o->line.size();) {
-                const std::size_t comma = std::min(o->line.find(',', pos), o->line.size());
-                item = o->line.substr(pos, comma - pos);
-                char* end = nullptr;
-                const double x = std::strtod(item.c_str(), &end);
-                if (item.empty() || end != item.c_str() + item.size())
-                    return fail("--line \"" + o->line + "\": \"" + item + "\" is not a number", 2);
-                v.push_back(x);
-                pos = comma + 1;
-            }
+            auto numbers = parseNumbersFlag("--line", o->line, 0);
+            if (!numbers) return fail(numbers.error().message, 2);
+            const std::vector<double>& v = numbers.value();
             if (v.size() < 4 || v.size() % 2 != 0)
                 return fail("--line needs x1,y1,x2,y2[,...]: an even count of at least 4 numbers (got " +
                                 std::to_string(v.size()) + ")",
@@ -244,16 +235,19 @@ void addSection(CLI::App& app, int& exitCode) {
             return fail("give --plane a,b,c,d, --elevation z (a finite number) or --line x1,y1,x2,y2[,...]", 2);
         }
         const bool polyline = !linePoints.empty();
-        // The size against the limits HTTP checks, by HTTP's reader (model/view_limits.hpp).
+        // The size against the limits HTTP checks, by HTTP's reader (view/view_limits.hpp).
         auto size = api::parseSize("--size", o->size, kMaxImageSide, static_cast<long long>(kMaxImagePixels));
         if (!size) return fail(size.error().message, 2);
         const int width = size.value().width, height = size.value().height;
-        char extra = 0;
         std::optional<FrameRect> givenFrame;
         if (!o->frame.empty()) {
-            FrameRect r;
-            if (std::sscanf(o->frame.c_str(), "%lf,%lf,%lf,%lf%c", &r.u0, &r.u1, &r.v0, &r.v1, &extra) != 4)
-                return fail("--frame \"" + o->frame + "\" is not u0,u1,v0,v1 (four numbers, plane metres)", 2);
+            auto f = parseNumbersFlag("--frame", o->frame, 4);
+            if (!f) return fail(f.error().message + " (u0,u1,v0,v1 in plane metres)", 2);
+            FrameRect r;  // given as u0,u1,v0,v1
+            r.u0 = f.value()[0];
+            r.u1 = f.value()[1];
+            r.v0 = f.value()[2];
+            r.v1 = f.value()[3];
             if (Status s = checkFrame(r, width, height); !s) return fail("--frame: " + s.error().message, 2);
             givenFrame = r;
         }
@@ -283,7 +277,7 @@ void addSection(CLI::App& app, int& exitCode) {
         auto index = buildSectionIndex(model.value());
         if (!index) return fail(index.error().message, 1);
         const SectionIndex& idx = *index.value();
-        // The one default frame and pivot rule of HTTP plans (model/view_frame.hpp).
+        // The one default frame and pivot rule of HTTP plans (view/view_frame.hpp).
         const VerticalExaggeration ve = VerticalExaggeration::aboutCentreOf(o->exaggeration, idx.bounds);
         SectionOptions so;
         so.threads = o->threads;
@@ -361,7 +355,7 @@ void addSection(CLI::App& app, int& exitCode) {
                     return section->frame.toWorld({rect.u0 + (i + 0.5) * pu, rect.v1 - (j + 0.5) * pv});
                 };
             }
-            // Where rows are lines in the world (the walk of section/block_raster.cpp): a plane's
+            // Where rows are lines in the world (the walk of section/blocks/block_raster.cpp): a plane's
             // whole row, a polyline's columns on each leg.
             const std::vector<RowLine> rowLines =
                 polyline ? polylineRowLines(

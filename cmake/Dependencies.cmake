@@ -36,6 +36,12 @@ find_path(STB_INCLUDE_DIR stb_image.h PATHS /usr/include/stb REQUIRED)
 if(GEOSLICE_TESTS)
   find_package(GTest REQUIRED)
 endif()
-if(GEOSLICE_BENCH)
-  find_package(benchmark REQUIRED)
+# cpp-httplib is only the HTTP client of the tests and benchmarks (the server speaks Beast).
+# Debian's is a compiled library (built with OpenSSL, zlib and brotli); its pkg-config Cflags
+# carry the matching CPPHTTPLIB_*_SUPPORT defines (one definition rule).
+if(GEOSLICE_TESTS OR GEOSLICE_BENCH)
+  find_package(PkgConfig REQUIRED)
+  pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+  add_library(geoslice_httplib INTERFACE)
+  target_link_libraries(geoslice_httplib INTERFACE PkgConfig::HTTPLIB Threads::Threads)
 endif()

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "model/text_scan.hpp"
 #include "model/json_text.hpp"
+#include "model/text_scan.hpp"
 
 namespace geoslice {
 namespace {

@@ -61,7 +61,7 @@ public:
     const std::map<RecordId, AttributeRecord>& records() const { return records_; }
 
     // The top-level "crs" string of a JSON sidecar ({"crs": "EPSG:2056", "records": [...]}),
-    // as written; empty when none. Loaders apply it (model/loaders.cpp); CSV tables carry none.
+    // as written; empty when none. Loaders apply it (model/io/loaders.cpp); CSV tables carry none.
     const std::string& declaredCrs() const { return declaredCrs_; }
 
     nlohmann::ordered_json toJson() const;  // {"records":[...]}

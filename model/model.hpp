@@ -17,8 +17,8 @@
 #include <glm/glm.hpp>
 
 #include "model/attributes.hpp"
-#include "model/block_model.hpp"
-#include "model/crs.hpp"
+#include "model/blocks/block_model.hpp"
+#include "model/crs/crs.hpp"
 
 namespace geoslice {
 
@@ -59,7 +59,7 @@ struct Mesh {
     Aabb bounds() const;
 };
 
-// Validation findings for one part (see model/validate.hpp).
+// Validation findings for one part (see model/mesh/validate.hpp).
 struct MeshReport {
     std::size_t triangles = 0, vertices = 0;
     std::size_t boundaryEdges = 0;        // edges used by one triangle
@@ -83,7 +83,7 @@ struct MeshReport {
     std::vector<glm::dvec3> problemEdges;  // world midpoints of a few boundary / non-manifold edges
 };
 
-// One finding of validate() (model/validate.hpp).
+// One finding of validate() (model/mesh/validate.hpp).
 struct ValidationIssue {
     enum class Severity { Note, Warning, Error };
     Severity severity = Severity::Warning;
@@ -155,7 +155,7 @@ struct Model {
     std::vector<Part> surfaces;   // open sheets
     std::vector<Grid> grids;      // structured grids (Voxet, SGrid): kept, not sectioned yet
     std::vector<Polyline> lines;  // well paths and lines (PLine): kept, not sectioned yet
-    // The block model attached to the model (model/block_model.hpp), or null.
+    // The block model attached to the model (model/blocks/block_model.hpp), or null.
     std::shared_ptr<const BlockModel> blocks;
     AttributeTable attributes;
     Crs crs;                      // Crs::local() when the model has no CRS

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "model/view_limits.hpp"
 #include "print/text_metrics.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::print {
 namespace {

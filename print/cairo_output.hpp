@@ -24,7 +24,7 @@ struct SheetRaster {
 // The sheet's pixel size at `dpi`: round(mm x dpi / 25.4) per side.
 int sheetPixels(double mm, double dpi);
 // The sheet on a white page at `dpi` dots per inch. Errors: OutOfRange when the image would
-// exceed model/view_limits.hpp's sizes (names the size), Internal for cairo failures.
+// exceed view/view_limits.hpp's sizes (names the size), Internal for cairo failures.
 Result<SheetRaster> renderRaster(const Sheet& sheet, double dpi);
 
 }  // namespace geoslice::print

@@ -1,7 +1,7 @@
 // True north on a map in a projected CRS: the azimuth of the meridian through a point,
 // measured from grid north (the CRS's +y axis), degrees clockwise; negative when true
 // north lies west of grid north (east of a Transverse Mercator zone's central meridian).
-// Found numerically from the CRS's own inverse and forward projection (model/crs.hpp):
+// Found numerically from the CRS's own inverse and forward projection (model/crs/crs.hpp):
 // the point, and the point 0.001 degree of latitude north of it on the same meridian.
 // Pure function, any thread.
 #pragma once
@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "model/crs.hpp"
+#include "model/crs/crs.hpp"
 
 namespace geoslice::print {
 

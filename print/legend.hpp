@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "print/sheet.hpp"
-#include "section/block_section.hpp"
-#include "section/section_index.hpp"
-#include "section/vector_export.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/fill/vector_export.hpp"
+#include "section/index/section_index.hpp"
 
 namespace geoslice::print {
 

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "model/view_limits.hpp"
 #include "print/map_scale.hpp"
 #include "print/round_numbers.hpp"
 #include "print/ticks.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::print {
 namespace {

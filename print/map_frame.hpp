@@ -15,7 +15,7 @@
 
 #include "model/result.hpp"
 #include "print/sheet.hpp"
-#include "section/raster.hpp"
+#include "section/fill/raster.hpp"
 
 namespace geoslice::print {
 

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "model/view_limits.hpp"
 #include "print/round_numbers.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::print {
 

@@ -15,7 +15,8 @@
 #include "print/section_ends.hpp"
 #include "print/text_metrics.hpp"
 #include "print/title_block.hpp"
-#include "section/vector_export.hpp"
+#include "section/fill/vector_export.hpp"
+#include "view/exaggeration.hpp"
 
 namespace geoslice::print {
 namespace {
@@ -38,6 +39,9 @@ struct Shape {
     std::vector<End> ends;
     std::vector<TitleRow> rows;       // shape-specific title block rows (section, ends, azimuth...)
     std::optional<double> trueNorth;  // horizontal slices in a projected CRS: from grid north, degrees
+    // Inclined planes: the unit normal, whose v axis the exaggeration stretches by
+    // VerticalExaggeration::vStretch (as images and tiles do), not by the raw factor.
+    glm::dvec3 normal{0.0, 0.0, 1.0};
     // The engine's raster of a section rectangle, for rasterGeometry (with ids when asked).
     std::function<Result<SectionImage>(const FrameRect&, int, int, const RasterOptions&)> raster;
     // Section coordinates (u, v) -> world, for colouring a raster by block cells.
@@ -248,7 +252,13 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
     fit.extent = shape.extent;
     fit.area = l.mapArea;
     fit.scale = o.scale;
-    fit.exaggeration = shape.kind == Shape::Horizontal ? 1.0 : o.exaggeration;
+    // The stretch of the sheet's v axis is the one every picture of this plane uses
+    // (view/exaggeration.hpp): the factor on vertical planes and polylines, 1 on horizontal
+    // slices, vStretch(n) on inclined planes, whose v axis is only partly vertical.
+    fit.exaggeration = shape.kind == Shape::Horizontal ? 1.0
+                       : shape.kind == Shape::Inclined
+                           ? VerticalExaggeration{o.exaggeration, 0.0}.vStretch(shape.normal)
+                           : o.exaggeration;
     fit.snapU = shape.kind == Shape::Horizontal && !o.frame;
     fit.snapV = !o.frame;
     fit.scaleName = o.scaleName;
@@ -312,7 +322,11 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
     rows.push_back({"CRS", info.crs});
     for (const TitleRow& r : shape.rows) rows.push_back(r);
     std::string scaleText = formatScale(f.scale);
-    if (shape.kind != Shape::Horizontal)
+    if (shape.kind == Shape::Inclined)
+        scaleText += " along strike, " + formatScale(f.scale / f.exaggeration) + " down dip (VE \u00d7" +
+                     formatGrouped(o.exaggeration, std::min(decimalsFor(o.exaggeration), 2)) + ": down-dip \u00d7" +
+                     formatGrouped(f.exaggeration, std::min(decimalsFor(f.exaggeration), 3)) + ")";
+    else if (shape.kind != Shape::Horizontal)
         scaleText += " horizontal, " + formatScale(f.scale / f.exaggeration) + " vertical (VE \u00d7" +
                      formatGrouped(f.exaggeration, std::min(decimalsFor(f.exaggeration), 2)) + ")";
     rows.push_back({"Scale", scaleText});
@@ -387,6 +401,7 @@ Result<Sheet> sectionSheet(const SectionIndex& index, const Section& section, co
     } else {
         const bool vertical = std::abs(n.z) < 1e-9;
         s.kind = vertical ? Shape::Vertical : Shape::Inclined;
+        s.normal = n;
         s.extent.u0 = lo.x;
         s.extent.u1 = hi.x;
         verticalExtent(s.extent, lo, hi, false, lo.y, hi.y);

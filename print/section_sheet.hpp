@@ -20,15 +20,15 @@
 #include "print/map_frame.hpp"
 #include "print/paper.hpp"
 #include "print/sheet.hpp"
-#include "section/block_section.hpp"
-#include "section/contours.hpp"
-#include "section/polyline.hpp"
-#include "section/raster.hpp"
-#include "section/section_index.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/polyline.hpp"
+#include "section/fill/raster.hpp"
+#include "section/index/section_index.hpp"
 
 namespace geoslice::print {
 
-// Colouring by a block property (section/block_section.hpp): vector sheets draw each cell's
+// Colouring by a block property (section/blocks/block_section.hpp): vector sheets draw each cell's
 // exact piece (cell ∩ plane ∩ clipping body; polyline legs alike) in its class colour over
 // the bodies' fills, with the clipping bodies' contacts drawn again over the pieces; raster
 // sheets colour a pixel by the cell under its centre where its record is a clipping body's

@@ -8,7 +8,7 @@
 
 #include "bake/bake.hpp"
 #include "bake/package.hpp"
-#include "renderer/cluster_build.hpp"
+#include "renderer/lod/cluster_build.hpp"
 
 namespace geoslice {
 namespace {

@@ -14,7 +14,7 @@
 // cracks; each copy records its geometric error in metres (meshopt_simplify's error times
 // meshopt_simplifyScale). A simplified copy lies in the convex hull of its cluster's
 // vertices, hence inside the cell bounds (cellBounds()).
-// Clusters, levels and groups are built on the CPU by renderer/cluster_build.hpp.
+// Clusters, levels and groups are built on the CPU by renderer/lod/cluster_build.hpp.
 //
 // Baked record ids (paper section 2.2, issue 4 item 8): upload(context, model, baked) draws the
 // bake's mesh instead of the model's (the same triangles in the same order, vertices split
@@ -38,8 +38,8 @@
 
 #include "model/model.hpp"
 #include "model/result.hpp"
-#include "renderer/gl_context.hpp"
-#include "renderer/gl_objects.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/gl_objects.hpp"
 
 namespace geoslice {
 

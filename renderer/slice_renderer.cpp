@@ -7,20 +7,17 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "renderer/block_caps.hpp"
-#include "renderer/block_texture.hpp"
-#include "renderer/cluster_selection.hpp"
-#include "renderer/fxaa_pass.hpp"
-#include "renderer/gl_program.hpp"
-#include "renderer/render_target.hpp"
-#include "renderer/trace_pass.hpp"
+#include "model/clock.hpp"
+#include "renderer/gl/gl_program.hpp"
+#include "renderer/gl/render_target.hpp"
+#include "renderer/lod/cluster_selection.hpp"
+#include "renderer/passes/block_caps.hpp"
+#include "renderer/passes/block_texture.hpp"
+#include "renderer/passes/fxaa_pass.hpp"
+#include "renderer/passes/trace_pass.hpp"
 
 namespace geoslice {
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Front faces are pushed this far away from the viewer so that a back face coincident with
 // them wins (see the header). Units are the depth buffer's resolution at that depth; the
@@ -65,7 +62,7 @@ struct SliceRenderer::Impl {
     Impl(GlContext& c, TracePass t, FxaaPass f) : context(c), trace(std::move(t)), fxaa(std::move(f)), target(c.gl()) {}
     GlContext& context;
     std::vector<Variant> programs;  // variantIndex(): clip distance or discard, with or without blocks
-    GlProgram capProgram;           // block-model cell pieces (renderer/block_caps.hpp)
+    GlProgram capProgram;           // block-model cell pieces (renderer/passes/block_caps.hpp)
     TracePass trace;
     FxaaPass fxaa;
     RenderTarget target;
@@ -291,7 +288,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     if (request.blocks) request.blocks->apply(prog, model.origin());
     gl.BindVertexArray(model.vertexArray());
 
-    // Which clusters to draw at which level (renderer/cluster_selection.hpp, CPU only). A
+    // Which clusters to draw at which level (renderer/lod/cluster_selection.hpp, CPU only). A
     // convex cut keeps the clusters past its exit (see above): only a plane with the eye on
     // its removed side may cull (a fragment on its removed side is in front of the kept
     // region, or on a ray that misses it); in a profile no plane culls.
@@ -430,7 +427,7 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     }
     if (request.blocks) request.blocks->release();
     if (caps && caps->triangleCount() > 0 && !cancelled()) {
-        // The cell pieces on the clipping bodies' caps (renderer/block_caps.hpp).
+        // The cell pieces on the clipping bodies' caps (renderer/passes/block_caps.hpp).
         const GLuint cp = impl.capProgram.id();
         const GlProgram& c = impl.capProgram;
         gl.ProgramUniformMatrix4fv(cp, c.uniform("uViewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));

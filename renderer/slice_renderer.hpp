@@ -32,10 +32,10 @@
 // simplified copies (see SliceRequest::lod and renderer/gpu_model.hpp).
 //
 // The pieces, one file each: the render target (framebuffers, MSAA resolve, readback, row
-// flip: renderer/render_target.hpp), the trace pass (renderer/trace_pass.hpp), the FXAA pass
-// (renderer/fxaa_pass.hpp) and the CPU-only cluster selection (renderer/cluster_selection.hpp);
+// flip: renderer/gl/render_target.hpp), the trace pass (renderer/passes/trace_pass.hpp), the FXAA pass
+// (renderer/passes/fxaa_pass.hpp) and the CPU-only cluster selection (renderer/lod/cluster_selection.hpp);
 // render() is the cap algorithm above. GL objects are owned by RAII handles
-// (renderer/gl_objects.hpp) behind the private implementation: this header holds none.
+// (renderer/gl/gl_objects.hpp) behind the private implementation: this header holds none.
 //
 // Threads: create, use and destroy on the owning GlContext's thread. GL state: render()
 // sets all the state it needs and, before returning, binds framebuffer 0, no program and no
@@ -49,10 +49,10 @@
 
 #include "model/attributes.hpp"
 #include "model/result.hpp"
-#include "model/view_limits.hpp"
-#include "renderer/gl_context.hpp"
+#include "renderer/gl/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/views.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice {
 
@@ -82,7 +82,7 @@ enum class PlaneCombine {
 };
 
 constexpr int kMaxPlanes = 6;
-// Image sides: kMaxImageSide (model/view_limits.hpp); the device may allow less.
+// Image sides: kMaxImageSide (view/view_limits.hpp); the device may allow less.
 
 struct SliceRequest {
     std::vector<WorldPlane> planes;  // world (a,b,c,d); normalised by render(); up to kMaxPlanes
@@ -125,10 +125,10 @@ struct SliceRequest {
     // pass and the read-back; when set, the draw calls left are skipped and render()
     // returns DeadlineExceeded. A single draw call already submitted is not interrupted.
     const std::atomic<bool>* cancel = nullptr;
-    // Caps of the clipping bodies coloured by block-model class (renderer/block_texture.hpp);
+    // Caps of the clipping bodies coloured by block-model class (renderer/passes/block_texture.hpp);
     // null: none. Must outlive the call. With it, SliceImage::cells holds each pixel's cell.
     const BlockTexture* blocks = nullptr;
-    // Or (not both) the exact cell pieces of each plane (renderer/block_caps.hpp: block models
+    // Or (not both) the exact cell pieces of each plane (renderer/passes/block_caps.hpp: block models
     // with curvilinear cells), cut by `planes` in their order; null: none. Must outlive the call.
     const BlockCaps* blockCaps = nullptr;
 };

@@ -8,7 +8,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "model/view_limits.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice {
 namespace {
@@ -25,11 +25,10 @@ glm::dvec3 defaultLight() { return glm::normalize(glm::dvec3(-0.45, 0.35, 0.82))
 }  // namespace
 
 Result<WorldPlane> normalizePlane(const WorldPlane& plane) {
-    glm::dvec3 n(plane);
-    double len = glm::length(n);
-    if (!std::isfinite(len) || !std::isfinite(plane.w) || len < 1e-12)
-        return makeError(ErrorCode::InvalidArgument, "plane (a,b,c,d) needs a finite non-zero normal (a,b,c)");
-    return plane / len;
+    // The one normalisation of a plane (view/plane.hpp: overflow-safe, errors named).
+    auto unit = makePlane(plane.x, plane.y, plane.z, plane.w);
+    if (!unit) return unit.error();
+    return toWorldPlane(unit.value());
 }
 
 glm::dvec4 planeToLocal(const WorldPlane& p, const glm::dvec3& origin) {
@@ -40,8 +39,7 @@ Result<ViewTransform> profileTransform(const ProfileCamera& view, const glm::dve
     auto unit = normalizePlane(view.plane);
     if (!unit) return unit.error();
     const FrameRect& r = view.rect;
-    if (!(r.u1 > r.u0) || !(r.v1 > r.v0))
-        return makeError(ErrorCode::InvalidArgument, "profile frame needs u0 < u1 and v0 < v1");
+    if (Status s = checkFrameNotEmpty(r); !s) return s.error();
     const SectionFrame b = makeSectionFrame(Plane{glm::dvec3(*unit), unit->w}, glm::dvec3(0.0));
     const glm::dvec3 planeOrigin = b.originWorld();
     // Depth: signed distance s along +n from the plane; the kept side is s >= 0. The range

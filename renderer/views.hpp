@@ -1,25 +1,25 @@
-// The GL matrices of the cameras of model/camera.hpp for the slicing pass: local frame ->
+// The GL matrices of the cameras of view/camera.hpp for the slicing pass: local frame ->
 // clip. Pure CPU code, double precision until the final float matrix; any thread.
 //
 // Frames: `world` (double, x east, y north, z up, metres), `local` (world - Model::origin,
-// what the GPU sees), `plane u/v` (metres in the plane, SectionFrame of model/plane.hpp), `pixel` (column,
+// what the GPU sees), `plane u/v` (metres in the plane, SectionFrame of view/plane.hpp), `pixel` (column,
 // row with row 0 at the top of the image, pixel centres at +0.5).
 #pragma once
 
 #include <glm/glm.hpp>
 
-#include "model/camera.hpp"
-#include "model/exaggeration.hpp"
 #include "model/model.hpp"
-#include "model/plane.hpp"
 #include "model/result.hpp"
-#include "model/view_frame.hpp"
+#include "view/camera.hpp"
+#include "view/exaggeration.hpp"
+#include "view/plane.hpp"
+#include "view/view_frame.hpp"
 
 namespace geoslice {
 
-// Planes (Plane, WorldPlane = its (a, b, c, d) form) and the plane frame: model/plane.hpp.
-// Vertical exaggeration (display space): model/exaggeration.hpp. Profile frames (FrameRect,
-// the default frame): model/view_frame.hpp.
+// Planes (Plane, WorldPlane = its (a, b, c, d) form) and the plane frame: view/plane.hpp.
+// Vertical exaggeration (display space): view/exaggeration.hpp. Profile frames (FrameRect,
+// the default frame): view/view_frame.hpp.
 
 // Returns the plane scaled to a unit normal; an error for a zero or non-finite normal.
 Result<WorldPlane> normalizePlane(const WorldPlane& plane);
@@ -27,7 +27,7 @@ Result<WorldPlane> normalizePlane(const WorldPlane& plane);
 glm::dvec4 planeToLocal(const WorldPlane& unitPlane, const glm::dvec3& origin);
 
 // The cameras (ProfileCamera, PerspectiveCamera), their pixel rays and the default frames
-// and camera: model/camera.hpp. In a SliceRequest they are in display space (see
+// and camera: view/camera.hpp. In a SliceRequest they are in display space (see
 // SliceRequest::exaggeration). Below: their GL matrices.
 
 // Local -> clip, and what the fragment stage needs.

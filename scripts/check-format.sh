@@ -11,7 +11,7 @@ if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
   mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h' '*.cc')
 else
   # A source tree without .git (an exported tarball): the C++ folders themselves.
-  mapfile -t files < <(find api bake bench cli model print renderer section server tests workers \
+  mapfile -t files < <(find api bake bench cli image model print renderer section server tests view workers \
     -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' -o -name '*.cc' \) \
     -not -path '*/node_modules/*' -not -path 'tests/data/*' | sort)
 fi

@@ -28,7 +28,6 @@ build=(
   libgeographiclib-dev libproj-dev proj-data
   # service and CLI
   libboost-dev libspdlog-dev libfmt-dev libcli11-dev   # Boost.Beast/Asio: the HTTP server
-  libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks (configure needs it)
   libjs-leaflet                       # the web client embeds Debian's Leaflet (configure needs it)
   # print sheets (print/): PDF, raster and text layout through cairo; the sheet's font
   libcairo2-dev fonts-dejavu-core fonts-wqy-microhei   # DejaVu Sans; WenQuanYi for CJK unit names
@@ -40,7 +39,8 @@ dev=(
   clang-format                        # the house format, checked by ctest's test `format`
   libegl-mesa0 libgl1-mesa-dri        # llvmpipe for the GL tests
   proj-bin                            # PROJ's cs2cs as the CRS test oracle
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev
+  libcpp-httplib-dev                  # the HTTP client of the tests and benchmarks
   # bench/table1: its peers and plots (benchmark-only, never linked into geoslice):
   # VTK 9.1's cutters through Python, CGAL's Polygon_mesh_slicer (headers), matplotlib
   python3-vtk9 libcgal-dev python3-matplotlib

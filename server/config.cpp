@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 #include "model/json_text.hpp"
 
 extern char** environ;

@@ -1,5 +1,5 @@
 #version 450 core
-// Block-model cell pieces on the cut faces (renderer/block_caps.hpp), fragment stage: writes
+// Block-model cell pieces on the cut faces (renderer/passes/block_caps.hpp), fragment stage: writes
 // the class colour (location 0; masked off for pieces of cells with no value) and the cell + 1
 // (location 2) where the slicing pass drew a clipping body's cap (stencil test, set by the
 // renderer). A piece of plane uPlane is where a view ray enters the kept region only if the

@@ -1,5 +1,5 @@
 #version 450 core
-// Block-model cell pieces on the cut faces (renderer/block_caps.hpp), vertex stage: one
+// Block-model cell pieces on the cut faces (renderer/passes/block_caps.hpp), vertex stage: one
 // triangle of a cell's cut (a tetrahedron of the cell cut by a plane) per three vertices, in
 // the model's local frame (world - origin, metres, float32), with its cell and class.
 

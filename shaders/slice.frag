@@ -53,7 +53,7 @@ layout(binding = 0) uniform usampler2DArray uIdTexture;
 layout(binding = 1) uniform sampler2D uColourTable;  // record r at (r % width, r / width)
 
 #if GS_BLOCKS
-// Block-model colouring of caps (renderer/block_texture.hpp): only in the GS_BLOCKS = 1
+// Block-model colouring of caps (renderer/passes/block_texture.hpp): only in the GS_BLOCKS = 1
 // variants, so that views without a block model do not pay for it (on llvmpipe the uniform
 // branch alone cost ~29 % of a frame).
 uniform vec3 uBlockOrigin;     // local frame

@@ -10,19 +10,19 @@
 #include <vector>
 
 #include "model/model.hpp"
-#include "model/plane.hpp"
 #include "model/result.hpp"
-#include "renderer/block_caps.hpp"
-#include "renderer/block_texture.hpp"
-#include "renderer/gl_context.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/passes/block_caps.hpp"
+#include "renderer/passes/block_texture.hpp"
 #include "renderer/slice_renderer.hpp"
-#include "section/block_section.hpp"
+#include "section/blocks/block_section.hpp"
+#include "view/plane.hpp"
 
 namespace geoslice::workers {
 
 // How box-cell block models colour caps: Texture, a class texture looked up per fragment
-// (renderer/block_texture.hpp; no CPU work for a new plane), or Pieces, the cells' exact
-// pieces per plane as for curvilinear grids (renderer/block_caps.hpp; a CPU cut per new
+// (renderer/passes/block_texture.hpp; no CPU work for a new plane), or Pieces, the cells' exact
+// pieces per plane as for curvilinear grids (renderer/passes/block_caps.hpp; a CPU cut per new
 // plane set, then about the cost of the plain frame). Auto: Pieces on a software
 // rasteriser (llvmpipe, L4 1024x1024, CPU time: texture 1.24-1.43x the plain frame,
 // pieces 0.99-1.03x), Texture on a GPU. Curvilinear grids always use Pieces.
@@ -43,7 +43,7 @@ struct BlockColouring {
 // Uploads the colouring of `model`'s block model (model.blocks set) by `classes`:
 // `texture` (colourWithTexture) a class texture, else the pieces of `planes` (world, in the
 // request's order; api/view.hpp blockCapTriangles). `clipRecords`: the clipping bodies'
-// records, sorted (section/block_section.hpp blockClipRecords). Errors: the cut's (a plane
+// records, sorted (section/blocks/block_section.hpp blockClipRecords). Errors: the cut's (a plane
 // crossing too many cells, named) and the upload's.
 Result<BlockColouring> uploadBlockColouring(GlContext& context, const Model& model,
                                             const std::vector<RecordId>& clipRecords, const PropertyClasses& classes,

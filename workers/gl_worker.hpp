@@ -13,7 +13,7 @@
 #include "api/plan.hpp"
 #include "api/view.hpp"
 #include "model/result.hpp"
-#include "renderer/gl_context.hpp"
+#include "renderer/gl/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/slice_renderer.hpp"
 #include "workers/block_colouring.hpp"

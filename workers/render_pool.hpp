@@ -11,7 +11,7 @@
 // Cancellation: every job carries a cancel flag and a deadline. A queued job whose flag
 // is set or whose deadline passed is dropped (a janitor looks every 20 ms, so the queue
 // empties within that of its clients leaving); a running job reads its flag in its loops
-// (section/raster.hpp, renderer/slice_renderer.hpp) and stops within milliseconds.
+// (section/fill/raster.hpp, renderer/slice_renderer.hpp) and stops within milliseconds.
 // stop() drops what is queued and sets the flag of what runs, then joins.
 //
 // Threads and locks: every member of RenderPool below `mutex_` is guarded by `mutex_`
@@ -48,7 +48,7 @@ inline CancelFlag makeCancelFlag() { return std::make_shared<std::atomic<bool>>(
 // How the workers use GL, chosen at start-up (server/config.hpp's --gl and --lod).
 struct GlSettings {
     bool enabled = false;          // false: --gl none; perspective views are refused before they queue
-    std::string backend = "auto";  // auto|egl-device|egl-surfaceless|osmesa (renderer/gl_context.hpp)
+    std::string backend = "auto";  // auto|egl-device|egl-surfaceless|osmesa (renderer/gl/gl_context.hpp)
     bool lod = false;              // simplified context geometry in 3D views (CPU backends)
 };
 

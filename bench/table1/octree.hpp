@@ -8,7 +8,7 @@
 //   touch a body's surface (conservative: the triangle's bounding box overlaps the cell),
 //   so boundaries get the finest voxels and homogeneous space stays coarse;
 // - every leaf holds one attribute record: that of the cell's centre point, from the
-//   point classifier (section/classify.hpp). A leaf that touches no surface is homogeneous,
+//   point classifier (section/rays/classify.hpp). A leaf that touches no surface is homogeneous,
 //   so its record is exact; a boundary voxel holds its centre's record and is wrong for
 //   the part of it that lies across the boundary, which is the error the paper reports;
 // - a section is the voxels sampled at the image's pixel centres, and an attribute query is
@@ -24,7 +24,7 @@
 #include <glm/glm.hpp>
 
 #include "model/model.hpp"
-#include "section/classify.hpp"
+#include "section/rays/classify.hpp"
 
 namespace geoslice::bench {
 

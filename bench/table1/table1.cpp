@@ -5,7 +5,7 @@
 // validated, exported for the peers (DIR/<size>.ply in the local frame, DIR/<size>.parts.json,
 // DIR/<size>.planes.json: `planes` random planes of tests/common/random_plane.hpp), and four
 // methods are measured on the same planes and the same pixel centres:
-//   brute_force  every triangle cut (section/plane_cut.hpp cutAllTriangles) + contours; query:
+//   brute_force  every triangle cut (section/cut/plane_cut.hpp cutAllTriangles) + contours; query:
 //                a ray against every body triangle (parity per body, O(N));
 //   octree_voxel bench/table1/octree.hpp; slice = voxels sampled at the image's pixel centres;
 //   pixel_mask   the paper's method: GL profile with fragment discard and the baked
@@ -13,7 +13,7 @@
 //   exact        the section engine (BVH + cut + contours, 1 thread) + colour/ID fill;
 //                query = the Embree point classifier; exact_2t: the same on 2 threads.
 // Accuracy: each method's record at the pixel centres of an N x N profile frame against the
-// point classifier (section/classify.hpp) - "all": the pixels where the oracle has geology
+// point classifier (section/rays/classify.hpp) - "all": the pixels where the oracle has geology
 // (the GL profile shows what lies beyond the plane elsewhere, by design);
 // "boundary": those whose 3x3 neighbourhood in the oracle holds more than one record.
 // Outputs to check the peers against: DIR/<size>.geoslice.json, per plane the segment count,
@@ -37,18 +37,18 @@
 #include "bake/package.hpp"
 #include "bench/bench_util.hpp"
 #include "bench/table1/octree.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "renderer/gl_context.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "renderer/gl/gl_context.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/slice_renderer.hpp"
 #include "renderer/views.hpp"
-#include "section/classify.hpp"
-#include "section/contours.hpp"
-#include "section/leaf_order.hpp"
-#include "section/plane_cut.hpp"
-#include "section/raster.hpp"
-#include "section/section_index.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/plane_cut.hpp"
+#include "section/fill/raster.hpp"
+#include "section/index/leaf_order.hpp"
+#include "section/index/section_index.hpp"
+#include "section/rays/classify.hpp"
 #include "tests/common/random_plane.hpp"
 
 using namespace geoslice;
@@ -306,7 +306,7 @@ int main(int argc, char** argv) {
         }
         Model& model = generated.value();
         validate(model);
-        // In the section BVH's leaf order, as a baked package stores it (section/leaf_order.hpp);
+        // In the section BVH's leaf order, as a baked package stores it (section/index/leaf_order.hpp);
         // the peers get the same mesh in the same order through the PLY export.
         if (auto s = reorderForSection(model); !s) {
             std::fprintf(stderr, "%s\n", s.error().message.c_str());

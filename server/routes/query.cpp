@@ -5,11 +5,11 @@
 // memory admission; at most kMaxBatchPixels pixels and kMaxBatchAnswerBytes of answer).
 #include "api/pixel_query.hpp"
 #include "api/request.hpp"
-#include "model/view_limits.hpp"
+#include "model/json_text.hpp"
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"
-#include "model/json_text.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -56,24 +56,12 @@ void queryPost(ServerState& st, const HttpRequest& req, HttpResponse& res) {
             // request waiting for this answer leaves).
             const api::RayWait wait{std::chrono::steady_clock::now() + std::chrono::milliseconds(st.config.deadlineMs),
                                     &cancel};
+            auto answer =
+                api::answerBatch(*m, plan, pixels, cached ? &cached->view : nullptr, wait, &cancel, "field 'pixels'",
+                                 [](std::size_t i) { return "field 'pixels': pixels[" + std::to_string(i) + "]"; });
+            if (!answer) return answer.error();
             auto e = std::make_shared<Encoded>();
-            std::string& out = e->body;
-            out = "{\"results\":[";
-            for (std::size_t i = 0; i < pixels.size(); ++i) {
-                if ((i & 63) == 0)
-                    if (auto c = checkCancel(&cancel); !c) return c.error();
-                auto a = api::answerPixel(*m, plan, pixels[i].x, pixels[i].y, cached ? &cached->view : nullptr, wait);
-                if (!a)
-                    return makeError(a.error().code,
-                                     "field 'pixels': pixels[" + std::to_string(i) + "]: " + a.error().message);
-                if (i) out += ',';
-                api::writeQueryAnswer(*m, a.value(), out);
-                if (out.size() > kMaxBatchAnswerBytes)
-                    return makeError(ErrorCode::OutOfRange,
-                                     "field 'pixels': the answer passed " + roundedMiB(kMaxBatchAnswerBytes) +
-                                         " MiB after " + std::to_string(i + 1) + " pixels; ask for fewer pixels");
-            }
-            out += "]}";
+            e->body = std::move(answer.value());
             e->contentType = "application/json";
             return std::shared_ptr<const Encoded>(std::move(e));
         },

@@ -1,6 +1,6 @@
 #pragma once
 // GOCAD binary sample files as the tests write them: IEEE float32, big-endian (the
-// PROP_ESIZE 4 / POINTS_FILE layout that model/gocad_samples.cpp reads).
+// PROP_ESIZE 4 / POINTS_FILE layout that model/io/gocad/gocad_samples.cpp reads).
 #include <cstring>
 #include <filesystem>
 #include <fstream>

@@ -22,7 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/image_encode.hpp"
+#include "image/image_encode.hpp"
 
 namespace geoslice::test {
 

@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "model/model.hpp"
-#include "model/plane.hpp"
+#include "view/plane.hpp"
 
 namespace geoslice::test {
 

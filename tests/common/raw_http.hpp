@@ -89,7 +89,8 @@ inline std::string firstBody(std::string_view reply) {
         constexpr std::string_view kName = "content-length:";
         std::string name(head.substr(line + 2, kName.size()));
         for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (name == kName) length = std::strtoul(std::string(head.substr(line + 2 + kName.size(), 20)).c_str(), nullptr, 10);
+        if (name == kName)
+            length = std::strtoul(std::string(head.substr(line + 2 + kName.size(), 20)).c_str(), nullptr, 10);
     }
     return std::string(reply.substr(at + 4, length));
 }

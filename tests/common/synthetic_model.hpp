@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
 
 namespace geoslice::test {
 

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "model/mesh/volume_mesh.hpp"
 #include "model/model.hpp"
-#include "model/volume_mesh.hpp"
 
 namespace geoslice::test {
 

@@ -2,7 +2,7 @@
 // every encoding the loader reads: ascii, inline base64 binary, appended raw or base64
 // data, optionally zlib-compressed in VTK's block format (compressed with zlib's own
 // compress2), UInt32 or UInt64 headers, either byte order. Written from the format
-// description (docs.vtk.org, "VTK File Formats"), independently of model/vtu_loader.cpp.
+// description (docs.vtk.org, "VTK File Formats"), independently of model/io/vtu/vtu_loader.cpp.
 #pragma once
 
 #include <algorithm>

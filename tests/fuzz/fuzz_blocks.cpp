@@ -1,4 +1,4 @@
-// libFuzzer target for the block-model CSV reader (model/block_model.hpp): any bytes must give
+// libFuzzer target for the block-model CSV reader (model/blocks/block_model.hpp): any bytes must give
 // a block model or an error naming the line, never a crash, a hang or a huge allocation (the
 // lattice is capped at kMaxBlockCells before any grid is allocated). A model it gives must
 // answer cellAt at its own cell centres with those cells.
@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "model/block_model.hpp"
+#include "model/blocks/block_model.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size > 65536) return 0;

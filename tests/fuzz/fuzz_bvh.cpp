@@ -1,4 +1,4 @@
-// libFuzzer target for the saved section BVH (section/bvh.hpp loadBvh, a baked package's
+// libFuzzer target for the saved section BVH (section/index/bvh.hpp loadBvh, a baked package's
 // section.bvh): any bytes must give a tree whose traversal stays in bounds and ends, and whose
 // leaf tables (built by loadSectionIndex) cut in bounds, or an error, never a crash, a hang or
 // an unbounded allocation. The mesh is fixed (a quad of two
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "model/model.hpp"
-#include "section/contours.hpp"
-#include "section/plane_cut.hpp"
-#include "section/section_index.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/plane_cut.hpp"
+#include "section/index/section_index.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace geoslice;
@@ -36,7 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (leaf >= bvh->nodes.size()) __builtin_trap();
     }
     // The same bytes as a model's stored tree: the section index builds the cut's leaf tables
-    // from it (section/leaf_tables.hpp), and cuts through them on one and two threads must
+    // from it (section/index/leaf_tables.hpp), and cuts through them on one and two threads must
     // stay in bounds (the sanitizers watch) and give at most one segment per listed triangle
     // (a stored tree's leaves may list an id twice: the package's checksums vouch for it).
     static const Model model = [] {

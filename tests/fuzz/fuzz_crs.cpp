@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "model/crs.hpp"
+#include "model/crs/crs.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size > 4096) return 0;  // WKT of real CRSs is a few KiB; longer inputs only slow PROJ down

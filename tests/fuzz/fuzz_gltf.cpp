@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const std::string kSource = "fuzz.glb";

@@ -1,4 +1,4 @@
-// libFuzzer target for the section engine's plane cut (section/plane_cut.hpp, contours.hpp):
+// libFuzzer target for the section engine's plane cut (section/cut/plane_cut.hpp, contours.hpp):
 // random small closed meshes cut by a random plane must give closed loops (no open chain on
 // a closed body) and non-negative areas (outer rings counter-clockwise, holes clockwise, a
 // body's area outer minus holes >= 0), never a crash or a hang.
@@ -23,10 +23,10 @@
 #include <utility>
 #include <vector>
 
+#include "model/mesh/validate.hpp"
 #include "model/model.hpp"
-#include "model/validate.hpp"
-#include "section/contours.hpp"
-#include "section/section_index.hpp"
+#include "section/cut/contours.hpp"
+#include "section/index/section_index.hpp"
 
 namespace {
 

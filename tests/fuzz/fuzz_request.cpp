@@ -9,7 +9,7 @@
 
 #include "api/params.hpp"
 #include "api/plan.hpp"
-#include "model/crs.hpp"
+#include "model/crs/crs.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace geoslice;

@@ -13,8 +13,8 @@
 
 #include "api/plan.hpp"
 #include "api/request.hpp"
-#include "model/crs.hpp"
-#include "model/view_limits.hpp"
+#include "model/crs/crs.hpp"
+#include "view/view_limits.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace geoslice;

@@ -23,8 +23,8 @@
 #include <string>
 #include <string_view>
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include "server/config.hpp"
 #include "server/http_server.hpp"
@@ -142,8 +142,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     checkAnswers(reply);
     std::string health;
-    if (!exchange(s.port(), "", health) ||
-        health.rfind("HTTP/1.1 200", 0) != 0) {
+    if (!exchange(s.port(), "", health) || health.rfind("HTTP/1.1 200", 0) != 0) {
         std::fprintf(stderr, "fuzz_server: /healthz failed after the input: %.200s\n", health.c_str());
         __builtin_trap();
     }

@@ -1,4 +1,4 @@
-// libFuzzer target for curvilinear (SGrid) block models (model/block_model.hpp, Hexahedron
+// libFuzzer target for curvilinear (SGrid) block models (model/blocks/block_model.hpp, Hexahedron
 // cells): bytes -> a small SGrid (1..4 cells per axis, a lattice of 4 m cells whose points
 // are moved by signed bytes, or set to NaN / infinity / a far value by marker bytes, so
 // inverted, flat, folded and non-finite cells come up) -> blockModelFromGrid. An SGrid must
@@ -14,11 +14,11 @@
 #include <cstdint>
 #include <limits>
 
-#include "model/block_model.hpp"
+#include "model/blocks/block_model.hpp"
 #include "model/model.hpp"
-#include "section/block_reserves.hpp"
-#include "section/block_section.hpp"
-#include "section/contours.hpp"
+#include "section/blocks/block_reserves.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/cut/contours.hpp"
 
 using namespace geoslice;
 

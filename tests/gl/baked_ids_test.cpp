@@ -14,7 +14,7 @@
 
 #include "bake/bake.hpp"
 #include "bake/package.hpp"
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/slice_renderer.hpp"
 #include "tests/gl/gl_test_util.hpp"

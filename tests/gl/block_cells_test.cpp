@@ -1,7 +1,7 @@
 // The GL cell buffer of perspective views coloured by a block model (issue 15 item 2: the ID
 // buffer and the pixel query agree at every pixel for block properties as for records), for
-// box grids (the class texture, renderer/block_texture.hpp, and the cells' pieces) and
-// curvilinear SGrid grids (the cells' pieces, renderer/block_caps.hpp).
+// box grids (the class texture, renderer/passes/block_texture.hpp, and the cells' pieces) and
+// curvilinear SGrid grids (the cells' pieces, renderer/passes/block_caps.hpp).
 //
 // Scene: a box orebody (record 2) nested in a box host (record 1) at a Gauss-Kruger easting,
 // a 20 x 20 x 20 block grid of 10 m cells over the host clipped by the orebody (grade =
@@ -10,7 +10,7 @@
 // cut=intersection: an octant taken out) and one plane, seen from the removed side; drawn by
 // the render worker with no anti-aliasing. Oracle, for 1,000 random pixels whose ray's first
 // kept point inside the host lies inside the orebody past its surface (a cap of the
-// orebody): that point, from the pixel centre's ray (model/camera.hpp pixelRay) and the
+// orebody): that point, from the pixel centre's ray (view/camera.hpp pixelRay) and the
 // planes and boxes in closed form; its cell by brute force (box grid: the floor of its grid
 // coordinates; SGrid: every tetrahedron of every cell, no locator). Compared exactly: the ID
 // buffer's record, the cell buffer, the exact pixel query's cell (no cached image), the
@@ -31,11 +31,11 @@
 #include "api/catalog.hpp"
 #include "api/pixel_query.hpp"
 #include "api/plan.hpp"
-#include "model/block_model.hpp"
-#include "model/camera.hpp"
-#include "section/block_section.hpp"
+#include "model/blocks/block_model.hpp"
+#include "section/blocks/block_section.hpp"
 #include "tests/gl/gl_test_util.hpp"
 #include "tests/unit/test_meshes.hpp"
+#include "view/camera.hpp"
 #include "workers/gl_worker.hpp"
 
 using namespace geoslice;
@@ -390,7 +390,7 @@ void checkAllCuts(const std::shared_ptr<const api::CatalogModel>& cm,
 
 }  // namespace
 
-// A box grid both ways: the class texture and the cells' pieces (renderer/block_caps.hpp).
+// A box grid both ways: the class texture and the cells' pieces (renderer/passes/block_caps.hpp).
 TEST(BlockCells, BoxGridCellBufferIsTheQuerysCell) {
     checkAllCuts(sceneWith(boxGrid()), workers::GlWorker::BoxBlocks::Texture);
     checkAllCuts(sceneWith(boxGrid()), workers::GlWorker::BoxBlocks::Pieces);

@@ -1,4 +1,4 @@
-// GL caps coloured by a block model (renderer/block_texture.hpp) against the profile
+// GL caps coloured by a block model (renderer/passes/block_texture.hpp) against the profile
 // engine's rule: a box orebody nested in a box host, a 20 x 20 x 20 grid of 10 m cells with
 // grade = i + 0.5 j - 0.3 k clipped by the orebody, classes < 3, 3 - 6, 6 - 9, 9 - 12, >= 12.
 // A perspective view cut by one oblique plane, no anti-aliasing. Oracle for every one of
@@ -16,11 +16,11 @@
 
 #include "api/catalog.hpp"
 #include "api/plan.hpp"
-#include "model/block_model.hpp"
-#include "renderer/block_texture.hpp"
+#include "model/blocks/block_model.hpp"
 #include "renderer/gpu_model.hpp"
+#include "renderer/passes/block_texture.hpp"
 #include "renderer/slice_renderer.hpp"
-#include "section/block_section.hpp"
+#include "section/blocks/block_section.hpp"
 #include "tests/gl/gl_test_util.hpp"
 #include "tests/unit/test_meshes.hpp"
 #include "workers/gl_worker.hpp"

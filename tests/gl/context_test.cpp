@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "gl_test_util.hpp"
-#include "renderer/gl_context.hpp"
+#include "renderer/gl/gl_context.hpp"
 
 using namespace geoslice;
 using namespace geoslice::test;

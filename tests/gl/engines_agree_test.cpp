@@ -10,9 +10,9 @@
 #include <random>
 
 #include "renderer/slice_renderer.hpp"
-#include "section/contours.hpp"
-#include "section/raster.hpp"
-#include "section/section_index.hpp"
+#include "section/cut/contours.hpp"
+#include "section/fill/raster.hpp"
+#include "section/index/section_index.hpp"
 #include "tests/common/random_plane.hpp"
 #include "tests/gl/gl_test_util.hpp"
 

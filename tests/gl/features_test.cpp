@@ -11,7 +11,7 @@
 #include "gl_test_util.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/slice_renderer.hpp"
-#include "section/classify.hpp"
+#include "section/rays/classify.hpp"
 
 using namespace geoslice;
 using namespace geoslice::test;

@@ -5,9 +5,9 @@
 
 #include <memory>
 
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "renderer/gl_context.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "renderer/gl/gl_context.hpp"
 #include "tests/common/synthetic_model.hpp"
 
 namespace geoslice::test {

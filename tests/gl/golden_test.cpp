@@ -12,8 +12,8 @@
 #include <string>
 
 #include "gl_test_util.hpp"
+#include "image/image_encode.hpp"
 #include "renderer/gpu_model.hpp"
-#include "renderer/image_encode.hpp"
 #include "renderer/slice_renderer.hpp"
 #include "tests/common/golden.hpp"
 

@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "gl_test_util.hpp"
-#include "renderer/fxaa_pass.hpp"
-#include "renderer/render_target.hpp"
+#include "renderer/gl/render_target.hpp"
+#include "renderer/passes/fxaa_pass.hpp"
 
 using namespace geoslice;
 using namespace geoslice::test;

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "gl_test_util.hpp"
-#include "renderer/gl_program.hpp"
+#include "renderer/gl/gl_program.hpp"
 #include "renderer/shader_sources.hpp"
 #include "renderer/slice_renderer.hpp"
 

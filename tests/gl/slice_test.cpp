@@ -1,4 +1,4 @@
-// The slicing pass against the exact oracle (section/classify.hpp): for an orthographic
+// The slicing pass against the exact oracle (section/rays/classify.hpp): for an orthographic
 // profile of a plane, the ID at each pixel centre must equal Classifier::classify(world point
 // of that pixel on the plane). Compared on pixels whose oracle 3x3 neighbourhood is one
 // body: within a pixel of a boundary the rasteriser's and the oracle's float32 rounding may
@@ -17,7 +17,7 @@
 #include "gl_test_util.hpp"
 #include "renderer/gpu_model.hpp"
 #include "renderer/slice_renderer.hpp"
-#include "section/classify.hpp"
+#include "section/rays/classify.hpp"
 
 using namespace geoslice;
 using namespace geoslice::test;

@@ -18,7 +18,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
-#include "model/gltf_io.hpp"
+#include "model/io/gltf/gltf_io.hpp"
 #include "server/http_server.hpp"
 #include "tests/common/run_command.hpp"
 #include "tests/server/server_fixture.hpp"

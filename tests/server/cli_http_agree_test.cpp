@@ -1,7 +1,7 @@
 // Issue 14 (a): the CLI and the HTTP API give the same picture for the same request. One
 // model file is served by a real SectionServer and read by the geoslice executable; every
 // case asks both for the same plane, size and vertical exaggeration, with the default frame
-// (model/view_frame.hpp) and the one pivot rule (model/exaggeration.hpp):
+// (view/view_frame.hpp) and the one pivot rule (view/exaggeration.hpp):
 //   - `geoslice section` vs GET section.png (both the exact engine): the decoded images are
 //     compared pixel for pixel and must be identical (same engine, same frame, lossless PNG);
 //   - `geoslice render --profile --ids` (GL) vs the server's exact ID buffer (batch query):
@@ -21,7 +21,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "renderer/image_encode.hpp"
+#include "image/image_encode.hpp"
 #include "server/http_server.hpp"
 #include "tests/common/buffer_agree.hpp"
 #include "tests/common/run_command.hpp"

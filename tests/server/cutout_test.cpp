@@ -43,7 +43,7 @@
 
 #include "api/plan.hpp"
 #include "api/view.hpp"
-#include "renderer/image_encode.hpp"
+#include "image/image_encode.hpp"
 #include "server/http_server.hpp"
 #include "tests/common/golden.hpp"
 #include "tests/common/tet_model.hpp"

@@ -10,8 +10,9 @@
 
 #include "bake/bake.hpp"
 #include "bake/package.hpp"
-#include "model/gltf_io.hpp"
+#include "model/io/gltf/gltf_io.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/http_json.hpp"
 #include "tests/common/synthetic_model.hpp"
 #include "tests/server/server_fixture.hpp"
 
@@ -40,11 +41,7 @@ ServerConfig config(const fs::path& models, const std::string& bakeDir = "") {
 
 json getJson(int port, const std::string& path, int status = 200) {
     httplib::Client c("127.0.0.1", port);
-    auto r = c.Get(path.c_str());
-    EXPECT_TRUE(r) << path;
-    if (!r) return json();
-    EXPECT_EQ(r->status, status) << path << "\n" << r->body;
-    return json::parse(r->body, nullptr, false);
+    return test::getJson(c, path, status);
 }
 
 TEST(ModelsDir, RawFilesPackagesAndACorruptPackage) {
@@ -68,7 +65,7 @@ TEST(ModelsDir, RawFilesPackagesAndACorruptPackage) {
     ASSERT_EQ(ready["models"]["failed"].size(), 1u);
     EXPECT_EQ(ready["models"]["failed"][0]["id"], "broken");
     EXPECT_NE(ready["models"]["failed"][0]["error"].get<std::string>().find(bake::kTextureFile), std::string::npos);
-    // Ray scenes build after the models are served (section/ray_queries.hpp): /readyz reports
+    // Ray scenes build after the models are served (section/rays/ray_queries.hpp): /readyz reports
     // each served model's, whatever its state when asked.
     ASSERT_EQ(ready["rays"].size(), 2u) << ready.dump();
     for (const char* id : {"pkg", "raw"}) {

@@ -23,8 +23,8 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
-#include "model/gltf_io.hpp"
-#include "renderer/image_encode.hpp"
+#include "image/image_encode.hpp"
+#include "model/io/gltf/gltf_io.hpp"
 #include "server/http_server.hpp"
 #include "tests/common/buffer_agree.hpp"
 #include "tests/common/gocad_samples.hpp"
@@ -170,7 +170,7 @@ TEST_F(RenderColour, ProfileCellsAgreeWithTheExactPixelQuery) {
     for (const View& v :
          {View{"box", "box.glb", "", "", "0,1,0,-43", ""}, View{"mine", "mine.gp", "", "", "0,1,0,-12", ""},
           // On a grid plane (between the layers j = 3 and 4): the face goes to the cell cellAt
-          // names in both engines (section/block_section.cpp cellPolygons).
+          // names in both engines (section/blocks/block_section.cpp cellPolygons).
           View{"box", "box.glb", "", "", "0,1,0,-40", ""}}) {
         SCOPED_TRACE(v.model);
         const fs::path cells = dir_ / "profile_cells.pgm";

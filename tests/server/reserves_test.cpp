@@ -21,7 +21,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
-#include "model/gltf_io.hpp"
+#include "model/io/gltf/gltf_io.hpp"
 #include "server/http_server.hpp"
 #include "tests/common/run_command.hpp"
 #include "tests/server/server_fixture.hpp"
@@ -76,12 +76,8 @@ protected:
     }
     // The fixture's getJson, and the answer is plain JSON.
     static json getJson(const std::string& path) {
-        auto r = get(path);
-        EXPECT_TRUE(r) << path;
-        if (!r) return json();
-        EXPECT_EQ(r->status, 200) << path << "\n" << r->body;
-        EXPECT_EQ(r->get_header_value("Content-Type"), "application/json");
-        return json::parse(r->body, nullptr, false);
+        auto c = client();
+        return test::getJson(c, path, 200, "application/json");
     }
     static void expectProblem(const std::string& path, int status, const std::string& needle) {
         auto r = get(path);

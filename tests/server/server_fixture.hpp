@@ -19,6 +19,7 @@
 
 #include "server/config.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/http_json.hpp"
 
 namespace geoslice::server {
 
@@ -68,11 +69,8 @@ protected:
     static httplib::Result get(const std::string& path) { return client().Get(path.c_str()); }
     // GET `path`, expect `expectStatus`, parse the body (discarded JSON when it is not JSON).
     static nlohmann::json getJson(const std::string& path, int expectStatus = 200) {
-        auto r = get(path);
-        EXPECT_TRUE(r) << path;
-        if (!r) return nlohmann::json();
-        EXPECT_EQ(r->status, expectStatus) << path << "\n" << r->body;
-        return nlohmann::json::parse(r->body, nullptr, false);
+        auto c = client();
+        return test::getJson(c, path, expectStatus);
     }
 
     static inline SectionServer* server_ = nullptr;

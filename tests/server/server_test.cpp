@@ -19,7 +19,7 @@
 
 #include "api/openapi.hpp"
 #include "api/plan.hpp"
-#include "model/crs.hpp"
+#include "model/crs/crs.hpp"
 #include "model/version.hpp"
 #include "server/http_server.hpp"
 #include "tests/common/tolerances.hpp"

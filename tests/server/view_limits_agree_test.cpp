@@ -1,4 +1,4 @@
-// One set of image and camera limits (model/view_limits.hpp, issue 14 item 1): what HTTP
+// One set of image and camera limits (view/view_limits.hpp, issue 14 item 1): what HTTP
 // refuses, the CLI's render, section and query refuse too, with the same reason; only the
 // name differs (HTTP "parameter 'fov'", the CLI "--fov"). The CLI took any field of view in
 // (0, 179) degrees while HTTP took 1..170. Values at the limits are accepted by both.
@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "model/view_limits.hpp"
 #include "tests/common/run_command.hpp"
 #include "tests/server/query_models_server.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::server {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "api/plan.hpp"
 #include "api/request.hpp"
-#include "model/view_limits.hpp"
+#include "view/view_limits.hpp"
 
 namespace geoslice::api {
 namespace {

@@ -81,7 +81,7 @@ TEST(ApiPlan, SectionIdsRoundTrip) {
 }
 
 // Zoom z halves the tile size; the four children of a tile cover it exactly; a vertical
-// plane's grid stretches v by vx, a plan map's not at all (model/exaggeration.hpp).
+// plane's grid stretches v by vx, a plan map's not at all (view/exaggeration.hpp).
 TEST(ApiTiles, GridMathsAndStretch) {
     const ViewPlan vertical = plan({{"plane", planeThroughCentre({0.0, 1.0, 0.0})}, {"vx", "2"}});
     auto g = tileGrid(demo(), vertical.section);

@@ -12,7 +12,7 @@
 #include <iterator>
 
 #include "bake/package.hpp"
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 #include "tests/common/synthetic_model.hpp"
 
 using namespace geoslice;

@@ -11,9 +11,9 @@
 
 #include "bake/bake.hpp"
 #include "bake/package.hpp"
-#include "model/gltf_io.hpp"
-#include "model/loaders.hpp"
-#include "model/validate.hpp"
+#include "model/io/gltf/gltf_io.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
 #include "test_meshes.hpp"
 #include "tests/common/run_command.hpp"
 

@@ -16,7 +16,7 @@
 
 #include "bake/bake.hpp"
 #include "bake/package.hpp"
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 #include "tests/common/run_command.hpp"
 
 using namespace geoslice;

@@ -14,13 +14,13 @@
 #include "api/plan.hpp"
 #include "api/reserves.hpp"
 #include "api/view.hpp"
-#include "model/block_model.hpp"
-#include "model/loaders.hpp"
-#include "model/volume_mesh.hpp"
-#include "section/block_reserves.hpp"
-#include "section/block_section.hpp"
-#include "section/polyline.hpp"
-#include "section/reserves.hpp"
+#include "model/blocks/block_model.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/volume_mesh.hpp"
+#include "section/blocks/block_reserves.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/cut/polyline.hpp"
+#include "section/volumes/reserves.hpp"
 #include "test_meshes.hpp"
 
 using namespace geoslice;
@@ -263,7 +263,7 @@ TEST(BlockModel, ExactCellVolumesOfBoxesAndASphere) {
         EXPECT_NEAR(total, meshVolume(mesh), kGridTotalTolM3);
     }
     // A sphere (1152 triangles, vertices anywhere): the cells' volumes sum to the mesh's own
-    // volume (section/reserves.hpp), relative 1e-12 (rounding of about 10^4 terms).
+    // volume (section/volumes/reserves.hpp), relative 1e-12 (rounding of about 10^4 terms).
     const Mesh sphere = sphereMesh({22.2, 17.7, 23.3}, 21.5);
     double sum = 0.0;
     for (const CellVolume& cv : cellBodyVolumes(b.value(), sphere)) {
@@ -382,7 +382,7 @@ TEST(BlockModel, KeptSideOfAPlaneCellVolumesAreExact) {
         const glm::dvec3 n = glm::normalize(dir);
         const double d = -glm::dot(n, glm::dvec3(40.2, 25.1, 29.7));
         const Plane plane{n, d};
-        // The closed shell's own volume is the kept volume section/reserves.hpp finds.
+        // The closed shell's own volume is the kept volume section/volumes/reserves.hpp finds.
         const Mesh shell = keptSideShell(ore, plane);
         EXPECT_NEAR(meshVolume(shell), meshVolume(ore, &plane), kSameQuantityRelTol * meshVolume(ore));
         EXPECT_NEAR(meshVolume(shell), boxHalfSpace(lo, hi, n, d), kSameQuantityRelTol * meshVolume(ore));

@@ -1,4 +1,4 @@
-// Colouring pixels by a block model (section/block_raster.cpp): the walk along each row of a
+// Colouring pixels by a block model (section/blocks/block_raster.cpp): the walk along each row of a
 // plane's pixels must give, at every pixel, the cell that the per-pixel rule gives
 // (BlockModel::cellAt of the pixel centre, the function the pixel query calls), bit for bit.
 // The hard cases are built in: sections lying exactly on cell faces, pixel centres on faces
@@ -17,12 +17,12 @@
 #include "api/pixel_query.hpp"
 #include "api/plan.hpp"
 #include "api/view.hpp"
-#include "model/block_model.hpp"
+#include "model/blocks/block_model.hpp"
 #include "model/model.hpp"
-#include "model/view_frame.hpp"
-#include "section/block_section.hpp"
-#include "section/polyline.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/cut/polyline.hpp"
 #include "test_meshes.hpp"
+#include "view/view_frame.hpp"
 
 using namespace geoslice;
 

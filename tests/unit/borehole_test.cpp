@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "section/borehole.hpp"
-#include "section/classify.hpp"
+#include "section/rays/borehole.hpp"
+#include "section/rays/classify.hpp"
 #include "test_meshes.hpp"
 #include "tests/common/synthetic_model.hpp"
 
@@ -30,7 +30,7 @@ Mesh sheet(double x0, double y0, double x1, double y1, double h) {
     return m;
 }
 
-// Float32 local frame of a 100 m model: the tolerance of section/borehole.hpp is 0.1 mm
+// Float32 local frame of a 100 m model: the tolerance of section/rays/borehole.hpp is 0.1 mm
 // plus 1e-6 x (50 m + distance); hits themselves are within a few float ulps (< 0.05 mm).
 constexpr double kTol = 2e-4;
 // Metres: samples this close to an interval's end are not compared (kTol, with margin).
@@ -41,7 +41,7 @@ constexpr double kOriginTolM = 1e-12;
 // Metres: x, y of a vertical borehole's hit points, carried from the (double) origin.
 constexpr double kHitXyTolM = 1e-9;
 // Metres: a ray from 1e7 m away, entering the model's box near its hit: the tracer's float
-// tolerance there (section/borehole.hpp: 1e-6 x (half-extent + distance from the box entry)
+// tolerance there (section/rays/borehole.hpp: 1e-6 x (half-extent + distance from the box entry)
 // + 0.1 mm) is about 0.15 mm; 1 mm bounds it.
 constexpr double kFarRayTolM = 1e-3;
 

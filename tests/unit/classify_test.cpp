@@ -2,9 +2,9 @@
 
 #include <random>
 
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "section/classify.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "section/rays/classify.hpp"
 #include "test_meshes.hpp"
 
 // Monte Carlo volume fractions: a 5-sigma band (a false failure about 6e-7 per record);
@@ -25,7 +25,7 @@ std::unique_ptr<Classifier> buildFor(Model& m) {
     return std::move(c).value();
 }
 
-// The first direction the classifier casts along (kept in sync with section/classify.cpp).
+// The first direction the classifier casts along (kept in sync with section/rays/classify.cpp).
 const glm::dvec3 kFirstDir = glm::normalize(glm::dvec3(0.5316705, 0.2876141, 0.7966510));
 
 }  // namespace

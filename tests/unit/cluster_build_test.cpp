@@ -1,4 +1,4 @@
-// The cluster hierarchy of a GpuModel part, without a GL context (renderer/cluster_build.hpp).
+// The cluster hierarchy of a GpuModel part, without a GL context (renderer/lod/cluster_build.hpp).
 // Oracle: the definitions written out again here: a cluster holds exactly the part's triangles
 // whose centroid falls in its cell, in input order; a cell's bounds are exactly the bounds of
 // its triangles' vertices; simplified levels and groups only use vertices of the clusters they
@@ -12,7 +12,7 @@
 #include <set>
 #include <vector>
 
-#include "renderer/cluster_build.hpp"
+#include "renderer/lod/cluster_build.hpp"
 
 using namespace geoslice;
 

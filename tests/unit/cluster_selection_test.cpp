@@ -1,13 +1,13 @@
 // The slicing pass's CPU-only pieces, without a GL context: cluster budgets and selection
-// (renderer/cluster_selection.hpp), fault-trace segments (renderer/trace_pass.hpp) and the
-// readback row flip (renderer/render_target.hpp).
+// (renderer/lod/cluster_selection.hpp), fault-trace segments (renderer/passes/trace_pass.hpp) and the
+// readback row flip (renderer/gl/render_target.hpp).
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "renderer/cluster_selection.hpp"
-#include "renderer/render_target.hpp"
-#include "renderer/trace_pass.hpp"
+#include "renderer/gl/render_target.hpp"
+#include "renderer/lod/cluster_selection.hpp"
+#include "renderer/passes/trace_pass.hpp"
 
 using namespace geoslice;
 

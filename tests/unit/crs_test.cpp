@@ -1,4 +1,4 @@
-// Crs (model/crs.hpp) against PROJ (cs2cs, projinfo from proj-bin) and `geoslice coords`.
+// Crs (model/crs/crs.hpp) against PROJ (cs2cs, projinfo from proj-bin) and `geoslice coords`.
 //
 // Frames and units: geographic points are (lon, lat) in degrees on CGCS2000; projected
 // points are (easting, northing) in metres, easting including the false easting. That is
@@ -22,7 +22,7 @@
 #include <thread>
 #include <vector>
 
-#include "model/crs.hpp"
+#include "model/crs/crs.hpp"
 #include "tests/common/tolerances.hpp"
 
 namespace geoslice {
@@ -795,7 +795,7 @@ TEST(CrsProj, Wgs84TransformForAnArea) {
     EXPECT_TRUE(china->isBallpark()) << china->operationName();
 }
 
-// Many threads converting at once: PROJ contexts are per slot (model/proj_pool.hpp), so
+// Many threads converting at once: PROJ contexts are per slot (model/crs/proj_pool.hpp), so
 // every thread gets the single-threaded answer bit for bit.
 TEST(CrsProj, ConcurrentConversionsAgree) {
     const Crs lv95 = crsOrDie(2056), nad27 = crsOrDie(26711), wgs84 = crsOrDie(4326);

@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 #include <pugixml.hpp>
 
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 
 // t/m^3: a density given in kg/m^3, times 0.001: one rounding of 2650 * 0.001.
 constexpr double kDensityTol = 1e-12;
@@ -292,7 +292,7 @@ TEST(Geo3dmlLoader, SrsNameForms) {
 }
 
 TEST(Geo3dmlLoader, UnsupportedCrsStaysLocalAndIsRecorded) {
-    // Any EPSG CRS PROJ knows is supported (model/crs.hpp): WGS 84 / UTM zone 50N.
+    // Any EPSG CRS PROJ knows is supported (model/crs/crs.hpp): WGS 84 / UTM zone 50N.
     const auto srsFor = [](const char* code) {
         return std::string(
                    "<SpatialReferenceSystem><CoordinateReferenceSystem><Identifier>EPSG</Identifier>"

@@ -17,8 +17,8 @@
 #include <gtest/gtest.h>
 #include <pugixml.hpp>
 
-#include "model/loaders.hpp"
-#include "model/validate.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
 #include "tests/common/tolerances.hpp"
 
 namespace geoslice {

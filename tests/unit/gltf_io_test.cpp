@@ -30,10 +30,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "model/gltf_io.hpp"
-#include "model/loaders.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
+#include "model/io/gltf/gltf_io.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
 
 namespace geoslice {
 namespace {

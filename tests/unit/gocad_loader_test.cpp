@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 #include "tests/common/gocad_samples.hpp"
 #include "tests/common/run_command.hpp"
 

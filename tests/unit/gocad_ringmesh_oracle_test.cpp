@@ -1,7 +1,7 @@
 // The RINGMesh oracle (issue 10): independent point-in-region oracles computed here, in
 // plain double arithmetic, from the text of tests/data/ringmesh (BSD-3-Clause, RING
 // Consortium; Pellerin et al. 2015), against what the loaded models answer through
-// Classifier::classify (section/classify.hpp) and the exact section engine's ID buffer.
+// Classifier::classify (section/rays/classify.hpp) and the exact section engine's ID buffer.
 //
 //  - TSolid (geomodel3d.so): point in tetrahedron over the file's 13,510 TETRA lines.
 //  - Model3d (geomodel3d.ml): vertical-ray parity over the triangles of each REGION's
@@ -14,7 +14,7 @@
 //
 // Tolerance: points within band = 1e-6 x (half-extent + diagonal) + 0.1 mm of any region
 // boundary may fall either side (the classifier's stated bound for rays in the float32
-// local frame, section/classify.hpp, at the longest ray this model allows: ~3.0 cm here).
+// local frame, section/rays/classify.hpp, at the longest ray this model allows: ~3.0 cm here).
 // Required: >= 99.99 % agreement over all points and pixel centres, 100 % beyond the band.
 // Volumes: reserves (divergence theorem over the loaded shells) against the summed
 // tetrahedron volumes, and against the Model3d regions' volumes from the file's triangles,
@@ -31,12 +31,12 @@
 #include <string>
 #include <vector>
 
-#include "model/loaders.hpp"
-#include "section/classify.hpp"
-#include "section/contours.hpp"
-#include "section/raster.hpp"
-#include "section/reserves.hpp"
-#include "section/section_index.hpp"
+#include "model/io/loaders.hpp"
+#include "section/cut/contours.hpp"
+#include "section/fill/raster.hpp"
+#include "section/index/section_index.hpp"
+#include "section/rays/classify.hpp"
+#include "section/volumes/reserves.hpp"
 #include "tests/common/random_plane.hpp"
 #include "tests/common/tolerances.hpp"
 

@@ -1,4 +1,4 @@
-// renderer/image_encode.hpp: every encoder's output is decoded by the codec library itself
+// image/image_encode.hpp: every encoder's output is decoded by the codec library itself
 // (TurboJPEG, libpng's simplified reader, WebPDecodeRGBA), not by geoslice code, and
 // compared with the input: lossless formats exactly, lossy ones with the tolerances below.
 #include <png.h>
@@ -15,7 +15,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "renderer/image_encode.hpp"
+#include "image/image_encode.hpp"
 
 namespace geoslice {
 namespace {

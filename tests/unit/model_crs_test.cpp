@@ -1,4 +1,4 @@
-// A model's CRS from its declarations (model/model_crs.hpp, loadModel): the file's own, the
+// A model's CRS from its declarations (model/crs/model_crs.hpp, loadModel): the file's own, the
 // JSON sidecar's "crs", a <stem>.crs file and --crs, with their precedence and warnings.
 #include <gtest/gtest.h>
 
@@ -7,10 +7,10 @@
 #include <fstream>
 #include <string>
 
-#include "model/gltf_io.hpp"
-#include "model/loaders.hpp"
-#include "model/model_crs.hpp"
-#include "model/synthetic.hpp"
+#include "model/crs/model_crs.hpp"
+#include "model/io/gltf/gltf_io.hpp"
+#include "model/io/loaders.hpp"
+#include "model/synthetic/synthetic.hpp"
 
 namespace geoslice {
 namespace {

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 
 namespace geoslice {
 namespace {
@@ -160,7 +160,7 @@ TEST(ObjLoader, CornerFormsAndPolygonFans) {
 }
 
 TEST(ObjLoader, ObjectAndGroupNames) {
-    // The rule (model/obj_loader.cpp): the group names the part, then the object, then the file.
+    // The rule (model/io/obj/obj_loader.cpp): the group names the part, then the object, then the file.
     std::string text =
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
         "f 1 2 3\n"                             // before any o/g: "names"

@@ -21,11 +21,11 @@
 
 #include "api/catalog.hpp"
 #include "bake/package.hpp"
-#include "model/gltf_io.hpp"
-#include "model/loaders.hpp"
-#include "section/contours.hpp"
-#include "section/raster.hpp"
-#include "section/section_index.hpp"
+#include "model/io/gltf/gltf_io.hpp"
+#include "model/io/loaders.hpp"
+#include "section/cut/contours.hpp"
+#include "section/fill/raster.hpp"
+#include "section/index/section_index.hpp"
 #include "tests/common/random_plane.hpp"
 #include "tests/common/synthetic_model.hpp"
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "section/classify.hpp"
-#include "section/polyline.hpp"
+#include "section/cut/polyline.hpp"
+#include "section/rays/classify.hpp"
 #include "section_test_util.hpp"
 #include "test_meshes.hpp"
 

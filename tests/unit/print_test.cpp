@@ -16,9 +16,10 @@
 #include <set>
 #include <sstream>
 
-#include "model/block_model.hpp"
-#include "model/loaders.hpp"
-#include "model/validate.hpp"
+#include "image/image_encode.hpp"
+#include "model/blocks/block_model.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
 #include "print/axes.hpp"
 #include "print/cairo_output.hpp"
 #include "print/grid_convergence.hpp"
@@ -31,13 +32,13 @@
 #include "print/sheet_date.hpp"
 #include "print/svg_output.hpp"
 #include "print/text_metrics.hpp"
-#include "renderer/image_encode.hpp"
-#include "section/block_section.hpp"
-#include "section/contours.hpp"
-#include "section/polyline.hpp"
-#include "section/section_index.hpp"
+#include "section/blocks/block_section.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/polyline.hpp"
+#include "section/index/section_index.hpp"
 #include "tests/common/golden.hpp"
 #include "tests/common/synthetic_model.hpp"
+#include "view/exaggeration.hpp"
 
 namespace geoslice::print {
 namespace {
@@ -287,6 +288,49 @@ TEST(PrintSheet, SectionSheetHasItsSurrounds) {
     bool stated = false;
     for (const std::string& s : texts(plan.value())) stated |= s.rfind("true north ", 0) == 0;
     EXPECT_TRUE(stated);
+}
+
+// Vertical exaggeration on an inclined plane: images and tiles stretch the plane's v axis
+// by vStretch(n) = sqrt(nz^2 + k^2 (1 - nz^2)) (view/exaggeration.hpp), the picture of the
+// display space where only elevation is scaled; a sheet that stretched v by the raw factor
+// k would draw a different picture of the same plane. The sheet follows the images: its
+// down-dip stretch is vStretch, not k, and its scale row says both.
+TEST(PrintSheet, InclinedPlaneIsStretchedAsImagesStretchIt) {
+    Fixture fx;
+    const double dip = 40.0 * std::numbers::pi / 180.0;  // normal 40 degrees from vertical
+    const glm::dvec3 n{0.0, std::sin(dip), std::cos(dip)};
+    const double cy = 0.5 * (fx.index->bounds.min.y + fx.index->bounds.max.y);
+    const double cz = 0.5 * (fx.index->bounds.min.z + fx.index->bounds.max.z);
+    auto section = computeSection(*fx.index, Plane{n, -(n.y * cy + n.z * cz)});
+    ASSERT_TRUE(section.ok()) << section.error().message;
+    SheetOptions o = fx.options("A3");
+    o.exaggeration = 3.0;
+    auto sheet = sectionSheet(*fx.index, section.value(), o, fx.info());
+    ASSERT_TRUE(sheet.ok()) << sheet.error().message;
+    const double stretch = VerticalExaggeration{3.0, 0.0}.vStretch(n);
+    ASSERT_GT(std::abs(stretch - 3.0), 0.5);  // the two pictures differ visibly here
+    std::string scaleRow;
+    for (const std::string& t : texts(sheet.value()))
+        if (t.find("down dip") != std::string::npos) scaleRow = t;
+    ASSERT_FALSE(scaleRow.empty()) << "no down-dip scale on an inclined sheet";
+    EXPECT_NE(scaleRow.find("VE \u00d73"), std::string::npos) << scaleRow;
+    EXPECT_NE(scaleRow.find("down-dip \u00d7" + formatGrouped(stretch, 3)), std::string::npos)
+        << scaleRow << " (vStretch " << stretch << ")";
+    // The two scales' ratio is the stretch: "Scale 1:H along strike, 1:V down dip".
+    auto number = [&](std::size_t from) {
+        std::string digits;
+        for (std::size_t i = scaleRow.find("1:", from) + 2; i < scaleRow.size(); ++i) {
+            if (std::isdigit(static_cast<unsigned char>(scaleRow[i])) || scaleRow[i] == '.')
+                digits += scaleRow[i];
+            else if (scaleRow[i] != ',')  // 1:12,500.000
+                break;
+        }
+        return std::atof(digits.c_str());
+    };
+    const double h = number(0), v = number(scaleRow.find("along strike"));
+    ASSERT_GT(h, 0.0);
+    ASSERT_GT(v, 0.0);
+    EXPECT_NEAR(h / v, stretch, 0.01 * stretch) << scaleRow;
 }
 
 TEST(PrintSheet, PolylineSheetNamesItsVerticesAndMarksBends) {

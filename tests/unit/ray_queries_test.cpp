@@ -1,4 +1,4 @@
-// The ray scene built after the model is served (section/ray_queries.hpp, issue 13 item 4):
+// The ray scene built after the model is served (section/rays/ray_queries.hpp, issue 13 item 4):
 // a query that arrives before the scene is built waits for it and gets the same bytes as the
 // same query afterwards (pixel queries of a profile view without a cached image, of a
 // perspective view, of a polyline view, and a borehole); one whose deadline passes first, or
@@ -19,9 +19,9 @@
 #include "api/pixel_query.hpp"
 #include "api/plan.hpp"
 #include "api/view.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "section/ray_queries.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "section/rays/ray_queries.hpp"
 
 namespace geoslice::api {
 namespace {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
-#include "section/contours.hpp"
-#include "section/reserves.hpp"
+#include "section/cut/contours.hpp"
+#include "section/volumes/reserves.hpp"
 #include "section_test_util.hpp"
 #include "test_meshes.hpp"
 #include "tests/common/random_plane.hpp"
@@ -144,7 +144,7 @@ TEST(Reserves, KeptAndRemovedSidesAddUp) {
 
 TEST(Reserves, KeptVolumeEqualsClosingWithTheSectionPolygons) {
     // The other way to close the clipped shell: sum the clipped triangles about a point o
-    // OFF the plane and add the cap, the section polygons of section/contours.hpp, as the
+    // OFF the plane and add the cap, the section polygons of section/cut/contours.hpp, as the
     // cone from o: (1/3) x area x distance(o, plane). Must equal meshVolume (o on the plane,
     // cap contributes zero) to rounding, 1e-9 relative.
     Model m = syntheticModel(30000, OreVariant::Partition, 6);

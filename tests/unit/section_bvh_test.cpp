@@ -5,7 +5,7 @@
 #include <cstring>
 #include <random>
 
-#include "section/bvh.hpp"
+#include "section/index/bvh.hpp"
 #include "section_test_util.hpp"
 
 using namespace geoslice;

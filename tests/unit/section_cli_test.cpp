@@ -13,7 +13,7 @@
 #include "tests/common/run_command.hpp"
 
 // Metres: the first interval starts at the collar: the tracer's float tolerance (0.1 mm +
-// 1e-6 x extent, section/borehole.hpp) is under 1 mm.
+// 1e-6 x extent, section/rays/borehole.hpp) is under 1 mm.
 constexpr double kCollarM = 1e-3;
 // Relative: east + west halves against the whole: the plane offset passes through
 // std::to_string (1e-6 m) and the JSON volumes are printed.

@@ -7,8 +7,8 @@
 #include <random>
 #include <string>
 
-#include "section/contours.hpp"
-#include "section/plane_cut.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/plane_cut.hpp"
 #include "section_test_util.hpp"
 #include "test_meshes.hpp"
 
@@ -253,7 +253,7 @@ TEST(SectionContours, RandomPlanesThroughGeneratedModels) {
 
 TEST(SectionContours, TwoThreadsGiveTheSameSectionBitForBit) {
     // The cut's traversal and triangles are shared by two threads above 100k triangles
-    // (section/plane_cut.cpp); leaves are taken in unit order whatever the thread count, so
+    // (section/cut/plane_cut.cpp); leaves are taken in unit order whatever the thread count, so
     // segments, rings and areas must be identical, not merely close (tolerance: none).
     Model m = syntheticModel(240000);
     auto idx = indexFor(m);

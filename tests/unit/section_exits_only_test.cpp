@@ -6,8 +6,8 @@
 #include <random>
 #include <string>
 
-#include "section/contours.hpp"
-#include "section/plane_cut.hpp"
+#include "section/cut/contours.hpp"
+#include "section/cut/plane_cut.hpp"
 #include "section_test_util.hpp"
 #include "test_meshes.hpp"
 

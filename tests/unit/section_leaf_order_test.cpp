@@ -1,4 +1,4 @@
-// section/leaf_order.hpp: the model in the BVH's leaf order is the same model, cut the same way.
+// section/index/leaf_order.hpp: the model in the BVH's leaf order is the same model, cut the same way.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,8 +7,8 @@
 #include <random>
 #include <vector>
 
-#include "section/leaf_order.hpp"
-#include "section/plane_cut.hpp"
+#include "section/cut/plane_cut.hpp"
+#include "section/index/leaf_order.hpp"
 #include "section_test_util.hpp"
 
 // Relative: the same mesh in another triangle order: volumes and areas are the same sums

@@ -1,4 +1,4 @@
-// section/leaf_tables.hpp: the cut through the leaf tables gives, bit for bit and in the
+// section/index/leaf_tables.hpp: the cut through the leaf tables gives, bit for bit and in the
 // same order, the segments of cutting each leaf's triangles one by one from the mesh
 // (cutTriangles, the per-triangle path the brute-force cut also takes).
 #include <gtest/gtest.h>
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "section/leaf_tables.hpp"
-#include "section/plane_cut.hpp"
+#include "section/cut/plane_cut.hpp"
+#include "section/index/leaf_tables.hpp"
 #include "section_test_util.hpp"
 #include "test_meshes.hpp"
 

@@ -1,4 +1,4 @@
-// section/partner_thread.hpp: a task runs on another thread, its writes are seen after the
+// section/cut/partner_thread.hpp: a task runs on another thread, its writes are seen after the
 // Job's wait, each calling thread keeps one partner across many runs, a Job that goes out
 // of scope waits for a started task, and a task not started by then is withdrawn, never run.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-#include "section/partner_thread.hpp"
+#include "section/cut/partner_thread.hpp"
 
 using namespace geoslice;
 

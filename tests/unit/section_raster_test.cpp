@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <random>
 
-#include "section/classify.hpp"
-#include "section/raster.hpp"
+#include "section/fill/raster.hpp"
+#include "section/rays/classify.hpp"
 #include "section_test_util.hpp"
 #include "test_meshes.hpp"
 
@@ -133,7 +133,7 @@ TEST(SectionRaster, BadSizesAndRectanglesAreErrors) {
 
 // Issue 11 item 1: a frame a billionth of a metre wide overflowed the pixel scale (NaN
 // into integer casts) or spun in the trace drawing. Such frames are refused by their pixel
-// size (model/view_limits.hpp), and a trace whose ends lie 1e14 pixels outside the image
+// size (view/view_limits.hpp), and a trace whose ends lie 1e14 pixels outside the image
 // is drawn in time bounded by the image size.
 TEST(SectionRaster, TinyFramesAreRefusedAndTracesAreBoundedByPixels) {
     Model m = modelOf({makePart("box", PartKind::Body, 1, boxMesh({0, 0, 0}, {10, 10, 10}))});

@@ -7,10 +7,10 @@
 #include <random>
 #include <string>
 
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
-#include "section/contours.hpp"
-#include "section/section_index.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
+#include "section/cut/contours.hpp"
+#include "section/index/section_index.hpp"
 #include "tests/common/random_plane.hpp"
 #include "tests/common/synthetic_model.hpp"
 

@@ -1,5 +1,5 @@
 // Exact cell ∩ body volumes of curvilinear (SGrid) block models from the body's triangles
-// near each tetrahedron (section/block_reserves.hpp, "Hexahedral cells"), against
+// near each tetrahedron (section/blocks/block_reserves.hpp, "Hexahedral cells"), against
 // independent oracles:
 //  - the whole body clipped to every tetrahedron (clippedCellBodyVolumes: clipToConvex +
 //    meshVolume), per cell, on random bent lattices with random bodies (convex, rotated,
@@ -18,9 +18,9 @@
 #include <map>
 #include <random>
 
-#include "model/block_model.hpp"
-#include "section/block_reserves.hpp"
-#include "section/reserves.hpp"
+#include "model/blocks/block_model.hpp"
+#include "section/blocks/block_reserves.hpp"
+#include "section/volumes/reserves.hpp"
 #include "test_meshes.hpp"
 #include "tests/common/sgrid_grids.hpp"
 

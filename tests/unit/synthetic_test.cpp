@@ -3,17 +3,17 @@
 #include <map>
 #include <set>
 
-#include "model/gltf_io.hpp"
-#include "model/loaders.hpp"
-#include "model/synthetic.hpp"
-#include "model/validate.hpp"
+#include "model/io/gltf/gltf_io.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/synthetic/synthetic.hpp"
 #include "tests/common/synthetic_model.hpp"
 
 using namespace geoslice;
 
 namespace {
 
-// Relative: the generator meets its triangle target within 5 % (model/synthetic.hpp).
+// Relative: the generator meets its triangle target within 5 % (model/synthetic/synthetic.hpp).
 constexpr double kTriangleTargetRelTol = 0.05;
 // Degrees: the model's centre is placed exactly at the requested lon/lat; 1e-9 deg ~ 0.1 mm.
 constexpr double kPlacedCentreDeg = 1e-9;

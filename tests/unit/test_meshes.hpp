@@ -6,8 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "model/mesh/validate.hpp"
 #include "model/model.hpp"
-#include "model/validate.hpp"
 
 namespace geoslice::test {
 

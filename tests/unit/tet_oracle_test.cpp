@@ -17,18 +17,18 @@
 #include <random>
 
 #include "../common/tet_model.hpp"
-#include "model/loaders.hpp"
-#include "model/validate.hpp"
-#include "model/volume_mesh.hpp"
-#include "section/classify.hpp"
-#include "section/contours.hpp"
-#include "section/raster.hpp"
-#include "section/reserves.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/mesh/volume_mesh.hpp"
+#include "section/cut/contours.hpp"
+#include "section/fill/raster.hpp"
+#include "section/rays/classify.hpp"
+#include "section/volumes/reserves.hpp"
 #include "tests/common/tolerances.hpp"
 
 using geoslice::test::kShellVsCellSumRelTol;  // relative, a shell volume against its cells sum
                                               // (tests/common/tolerances.hpp)
-#include "section/section_index.hpp"
+#include "section/index/section_index.hpp"
 
 using namespace geoslice;
 using namespace geoslice::test;

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "model/loaders.hpp"
+#include "model/io/loaders.hpp"
 
 namespace geoslice {
 namespace {

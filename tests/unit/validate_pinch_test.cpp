@@ -3,10 +3,10 @@
 // what cannot be split is an error for a declared body and a surface for an undeclared one.
 #include <gtest/gtest.h>
 
-#include "model/loaders.hpp"
-#include "model/validate.hpp"
-#include "section/contours.hpp"
-#include "section/section_index.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
+#include "section/cut/contours.hpp"
+#include "section/index/section_index.hpp"
 #include "test_meshes.hpp"
 
 // Cubic metres or square metres: exact box volumes and square areas, summed in double.

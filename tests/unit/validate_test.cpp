@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "model/validate.hpp"
+#include "model/mesh/validate.hpp"
 #include "test_meshes.hpp"
 
 using namespace geoslice;

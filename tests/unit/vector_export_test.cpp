@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "section/vector_export.hpp"
+#include "section/fill/vector_export.hpp"
 #include "section_test_util.hpp"
 #include "test_meshes.hpp"
 

@@ -10,12 +10,12 @@
 #include <cmath>
 #include <random>
 
-#include "model/camera.hpp"
-#include "model/exaggeration.hpp"
-#include "model/plane.hpp"
-#include "model/view_frame.hpp"
 #include "renderer/views.hpp"
 #include "tests/common/tolerances.hpp"
+#include "view/camera.hpp"
+#include "view/exaggeration.hpp"
+#include "view/plane.hpp"
+#include "view/view_frame.hpp"
 
 using namespace geoslice;
 
@@ -158,7 +158,7 @@ TEST(DefaultFrame, DisplayProfileShowsTheSameWorldPointsAsThePixelFrame) {
         }
 }
 
-// The perspective camera's pixel rays (model/camera.hpp): the image centre looks at the
+// The perspective camera's pixel rays (view/camera.hpp): the image centre looks at the
 // target, the top edge's centre is fov/2 above it, the right edge's centre at the
 // horizontal half-angle atan(aspect tan(fov/2)); the default camera's distance rule. Angles
 // to 1e-12 rad (a few double steps of unit vectors).

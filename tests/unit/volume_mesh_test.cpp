@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "../common/tet_model.hpp"
-#include "model/validate.hpp"
-#include "model/volume_mesh.hpp"
+#include "model/mesh/validate.hpp"
+#include "model/mesh/volume_mesh.hpp"
 #include "tests/common/tolerances.hpp"
 
 using namespace geoslice;

@@ -13,8 +13,8 @@
 
 #include <gtest/gtest.h>
 
-#include "model/loaders.hpp"
-#include "model/validate.hpp"
+#include "model/io/loaders.hpp"
+#include "model/mesh/validate.hpp"
 #include "tests/common/vtu_writer.hpp"
 
 namespace geoslice {

@@ -9,7 +9,7 @@
 //  - volumes: 1e-9 relative (the bar); the divergence sum over ~2,000 boundary
 //    triangles of 10 m rounds at ~1e-13 relative;
 //  - agreement: >= 99.99 % of all points, and 100 % of points farther than the
-//    classifier's stated tolerance (Classifier::tolerance(), section/classify.hpp: 1e-6 x
+//    classifier's stated tolerance (Classifier::tolerance(), section/rays/classify.hpp: 1e-6 x
 //    the largest local coordinate + 0.1 mm, from the float32 local frame) from every
 //    formation boundary. Where formations overlap, the oracle applies the section engine's
 //    rule (the deepest nested, then the latest body); in a gap it says "no formation".
@@ -23,12 +23,12 @@
 
 #include <gtest/gtest.h>
 
-#include "model/loaders.hpp"
-#include "section/classify.hpp"
-#include "section/contours.hpp"
-#include "section/raster.hpp"
-#include "section/reserves.hpp"
-#include "section/section_index.hpp"
+#include "model/io/loaders.hpp"
+#include "section/cut/contours.hpp"
+#include "section/fill/raster.hpp"
+#include "section/index/section_index.hpp"
+#include "section/rays/classify.hpp"
+#include "section/volumes/reserves.hpp"
 #include "tests/common/random_plane.hpp"
 #include "tests/common/tet_model.hpp"
 #include "tests/common/tolerances.hpp"

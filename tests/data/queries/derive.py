@@ -12,13 +12,13 @@ Where the numbers come from (README.md beside this script says it again, per cas
     six Kuhn tetrahedra each), and the record at a point is the region of the tetrahedron
     that contains it (barycentric signs, below);
   * pixel -> world follows the documented frame rule, written out here by hand from the
-    doc comments, not from the code: model/plane.hpp (u = normalize(n x z), v = u x n,
-    origin the foot of the perpendicular from world 0), model/view_frame.hpp (pixel centre
+    doc comments, not from the code: view/plane.hpp (u = normalize(n x z), v = u x n,
+    origin the foot of the perpendicular from world 0), view/view_frame.hpp (pixel centre
     (i + 0.5, j + 0.5); u = u0 + x (u1 - u0) / W, v = v1 - y (v1 - v0) / H; the default
     frame: bounds projected on the plane, 2 % margin, then grown about its centre along one
     axis until metres per pixel along u = stretch x metres per pixel along v),
-    model/exaggeration.hpp (z' = pivot + k (z - pivot), pivot the bounds' centre elevation;
-    a vertical plane's v is stretched by k), api/view.hpp (tile grid), model/camera.hpp
+    view/exaggeration.hpp (z' = pivot + k (z - pivot), pivot the bounds' centre elevation;
+    a vertical plane's v is stretched by k), api/view.hpp (tile grid), view/camera.hpp
     (gluPerspective rays through pixel centres);
   * lon/lat come from PROJ's cs2cs (EPSG:4523 -> EPSG:4490), the oracle tests/unit/crs_test.cpp
     already uses; never from geoslice's GeographicLib code.
@@ -207,7 +207,7 @@ def tets_bounds():
 
 # ----------------------------------------------------------------------------- frames
 def plane_frame(n, d):
-    """model/plane.hpp: u = normalize(n x z) (world x for a horizontal plane), v = u x n,
+    """view/plane.hpp: u = normalize(n x z) (world x for a horizontal plane), v = u x n,
     origin (u, v) = (0, 0) at the foot of the perpendicular from world 0, -d n."""
     nz = cross(n, (0.0, 0.0, 1.0))
     u = (1.0, 0.0, 0.0) if norm(nz) < 1e-9 else unit(nz)
@@ -222,7 +222,7 @@ def parse_plane(text):
 
 
 def fit_rect(lo, hi, w, h, stretch, margin=0.02):
-    """model/view_frame.hpp fitRect: grow by margin x size on each side, then along one axis
+    """view/view_frame.hpp fitRect: grow by margin x size on each side, then along one axis
     about the centre until (u metres per pixel) = stretch x (v metres per pixel)."""
     su, sv = max(hi[0] - lo[0], 1e-3), max(hi[1] - lo[1], 1e-3)
     u0, u1 = lo[0] - margin * su, hi[0] + margin * su
@@ -247,7 +247,7 @@ def projected_bounds(u, v, origin, lo, hi):
 
 
 def v_stretch(n, k):
-    """model/exaggeration.hpp: sqrt(nz^2 + k^2 (1 - nz^2))."""
+    """view/exaggeration.hpp: sqrt(nz^2 + k^2 (1 - nz^2))."""
     return math.sqrt(n[2] ** 2 + k * k * (1.0 - n[2] ** 2))
 
 
@@ -343,7 +343,7 @@ def perspective_hit(view, bounds, x, y, model):
     """(world point, distance from the eye) of the first visible point on the ray through
     pixel coordinates (x, y) of a perspective view of `model`, or (None, None).
 
-    The ray (model/camera.hpp, gluPerspective): ndc = (2 x / W - 1, 1 - 2 y / H), direction
+    The ray (view/camera.hpp, gluPerspective): ndc = (2 x / W - 1, 1 - 2 y / H), direction
     f + ndc.x tan(fov / 2) aspect r + ndc.y tan(fov / 2) t with f, r, t the camera's forward,
     right and true-up axes, in display space (eye and target are world points mapped by the
     exaggeration, about the bounds' centre elevation), mapped back to world (the map is

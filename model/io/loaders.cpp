@@ -1,0 +1,195 @@
+#include "model/io/loaders.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <unordered_map>
+
+#include "model/crs/model_crs.hpp"
+#include "model/mesh/validate.hpp"
+
+namespace geoslice {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+// Merges an attributes sidecar (`<stem>.attributes.json|csv`) into a loaded model:
+//  - every sidecar record is put into the table, replacing a record with the same id;
+//  - a part whose name equals a sidecar record's name points at that record;
+//  - otherwise a part whose record id is a sidecar record's id keeps pointing at it, and
+//    when the part was named after its old record (a loader default such as "rock 3" in a
+//    .vtu) it takes the sidecar record's name: that is how a sidecar names formations;
+//  - sidecar rows that match no part by name or id are listed in a warning (a validation
+//    issue, the model note "sidecar_unmatched", and a line on stderr), never dropped silently.
+void mergeSidecar(Model& model, const AttributeTable& side, const std::string& sidePath) {
+    std::unordered_map<RecordId, std::string> oldNames;
+    for (const auto& [id, rec] : model.attributes.records()) oldNames.emplace(id, rec.name);
+    for (const auto& [id, rec] : side.records()) model.attributes.put(rec);
+    std::set<RecordId> matched;
+    for (auto* list : {&model.bodies, &model.surfaces}) {
+        for (auto& part : *list) {
+            if (const AttributeRecord* r = side.findByName(part.name)) {
+                part.record = r->id;
+                matched.insert(r->id);
+            } else if (const AttributeRecord* same = side.find(part.record)) {
+                if (auto it = oldNames.find(part.record); it != oldNames.end() && it->second == part.name)
+                    part.name = same->name;
+                matched.insert(same->id);
+            }
+        }
+    }
+    std::string list;
+    std::size_t unmatched = 0;
+    for (const auto& [id, rec] : side.records()) {
+        if (matched.count(id)) continue;
+        if (unmatched++ < 20)
+            list += (list.empty() ? "" : ", ") + ("'" + rec.name + "' (id " + std::to_string(id) + ")");
+    }
+    if (unmatched == 0) return;
+    if (unmatched > 20) list += ", ... (" + std::to_string(unmatched - 20) + " more)";
+    const std::string message = "attributes sidecar " + sidePath + ": " + std::to_string(unmatched) + " of " +
+                                std::to_string(side.size()) + " rows match no part by name or id: " + list;
+    model.notes["sidecar_unmatched"] = message;
+    model.validation.issues.push_back({ValidationIssue::Severity::Warning, "", message});
+    std::fprintf(stderr, "geoslice: warning: %s: %s\n", model.source.empty() ? sidePath.c_str() : model.source.c_str(),
+                 message.c_str());
+}
+
+// `<stem>.crs` beside the model, then --crs; finally the model's CRS must suit a model.
+Status applyCrsDeclarations(Model& model, const std::filesystem::path& p, std::string_view crsOverride) {
+    const std::filesystem::path crsFile = p.parent_path() / (p.stem().string() + ".crs");
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(crsFile, ec)) {
+        auto text = readFile(crsFile.string(), std::size_t(1) << 20);
+        if (!text) return text.error();
+        if (auto s = declareModelCrs(model, text.value(), CrsDeclaration::CrsFile, crsFile.string()); !s) return s;
+    }
+    if (!crsOverride.empty())
+        if (auto s = declareModelCrs(model, crsOverride, CrsDeclaration::Override, "--crs"); !s) return s;
+    if (auto s = model.crs.checkModelCrs(); !s) return makeError(s.error().code, p.string() + ": " + s.error().message);
+    if (auto w = model.notes.find("crs_warning"); w != model.notes.end())
+        std::fprintf(stderr, "geoslice: warning: %s: %s\n", p.string().c_str(), w->second.c_str());
+    return {};
+}
+
+}  // namespace
+
+Result<std::string> readFile(const std::string& path, std::size_t maxBytes) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        return makeError(ErrorCode::IoError, path + ": is a directory, not a file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return makeError(ErrorCode::NotFound, path + ": cannot open (does it exist and is it readable?)");
+    in.seekg(0, std::ios::end);
+    std::streamoff size = in.tellg();
+    if (size < 0) return makeError(ErrorCode::IoError, path + ": cannot determine the file size");
+    if (static_cast<std::uint64_t>(size) > maxBytes)
+        return makeError(ErrorCode::OutOfRange, path + ": " + std::to_string(size) + " bytes is over the limit of " +
+                                                    std::to_string(maxBytes) + " bytes");
+    in.seekg(0);
+    std::string data(static_cast<std::size_t>(size), '\0');
+    if (!in.read(data.data(), size)) return makeError(ErrorCode::IoError, path + ": read failed");
+    return data;
+}
+
+void finishLoadedModel(Model& model, bool classifyByClosure, bool validateModel) {
+    if (classifyByClosure) {
+        std::vector<Part> all;
+        for (auto* list : {&model.bodies, &model.surfaces})
+            for (auto& p : *list) all.push_back(std::move(p));
+        model.bodies.clear();
+        model.surfaces.clear();
+        for (auto& p : all) {
+            if (p.kindDeclared) {
+                (p.kind == PartKind::Body ? model.bodies : model.surfaces).push_back(std::move(p));
+                continue;
+            }
+            MeshReport r = analyseMesh(p.mesh, /*fixOrientation=*/false);
+            bool closed = r.closed && r.consistentlyOriented && r.triangles >= 4 && r.nonFiniteVertices == 0;
+            p.kind = closed ? PartKind::Body : PartKind::Surface;
+            (closed ? model.bodies : model.surfaces).push_back(std::move(p));
+        }
+    }
+    std::unordered_map<std::string, RecordId> byName;  // first record of each name
+    for (const auto& [id, r] : model.attributes.records()) byName.emplace(r.name, id);
+    for (auto* list : {&model.bodies, &model.surfaces}) {
+        for (auto& p : *list) {
+            if (p.record != kNoRecord && model.attributes.find(p.record)) continue;
+            if (auto it = byName.find(p.name); it != byName.end()) {
+                p.record = it->second;
+                continue;
+            }
+            AttributeRecord rec;
+            rec.name = p.name;
+            rec.kind = p.kind == PartKind::Body ? "body" : "surface";
+            if (p.record != kNoRecord) {
+                rec.id = p.record;
+                model.attributes.put(std::move(rec));
+            } else {
+                p.record = model.attributes.add(std::move(rec));
+            }
+            byName.emplace(p.name, p.record);
+        }
+    }
+    model.recentre();
+    if (validateModel) validate(model);
+}
+
+Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
+    auto bytes = readFile(path);
+    if (!bytes) return bytes.error();
+    const std::string& data = bytes.value();
+    const std::string ext = lowerExtension(path);
+    std::string baseDir = std::filesystem::path(path).parent_path().string();
+    if (baseDir.empty()) baseDir = ".";  // a bare file name: its folder is the working directory
+
+    Result<Model> model = makeError(ErrorCode::Unsupported, path + ": unknown model format");
+    auto starts = [&](std::string_view magic) { return data.compare(0, magic.size(), magic) == 0; };
+    if (ext == ".glb" || ext == ".gltf" || starts("glTF")) {
+        model = parseGltf(reinterpret_cast<const std::uint8_t*>(data.data()), data.size(), path, baseDir);
+    } else if (ext == ".ts" || ext == ".tsurf" || ext == ".ml" || ext == ".so" || ext == ".vo" || ext == ".sg" ||
+               ext == ".pl" || ext == ".gp" || starts("GOCAD")) {
+        model = parseGocad(data, path, baseDir);
+    } else if (ext == ".vtu" || std::string_view(data).substr(0, 512).find("<VTKFile") != std::string_view::npos) {
+        model = parseVtu(data, path, options.vtu);
+    } else if (ext == ".obj") {
+        model = parseObj(data, path);
+    } else if (ext == ".xml" || ext == ".geo3dml" || ext == ".gml") {
+        model = parseGeo3dml(data, path, baseDir);
+    } else {
+        return makeError(ErrorCode::Unsupported,
+                         path +
+                             ": unknown model format (expected .glb, .gltf, .obj, .vtu, GOCAD .ts .ml .so .vo .sg .pl "
+                             ".gp, or Geo3DML .xml)");
+    }
+    if (!model) return model;
+
+    std::filesystem::path p(path);
+    for (const char* suffix : {".attributes.json", ".attributes.csv"}) {
+        std::filesystem::path side = p.parent_path() / (p.stem().string() + suffix);
+        std::error_code ec;
+        if (!std::filesystem::exists(side, ec)) continue;
+        auto table = AttributeTable::load(side.string());
+        if (!table) return table.error();
+        if (model->source.empty()) model->source = path;
+        mergeSidecar(model.value(), table.value(), side.string());
+        if (!table->declaredCrs().empty())
+            if (auto s = declareModelCrs(*model, table->declaredCrs(), CrsDeclaration::Sidecar, side.string()); !s)
+                return s.error();
+        break;
+    }
+    if (auto s = applyCrsDeclarations(*model, p, options.crs); !s) return s.error();
+    if (model->source.empty()) model->source = path;
+    if (model->name.empty()) model->name = p.stem().string();
+    if (auto s = attachBlockModel(*model, path, options.blocks); !s) return s.error();
+    return model;
+}
+
+}  // namespace geoslice

@@ -1,0 +1,75 @@
+// Model loaders. Each names the file and the line (text formats) or byte offset (binary)
+// in its errors, and never crashes or hangs on any input: sizes and counts read from a
+// file are checked against the bytes actually present before anything is allocated.
+//
+// Loaders return world coordinates (x east, y north, z up, metres; depth-positive inputs
+// are converted) and call finishLoadedModel(): parts classified as bodies or surfaces,
+// records created for parts that name none, origin set, validation run.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "model/model.hpp"
+#include "model/result.hpp"
+
+namespace geoslice {
+
+// Options of the .vtu reader (model/io/vtu/vtu_loader.cpp).
+struct VtuOptions {
+    // The cell-data array naming each cell's formation; empty: the first integer-typed
+    // one-component cell array (else the first whose values are whole numbers).
+    std::string regionArray;
+};
+
+// Options that reach the format readers (CLI flags such as --region-array).
+struct LoadOptions {
+    VtuOptions vtu;
+    // The model's CRS given explicitly (--crs): overrides the file's (model/crs/model_crs.hpp).
+    std::string crs;
+    // The block model (--blocks, --blocks-clip; model/blocks/block_model.hpp attachBlockModel):
+    // empty source = the <stem>.blocks.json / .blocks.csv sidecar when there is one.
+    BlockOptions blocks;
+};
+
+// Dispatches on extension (.glb .gltf .obj .xml .geo3dml .vtu; GOCAD .ts .tsurf .ml .so .vo
+// .sg .pl .gp) and, for unknown
+// extensions, on content. A sidecar "<stem>.attributes.json" or ".csv" next to the file
+// is merged into the attribute table when present. The CRS comes from the file, the JSON
+// sidecar's "crs", a "<stem>.crs" file and options.crs (`--crs`), in the order and with
+// the rules of model/crs/model_crs.hpp; a CRS a model cannot use (feet) is an error. A block
+// model (options.blocks or a <stem>.blocks.json|csv sidecar) is attached last.
+Result<Model> loadModel(const std::string& path, const LoadOptions& options = {});
+
+// From bytes in memory; `source` names the input in error messages (fuzzers use these).
+Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::string& source,
+                        const std::string& baseDir = "");
+Result<Model> parseObj(std::string_view text, const std::string& source);
+// GOCAD TSurf: the first object must be a TSurf (later objects of any type are read too).
+Result<Model> parseTsurf(std::string_view text, const std::string& source);
+// Any GOCAD ASCII input: TSurf, Model3d, TSolid, LightTSolid, Voxet, SGrid, PLine and
+// groups of them (model/io/gocad/gocad_reader.hpp). Voxet/SGrid data files are read from `baseDir`;
+// with an empty baseDir (bytes from memory) they cannot be read and are an error.
+Result<Model> parseGocad(std::string_view text, const std::string& source, const std::string& baseDir = "");
+// baseDir: the file's folder, against which a Geo3DProject's xi:include hrefs are resolved
+// (only files inside it are read); empty: includes are listed in warnings, not followed.
+Result<Model> parseGeo3dml(std::string_view text, const std::string& source, const std::string& baseDir = "");
+// VTK XML UnstructuredGrid: one closed body per formation (see model/io/vtu/vtu_loader.cpp).
+Result<Model> parseVtu(std::string_view bytes, const std::string& source, const VtuOptions& options = {});
+
+// Reads a whole file; refuses files over maxBytes with an OutOfRange error.
+Result<std::string> readFile(const std::string& path, std::size_t maxBytes = std::size_t(4) << 30);
+
+// Shared by all loaders, after parsing:
+//  - parts with record == 0 get a record named after the part (kind from the part kind);
+//  - when `classifyByClosure`, parts whose kind is not declared (Part::kindDeclared) become
+//    bodies when closed (after splitting pinch-outs, see analyseMesh) and surfaces when open;
+//    declared parts keep their kind, so a declared body that is not closed is an error;
+//  - origin = rounded bounds centre; validate(model) runs (see model/mesh/validate.hpp) unless
+//    `validateModel` is false (a baked package's mesh, validated when it was baked:
+//    bake/package.hpp packageModel()).
+void finishLoadedModel(Model& model, bool classifyByClosure, bool validateModel = true);
+
+}  // namespace geoslice
