@@ -12,7 +12,9 @@
 //   nested       a box with a box cavity (and maybe an island box inside the cavity) in the
 //                same mesh: the cavity shell must come out facing inward;
 //   edge touch   two boxes sharing one edge (a pinch-out along the edge);
-//   vertex touch two boxes sharing one corner (a pinch-out at the vertex).
+//   vertex touch two boxes sharing one corner (a pinch-out at the vertex);
+//   wedge fan    2 to 4 triangular prisms round one common edge with gaps between them (4 to
+//                8 triangles at each piece of that edge, their shells wound either way).
 // Box-built shapes are the boundary of a union of cells of an irregular tensor grid (the
 // structure's planes plus random extra lines on each axis), each boundary quad split along
 // a random diagonal or fanned from its centre, so one solid comes in many triangulations;
@@ -57,12 +59,15 @@ namespace geoslice::test::closed {
 // products in double; the vertex rounding at Gauss-Kruger coordinates is below 3e-10, see above).
 constexpr double kRelTol = 1e-9;
 
-enum class Shape : std::uint8_t { Box, Prism, Bipyramid, Frame, Nested, EdgeTouch, VertexTouch };
-constexpr int kShapeCount = 7;
+enum class Shape : std::uint8_t { Box, Prism, Bipyramid, Frame, Nested, EdgeTouch, VertexTouch, WedgeFan };
+constexpr int kShapeCount = 8;
 inline const char* shapeName(Shape s) {
-    static const char* names[] = {"box", "prism", "bipyramid", "frame", "nested", "edge-touch", "vertex-touch"};
+    static const char* names[] = {"box",    "prism",      "bipyramid",    "frame",
+                                  "nested", "edge-touch", "vertex-touch", "wedge-fan"};
     return names[static_cast<int>(s)];
 }
+// Shapes whose closed forms come from a polygon (r, n, angles) rather than from boxes.
+inline bool polygonBuilt(Shape s) { return s == Shape::Prism || s == Shape::Bipyramid || s == Shape::WedgeFan; }
 
 enum class Weld : std::uint8_t { Position, PerShell, Partial, Soup };
 constexpr int kWeldCount = 4;
@@ -75,12 +80,12 @@ struct CaseParams {
     glm::dvec3 size{10.0};           // m: canonical extents of the whole structure
     int axisPerm = 0;                // 0..5: which world axis each canonical axis becomes
     int mirror = 0;                  // bits 0..2: mirror world x, y, z
-    std::uint32_t windingFlips = 0;  // bit s: shell s wound against its right orientation
+    std::uint32_t windingFlips = 0;  // bit s: shell s wound against its right orientation (s < 4)
     Weld weld = Weld::Position;      //
     int sides = 6;                   // prism / bipyramid polygon (3..24)
     int extraLines = 2;              // extra grid lines per axis, prism side levels (0..5)
     int variant = 0;                 // nested: 1 = island in the cavity; bipyramid: 1 = subdivided,
-                                     // 2 = regular octahedron
+                                     // 2 = regular octahedron; wedge fan: 2 + variant wedges
     std::uint64_t seed = 0;
 
     std::string text() const {
@@ -104,8 +109,7 @@ inline CaseParams normalised(CaseParams p) {
     p.sides = 3 + ((p.sides % 22) + 22) % 22;
     p.extraLines = ((p.extraLines % 6) + 6) % 6;
     p.variant = ((p.variant % 3) + 3) % 3;
-    const bool convex = p.shape == Shape::Prism || p.shape == Shape::Bipyramid;
-    const double lo = convex ? (p.offsetKind == 2 ? 50.0 : 2.0) : 0.5;
+    const double lo = polygonBuilt(p.shape) ? (p.offsetKind == 2 ? 50.0 : 2.0) : 0.5;
     for (int k = 0; k < 3; ++k) {
         double& s = p.size[k];
         if (!std::isfinite(s)) s = 10.0;
@@ -170,21 +174,33 @@ struct Case {
     // Box-built shapes.
     std::vector<SignedBox> boxes;
     int holeAxis = -1;  // frame: world axis of the hole
-    // Convex shapes: canonical polygon about (cx, cy) in the plane z, levels z0 < z1 (ring zr).
+    // Polygon-built shapes: canonical polygon about (cx, cy) in the plane z (the prism's and
+    // bipyramid's), levels z0 < z1 (ring zr), the area of the cross-section (closed form, m^2:
+    // the n-gon, or the sum of the wedges' triangles) and its number of pieces.
     std::vector<glm::dvec2> polygon;
-    double polygonArea = 0.0;  // closed form, m^2
+    double polygonArea = 0.0;
+    std::vector<double> pieceAreas;  // per shell
+    std::size_t sectionPolygons = 1;
     double z0 = 0.0, z1 = 0.0, zr = 0.0;
-    std::vector<std::pair<glm::dvec3, double>> facePlanes;  // canonical, outward unit n and d: n.p + d
+    // Convex pieces (one per shell), canonical: outward unit normals n and offsets d, n.p + d.
+    std::vector<std::vector<std::pair<glm::dvec3, double>>> pieces;
 
-    bool convex() const { return params.shape == Shape::Prism || params.shape == Shape::Bipyramid; }
+    bool convex() const { return polygonBuilt(params.shape); }
+    bool extruded() const { return params.shape == Shape::Prism || params.shape == Shape::WedgeFan; }
 
     // Signed distance bound (m): > 0 inside, < 0 outside, at least |value| from the surface.
     double depth(const glm::dvec3& world) const {
         if (convex()) {
+            // Inside a piece, its least face distance is the distance to its boundary; outside
+            // every piece, the greatest violation bounds the distance to each from below.
             const glm::dvec3 c = map.toCanonical(world);
-            double d = std::numeric_limits<double>::infinity();
-            for (const auto& [n, off] : facePlanes) d = std::min(d, -(glm::dot(n, c) + off));
-            return d;
+            double best = -std::numeric_limits<double>::infinity();
+            for (const auto& planes : pieces) {
+                double d = std::numeric_limits<double>::infinity();
+                for (const auto& [n, off] : planes) d = std::min(d, -(glm::dot(n, c) + off));
+                best = std::max(best, d);
+            }
+            return best;
         }
         int count = 0;
         double margin = std::numeric_limits<double>::infinity();
@@ -234,8 +250,8 @@ struct Case {
         if (cAxis == 2) {
             if (std::abs(cc - z0) < margin || std::abs(cc - z1) < margin) return std::nullopt;
             if (!(cc > z0 && cc < z1)) return f;
-            f.polygons = 1;
-            if (params.shape == Shape::Prism) {
+            f.polygons = sectionPolygons;
+            if (extruded()) {
                 f.area = polygonArea;
             } else {
                 if (std::abs(cc - zr) < margin) return std::nullopt;
@@ -285,7 +301,7 @@ struct Case {
             }
             return vol;
         }
-        if (params.shape != Shape::Prism || map.perm[axis] != 2) return std::nullopt;
+        if (!extruded() || map.perm[axis] != 2) return std::nullopt;
         const double w0 = map.worldCoord(axis, z0), w1 = map.worldCoord(axis, z1);
         const double lo = std::min(w0, w1), hi = std::max(w0, w1);
         if (std::abs(c - lo) < margin || std::abs(c - hi) < margin) return std::nullopt;
@@ -460,7 +476,6 @@ inline Case makeCase(const CaseParams& raw) {
 
     const glm::dvec3 s = p.size;
     std::vector<SignedBox> canonical;  // box-built shapes, canonical frame
-    std::vector<double> shellVolumes;
     auto frac = [&](double lo, double hi) { return b.uniform(lo, hi); };
     switch (p.shape) {
         case Shape::Box:
@@ -503,6 +518,8 @@ inline Case makeCase(const CaseParams& raw) {
                 cs.polygon.push_back(c + r * glm::dvec2(std::cos(a), std::sin(a)));
             }
             cs.polygonArea = 0.5 * n * r * r * std::sin(2.0 * detail::kPi / n);
+            cs.pieceAreas = {cs.polygonArea};
+            cs.pieces.emplace_back();
             cs.z0 = 0.0;
             cs.z1 = s.z;
             cs.zr = p.shape == Shape::Bipyramid ? (p.variant == 2 ? 0.5 * s.z : s.z * frac(0.3, 0.7)) : 0.0;
@@ -513,7 +530,7 @@ inline Case makeCase(const CaseParams& raw) {
             };
             auto plane = [&](const glm::dvec3& a, const glm::dvec3& bb, const glm::dvec3& cc) {
                 const glm::dvec3 nn = glm::normalize(glm::cross(bb - a, cc - a));
-                cs.facePlanes.emplace_back(nn, -glm::dot(nn, a));
+                cs.pieces.back().emplace_back(nn, -glm::dot(nn, a));
             };
             if (p.shape == Shape::Prism) {
                 std::vector<double> levels = detail::gridLines(b, {0.0, s.z}, p.extraLines);
@@ -539,9 +556,8 @@ inline Case makeCase(const CaseParams& raw) {
                 for (int i = 0; i < n; ++i)
                     plane(lo[static_cast<std::size_t>(i)], lo[static_cast<std::size_t>((i + 1) % n)],
                           hi[static_cast<std::size_t>(i)]);
-                cs.facePlanes.emplace_back(glm::dvec3(0, 0, 1), -s.z);
-                cs.facePlanes.emplace_back(glm::dvec3(0, 0, -1), 0.0);
-                shellVolumes = {cs.polygonArea * s.z};
+                cs.pieces.back().emplace_back(glm::dvec3(0, 0, 1), -s.z);
+                cs.pieces.back().emplace_back(glm::dvec3(0, 0, -1), 0.0);
             } else {
                 const auto mid = ring(cs.zr);
                 const glm::dvec3 top(c.x, c.y, s.z), bottom(c.x, c.y, 0.0);
@@ -566,8 +582,48 @@ inline Case makeCase(const CaseParams& raw) {
                     b.tri(m20, m12, f[2], 0);
                     b.tri(m01, m12, m20, 0);
                 }
-                shellVolumes = {cs.polygonArea * s.z / 3.0};
             }
+            break;
+        }
+        case Shape::WedgeFan: {
+            // Wedge w lies in its own sector of 2 pi / k about the axis (cx, cy), its angle a
+            // quarter to four fifths of the sector, so neighbours leave a gap; the axis is one
+            // edge of every wedge, cut at the shared side levels.
+            const int k = 2 + p.variant;
+            const double r = 0.5 * std::min(s.x, s.y), sector = 2.0 * detail::kPi / k;
+            const glm::dvec2 o(0.5 * s.x, 0.5 * s.y);
+            const double phase = b.uniform(0.0, 2.0 * detail::kPi);
+            const std::vector<double> levels = detail::gridLines(b, {0.0, s.z}, p.extraLines);
+            cs.z0 = 0.0;
+            cs.z1 = s.z;
+            cs.sectionPolygons = static_cast<std::size_t>(k);
+            for (int w = 0; w < k; ++w) {
+                const double alpha = sector * frac(0.25, 0.8);
+                const double a0 = phase + w * sector + (sector - alpha) * frac(0.1, 0.9);
+                const std::array<glm::dvec2, 3> tri2 = {
+                    o, o + r * glm::dvec2(std::cos(a0), std::sin(a0)),
+                    o + r * glm::dvec2(std::cos(a0 + alpha), std::sin(a0 + alpha))};  // counter-clockwise
+                const double area = 0.5 * r * r * std::sin(alpha);
+                cs.pieceAreas.push_back(area);
+                cs.polygonArea += area;
+                auto at = [&](int i, double z) { return glm::dvec3(tri2[static_cast<std::size_t>(i % 3)], z); };
+                for (std::size_t l = 0; l + 1 < levels.size(); ++l)
+                    for (int i = 0; i < 3; ++i)
+                        b.quad(at(i, levels[l]), at(i + 1, levels[l]), at(i + 1, levels[l + 1]), at(i, levels[l + 1]),
+                               w);
+                b.tri(at(0, s.z), at(1, s.z), at(2, s.z), w);
+                b.tri(at(0, 0.0), at(2, 0.0), at(1, 0.0), w);
+                cs.pieces.emplace_back();
+                for (int i = 0; i < 3; ++i) {
+                    const glm::dvec3 a = at(i, 0.0), e = at(i + 1, 0.0) - a;
+                    const glm::dvec3 nn = glm::normalize(glm::cross(e, glm::dvec3(0, 0, 1)));
+                    cs.pieces.back().emplace_back(nn, -glm::dot(nn, a));
+                }
+                cs.pieces.back().emplace_back(glm::dvec3(0, 0, 1), -s.z);
+                cs.pieces.back().emplace_back(glm::dvec3(0, 0, -1), 0.0);
+            }
+            cs.splitEdges = levels.size() - 1;
+            cs.splitVertices = levels.size() * static_cast<std::size_t>(k - 1);
             break;
         }
     }
@@ -590,7 +646,8 @@ inline Case makeCase(const CaseParams& raw) {
     if (cs.convex()) {
         const int zAxis = cs.map.worldAxisOf(2);
         const double h = std::abs(cs.map.worldCoord(zAxis, cs.z1) - cs.map.worldCoord(zAxis, cs.z0));
-        cs.shellVolume[0] = cs.polygonArea * h / (p.shape == Shape::Bipyramid ? 3.0 : 1.0);
+        for (std::size_t sh = 0; sh < cs.shells; ++sh)
+            cs.shellVolume[sh] = cs.pieceAreas[sh] * h / (p.shape == Shape::Bipyramid ? 3.0 : 1.0);
     } else {
         for (const SignedBox& sb : cs.boxes) {
             const glm::dvec3 e = sb.hi - sb.lo;
@@ -662,12 +719,11 @@ inline CaseParams drawParams(std::mt19937_64& rng) {
     CaseParams p;
     p.shape = static_cast<Shape>(below(kShapeCount));
     p.offsetKind = below(3);
-    const bool convex = p.shape == Shape::Prism || p.shape == Shape::Bipyramid;
-    const double lo = convex ? (p.offsetKind == 2 ? 50.0 : 2.0) : 0.5;
+    const double lo = polygonBuilt(p.shape) ? (p.offsetKind == 2 ? 50.0 : 2.0) : 0.5;
     p.size = glm::dvec3(logUniform(lo, 3000.0), logUniform(lo, 3000.0), logUniform(lo, 3000.0));
     p.axisPerm = below(6);
     p.mirror = below(8);
-    p.windingFlips = static_cast<std::uint32_t>(below(8));
+    p.windingFlips = static_cast<std::uint32_t>(below(16));
     p.weld = static_cast<Weld>(below(kWeldCount));
     p.sides = 3 + below(22);
     p.extraLines = below(6);
