@@ -69,12 +69,19 @@ constexpr std::size_t kProblemSamples = 5;
 
 // Builds the topology of `mesh` as its triangles are wound now. Around an edge used by more
 // than two triangles (a body touching itself along the edge: a pinch-out), the triangles are
-// sorted by their angle about the edge and each one that runs lo -> hi is paired with its
-// angular predecessor, which must run hi -> lo: for outward shells the solid lies on the
-// side of decreasing angle of a lo -> hi triangle (its normal d x w points to increasing
-// angle, d = hi - lo), so each pair bounds one wedge of solid and every shell stays a
-// closed, consistently oriented 2-manifold. Edges whose triangles do not alternate in
-// direction around them (or are collinear with them) stay non-manifold.
+// sorted by their angle about the edge and each one that runs lo -> hi is paired with the
+// nearest unpaired one at smaller angle (wrapping round) that runs hi -> lo: brackets
+// matched on a circle, hi -> lo opening and lo -> hi closing. For outward shells the solid
+// lies on the side of decreasing angle of a lo -> hi triangle (its normal d x w points to
+// increasing angle, d = hi - lo), so an outward shell's two triangles at the edge are an
+// adjacent pair, hi -> lo then lo -> hi, that the matching joins, and every shell stays a
+// closed, consistently oriented 2-manifold. Where the directions alternate round the edge
+// this is each lo -> hi triangle with its angular predecessor. A shell wound inward is a
+// closing then an opening bracket: alone among outward shells it still pairs with itself
+// (across the wrap); inward shells next to each other pair with each other, and the shell
+// they make has a negative volume and is flipped, after which the pairing is redone (see
+// analyseMesh). Edges with unequal numbers of triangles each way, or two at one angle
+// (collinear, or overlapping faces), stay non-manifold.
 Topology buildTopology(const Mesh& mesh, const std::vector<std::uint32_t>& canon, const std::vector<char>& skip) {
     const std::size_t nt = mesh.triangleCount();
     Topology topo;
@@ -117,6 +124,7 @@ Topology buildTopology(const Mesh& mesh, const std::vector<std::uint32_t>& canon
         bool forward;
     };
     std::vector<Around> around;
+    std::vector<std::size_t> opened;
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
         while (j < edges.size() && edges[j].key == edges[i].key) ++j;
@@ -151,18 +159,35 @@ Topology buildTopology(const Mesh& mesh, const std::vector<std::uint32_t>& canon
                 if (glm::dot(perp, perp) == 0.0 || !std::isfinite(angle)) ok = false;
                 around.push_back({angle, u, vertexOf(e.from) == lo});
             }
+            std::size_t start = 0;  // where the bracket matching starts: after the lowest balance
             if (ok) {
                 std::sort(around.begin(), around.end(), [](const Around& x, const Around& y) {
                     return x.angle != y.angle ? x.angle < y.angle : x.use < y.use;
                 });
-                for (std::size_t k = 0; ok && k < uses; ++k) {
-                    const Around& next = around[(k + 1) % uses];
-                    if (around[k].forward == next.forward || around[k].angle == next.angle) ok = false;
+                std::ptrdiff_t balance = 0, lowest = 0;
+                for (std::size_t k = 0; k < uses; ++k) {
+                    if (around[k].angle == around[(k + 1) % uses].angle) ok = false;
+                    balance += around[k].forward ? -1 : 1;
+                    if (balance < lowest) {
+                        lowest = balance;
+                        start = k + 1;
+                    }
                 }
+                if (balance != 0) ok = false;
             }
             if (ok) {
-                for (std::size_t k = 0; k < uses; ++k)
-                    if (around[k].forward) join(edges[around[k].use], edges[around[(k + uses - 1) % uses].use]);
+                // From `start` no prefix closes more than it opened (the cycle lemma): a stack
+                // matches every lo -> hi triangle with the nearest open hi -> lo one before it.
+                opened.clear();
+                for (std::size_t step = 0; step < uses; ++step) {
+                    const std::size_t k = (start + step) % uses;
+                    if (!around[k].forward) {
+                        opened.push_back(k);
+                        continue;
+                    }
+                    join(edges[around[k].use], edges[around[opened.back()].use]);
+                    opened.pop_back();
+                }
                 ++topo.splitEdges;
                 for (std::size_t u = i; u < j; ++u) topo.splitFaces.push_back(edges[u].from / 3);
             } else {

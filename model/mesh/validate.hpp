@@ -9,7 +9,8 @@
 // itself along an edge or at a vertex (a pinch-out: every model built from tetrahedra or a
 // partition has them) is split there into closed, consistently oriented shells: around an
 // edge used by 4, 6... triangles, the triangles are paired by their angular order about the
-// edge (each pair bounds one wedge of solid), and a vertex whose triangles form several
+// edge and their directions along it (each pair bounds one wedge of solid; the shells may be
+// wound either way, each is flipped on its own), and a vertex whose triangles form several
 // fans becomes one vertex per fan. The split is physical: validate() rewrites each closed
 // body's vertices (welded, then duplicated per shell and fan), so every engine that follows
 // index topology (section contours, BVH, bake charts) sees the 2-manifold.

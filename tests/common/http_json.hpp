@@ -17,7 +17,9 @@ inline nlohmann::json getJson(httplib::Client& client, const std::string& path, 
     EXPECT_TRUE(r) << path;
     if (!r) return nlohmann::json::value_t::discarded;
     EXPECT_EQ(r->status, expectStatus) << path << "\n" << r->body;
-    if (!contentType.empty()) EXPECT_EQ(r->get_header_value("Content-Type"), contentType) << path;
+    if (!contentType.empty()) {
+        EXPECT_EQ(r->get_header_value("Content-Type"), contentType) << path;
+    }
     return nlohmann::json::parse(r->body, nullptr, false);
 }
 

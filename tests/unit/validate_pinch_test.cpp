@@ -69,6 +69,30 @@ TEST(ValidatePinch, BoxesSharingAnEdgeAreTwoClosedShells) {
     }
 }
 
+TEST(ValidatePinch, BoxesSharingAnEdgeWoundDifferentlyAreTwoClosedShells) {
+    // One box outward, the other inward: round the shared edge the triangles' directions run
+    // B F F B, not alternating; the pairing must still give each box its own two triangles.
+    for (int inwardBox : {0, 1}) {
+        Mesh a = boxMesh({0, 0, 0}, {10, 10, 10}), b = boxMesh({10, 10, 0}, {20, 20, 10});
+        reverse(inwardBox == 0 ? a : b);
+        Mesh m = welded(a, b);
+        // By closure (a loader's part of unknown kind) it is closed, hence a body.
+        Mesh probe = m;
+        const MeshReport judged = analyseMesh(probe, false);
+        EXPECT_TRUE(judged.closed);
+        EXPECT_TRUE(judged.consistentlyOriented);
+        MeshReport r = analyseMesh(m, true);
+        EXPECT_TRUE(r.closed);
+        EXPECT_TRUE(r.consistentlyOriented);
+        EXPECT_EQ(r.splitEdges, 1u);
+        EXPECT_EQ(r.splitVertices, 2u);
+        EXPECT_EQ(r.components, 2u);
+        EXPECT_TRUE(r.flipped);
+        EXPECT_NEAR(r.signedVolume, 2000.0, kExactBoxTol);
+        EXPECT_EQ(m.positions.size(), 16u);
+    }
+}
+
 TEST(ValidatePinch, BoxesSharingAVertexAreSplitThere) {
     Mesh m = welded(boxMesh({0, 0, 0}, {10, 10, 10}), boxMesh({10, 10, 10}, {20, 20, 20}));
     ASSERT_EQ(m.positions.size(), 15u);
