@@ -119,7 +119,11 @@ void checkAnswers(std::string_view reply) {
         if (const auto cl = head.find("\r\nContent-Length: "); cl != std::string_view::npos)
             length = std::strtoul(std::string(head.substr(cl + 18, 20)).c_str(), nullptr, 10);
         const std::size_t bodyAt = headEnd + 4;
-        if (head.find("application/problem+json") != std::string_view::npos &&
+        // The answer to a HEAD request has the GET answer's Content-Length and no body: the
+        // next status line follows at once.
+        const bool noBody = reply.substr(bodyAt, 7) == "HTTP/1." || bodyAt == reply.size();
+        if (noBody) length = 0;
+        if (!noBody && head.find("application/problem+json") != std::string_view::npos &&
             head.find("Content-Encoding") == std::string_view::npos && bodyAt + length <= reply.size()) {
             const auto j = nlohmann::json::parse(reply.substr(bodyAt, length), nullptr, false);
             if (j.is_discarded()) {

@@ -309,10 +309,13 @@ TEST(PrintSheet, InclinedPlaneIsStretchedAsImagesStretchIt) {
     ASSERT_TRUE(sheet.ok()) << sheet.error().message;
     const double stretch = VerticalExaggeration{3.0, 0.0}.vStretch(n);
     ASSERT_GT(std::abs(stretch - 3.0), 0.5);  // the two pictures differ visibly here
-    std::string scaleRow;
-    for (const std::string& t : texts(sheet.value()))
-        if (t.find("down dip") != std::string::npos) scaleRow = t;
-    ASSERT_FALSE(scaleRow.empty()) << "no down-dip scale on an inclined sheet";
+    // The title block wraps the scale row: its lines joined again by spaces.
+    std::string all;
+    for (const std::string& t : texts(sheet.value())) all += t + " ";
+    const std::size_t at = all.find("along strike");
+    ASSERT_NE(at, std::string::npos) << "no along-strike scale on an inclined sheet";
+    const std::size_t start = all.rfind("1:", at);
+    const std::string scaleRow = all.substr(start, all.find(')', at) + 1 - start);
     EXPECT_NE(scaleRow.find("VE \u00d73"), std::string::npos) << scaleRow;
     EXPECT_NE(scaleRow.find("down-dip \u00d7" + formatGrouped(stretch, 3)), std::string::npos)
         << scaleRow << " (vStretch " << stretch << ")";
