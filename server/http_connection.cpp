@@ -184,28 +184,25 @@ Response Connection::toBeast(HttpResponse&& res, unsigned version, bool keepAliv
     return out;
 }
 
+namespace {
+
+// The prepared 500 of the last catch for one HTTP version (10 or 11).
+Response preparedInternalError(unsigned version) {
+    Response r;
+    r.version(version);
+    r.result(500);
+    r.set(http::field::content_type, "application/problem+json");
+    r.body() = kInternalErrorBody;
+    r.keep_alive(false);
+    r.prepare_payload();
+    return r;
+}
+
+}  // namespace
+
 std::shared_ptr<Response> Connection::fixedInternalError(unsigned version) noexcept {
     // Built once per version on first use; a copy of a prepared message per failure.
-    static const Response kFixed[2] = {[] {
-                                           Response r;
-                                           r.version(10);
-                                           r.result(500);
-                                           r.set(http::field::content_type, "application/problem+json");
-                                           r.body() = kInternalErrorBody;
-                                           r.keep_alive(false);
-                                           r.prepare_payload();
-                                           return r;
-                                       }(),
-                                       [] {
-                                           Response r;
-                                           r.version(11);
-                                           r.result(500);
-                                           r.set(http::field::content_type, "application/problem+json");
-                                           r.body() = kInternalErrorBody;
-                                           r.keep_alive(false);
-                                           r.prepare_payload();
-                                           return r;
-                                       }()};
+    static const Response kFixed[2] = {preparedInternalError(10), preparedInternalError(11)};
     try {
         return std::make_shared<Response>(kFixed[version >= 11 ? 1 : 0]);
     } catch (...) {
