@@ -5,17 +5,17 @@
 // memory admission; at most kMaxBatchPixels pixels and kMaxBatchAnswerBytes of answer).
 #include "api/pixel_query.hpp"
 #include "api/request.hpp"
+#include "model/json_text.hpp"
 #include "model/view_limits.hpp"
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::server {
 namespace {
 
 void queryGet(ServerState& st, const HttpRequest& req, HttpResponse& res) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     auto params = queryParams(req);
     if (!params) return problem(res, params.error(), req.path);
@@ -34,7 +34,7 @@ void queryGet(ServerState& st, const HttpRequest& req, HttpResponse& res) {
 }
 
 void queryPost(ServerState& st, const HttpRequest& req, HttpResponse& res) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     if (!requireJsonBody(req, res)) return;
     auto batch = api::parseQueryBatch(req.body, api::viewParamNames());

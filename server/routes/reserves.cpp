@@ -4,10 +4,10 @@
 #include <chrono>
 
 #include "api/reserves.hpp"
+#include "model/json_text.hpp"
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::server {
 namespace {
@@ -30,7 +30,7 @@ Result<std::string> reservesBody(const api::CatalogModel& m, const api::Reserves
 }
 
 void reserves(ServerState& st, const HttpRequest& req, HttpResponse& res, bool csvPath) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     auto params = queryParams(req);
     if (!params) return problem(res, params.error(), req.path);
