@@ -83,6 +83,10 @@ bool Router::authenticate(HttpRequest& req, HttpResponse& res) const {
                                        : otherScheme ? "Bearer realm=\"geoslice\", error=\"invalid_request\""
                                                      : "Bearer realm=\"geoslice\", error=\"invalid_token\"");
     problem(res, 401, detail, req.path, "unauthorized");
+    // Counted by kind (a rise of "invalid" is someone guessing); never by key or client.
+    metrics_.count("geoslice_auth_failures_total", presented.empty()
+                                                       ? (otherScheme ? "reason=\"scheme\"" : "reason=\"missing\"")
+                                                       : "reason=\"invalid\"");
     return false;
 }
 

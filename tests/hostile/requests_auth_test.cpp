@@ -321,6 +321,7 @@ TEST_F(Auth, KeysNeverReachTheLog) {
     }
     auto metrics = send("GET", "/metrics", {});
     ASSERT_TRUE(metrics);
+    EXPECT_NE(metrics->body.find("geoslice_auth_failures_total{reason=\"invalid\"}"), std::string::npos);
     for (const std::string& k : {kReaderKey, kSurveyorKey, kAdminKey, kWrongKey})
         EXPECT_EQ(metrics->body.find(k), std::string::npos);
 }
