@@ -145,12 +145,15 @@ J openApiDocument(const std::string& serverVersion) {
     get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok")));
     get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found); `rays` gives each "
                       "model's ray scene (pending, building, ready, failed), which queries without a cached image, "
-                      "perspective queries and boreholes wait for up to their deadline (504 past it)",
+                      "perspective queries and boreholes wait for up to their deadline (504 past it). While the "
+                      "server has API keys, models.failed and rays are counts (by state) and name no model",
                       J::array(), jsonResponse("ready; 503 while loading")));
     get("/metrics", op("Prometheus text format: requests and latency per route, queue depth, cache hits, render times",
                        J::array(), J{{"description", "metrics"}, {"content", {{"text/plain", J::object()}}}}));
     get("/openapi.json", op("this document", J::array(), jsonResponse("OpenAPI 3 document")));
-    get("/v1/models", op("the loaded models with bounds, CRS, bodies and legend", J::array(), jsonResponse("models")));
+    get("/v1/models", op("the loaded models with bounds, CRS, bodies and legend (with API keys: the models the "
+                         "request's key may read)",
+                         J::array(), jsonResponse("models")));
     get("/v1/models/{id}", op("one model", J::array({id}), jsonResponse("the model")));
     get("/v1/models/{id}/legend.png", op("the legend as an image: one swatch per body with its name", J::array({id}),
                                          J{{"description", "PNG"}, {"content", {{"image/png", J::object()}}}}));
@@ -249,6 +252,22 @@ J openApiDocument(const std::string& serverVersion) {
                      pathParam("y", "row (0 = top)", J{{"type", "integer"}}), format}),
            imageResponse()));
 
+    // API keys (geoslice serve --keys, api/access_keys.hpp): every /v1 route takes one when
+    // the server has keys (none: open); the web client, health, metrics and this document
+    // never need one.
+    for (auto& [path, ops] : paths.items())
+        for (auto& [method, operation] : ops.items()) {
+            if (path.rfind("/v1/", 0) != 0) {
+                operation["security"] = J::array();
+                continue;
+            }
+            operation["security"] = J::array({J{{"bearer", J::array()}}, J{{"apiKey", J::array()}}, J::object()});
+            operation["responses"]["401"] = problem(
+                "the server has API keys and the request sent none, or one it does not know "
+                "(WWW-Authenticate: Bearer)");
+            operation["responses"]["403"] =
+                problem("the API key may not read this model (whether or not the model exists)");
+        }
     J doc;
     doc["openapi"] = "3.0.3";
     doc["info"] = {{"title", "geoslice"},
@@ -289,6 +308,12 @@ J openApiDocument(const std::string& serverVersion) {
           {"wgs84Note", str},
           {"projectedNote",
            {{"type", "string"}, {"description", "local models: no projected or geodetic coordinates"}}}}}};
+    doc["components"]["securitySchemes"] = {
+        {"bearer",
+         {{"type", "http"},
+          {"scheme", "bearer"},
+          {"description", "an API key of the server's keys file as a bearer token: Authorization: Bearer KEY"}}},
+        {"apiKey", {{"type", "apiKey"}, {"in", "header"}, {"name", "X-Api-Key"}}}};
     doc["components"]["schemas"]["Problem"] = {{"type", "object"},
                                                {"description", "RFC 9457 problem details"},
                                                {"properties",

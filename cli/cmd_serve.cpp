@@ -20,7 +20,7 @@ std::atomic<int> gSignal{0};
 void onSignal(int sig) { gSignal = sig; }
 
 struct ServeArgs {
-    std::string configFile, host, models, bakeDir, gl, lod, cors, logLevel;
+    std::string configFile, host, models, bakeDir, gl, lod, cors, keysFile, logLevel;
     int port = -1, deadlineMs = -1, shutdownGraceMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
     long long memoryBudgetMiB = -1;
@@ -79,7 +79,8 @@ int runServe(const ServeArgs& a) {
     if (!a.bakeDir.empty()) config.bakeDir = a.bakeDir;
     if (!a.gl.empty()) config.gl = a.gl;
     if (!a.lod.empty()) config.lod = a.lod;
-    if (!a.cors.empty()) config.cors = a.cors == "none" ? "" : a.cors;
+    if (!a.cors.empty()) config.cors = a.cors;
+    if (!a.keysFile.empty()) config.keysFile = a.keysFile;
     if (!a.logLevel.empty()) config.logLevel = a.logLevel;
     if (a.deadlineMs > 0) config.deadlineMs = a.deadlineMs;
     if (a.shutdownGraceMs >= 0) config.shutdownGraceMs = a.shutdownGraceMs;
@@ -170,7 +171,16 @@ void addServe(CLI::App& app, int& exitCode) {
         "--shutdown-grace-ms", a->shutdownGraceMs,
         "After SIGTERM, in-flight requests may finish within this (and their deadline), ms (default 10000)");
     cmd->add_option("--max-body", a->maxBody, "Largest request body, bytes (default 1 MiB)");
-    cmd->add_option("--cors", a->cors, "Access-Control-Allow-Origin value (default *; 'none' = off)");
+    cmd->add_option("--cors-origins,--cors", a->cors,
+                    "Which web pages on other origins may read answers (CORS): none, *, or origins separated by "
+                    "commas (https://maps.example,http://localhost:8000; a listed Origin is echoed with Vary: "
+                    "Origin). Default: * for the demo (no --models), none once --models is given");
+    cmd->add_option("--keys", a->keysFile,
+                    "API keys file (also GEOSLICE_KEYS_FILE; GEOSLICE_KEYS holds entries inline, ';' between "
+                    "them): one 'NAME KEY MODELS' a line, MODELS = * or ids separated by commas, '#' comments. "
+                    "Any key turns authentication on for every /v1 route: 'Authorization: Bearer KEY' or "
+                    "'X-Api-Key: KEY'; none or a wrong one is 401, a model outside the key's list 403. /, /web, "
+                    "/healthz, /readyz, /metrics and /openapi.json stay open and name no model");
     cmd->add_option("--demo-triangles", a->demoTriangles, "Size of the generated demo model (default 200000)");
     cmd->add_option("--log-level", a->logLevel, "trace|debug|info|warn|error|off (default info)");
     cmd->callback([a, &exitCode] { exitCode = runServe(*a); });

@@ -12,6 +12,7 @@ find_package(fmt REQUIRED)
 find_package(zstd REQUIRED)  # libzstd-dev: the baked index texture's lossless encoding
 find_package(PNG REQUIRED)   # libpng-dev
 find_package(Boost 1.74 REQUIRED)  # libboost-dev: Beast/Asio (header-only), the HTTP transport
+find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)  # libssl-dev: SHA-256 and constant-time compare of API keys
 find_package(ZLIB REQUIRED)  # zlib1g-dev: gzip of JSON answers, zlib-compressed VTK .vtu data
 # libxxhash-dev: XXH64, the baked package's file checksums (pkg-config only on Debian 12).
 find_package(PkgConfig REQUIRED)

@@ -22,6 +22,7 @@ build=(
   libtinygltf-dev libdraco-dev libpugixml-dev nlohmann-json3-dev libstb-dev
   # images
   libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev libwebp-dev zlib1g-dev libzstd-dev
+  libssl-dev                          # OpenSSL libcrypto: SHA-256 and constant-time compare of API keys
   libxxhash-dev                       # XXH64 checksums of the baked package's files
   # geodesy: GeographicLib (CGCS2000), PROJ for every other CRS (library + its EPSG
   # database and grids in proj-data)

@@ -4,8 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "model/io/loaders.hpp"
+#include "api/access_keys.hpp"
 #include "model/json_text.hpp"
+#include "model/io/loaders.hpp"
 
 extern char** environ;
 
@@ -59,9 +60,16 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.shutdownGraceMs, 0, 3600000);
     else if (key == "maxBodyBytes")
         return number(c.maxBodyBytes, 1024, 1LL << 30);
-    else if (key == "cors")
+    else if (key == "cors" || key == "corsOrigins")
         c.cors = value;
-    else if (key == "demoTriangles")
+    else if (key == "keysFile")
+        c.keysFile = value;
+    else if (key == "keys") {
+        // Checked here, where the source is known; an empty value is an error (a keys
+        // source that is set must not leave the server open).
+        if (auto k = api::parseApiKeys(value, source); !k) return k.error();
+        c.keys = value;
+    } else if (key == "demoTriangles")
         return number(c.demoTriangles, 2000, 20000000);
     else if (key == "logLevel")
         c.logLevel = value;
@@ -123,6 +131,8 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_SHUTDOWN_GRACE_MS", "shutdownGraceMs"},
         {"GEOSLICE_MAX_BODY", "maxBodyBytes"},
         {"GEOSLICE_CORS", "cors"},
+        {"GEOSLICE_KEYS_FILE", "keysFile"},
+        {"GEOSLICE_KEYS", "keys"},
         {"GEOSLICE_MEMORY_BUDGET_MIB", "memoryBudgetMiB"},
         {"GEOSLICE_READYZ_PATHS", "readyzPaths"},
         {"GEOSLICE_NO_BAKE", "noBake"},
@@ -158,7 +168,65 @@ Status checkConfig(const ServerConfig& c) {
         c.logLevel != "error" && c.logLevel != "off")
         return makeError(ErrorCode::InvalidArgument,
                          "logLevel '" + c.logLevel + "' is not trace|debug|info|warn|error|off");
+    if (auto p = corsPolicy(c); !p) return p.error();
     return {};
+}
+
+std::string CorsPolicy::allowOrigin(std::string_view requestOrigin) const {
+    switch (mode) {
+        case Mode::Off:
+            return {};
+        case Mode::Any:
+            return "*";
+        case Mode::List:
+            // Browsers send the serialized origin (RFC 6454 6.2): compared as sent, exactly.
+            for (const std::string& o : origins)
+                if (o == requestOrigin) return o;
+            return {};
+    }
+    return {};
+}
+
+std::string CorsPolicy::describe() const {
+    if (mode == Mode::Off) return "off";
+    if (mode == Mode::Any) return "*";
+    std::string out;
+    for (const std::string& o : origins) out += (out.empty() ? "" : ",") + o;
+    return out;
+}
+
+Result<CorsPolicy> corsPolicy(const ServerConfig& c) {
+    CorsPolicy p;
+    const std::string v = c.cors == "auto" ? (c.modelsDir.empty() ? "*" : "none") : c.cors;
+    if (v.empty() || v == "none") return p;
+    if (v == "*") {
+        p.mode = CorsPolicy::Mode::Any;
+        return p;
+    }
+    p.mode = CorsPolicy::Mode::List;
+    std::size_t pos = 0;
+    while (pos <= v.size()) {
+        std::size_t comma = v.find(',', pos);
+        if (comma == std::string::npos) comma = v.size();
+        std::string o = v.substr(pos, comma - pos);
+        pos = comma + 1;
+        while (!o.empty() && (o.front() == ' ' || o.front() == '\t')) o.erase(o.begin());
+        while (!o.empty() && (o.back() == ' ' || o.back() == '\t')) o.pop_back();
+        if (!o.empty() && o.back() == '/') o.pop_back();
+        for (char& ch : o)
+            if (ch >= 'A' && ch <= 'Z') ch = char(ch - 'A' + 'a');
+        const std::size_t scheme = o.rfind("https://", 0) == 0 ? 8 : o.rfind("http://", 0) == 0 ? 7 : 0;
+        const std::string host = scheme ? o.substr(scheme) : "";
+        const bool ok = scheme && !host.empty() && host.find_first_of("/?#@ *\\\"'") == std::string::npos;
+        if (!ok)
+            return makeError(ErrorCode::InvalidArgument,
+                             "corsOrigins: '" + o.substr(0, 200) +
+                                 "' is not an origin (http:// or https://, a host and an optional :port, no path); "
+                                 "use '*' alone for every origin or 'none'");
+        p.origins.push_back(o);
+        if (comma == v.size()) break;
+    }
+    return p;
 }
 
 }  // namespace geoslice::server

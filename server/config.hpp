@@ -27,7 +27,16 @@
 //                                                                             may finish within this, capped by
 //                                                                             deadlineMs; then renders are cancelled)
 //   maxBodyBytes       GEOSLICE_MAX_BODY              --max-body              1048576
-//   cors               GEOSLICE_CORS                  --cors                  * ("" = no CORS headers)
+//   corsOrigins        GEOSLICE_CORS                  --cors-origins          auto: * for the demo (no models), none
+//                                                                             with --models; none | * | a list of
+//                                                                             origins (https://a.example,http://b:8000)
+//                                                                             whose Origin is echoed, with Vary: Origin
+//                                                                             (JSON key "cors" and flag --cors: the same)
+//   keysFile           GEOSLICE_KEYS_FILE             --keys                  "" (API keys, one "NAME KEY MODELS" a line:
+//                                                                             api/access_keys.hpp; any key turns
+//                                                                             authentication on for the model routes)
+//   keys               GEOSLICE_KEYS                                          "" (the same entries inline, ';' between
+//                                                                             them; added to the keys file's)
 //   demoTriangles      GEOSLICE_DEMO_TRIANGLES        --demo-triangles        200000
 //   logLevel           GEOSLICE_LOG_LEVEL             --log-level             info
 //   memoryBudgetMiB    GEOSLICE_MEMORY_BUDGET_MIB     --memory-budget-mib     4096 (estimated memory of queued and
@@ -44,6 +53,8 @@
 #include <cstddef>
 #include <map>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "model/result.hpp"
 
@@ -70,7 +81,9 @@ struct ServerConfig {
     int deadlineMs = 10000;
     int shutdownGraceMs = 10000;  // SIGTERM: in-flight requests may finish within this (and their deadline)
     std::size_t maxBodyBytes = 1 << 20;
-    std::string cors = "*";
+    std::string cors = "auto";  // corsOrigins: auto | none | * | origin,origin,... (corsPolicy)
+    std::string keysFile;       // API keys file (api/access_keys.hpp); "" = none
+    std::string keys;           // API keys inline (GEOSLICE_KEYS); "" = none
     std::size_t demoTriangles = 200000;
     std::string logLevel = "info";
     std::size_t memoryBudgetMiB = 4096;  // render admission by estimated memory; 0 = off
@@ -86,5 +99,21 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
 std::map<std::string, std::string> processEnvironment();
 // Range checks; errors name the setting.
 Status checkConfig(const ServerConfig& config);
+
+// Which cross-origin pages may read the answers (Access-Control-Allow-Origin).
+struct CorsPolicy {
+    enum class Mode { Off, Any, List } mode = Mode::Off;
+    std::vector<std::string> origins;  // Mode::List: serialized origins, lower case, no trailing '/'
+
+    // The Access-Control-Allow-Origin value for a request with this Origin header: "*", the
+    // origin itself when listed, or "" (no CORS headers).
+    std::string allowOrigin(std::string_view requestOrigin) const;
+    // How the policy reads in logs: "off", "*" or the origins.
+    std::string describe() const;
+};
+// The policy of config.cors: "auto" is "*" for the demo (no models directory: the README's
+// demo works from any page) and off once models are served; "none" or "" is off; "*" any
+// origin; otherwise origins separated by commas (http or https, host, optional port).
+Result<CorsPolicy> corsPolicy(const ServerConfig& config);
 
 }  // namespace geoslice::server

@@ -168,7 +168,10 @@ Response Connection::toBeast(HttpResponse&& res, unsigned version, bool keepAliv
     const bool noBody = s / 100 == 1 || s == 204 || s == 304;
     if (noBody) res.body.clear();
     if (!noBody && compressibleType(contentType) && out.find(http::field::content_encoding) == out.end()) {
-        out.set(http::field::vary, "Accept-Encoding");
+        // Added to what the router varies on (Origin, Authorization), not in its place.
+        const auto vary = out.find(http::field::vary);
+        out.set(http::field::vary,
+                vary == out.end() ? std::string("Accept-Encoding") : std::string(vary->value()) + ", Accept-Encoding");
         if (gzip && res.body.size() >= 256) {
             std::string z = gzipCompress(res.body);
             if (!z.empty()) {

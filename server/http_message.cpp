@@ -56,6 +56,12 @@ void HttpResponse::set_header(std::string name, std::string value) {
     headers.emplace_back(std::move(name), std::move(value));
 }
 
+void HttpResponse::erase_header(std::string_view name) {
+    headers.erase(
+        std::remove_if(headers.begin(), headers.end(), [&](const auto& h) { return equalsNoCase(h.first, name); }),
+        headers.end());
+}
+
 void HttpResponse::set_content(std::string content, std::string contentType) {
     body = std::move(content);
     headers.erase(std::remove_if(headers.begin(), headers.end(),

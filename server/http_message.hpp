@@ -13,6 +13,10 @@
 #include <utility>
 #include <vector>
 
+namespace geoslice::api {
+struct ApiKey;
+}
+
 namespace geoslice::server {
 
 // One request as a route sees it. Member names follow cpp-httplib's (the previous HTTP
@@ -25,6 +29,9 @@ struct HttpRequest {
     std::vector<std::pair<std::string, std::string>> headers;  // as received, in order
     std::string body;
     std::vector<std::string> matches;  // set by the router: [0] = path, then the groups
+    // The API key the request authenticated with (set by the router on routes that need one
+    // while keys are on; owned by ServerState::keys); null otherwise.
+    const api::ApiKey* key = nullptr;
     // Set to true when the client goes away (the connection closes or fails) while the
     // request is being handled, or when the server stops: work for it may be dropped.
     // Written by the I/O threads, read by anyone.
@@ -41,7 +48,8 @@ struct HttpResponse {
     std::vector<std::pair<std::string, std::string>> headers;
     std::string body;
 
-    void set_header(std::string name, std::string value);
+    void set_header(std::string name, std::string value);  // adds a field (repeats allowed)
+    void erase_header(std::string_view name);              // every field of that name
     void set_content(std::string content, std::string contentType);
     std::string get_header_value(std::string_view name) const;
 };

@@ -32,7 +32,7 @@ struct SectionServer::Impl {
     std::unique_ptr<Router> router;
     std::unique_ptr<HttpTransport> http;  // declared last: its handlers use all of the above
 
-    explicit Impl(ServerConfig c) : state(std::move(c)) {}
+    Impl(ServerConfig c, api::AccessKeys keys) : state(std::move(c), std::move(keys)) {}
 
     // ---- life cycle ----------------------------------------------------------------
     void loadModels() {
@@ -123,7 +123,11 @@ api::Catalog& SectionServer::catalog() { return impl_->state.catalog; }
 
 Result<int> SectionServer::start() {
     if (auto s = checkConfig(config_); !s) return s.error();
-    impl_ = std::make_unique<Impl>(config_);
+    auto cors = corsPolicy(config_);
+    if (!cors) return cors.error();
+    auto keys = api::loadAccessKeys(config_.keysFile, config_.keys);
+    if (!keys) return keys.error();
+    impl_ = std::make_unique<Impl>(config_, std::move(keys.value()));
     Impl& im = *impl_;
     ServerState& st = im.state;
     workers::GlSettings gl;
@@ -135,7 +139,7 @@ Result<int> SectionServer::start() {
     st.cache = std::make_unique<RenderCache>(config_.cacheMiB * (std::size_t(1) << 20), config_.deadlineMs, *st.pool,
                                              st.metrics);
 
-    im.router = std::make_unique<Router>(st.metrics, config_.cors, st.draining, st.inFlight);
+    im.router = std::make_unique<Router>(st.metrics, cors.value(), st.keys, st.draining, st.inFlight);
     addAllRoutes(*im.router, st);
 
     st.metrics.gauge("geoslice_queue_depth", "Render jobs waiting.", [&st] { return double(st.pool->queueDepth()); });
@@ -213,9 +217,16 @@ Result<int> SectionServer::start() {
     http.start();
     im.loader = std::thread([&im] { im.loadModels(); });
     im.probeGl();
-    spdlog::info("event=listening host={} port={} workers={} http_threads={} max_connections={} gl={} models=\"{}\"",
-                 config_.host, port_, workers, tc.handlerThreads, tc.maxConnections, config_.gl,
-                 config_.modelsDir.empty() ? "demo" : config_.modelsDir);
+    // How many keys, never which.
+    spdlog::info(
+        "event=listening host={} port={} workers={} http_threads={} max_connections={} gl={} models=\"{}\" "
+        "api_keys={} cors=\"{}\"",
+        config_.host, port_, workers, tc.handlerThreads, tc.maxConnections, config_.gl,
+        config_.modelsDir.empty() ? "demo" : config_.modelsDir, st.keys.size(), cors.value().describe());
+    if (!st.keys.enabled() && !config_.modelsDir.empty())
+        spdlog::warn(
+            "event=no_api_keys warning=\"every client that reaches this port reads every model: give keys with "
+            "--keys FILE or GEOSLICE_KEYS_FILE, or keep the port private\"");
     return port_;
 }
 

@@ -2,8 +2,8 @@
 // workers and the render cache, and the server's life-cycle flags. One instance per
 // SectionServer, built by start() before the transport serves (server/http_server.cpp).
 //
-// Threads and locks: handlers read and call into it from any handler thread. `config` is
-// immutable; the catalog, metrics, GL status, render pool and render cache lock inside;
+// Threads and locks: handlers read and call into it from any handler thread. `config` and
+// `keys` are immutable; the catalog, metrics, GL status, render pool and render cache lock inside;
 // the flags are atomics; `failed` is guarded by `failedMutex`.
 #pragma once
 
@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/access_keys.hpp"
 #include "api/catalog.hpp"
 #include "server/config.hpp"
 #include "server/metrics.hpp"
@@ -23,9 +24,10 @@
 namespace geoslice::server {
 
 struct ServerState {
-    explicit ServerState(ServerConfig c) : config(std::move(c)) {}
+    ServerState(ServerConfig c, api::AccessKeys k) : config(std::move(c)), keys(std::move(k)) {}
 
     const ServerConfig config;
+    const api::AccessKeys keys;  // API keys (none: authentication off); HttpRequest::key points in here
     const bool glEnabled = config.gl != "none";
     api::Catalog catalog;
     Metrics metrics;

@@ -33,6 +33,7 @@ const STRINGS = {
     permalink: 'Copy link', linkCopied: 'Link copied', scale: 'Scale', metres: 'm', vxShown: (k) => `vx ${k}×`,
     elevAxis: 'Elevation (m)', distAxis: 'Distance (m)', eastAxis: 'Easting (m)', northAxis: 'Northing (m)',
     noModels: 'The server has no models.', zoomIn: 'Zoom in', zoomOut: 'Zoom out', bend: 'bend',
+    needKey: (m) => `${m}. This server needs an API key: open this page with #key=YOUR_KEY after its address.`,
   },
   zh: {
     title: 'geoslice', model: '模型', language: '语言', langSwitch: 'English', langSwitchLabel: '切换到英文',
@@ -64,6 +65,7 @@ const STRINGS = {
     permalink: '复制链接', linkCopied: '链接已复制', scale: '比例尺', metres: '米', vxShown: (k) => `垂向放大 ${k}×`,
     elevAxis: '高程（米）', distAxis: '距离（米）', eastAxis: '东坐标（米）', northAxis: '北坐标（米）',
     noModels: '服务器上没有模型。', zoomIn: '放大', zoomOut: '缩小', bend: '拐点',
+    needKey: (m) => `${m}。此服务器需要 API 密钥：请在本页地址后加上 #key=您的密钥 再打开。`,
   },
 };
 

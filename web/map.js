@@ -2,7 +2,7 @@
 // tile grid (api/view.hpp TileGrid) and long-press.
 import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S } from './state.js?v=__GS_BUILD__';
-import { busy, setStatus } from './api.js?v=__GS_BUILD__';
+import { busy, setStatus, withKey } from './api.js?v=__GS_BUILD__';
 
 // ---- tiles with retry ------------------------------------------------------------------
 // Tiles are fetched (not <img src>) so that a 503 is seen and retried with back-off
@@ -22,7 +22,7 @@ export const RetryTiles = L.GridLayer.extend({
     let attempt = 0;
     const go = () => {
       busy(+1);
-      fetch(url)
+      fetch(url, { headers: withKey() })
         .then((r) => {
           if (r.ok) return r.blob();
           throw { status: r.status, after: Number(r.headers.get('Retry-After')) || 0 };

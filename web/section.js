@@ -3,7 +3,7 @@
 import * as V from './views.js?v=__GS_BUILD__';
 import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S, mark, markPainted, permalinkSoon } from './state.js?v=__GS_BUILD__';
-import { request, api, setStatus } from './api.js?v=__GS_BUILD__';
+import { request, api, setStatus, hasApiKey } from './api.js?v=__GS_BUILD__';
 import { RetryTiles, tileFrame, usefulZoom, gridBounds, sectionMap } from './map.js?v=__GS_BUILD__';
 import { drawSectionOverlay } from './overlay.js?v=__GS_BUILD__';
 import { drawPlanLine, modeAzimuth } from './plan.js?v=__GS_BUILD__';
@@ -134,6 +134,20 @@ export function updateExports() {
     const extra = ext === 'geojson' ? '&space=world' : ext === 'pdf' ? '' : '&size=2048x1024';
     a.href = api(`/section.${ext}?${sec.q}${extra}`);
     a.download = `${S.model.id}-section.${ext}`;
+    // A link cannot send the API key: with one, the file is fetched and saved from here.
+    a.onclick = hasApiKey() ? (e) => { e.preventDefault(); downloadWithKey(a.href, a.download); } : null;
   }
   $('expPdf').hidden = !S.pdf;
+}
+async function downloadWithKey(url, name) {
+  try {
+    const blob = await request(url, {}, 'blob');
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = name;
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+  } catch (e) {
+    setStatus(e.message, true);
+  }
 }

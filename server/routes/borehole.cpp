@@ -11,7 +11,7 @@ namespace geoslice::server {
 void addBoreholeRoutes(Router& router, ServerState& st) {
     router.add("GET", "/v1/models/{id}/borehole", "/v1/models/([^/]+)/borehole",
                [&st](const HttpRequest& req, HttpResponse& res) {
-                   auto m = findModel(st, req.matches[1], res, req.path);
+                   auto m = findModel(st, req, req.matches[1], res);
                    if (!m) return;
                    auto params = queryParams(req);
                    if (!params) return problem(res, params.error(), req.path);

@@ -8,11 +8,26 @@
 
 namespace geoslice::server {
 
-std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const std::string& id, HttpResponse& res,
-                                                   const std::string& instance) {
+bool mayRead(const ServerState& state, const HttpRequest& req, std::string_view id) {
+    // A keyed route always has req.key while keys are on (the router answered 401 otherwise);
+    // a request without one reads nothing.
+    return !state.keys.enabled() || (req.key && req.key->mayRead(id));
+}
+
+void forbidModel(HttpResponse& res, std::string_view id, const std::string& instance) {
+    problem(res, 403, "this API key may not read model '" + std::string(id) + "'", instance, "forbidden");
+}
+
+std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const HttpRequest& req, const std::string& id,
+                                                   HttpResponse& res) {
+    const std::string& instance = req.path;
     if (!api::isValidModelId(id)) {
         problem(res, 404, "model id '" + id.substr(0, 80) + "' is not a valid id ([A-Za-z0-9][A-Za-z0-9._-]{0,63})",
                 instance, "not_found");
+        return nullptr;
+    }
+    if (!mayRead(state, req, id)) {
+        forbidModel(res, id, instance);
         return nullptr;
     }
     auto m = state.catalog.find(id);

@@ -33,10 +33,18 @@ inline std::size_t renderBytes(int width, int height, bool gl) {
     return std::size_t(width) * std::size_t(height) * (gl ? kGlBytesPerPixel : kExactBytesPerPixel);
 }
 
-// The model `id` names, or null after answering: 404 for an invalid or unknown id, 503 +
-// Retry-After while models are still loading.
-std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const std::string& id, HttpResponse& res,
-                                                   const std::string& instance);
+// The model `id` names, or null after answering: 404 for an invalid id; 403 while API keys
+// are on and the request's key (HttpRequest::key, set by the router) may not read `id`,
+// decided before the catalog is consulted, so that a 403 says nothing about whether such a
+// model exists; 404 for an unknown id, 503 + Retry-After while models are still loading.
+// Every route that serves a model's data finds it here: the one place of the scope check.
+std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const HttpRequest& req, const std::string& id,
+                                                   HttpResponse& res);
+
+// True when the request may read model `id`: keys off, or its key's scope names `id`.
+bool mayRead(const ServerState& state, const HttpRequest& req, std::string_view id);
+// The 403 answer for a model the request's key may not read.
+void forbidModel(HttpResponse& res, std::string_view id, const std::string& instance);
 
 // How long a request handled on an HTTP thread waits for a model's ray scene (built after
 // /readyz, api::CatalogModel::rays): the request deadline (config deadlineMs), or until its

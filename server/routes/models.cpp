@@ -1,4 +1,5 @@
-// The model catalog: GET /v1/models (summaries without legends), /v1/models/{id} (one
+// The model catalog: GET /v1/models (summaries without legends; while API keys are on, of
+// the models the request's key may read), /v1/models/{id} (one
 // summary), /v1/models/{id}/legend.png (the legend image, optionally with the rows of a
 // block-property colouring: colour=PROP[&breaks=..&ramp=..]).
 #include <chrono>
@@ -12,7 +13,7 @@ namespace geoslice::server {
 namespace {
 
 void legend(ServerState& st, const HttpRequest& req, HttpResponse& res) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     auto params = queryParams(req);
     if (!params) return problem(res, params.error(), req.path);
@@ -49,9 +50,10 @@ void legend(ServerState& st, const HttpRequest& req, HttpResponse& res) {
 }  // namespace
 
 void addModelRoutes(Router& router, ServerState& st) {
-    router.add("GET", "/v1/models", "/v1/models", [&st](const HttpRequest&, HttpResponse& res) {
+    router.add("GET", "/v1/models", "/v1/models", [&st](const HttpRequest& req, HttpResponse& res) {
         Json list = Json::array();
         for (const auto& m : st.catalog.list()) {
+            if (!mayRead(st, req, m->id)) continue;  // a key lists the models it may read, no others
             Json s = m->summary();
             s.erase("legend");
             list.push_back(std::move(s));
@@ -59,7 +61,7 @@ void addModelRoutes(Router& router, ServerState& st) {
         sendJson(res, Json{{"models", std::move(list)}, {"loading", !st.loaded}});
     });
     router.add("GET", "/v1/models/{id}", "/v1/models/([^/]+)", [&st](const HttpRequest& req, HttpResponse& res) {
-        auto m = findModel(st, req.matches[1], res, req.path);
+        auto m = findModel(st, req, req.matches[1], res);
         if (m) sendJson(res, m->summary());
     });
     router.add("GET", "/v1/models/{id}/legend.png", "/v1/models/([^/]+)/legend\\.png",

@@ -1,5 +1,8 @@
 // The operator's routes: GET /healthz (alive), /readyz (models in, GL ready, workers not
-// all overrunning; 503 otherwise), /metrics (Prometheus text), /openapi.json.
+// all overrunning; 503 otherwise), /metrics (Prometheus text), /openapi.json. All open while
+// API keys are on (probes and scrapers carry none), so none of them names a model then:
+// /readyz counts failed models and ray scenes instead of naming them, and /metrics has no
+// model in any label (route templates, kinds and counts only).
 #include "api/openapi.hpp"
 #include "model/version.hpp"
 #include "server/respond.hpp"
@@ -43,7 +46,11 @@ void readyz(ServerState& st, HttpResponse& res) {
         std::lock_guard lock(st.failedMutex);
         failures = st.failed;
     }
-    if (!st.config.readyzPaths)
+    // While API keys are on, model ids are confidential and this route is open: failures and
+    // ray scenes are counted, not named (the log names them: event=model_failed).
+    const bool anonymous = st.keys.enabled();
+    if (anonymous) failures = failures.size();
+    if (!st.config.readyzPaths && !anonymous)
         for (auto& f : failures)
             if (f.contains("error") && f["error"].is_string()) f["error"] = redactPaths(f["error"].get<std::string>());
     // Renders: overruns are counted; when every worker is running past its deadline the
@@ -64,6 +71,11 @@ void readyz(ServerState& st, HttpResponse& res) {
     Json rays = Json::object();
     for (const auto& m : st.catalog.list()) {
         const RayQueries::State s = m->rays->state();
+        if (anonymous) {
+            Json& n = rays[RayQueries::stateName(s)];
+            n = n.is_null() ? 1 : n.get<int>() + 1;
+            continue;
+        }
         Json r{{"state", RayQueries::stateName(s)}, {"seconds", m->rays->buildSeconds()}};
         if (s == RayQueries::State::Failed) r["error"] = m->rays->error();
         rays[m->id] = std::move(r);
@@ -80,15 +92,25 @@ void readyz(ServerState& st, HttpResponse& res) {
 }  // namespace
 
 void addOpsRoutes(Router& router, ServerState& st) {
-    router.add("GET", "/healthz", "/healthz", [](const HttpRequest&, HttpResponse& res) {
-        sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
-    });
-    router.add("GET", "/readyz", "/readyz", [&st](const HttpRequest&, HttpResponse& res) { readyz(st, res); });
-    router.add("GET", "/metrics", "/metrics", [&st](const HttpRequest&, HttpResponse& res) {
-        res.set_content(st.metrics.text(), "text/plain; version=0.0.4");
-    });
-    router.add("GET", "/openapi.json", "/openapi\\.json",
-               [](const HttpRequest&, HttpResponse& res) { sendJson(res, api::openApiDocument(kVersion)); });
+    router.add(
+        "GET", "/healthz", "/healthz",
+        [](const HttpRequest&, HttpResponse& res) {
+            sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
+        },
+        RouteAccess::Open);
+    router.add(
+        "GET", "/readyz", "/readyz", [&st](const HttpRequest&, HttpResponse& res) { readyz(st, res); },
+        RouteAccess::Open);
+    router.add(
+        "GET", "/metrics", "/metrics",
+        [&st](const HttpRequest&, HttpResponse& res) {
+            res.set_content(st.metrics.text(), "text/plain; version=0.0.4");
+        },
+        RouteAccess::Open);
+    router.add(
+        "GET", "/openapi.json", "/openapi\\.json",
+        [](const HttpRequest&, HttpResponse& res) { sendJson(res, api::openApiDocument(kVersion)); },
+        RouteAccess::Open);
 }
 
 }  // namespace geoslice::server

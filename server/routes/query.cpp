@@ -15,7 +15,7 @@ namespace geoslice::server {
 namespace {
 
 void queryGet(ServerState& st, const HttpRequest& req, HttpResponse& res) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     auto params = queryParams(req);
     if (!params) return problem(res, params.error(), req.path);
@@ -34,7 +34,7 @@ void queryGet(ServerState& st, const HttpRequest& req, HttpResponse& res) {
 }
 
 void queryPost(ServerState& st, const HttpRequest& req, HttpResponse& res) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     if (!requireJsonBody(req, res)) return;
     auto batch = api::parseQueryBatch(req.body, api::viewParamNames());

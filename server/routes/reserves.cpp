@@ -30,7 +30,7 @@ Result<std::string> reservesBody(const api::CatalogModel& m, const api::Reserves
 }
 
 void reserves(ServerState& st, const HttpRequest& req, HttpResponse& res, bool csvPath) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     auto params = queryParams(req);
     if (!params) return problem(res, params.error(), req.path);

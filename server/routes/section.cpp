@@ -25,7 +25,7 @@ Result<std::optional<api::SheetFormat>> sheetFormat(const HttpRequest& req, cons
 }
 
 void sectionImage(ServerState& st, const HttpRequest& req, HttpResponse& res) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     const std::string ext = req.matches[2];
     if (auto sheet = sheetFormat(req, ext); !sheet) {

@@ -2,6 +2,8 @@
 // -> its id, grid and tile URL template), GET /v1/sections/{sid} (the definition back) and
 // GET /v1/sections/{sid}/tiles/{z}/{x}/{y}.{png,jpg,webp} (api/view.hpp's tile grid; CPU,
 // on a render worker). The section id carries the whole definition (api/plan.hpp).
+#include <optional>
+
 #include "api/request.hpp"
 #include "api/tile_grid.hpp"
 #include "server/respond.hpp"
@@ -12,7 +14,7 @@ namespace geoslice::server {
 namespace {
 
 void defineSection(ServerState& st, const HttpRequest& req, HttpResponse& res) {
-    auto m = findModel(st, req.matches[1], res, req.path);
+    auto m = findModel(st, req, req.matches[1], res);
     if (!m) return;
     if (!requireJsonBody(req, res)) return;
     auto params = api::parseSectionBody(req.body);
@@ -34,29 +36,48 @@ void defineSection(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     sendJson(res, j, 201);
 }
 
-// The model and definition a section id names.
-Result<std::pair<std::shared_ptr<const api::CatalogModel>, api::SectionDef>> section(ServerState& st,
-                                                                                     const std::string& sid) {
-    auto def = api::decodeSectionId(sid, [&st](const std::string& id) -> const Crs* {
+// The model and definition a section id names, or null after answering. The scope of the
+// request's key is checked as soon as the id yields its model's name, before that model is
+// looked up (as findModel does): 403 whether or not it exists.
+std::optional<std::pair<std::shared_ptr<const api::CatalogModel>, api::SectionDef>> section(ServerState& st,
+                                                                                            const HttpRequest& req,
+                                                                                            HttpResponse& res) {
+    std::string forbidden;
+    auto def = api::decodeSectionId(req.matches[1], [&](const std::string& id) -> const Crs* {
+        if (!mayRead(st, req, id)) {
+            forbidden = id;
+            return nullptr;
+        }
         auto m = st.catalog.find(id);
         return m ? &m->model.crs : nullptr;
     });
-    if (!def) return def.error();
+    if (!forbidden.empty()) {
+        forbidModel(res, forbidden, req.path);
+        return std::nullopt;
+    }
+    if (!def) {
+        problem(res, def.error(), req.path);
+        return std::nullopt;
+    }
     auto m = st.catalog.find(def.value().model);
-    if (!m) return makeError(ErrorCode::NotFound, "section names model '" + def.value().model + "', not loaded");
+    if (!m) {
+        problem(res, makeError(ErrorCode::NotFound, "section names model '" + def.value().model + "', not loaded"),
+                req.path);
+        return std::nullopt;
+    }
     return std::make_pair(m, def.value());
 }
 
 void describeSection(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     if (auto p = queryParams(req); !p || !api::checkKnownParams(p.value(), {}).ok())
         return problem(res, 400, "this route takes no query parameters", req.path, "invalid_argument");
-    auto s = section(st, req.matches[1]);
-    if (!s) return problem(res, s.error(), req.path);
-    auto grid = api::tileGrid(*s.value().first, s.value().second);
+    auto s = section(st, req, res);
+    if (!s) return;
+    auto grid = api::tileGrid(*s->first, s->second);
     if (!grid) return problem(res, grid.error(), req.path);
     sendJson(res, Json{{"sid", std::string(req.matches[1])},
-                       {"model", s.value().first->id},
-                       {"definition", s.value().second.canonical()},
+                       {"model", s->first->id},
+                       {"definition", s->second.canonical()},
                        {"grid", grid.value().describe()}});
 }
 
@@ -68,9 +89,9 @@ void tile(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     if (!address) return problem(res, address.error(), req.path);
     if (auto p = queryParams(req); !p || !api::checkKnownParams(p.value(), {}).ok())
         return problem(res, 400, "tiles take no query parameters", req.path, "invalid_argument");
-    auto s = section(st, req.matches[1]);
-    if (!s) return problem(res, s.error(), req.path);
-    const auto& [m, def] = s.value();
+    auto s = section(st, req, res);
+    if (!s) return;
+    const auto& [m, def] = *s;
     const auto [z, x, y] = address.value();
     // Validated before any cache or ETag is consulted.
     auto grid = api::tileGrid(*m, def);

@@ -1,6 +1,7 @@
 // GET / and /web/{asset}: the embedded web client (server/web_assets.hpp). index.html is
 // revalidated on every load (no-cache + ETag); the other assets are fetched with
-// ?v=<build id> by the page and cached for a day.
+// ?v=<build id> by the page and cached for a day. Open to anyone while API keys are on: the
+// client holds no model data; it sends the key it is given (web/api.js).
 #include "server/respond.hpp"
 #include "server/routes/routes.hpp"
 #include "server/web_assets.hpp"
@@ -23,12 +24,14 @@ void sendAsset(const HttpRequest& req, HttpResponse& res, const WebAsset* a, boo
 }  // namespace
 
 void addWebRoutes(Router& router, ServerState&) {
-    router.add("GET", "/", "/", [](const HttpRequest& req, HttpResponse& res) {
-        sendAsset(req, res, findWebAsset("index.html"), true);
-    });
-    router.add("GET", "/web/{asset}", "/web/([A-Za-z0-9._/-]+)", [](const HttpRequest& req, HttpResponse& res) {
-        sendAsset(req, res, findWebAsset(req.matches[1]), false);
-    });
+    router.add(
+        "GET", "/", "/",
+        [](const HttpRequest& req, HttpResponse& res) { sendAsset(req, res, findWebAsset("index.html"), true); },
+        RouteAccess::Open);
+    router.add(
+        "GET", "/web/{asset}", "/web/([A-Za-z0-9._/-]+)",
+        [](const HttpRequest& req, HttpResponse& res) { sendAsset(req, res, findWebAsset(req.matches[1]), false); },
+        RouteAccess::Open);
 }
 
 }  // namespace geoslice::server

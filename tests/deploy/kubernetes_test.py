@@ -130,7 +130,27 @@ class Manifests(unittest.TestCase):
             find(self.docs, "PersistentVolumeClaim", claims[m["name"]]["claimName"])
             self.assertIn(m["mountPath"].rstrip("/") + "/baked", " ".join(c["args"]), "serves the baked packages")
         self.assertIn("--no-bake", c["args"], "replicas on a read-only volume never bake")
+        self.check_keys(spec, c)
         return c, labels
+
+    def check_keys(self, spec, c):
+        """API keys: GEOSLICE_KEYS_FILE names a file inside a read-only mount of the Secret
+        geoslice-keys, which is not optional (a pod without it must not start open)."""
+        keys_file = env_of(c).get("GEOSLICE_KEYS_FILE")
+        self.assertTrue(keys_file, "replicas serve models to API keys only")
+        secrets = {v["name"]: v["secret"] for v in spec["volumes"] if "secret" in v}
+        mounts = [m for m in c["volumeMounts"] if m["name"] in secrets
+                  and keys_file.startswith(m["mountPath"].rstrip("/") + "/")]
+        self.assertEqual(len(mounts), 1, "the keys file lies in a Secret mount")
+        m = mounts[0]
+        self.assertTrue(m.get("readOnly"))
+        secret = secrets[m["name"]]
+        self.assertEqual(secret["secretName"], "geoslice-keys")
+        self.assertFalse(secret.get("optional", False), "no Secret, no pod")
+        self.assertEqual(secret.get("defaultMode", 0o644) & 0o222, 0, "the keys file is not writable")
+        self.assertEqual(keys_file[len(m["mountPath"].rstrip("/")) + 1:], "keys", "the Secret's data key")
+        self.assertFalse([d for d in self.docs if d["kind"] == "Secret"],
+                         "no Secret in the manifests: kubectl apply would reset the real one")
 
     def test_cpu_deployment(self):
         dep = find(self.docs, "Deployment", "geoslice")

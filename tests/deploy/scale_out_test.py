@@ -72,6 +72,181 @@ def run_load(port, paths, threads=4, on_progress=None):
     return results
 
 
+class CrashingUpstream:
+    """A stand-in replica on 127.0.0.1 that dies on every request: it reads the whole request
+    (head and Content-Length body), counts it, then resets the connection without answering,
+    as a replica killed by that request would. `answer` instead makes it answer 201."""
+
+    def __init__(self, answer=False):
+        self.sock = socket.socket()
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        self.sock.bind(("127.0.0.1", 0))
+        self.sock.listen(16)
+        self.port = self.sock.getsockname()[1]
+        self.answer, self.seen, self.lock = answer, [], threading.Lock()
+        self.thread = threading.Thread(target=self._serve, daemon=True)
+        self.thread.start()
+
+    def _serve(self):
+        import struct
+
+        while True:
+            try:
+                conn, _ = self.sock.accept()
+            except OSError:
+                return
+            with conn:
+                conn.settimeout(5)
+                data = b""
+                try:
+                    while b"\r\n\r\n" not in data:
+                        chunk = conn.recv(65536)
+                        if not chunk:
+                            break
+                        data += chunk
+                    head, _, body = data.partition(b"\r\n\r\n")
+                    length = 0
+                    for line in head.split(b"\r\n")[1:]:
+                        k, _, v = line.partition(b":")
+                        if k.strip().lower() == b"content-length":
+                            length = int(v.strip())
+                    while len(body) < length:
+                        chunk = conn.recv(65536)
+                        if not chunk:
+                            break
+                        body += chunk
+                except OSError:
+                    continue
+                if not head:
+                    continue
+                with self.lock:
+                    self.seen.append(head.split(b"\r\n")[0].decode())
+                if self.answer:
+                    conn.sendall(b"HTTP/1.1 201 Created\r\nContent-Length: 2\r\nConnection: close\r\n\r\n{}")
+                else:  # RST, no answer: the process died
+                    conn.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+
+    def close(self):
+        # shutdown wakes the thread blocked in accept(); a bare close() would leave it to
+        # accept on whatever socket reuses the descriptor (another test's stand-in).
+        try:
+            self.sock.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
+        self.thread.join(timeout=10)
+        self.sock.close()
+
+
+class Retries(unittest.TestCase):
+    """deploy/nginx/geoslice.conf's proxy_next_upstream: a request that kills the replica it
+    reached is not replayed into every other replica (it was, 3 times, with non_idempotent)."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="geoslice-retries-")
+        self.upstreams = []
+        self.lb = None
+
+    def tearDown(self):
+        if self.lb:
+            self.lb.stop()
+        for u in self.upstreams:
+            u.close()
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def seen(self, prefix):
+        """How many times the stand-in replicas received a request line starting with `prefix`
+        (Balancer.start's own /healthz probes are not counted)."""
+        return sum(line.startswith(prefix) for u in self.upstreams for line in u.seen)
+
+    def balance(self, ports):
+        self.lb = Balancer(free_port(), self.dir, NGINX)
+        self.lb.configure(ports)
+        self.lb.start()
+        # start() probes /healthz, which the stand-ins fail: new workers forget those marks.
+        self.lb.reload(ports)
+        return self.lb.port
+
+    def test_a_request_that_kills_replicas_reaches_at_most_two_and_a_post_one(self):
+        self.upstreams = [CrashingUpstream() for _ in range(3)]
+        port = self.balance([u.port for u in self.upstreams])
+        status, _, _ = http_get(port, "/v1/models/demo/sections", method="POST", body='{"plane": "0,1,0,-5"}',
+                                headers={"Content-Type": "application/json"})
+        self.assertEqual(status, 502)
+        posts = self.seen("POST /v1/models/demo/sections")
+        self.assertEqual(posts, 1, "a POST that was sent is never replayed")
+        self.lb.reload([u.port for u in self.upstreams])  # forget the failure marks
+        status, _, _ = http_get(port, "/v1/models/demo/section.png?plane=0,1,0,-7")
+        self.assertEqual(status, 502)
+        gets = self.seen("GET /v1/models/demo/section.png")
+        self.assertEqual(gets, 2, "a GET that killed a replica is tried on one more, not on all")
+        print(f"a request that kills its replica: POST reached {posts} replica, GET {gets} of 3")
+
+    def test_a_post_that_was_never_sent_goes_to_another_replica(self):
+        good = CrashingUpstream(answer=True)
+        self.upstreams = [good]
+        dead = free_port()  # nothing listens: the connection is refused before anything is sent
+        port = self.balance([dead, good.port])
+        for i in range(4):  # round robin starts on either; every POST ends on the live one
+            status, _, body = http_get(port, "/v1/models/demo/sections", method="POST",
+                                       body=json.dumps({"plane": f"0,1,0,-{i}"}),
+                                       headers={"Content-Type": "application/json"})
+            self.assertEqual(status, 201, body)
+        self.assertEqual(self.seen("POST /v1/models/demo/sections"), 4)
+
+
+class KeysThroughNginx(unittest.TestCase):
+    """A replica with API keys behind deploy/nginx/geoslice.conf: nginx passes Authorization
+    and X-Api-Key through, never stores or serves a keyed answer from its cache, never
+    answers a request without a key from the cache, and logs no key."""
+
+    KEY = "k3yThr0ughNg1nx-0123456789abcdef"
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="geoslice-keys-")
+        keys = os.path.join(cls.dir, "keys")
+        with open(keys, "w") as f:
+            f.write(f"viewer {cls.KEY} demo\n")
+        cls.replica = Replica(BINARY, free_port(), cls.dir, ["--workers", "1", "--demo-triangles", "20000",
+                                                              "--keys", keys]).start()
+        cls.lb = Balancer(free_port(), cls.dir, NGINX)
+        try:
+            cls.replica.wait_ready()
+            cls.lb.configure([cls.replica.port])
+            cls.lb.start()
+        except Exception:
+            cls.tearDownClass()
+            raise
+
+    @classmethod
+    def tearDownClass(cls):
+        try:
+            cls.lb.stop()
+        finally:
+            cls.replica.kill(signal.SIGTERM)
+            shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def test_keyed_answers_pass_through_and_are_never_cached(self):
+        path = f"/v1/models/demo/section.png?plane={PLANE}&size=128x64"
+        answers = [http_get(self.lb.port, path, headers=h) for h in
+                   ({"Authorization": f"Bearer {self.KEY}"}, {"Authorization": f"Bearer {self.KEY}"},
+                    {"X-Api-Key": self.KEY})]
+        for status, headers, body in answers:
+            self.assertEqual(status, 200, body[:200])
+            self.assertNotEqual(headers.get("x-cache-status"), "HIT")
+            self.assertTrue(headers.get("cache-control", "").startswith("private"), headers)
+        for headers in ({}, {"Authorization": "Bearer not-a-key-of-this-server"}):
+            status, h, _ = http_get(self.lb.port, path, headers=headers)
+            self.assertEqual(status, 401, "no cached image for a request without a valid key")
+            self.assertNotEqual(h.get("x-cache-status"), "HIT")
+            self.assertTrue(h.get("www-authenticate", "").startswith("Bearer"))
+        log = "\n".join(self.lb.access_log())
+        self.assertIn("section.png", log)
+        self.assertNotIn(self.KEY, log, "nginx logs no key")
+        with open(self.replica.log_path) as f:
+            self.assertNotIn(self.KEY, f.read(), "the replica logs no key")
+
+
 class ScaleOut(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

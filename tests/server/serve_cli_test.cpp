@@ -60,7 +60,8 @@ TEST(ServeCli, StartsAnswersAndStopsOnSigterm) {
         if (!ready) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     EXPECT_TRUE(ready);
-    auto models = cl.Get("/v1/models/demo");
+    // The file's allow-list: a page of that origin may read the answer (its Origin echoed).
+    auto models = cl.Get("/v1/models/demo", {{"Origin", "https://mine.example"}});
     ASSERT_TRUE(models);
     EXPECT_EQ(models->status, 200);
     EXPECT_EQ(models->get_header_value("Access-Control-Allow-Origin"), "https://mine.example");  // from the file
@@ -100,6 +101,57 @@ TEST(ServeConfig, SourcesAndErrors) {
     EXPECT_FALSE(applyConfigJson(c, R"({"port": [1]})", "test.json"));
     c.gl = "vulkan";
     EXPECT_FALSE(checkConfig(c));
+}
+
+// CORS: auto is * for the demo and off with models; none, *, or an allow-list of origins
+// (normalised: lower case, no trailing '/'), and anything that is not an origin refused.
+TEST(ServeConfig, CorsPolicy) {
+    ServerConfig c;
+    EXPECT_EQ(c.cors, "auto");
+    auto demo = corsPolicy(c);
+    ASSERT_TRUE(demo);
+    EXPECT_EQ(demo.value().allowOrigin("https://x.example"), "*");
+    c.modelsDir = "/srv/models";
+    auto models = corsPolicy(c);
+    ASSERT_TRUE(models);
+    EXPECT_EQ(models.value().mode, CorsPolicy::Mode::Off);
+    EXPECT_EQ(models.value().allowOrigin("https://x.example"), "");
+    ASSERT_TRUE(applyConfigEnv(c, {{"GEOSLICE_CORS", "https://Maps.Example/, http://localhost:8000"}}));
+    auto list = corsPolicy(c);
+    ASSERT_TRUE(list) << list.error().message;
+    EXPECT_EQ(list.value().origins, (std::vector<std::string>{"https://maps.example", "http://localhost:8000"}));
+    EXPECT_EQ(list.value().allowOrigin("https://maps.example"), "https://maps.example");
+    EXPECT_EQ(list.value().allowOrigin("http://localhost:8000"), "http://localhost:8000");
+    for (const char* other : {"", "null", "https://maps.example.evil", "http://maps.example", "http://localhost:8001"})
+        EXPECT_EQ(list.value().allowOrigin(other), "") << other;
+    ASSERT_TRUE(applyConfigJson(c, R"({"corsOrigins": "*"})", "test.json"));
+    EXPECT_EQ(corsPolicy(c).value().allowOrigin("https://any.example"), "*");
+    ASSERT_TRUE(applyConfigJson(c, R"({"cors": "none"})", "test.json"));
+    EXPECT_EQ(corsPolicy(c).value().mode, CorsPolicy::Mode::Off);
+    for (const char* bad : {"maps.example", "https://a.example/path", "*,https://a.example", "null", "https://",
+                            "ftp://a.example", "https://a.example,"}) {
+        c.cors = bad;
+        EXPECT_FALSE(corsPolicy(c)) << bad;
+        EXPECT_FALSE(checkConfig(c)) << bad;
+    }
+}
+
+// Keys given inline are checked where they are given; an empty value is an error, not
+// "no keys" (it would leave every model open).
+TEST(ServeConfig, KeysSettings) {
+    ServerConfig c;
+    ASSERT_TRUE(applyConfigEnv(
+        c, {{"GEOSLICE_KEYS_FILE", "/run/secrets/keys"}, {"GEOSLICE_KEYS", "a 0123456789abcdef0123456789abcdef *"}}));
+    EXPECT_EQ(c.keysFile, "/run/secrets/keys");
+    EXPECT_EQ(c.keys, "a 0123456789abcdef0123456789abcdef *");
+    auto empty = applyConfigEnv(c, {{"GEOSLICE_KEYS", ""}});
+    ASSERT_FALSE(empty);
+    EXPECT_NE(empty.error().message.find("GEOSLICE_KEYS"), std::string::npos);
+    auto shortKey = applyConfigEnv(c, {{"GEOSLICE_KEYS", "a tooshort *"}});
+    ASSERT_FALSE(shortKey);
+    EXPECT_EQ(shortKey.error().message.find("tooshort"), std::string::npos) << shortKey.error().message;
+    ASSERT_TRUE(applyConfigJson(c, R"({"keysFile": "/etc/geoslice/keys"})", "test.json"));
+    EXPECT_EQ(c.keysFile, "/etc/geoslice/keys");
 }
 
 }  // namespace

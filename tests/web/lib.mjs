@@ -35,8 +35,9 @@ async function freePort() {
 }
 
 // Two small generated models (different seeds and places) in a temporary directory, so
-// that switching models can be tested; or the built-in demo when `demo` is set.
-export async function startServer(binary, { demo = false, log = null } = {}) {
+// that switching models can be tested; or the built-in demo when `demo` is set. `keys`:
+// text of an API keys file (api/access_keys.hpp) the server is started with.
+export async function startServer(binary, { demo = false, log = null, keys = null } = {}) {
   const args = ['serve', '--host', '127.0.0.1', '--workers', '2', '--log-level', 'warn'];
   let dir = null;
   if (demo) args.push('--demo-triangles', '200000');
@@ -46,6 +47,11 @@ export async function startServer(binary, { demo = false, log = null } = {}) {
     execFileSync(binary, ['generate', '--triangles', '30000', '--seed', '7', '--crs', 'EPSG:4523', '--at', '105.3,30.9',
                           '--out', path.join(dir, 'mine-b.glb')]);
     args.push('--models', dir);
+  }
+  if (keys) {
+    dir = dir || fs.mkdtempSync(path.join(os.tmpdir(), 'geoslice-web-'));
+    fs.writeFileSync(path.join(dir, 'keys'), keys);
+    args.push('--keys', path.join(dir, 'keys'));
   }
   const port = await freePort();
   args.push('--port', String(port));

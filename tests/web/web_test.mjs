@@ -504,6 +504,41 @@ const tests = {
     await page2.context().close();
   },
 
+  // API keys: the page opened with #key=KEY keeps the key in localStorage, drops it from the
+  // address (and so from permalinks), and every request (JSON, images, tiles) carries it; a
+  // page without a key says how to give one.
+  async api_key_from_the_address() {
+    const key = 'webClientKey-0123456789abcdef';
+    const keyed = await startServer(binary, { keys: `viewer ${key} mine-a\n` });
+    const ctx = await browser.newContext(DESKTOP);
+    try {
+      await ctx.route((url) => !url.href.startsWith(keyed.url), (route) => route.abort('blockedbyclient'));
+      const sent = [];
+      const page = await ctx.newPage();
+      page.on('request', (r) => { if (r.url().includes('/v1/')) sent.push([r.url(), r.headers().authorization || '']); });
+      await page.goto(`${keyed.url}/#key=${key}&lang=en`);
+      await page.waitForSelector('body[data-ready="1"]', { timeout: 20000 });
+      await page.waitForFunction(() => document.getElementById('busy').hidden, null, { timeout: 15000 });
+      check(!page.url().includes(key), `the key left the address: ${page.url()}`);
+      check(page.url().includes('lang=en'), `the rest of the address stays: ${page.url()}`);
+      check(await page.evaluate(() => localStorage.getItem('geoslice.apiKey')) === key, 'the key is kept');
+      const models = await page.evaluate(() => window.geoslice.S.models.map((m) => m.id));
+      check(JSON.stringify(models) === '["mine-a"]', `the key's models only: ${models}`);
+      check(!(await page.evaluate(() => window.geoslice.permalink())).includes(key), 'no key in the permalink');
+      await cutLine(page, [[0.2, 0.5], [0.8, 0.5]]);
+      check(sent.some(([u]) => u.includes('/tiles/')), 'tiles were fetched');
+      const bare = sent.filter(([, a]) => a !== `Bearer ${key}`);
+      check(sent.length > 3 && bare.length === 0, `every request carries the key: ${JSON.stringify(bare)}`);
+      const page2 = await (await browser.newContext(DESKTOP)).newPage();
+      await page2.goto(`${keyed.url}/#lang=en`);
+      await page2.waitForFunction(() => /API key/.test(document.getElementById('status').textContent), null, { timeout: 20000 });
+      await page2.context().close();
+    } finally {
+      await ctx.close();
+      keyed.stop();
+    }
+  },
+
   async assets_cached_and_typed() {
     const r = await fetch(`${origin}/`);
     check(r.headers.get('cache-control') === 'no-cache' && r.headers.get('etag'), 'index: no-cache + ETag');
