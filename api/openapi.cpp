@@ -35,7 +35,8 @@ J viewParams() {
         queryParam("line", "string", "x1,y1,x2,y2[,...]: vertical section along a map polyline (2..256 vertices)"),
         queryParam("elevation", "number", "horizontal slice (plan map) at this elevation, m"),
         queryParam("coords", "string",
-                   "world (default) or lonlat: units of 'line' (degrees lon,lat on the model CRS's own datum)"),
+                   "world (default) or lonlat: units of 'line' (degrees lon,lat on the model CRS's own datum); "
+                   "with 'plane' or 'elevation' a 400 (world coordinates, always)"),
         queryParam("view", "string", "profile (default, exact CPU engine) or perspective (GL renderer)"),
         queryParam("frame", "string", "u0,u1,v0,v1: plane u/v metres shown in a profile (default: model bounds)"),
         queryParam("eye", "string", "x,y,z: perspective camera position, world m"),

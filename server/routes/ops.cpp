@@ -1,5 +1,7 @@
 // The operator's routes: GET /healthz (alive), /readyz (models in, GL ready, workers not
-// all overrunning; 503 otherwise), /metrics (Prometheus text), /openapi.json.
+// all overrunning; 503 otherwise; models.failed, models.skipped (directory entries not
+// loaded, with the reason) and models.warnings (models served unbaked) are reported, never a
+// reason to be unready), /metrics (Prometheus text), /openapi.json.
 #include "api/openapi.hpp"
 #include "model/version.hpp"
 #include "server/respond.hpp"
@@ -38,14 +40,18 @@ void readyz(ServerState& st, HttpResponse& res) {
     const bool modelsReady = st.loaded && st.catalog.size() > 0;
     const workers::GlStatus::Snapshot gl = st.glStatus.get();
     const bool glOk = !st.glEnabled || gl.ready;
-    Json failures;
+    Json failures, skipped, warnings;
     {
         std::lock_guard lock(st.failedMutex);
         failures = st.failed;
+        skipped = st.skipped;
+        warnings = st.warnings;
     }
     if (!st.config.readyzPaths)
-        for (auto& f : failures)
-            if (f.contains("error") && f["error"].is_string()) f["error"] = redactPaths(f["error"].get<std::string>());
+        for (Json* list : {&failures, &skipped, &warnings})
+            for (auto& f : *list)
+                for (const char* key : {"error", "reason", "warning"})
+                    if (f.contains(key) && f[key].is_string()) f[key] = redactPaths(f[key].get<std::string>());
     // Renders: overruns are counted; when every worker is running past its deadline the
     // server cannot take work and says so.
     const workers::PoolStats ps = st.pool->stats();
@@ -69,7 +75,12 @@ void readyz(ServerState& st, HttpResponse& res) {
         rays[m->id] = std::move(r);
     }
     Json j{{"ready", modelsReady && glOk && workersOk},
-           {"models", {{"loaded", st.catalog.size()}, {"done", bool(st.loaded)}, {"failed", failures}}},
+           {"models",
+            {{"loaded", st.catalog.size()},
+             {"done", bool(st.loaded)},
+             {"failed", failures},
+             {"skipped", skipped},
+             {"warnings", warnings}}},
            {"rays", std::move(rays)},
            {"gl", {{"enabled", st.glEnabled}, {"ready", gl.ready}, {"device", gl.device}}},
            {"workers", st.pool->workers()},
