@@ -146,7 +146,10 @@ J openApiDocument(const std::string& serverVersion) {
     get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok")));
     get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found); `rays` gives each "
                       "model's ray scene (pending, building, ready, failed), which queries without a cached image, "
-                      "perspective queries and boreholes wait for up to their deadline (504 past it)",
+                      "perspective queries and boreholes wait for up to their deadline (504 past it); "
+                      "models.failed (id, error), models.skipped (models-directory entries not loaded: entry, "
+                      "reason) and models.warnings (id, warning: e.g. a failed bake, the model served from memory) "
+                      "are reported, not a reason to be unready",
                       J::array(), jsonResponse("ready; 503 while loading")));
     get("/metrics", op("Prometheus text format: requests and latency per route, queue depth, cache hits, render times",
                        J::array(), J{{"description", "metrics"}, {"content", {{"text/plain", J::object()}}}}));
