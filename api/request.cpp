@@ -3,8 +3,8 @@
 #include <cctype>
 #include <cmath>
 
-#include "model/view_limits.hpp"
 #include "model/json_text.hpp"
+#include "model/view_limits.hpp"
 
 namespace geoslice::api {
 

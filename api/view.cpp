@@ -5,9 +5,9 @@
 #include <limits>
 
 #include "api/legend.hpp"
+#include "model/json_text.hpp"
 #include "section/contours.hpp"
 #include "section/vector_export.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::api {
 namespace {

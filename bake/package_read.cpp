@@ -12,8 +12,8 @@
 #include <cstring>
 
 #include "bake/package_internal.hpp"
-#include "model/validate.hpp"
 #include "model/json_text.hpp"
+#include "model/validate.hpp"
 
 namespace geoslice::bake {
 namespace {

@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "model/json_text.hpp"
 #include "model/loaders.hpp"
 #include "section/borehole.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 namespace {

@@ -6,9 +6,9 @@
 
 #include "cli/commands.hpp"
 #include "model/gltf_io.hpp"
+#include "model/json_text.hpp"
 #include "model/synthetic.hpp"
 #include "model/validate.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 

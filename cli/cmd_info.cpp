@@ -6,8 +6,8 @@
 #include <limits>
 
 #include "cli/commands.hpp"
-#include "model/loaders.hpp"
 #include "model/json_text.hpp"
+#include "model/loaders.hpp"
 
 namespace geoslice::cli {
 namespace {

@@ -9,10 +9,10 @@
 
 #include "api/reserves.hpp"
 #include "cli/commands.hpp"
+#include "model/json_text.hpp"
 #include "model/loaders.hpp"
 #include "section/block_reserves.hpp"
 #include "section/reserves.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 

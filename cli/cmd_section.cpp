@@ -22,6 +22,7 @@
 
 #include "api/params.hpp"
 #include "cli/commands.hpp"
+#include "model/json_text.hpp"
 #include "model/loaders.hpp"
 #include "print/cairo_output.hpp"
 #include "print/map_scale.hpp"
@@ -36,7 +37,6 @@
 #include "section/raster.hpp"
 #include "section/section_index.hpp"
 #include "section/vector_export.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::cli {
 namespace {

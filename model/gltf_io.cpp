@@ -11,8 +11,8 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 
-#include "model/version.hpp"
 #include "model/json_text.hpp"
+#include "model/version.hpp"
 
 namespace geoslice {
 namespace {

@@ -115,9 +115,11 @@ std::optional<Refusal> checkFraming(unsigned version,
         while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
         while (!v.empty() && (v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
         if (encodings > 1 || !equalsNoCase(v, "chunked"))
-            return Refusal{501, "Transfer-Encoding " + (encodings > 1 ? std::string("given more than once") : shown(v)) +
+            return Refusal{501, "Transfer-Encoding " +
+                                    (encodings > 1 ? std::string("given more than once") : shown(v)) +
                                     " is not supported: only a lone 'chunked' is"};
-        if (lengths > 0) return Refusal{400, "both Transfer-Encoding and Content-Length: the body's length is ambiguous"};
+        if (lengths > 0)
+            return Refusal{400, "both Transfer-Encoding and Content-Length: the body's length is ambiguous"};
     }
     if (version >= 11 && hosts != 1)
         return Refusal{400, hosts == 0 ? std::string("an HTTP/1.1 request must have a Host header")

@@ -70,8 +70,8 @@ std::string Router::allowedMethods(const std::string& path) const {
     std::string allow;
     for (const auto& r : routes_) {
         if (!std::regex_match(path, r.pattern)) continue;
-        for (const std::string& m : r.method == "GET" ? std::vector<std::string>{"GET", "HEAD"}
-                                                      : std::vector<std::string>{r.method})
+        for (const std::string& m :
+             r.method == "GET" ? std::vector<std::string>{"GET", "HEAD"} : std::vector<std::string>{r.method})
             if (allow.find(m) == std::string::npos) allow += (allow.empty() ? "" : ", ") + m;
     }
     if (!allow.empty()) allow += ", OPTIONS";

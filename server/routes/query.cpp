@@ -5,11 +5,11 @@
 // memory admission; at most kMaxBatchPixels pixels and kMaxBatchAnswerBytes of answer).
 #include "api/pixel_query.hpp"
 #include "api/request.hpp"
+#include "model/json_text.hpp"
 #include "model/view_limits.hpp"
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::server {
 namespace {

@@ -4,10 +4,10 @@
 #include <chrono>
 
 #include "api/reserves.hpp"
+#include "model/json_text.hpp"
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"
-#include "model/json_text.hpp"
 
 namespace geoslice::server {
 namespace {

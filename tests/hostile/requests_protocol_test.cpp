@@ -56,10 +56,18 @@ ServeProcess* HostileProtocol::server_ = nullptr;
 
 TEST_F(HostileProtocol, PathsThatAreNotUtf8Are400AndNameTheProblem) {
     // The twelve requests that ended the process, as an outside campaign sent them.
-    const std::vector<std::string> targets = {
-        "/%ff",           "/web/%ff",           "/v1/models/%ff",     "/v1/models/%c3%28",
-        "/v1/models/%c0%af", "/v1/models/%ed%a0%80", "/v1/sections/%ff", "/v1/sections/%ff/tiles/0/0/0.png",
-        "/v1/models/demo/section.%ff", "/..%c0%af..%c0%afetc/passwd", "/%f4%90%80%80", "/a%00b%ff"};
+    const std::vector<std::string> targets = {"/%ff",
+                                              "/web/%ff",
+                                              "/v1/models/%ff",
+                                              "/v1/models/%c3%28",
+                                              "/v1/models/%c0%af",
+                                              "/v1/models/%ed%a0%80",
+                                              "/v1/sections/%ff",
+                                              "/v1/sections/%ff/tiles/0/0/0.png",
+                                              "/v1/models/demo/section.%ff",
+                                              "/..%c0%af..%c0%afetc/passwd",
+                                              "/%f4%90%80%80",
+                                              "/a%00b%ff"};
     for (const auto& t : targets) expectProblem(send(get(t)), 400, "not valid UTF-8", t);
     expectProblem(send("FOO /%ff HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n"), 400, "not valid UTF-8", "FOO");
     expectProblem(send(get("/v1/models/\xff")), 400, "not valid UTF-8", "a raw 0xff in the request line");
@@ -87,9 +95,10 @@ TEST_F(HostileProtocol, ParametersAndHeadersThatAreNotUtf8Are400NamingThem) {
                   "If-None-Match");
     // A POST body that is not UTF-8 is refused by the JSON parser, naming the body.
     const std::string body = "{\"plane\": \"0,1,0,\xff\"}";
-    const auto x = send("POST /v1/models/demo/sections HTTP/1.1\r\nHost: t\r\nContent-Type: application/json\r\n"
-                        "Content-Length: " +
-                        std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body);
+    const auto x = send(
+        "POST /v1/models/demo/sections HTTP/1.1\r\nHost: t\r\nContent-Type: application/json\r\n"
+        "Content-Length: " +
+        std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body);
     const auto codes = statusCodes(x.reply);
     ASSERT_FALSE(codes.empty());
     EXPECT_EQ(codes[0], 400) << x.reply;
@@ -102,26 +111,29 @@ TEST_F(HostileProtocol, TransferEncodingOtherThanALoneChunkedIs501AndNothingIsSm
     // be answered (only one status line comes back) and the connection must close.
     const std::string hidden = "GET /v1/models/demo HTTP/1.1\r\nHost: t\r\n\r\n";
     for (const std::string te : {"gzip", "identity", "xchunked", "chunked, identity", "gzip, chunked, gzip"}) {
-        const std::string probe = "POST /v1/models/demo/sections HTTP/1.1\r\nHost: t\r\nContent-Type: "
-                                  "application/json\r\nTransfer-Encoding: " +
-                                  te + "\r\n\r\n" + hidden;
+        const std::string probe =
+            "POST /v1/models/demo/sections HTTP/1.1\r\nHost: t\r\nContent-Type: "
+            "application/json\r\nTransfer-Encoding: " +
+            te + "\r\n\r\n" + hidden;
         const auto x = send(probe);
         expectProblem(x, 501, "Transfer-Encoding", te);
         EXPECT_EQ(statusCodes(x.reply).size(), 1u) << te << ": a smuggled request was answered\n" << x.reply;
         EXPECT_TRUE(x.closed) << te << ": the connection stayed open";
     }
     // Two Transfer-Encoding fields, or one beside a Content-Length.
-    for (const std::string fields : {"Transfer-Encoding: chunked\r\nTransfer-Encoding: chunked\r\n",
-                                     "Transfer-Encoding: gzip\r\nContent-Length: 5\r\n",
-                                     "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n"}) {
-        const auto x = send("POST /v1/models/demo/sections HTTP/1.1\r\nHost: t\r\n" + fields + "\r\n0\r\n\r\n" + hidden);
+    for (const std::string fields :
+         {"Transfer-Encoding: chunked\r\nTransfer-Encoding: chunked\r\n",
+          "Transfer-Encoding: gzip\r\nContent-Length: 5\r\n", "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n"}) {
+        const auto x =
+            send("POST /v1/models/demo/sections HTTP/1.1\r\nHost: t\r\n" + fields + "\r\n0\r\n\r\n" + hidden);
         const auto codes = statusCodes(x.reply);
         ASSERT_EQ(codes.size(), 1u) << fields << "\n" << x.reply;
         EXPECT_TRUE(codes[0] == 400 || codes[0] == 501) << fields << "\n" << x.reply;
         EXPECT_TRUE(x.closed) << fields;
     }
     // chunked on HTTP/1.0: refused and closed.
-    const auto old = send("POST /v1/models/demo/sections HTTP/1.0\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n" + hidden);
+    const auto old =
+        send("POST /v1/models/demo/sections HTTP/1.0\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n" + hidden);
     expectProblem(old, 400, "HTTP/1.0", "chunked on HTTP/1.0");
     EXPECT_EQ(statusCodes(old.reply).size(), 1u) << old.reply;
     EXPECT_TRUE(old.closed);
@@ -129,9 +141,10 @@ TEST_F(HostileProtocol, TransferEncodingOtherThanALoneChunkedIs501AndNothingIsSm
     const std::string body = "{\"plane\": \"0,1,0,-3388846\"}";
     char size[16];
     std::snprintf(size, sizeof size, "%zx", body.size());
-    const auto ok = send("POST /v1/models/demo/sections HTTP/1.1\r\nHost: t\r\nContent-Type: application/json\r\n"
-                         "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n" +
-                         std::string(size) + "\r\n" + body + "\r\n0\r\n\r\n");
+    const auto ok = send(
+        "POST /v1/models/demo/sections HTTP/1.1\r\nHost: t\r\nContent-Type: application/json\r\n"
+        "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n" +
+        std::string(size) + "\r\n" + body + "\r\n0\r\n\r\n");
     ASSERT_FALSE(statusCodes(ok.reply).empty()) << ok.reply;
     EXPECT_EQ(statusCodes(ok.reply)[0], 201) << ok.reply;
 }
