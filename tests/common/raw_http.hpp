@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <string>
@@ -77,11 +78,17 @@ inline std::vector<int> statusCodes(std::string_view reply) {
     return codes;
 }
 
-// The body of the first answer in `reply` (after its empty line), "" when none.
+// The body of the first answer in `reply` (after its empty line), "" when none: its
+// Content-Length bytes when the head gives one (a detail may itself say "HTTP/1.0"), else up
+// to the next status line.
 inline std::string firstBody(std::string_view reply) {
     const auto at = reply.find("\r\n\r\n");
     if (at == std::string_view::npos) return {};
     std::string_view rest = reply.substr(at + 4);
+    std::string head(reply.substr(0, at + 2));
+    for (char& c : head) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (const auto cl = head.find("\r\ncontent-length:"); cl != std::string::npos)
+        return std::string(rest.substr(0, std::strtoull(head.c_str() + cl + 17, nullptr, 10)));
     const auto next = rest.find("HTTP/1.");
     return std::string(rest.substr(0, next));
 }

@@ -213,9 +213,12 @@ TEST_F(Transport, Http10ClosesAfterTheAnswer) {
 TEST_F(Transport, HandlerExceptionIs500) {
     const int fd = connectFd();
     sendText(fd, "GET /throw HTTP/1.1\r\nHost: h\r\n\r\n");
-    const std::string got = readUntil(fd, "boom");
+    // The transport's last catch answers a prepared 500 (server/http_connection.hpp): nothing
+    // of the exception is echoed (the router, not the transport, names what a route threw).
+    const std::string got = readUntil(fd, "\"code\":\"internal\"}");
     EXPECT_EQ(got.rfind("HTTP/1.1 500", 0), 0u) << got;
-    EXPECT_NE(got.find("internal error: boom"), std::string::npos) << got;
+    EXPECT_NE(got.find("\"detail\":\"internal error\""), std::string::npos) << got;
+    EXPECT_EQ(got.find("boom"), std::string::npos) << got;
     close(fd);
 }
 
