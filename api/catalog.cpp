@@ -1,8 +1,12 @@
 #include "api/catalog.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iterator>
 #include <string_view>
@@ -193,10 +197,51 @@ Result<std::shared_ptr<const bake::Package>> openPackage(const std::string& dir)
     return std::shared_ptr<const bake::Package>(std::make_shared<bake::Package>(std::move(pkg.value())));
 }
 
+// N of a "<id>.corrupt-N" name for package directory name `id`; 0 when `name` is not one.
+long corruptCopyNumber(const std::string& name, const std::string& id) {
+    const std::string prefix = id + ".corrupt-";
+    if (name.size() <= prefix.size() || name.size() > prefix.size() + 9 || name.compare(0, prefix.size(), prefix) != 0)
+        return 0;
+    long n = 0;
+    for (std::size_t i = prefix.size(); i < name.size(); ++i) {
+        if (name[i] < '0' || name[i] > '9') return 0;
+        n = n * 10 + (name[i] - '0');
+    }
+    return n;
+}
+
+// Moves the corrupt package `dir` aside to <dir>.corrupt-N (N one above the highest there),
+// then deletes all but the newest kCorruptCopiesKept copies (highest N), appending their paths
+// to `deleted`. The new copy's path, or why `dir` could not be moved.
+Result<std::string> moveAsideCorrupt(const std::string& dir, std::vector<std::string>& deleted) {
+    namespace fs = std::filesystem;
+    const fs::path parent = fs::path(dir).parent_path();
+    const std::string id = fs::path(dir).filename().string();
+    std::vector<std::pair<long, fs::path>> copies;
+    std::error_code ec;
+    for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec))
+        if (const long n = corruptCopyNumber(it->path().filename().string(), id); n > 0)
+            copies.emplace_back(n, it->path());
+    if (ec) return makeError(ErrorCode::IoError, "cannot list " + parent.string() + ": " + ec.message());
+    std::sort(copies.begin(), copies.end());
+    const long next = copies.empty() ? 1 : copies.back().first + 1;
+    const std::string aside = dir + ".corrupt-" + std::to_string(next);
+    fs::rename(dir, aside, ec);
+    if (ec) return makeError(ErrorCode::IoError, "cannot rename it to " + aside + ": " + ec.message());
+    copies.emplace_back(next, aside);
+    for (std::size_t i = 0; i + kCorruptCopiesKept < copies.size(); ++i) {
+        std::error_code rm;
+        fs::remove_all(copies[i].second, rm);
+        deleted.push_back(copies[i].second.string() + (rm ? " (failed: " + rm.message() + ")" : ""));
+    }
+    return aside;
+}
+
 }  // namespace
 
 Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
-                                                             const std::string& bakeDir, bool mayBake, RayBuild rays) {
+                                                             const std::string& bakeDir, bool mayBake, RayBuild rays,
+                                                             std::uint64_t maxFileBytes) {
     namespace fs = std::filesystem;
     if (!isValidModelId(id)) return makeError(ErrorCode::InvalidArgument, "model id '" + id + "' is not valid");
     const auto t0 = std::chrono::steady_clock::now();
@@ -217,7 +262,9 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
         m->model = std::move(model.value());
         m->package = std::move(pkg.value());
     } else {
-        auto bytes = readFile(path);
+        // Size and first bytes before the file is read whole (a sparse 2 GB file is refused here).
+        if (auto s = probeModelFile(path, maxFileBytes); !s) return s.error();
+        auto bytes = readFile(path, maxFileBytes);
         if (!bytes) return bytes.error();
         std::uint64_t h = fnv1a64(bytes.value());
         // Sidecar attribute tables and a <stem>.crs change what a model answers, so they enter
@@ -246,18 +293,46 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
             // source's version and it passes its checks; the source is parsed only to bake.
             const std::string dir = (fs::path(bakeDir) / id).string();
             const std::string stamp = (fs::path(dir) / "source.version").string();
-            auto bakeInto = [&]() -> Status {
+            auto usePackage = [&](std::shared_ptr<const bake::Package> pkg) -> Status {
+                auto model = bake::packageModel(*pkg);
+                if (!model) return model.error();
+                m->model = std::move(model.value());
+                m->package = std::move(pkg);
+                return {};
+            };
+            // Parses the source (an error here refuses the model) and bakes it into `dir`. Baking
+            // is an optimisation: when it fails, what it wrote is removed (a full disk must not
+            // stay full) and the parsed model is served from memory (bakeWarning says why).
+            auto bakeOrServe = [&]() -> Status {
                 auto model = loadModel(path);
                 if (!model) return model.error();
                 // The package stores the mesh in the section BVH's leaf order (section/index/leaf_order.hpp).
                 if (auto s = reorderForSection(model.value()); !s) return s.error();
-                auto baked = bake::bakeModel(model.value());
-                if (!baked) return makeError(baked.error().code, "baking model '" + id + "': " + baked.error().message);
-                if (auto s = bake::writePackage(model.value(), baked.value(), dir); !s) return s.error();
-                std::FILE* f = std::fopen(stamp.c_str(), "wb");
-                if (!f) return makeError(ErrorCode::IoError, "cannot write " + stamp);
-                std::fwrite(m->version.data(), 1, m->version.size(), f);
-                std::fclose(f);
+                Status baked = [&]() -> Status {
+                    auto b = bake::bakeModel(model.value());
+                    if (!b) return makeError(b.error().code, "baking: " + b.error().message);
+                    if (auto s = bake::writePackage(model.value(), b.value(), dir); !s) return s;
+                    return bake::writeFileAtomically(stamp, m->version.data(), m->version.size());
+                }();
+                if (baked) {
+                    auto pkg = openPackage(dir);
+                    if (pkg) {
+                        auto used = usePackage(std::move(pkg.value()));
+                        if (used) return used;
+                        baked = used.error();
+                    } else {
+                        baked = makeError(pkg.error().code,
+                                          "the package just written fails to load: " + pkg.error().message);
+                    }
+                }
+                std::error_code rm;
+                fs::remove_all(dir, rm);
+                m->bakeWarning = "not baked into " + dir + " (" + baked.error().message + ")" +
+                                 (rm ? "; removing what the bake wrote failed too: " + rm.message()
+                                     : "; what the bake wrote was removed") +
+                                 "; served from memory, unbaked";
+                m->model = std::move(model.value());
+                m->package.reset();
                 return {};
             };
             auto refuse = [&](const std::string& why) {
@@ -267,47 +342,38 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
             };
             auto previous = readFile(stamp, 64);
             Result<std::shared_ptr<const bake::Package>> pkg = makeError(ErrorCode::NotFound, "not baked yet");
-            if (previous && previous.value() == m->version) {
-                pkg = openPackage(dir);
-                if (!pkg && pkg.error().code == ErrorCode::Unsupported) {
-                    // Another package format version: bake again in place.
-                    if (!mayBake) return refuse("its package in " + dir + " is stale (" + pkg.error().message + ")");
-                    m->rebakedFrom = dir + " (" + pkg.error().message + ")";
-                    if (auto s = bakeInto(); !s) return s.error();
-                    pkg = openPackage(dir);
-                    if (!pkg) return pkg.error();
-                } else if (!pkg) {
-                    // The stamp matches but the package fails its checks (a corrupt or truncated
-                    // file): the source is intact, so keep the package aside (never deleted
-                    // silently) and bake again (issue 11 item 6).
-                    const std::string why = pkg.error().message;
-                    if (!mayBake) return refuse("its package in " + dir + " fails its checks (" + why + ")");
-                    std::string aside;
-                    for (int n = 1; n < 1000; ++n) {
-                        aside = dir + ".corrupt-" + std::to_string(n);
-                        if (!fs::exists(aside, ec)) break;
-                    }
-                    fs::rename(dir, aside, ec);
-                    if (ec)
-                        return makeError(ErrorCode::IoError, "package " + dir + " fails its checks (" + why +
-                                                                 ") and cannot be moved aside: " + ec.message());
-                    if (auto s = bakeInto(); !s) return s.error();
-                    pkg = openPackage(dir);
-                    if (!pkg) return pkg.error();
-                    m->rebakedFrom = aside + " (" + why + ")";
+            if (previous && previous.value() == m->version) pkg = openPackage(dir);
+            if (pkg) {
+                if (auto s = usePackage(std::move(pkg.value())); !s) return s.error();
+            } else if (previous && previous.value() == m->version && pkg.error().code == ErrorCode::Unsupported) {
+                // Another package format version: bake again in place.
+                if (!mayBake) return refuse("its package in " + dir + " is stale (" + pkg.error().message + ")");
+                m->rebakedFrom = dir + " (" + pkg.error().message + ")";
+                if (auto s = bakeOrServe(); !s) return s.error();
+            } else if (previous && previous.value() == m->version) {
+                // The stamp matches but the package fails its checks (a corrupt or truncated
+                // file): the source is intact, so keep the package aside (the newest
+                // kCorruptCopiesKept copies; never deleted silently) and bake again (issue 11 item 6).
+                const std::string why = pkg.error().message;
+                if (!mayBake) return refuse("its package in " + dir + " fails its checks (" + why + ")");
+                auto aside = moveAsideCorrupt(dir, m->deletedCorruptCopies);
+                if (aside) {
+                    m->rebakedFrom = aside.value() + " (" + why + ")";
+                    if (auto s = bakeOrServe(); !s) return s.error();
+                } else {
+                    // It cannot be moved: serve the source from memory, leave the package be.
+                    auto model = loadModel(path);
+                    if (!model) return model.error();
+                    m->model = std::move(model.value());
+                    m->bakeWarning = "package " + dir + " fails its checks (" + why + ") and cannot be moved aside (" +
+                                     aside.error().message + "); served from memory, unbaked";
                 }
             } else {
                 if (!mayBake)
                     return refuse(previous ? "its package in " + dir + " was baked from another version of the source"
                                            : "it has no baked package in " + dir);
-                if (auto s = bakeInto(); !s) return s.error();
-                pkg = openPackage(dir);
-                if (!pkg) return pkg.error();
+                if (auto s = bakeOrServe(); !s) return s.error();
             }
-            auto model = bake::packageModel(*pkg.value());
-            if (!model) return model.error();
-            m->model = std::move(model.value());
-            m->package = std::move(pkg.value());
         }
     }
     if (auto s = indexModel(*m, rays); !s) return s.error();
@@ -351,42 +417,109 @@ Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }
 
-Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir) {
+Result<ModelsDirScan> scanModelsDir(const std::string& dir, std::uint64_t maxFileBytes) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         return makeError(ErrorCode::NotFound, "models directory '" + dir + "' does not exist or is not a directory");
-    std::map<std::string, std::string> out;
-    for (const auto& entry : fs::directory_iterator(dir, ec)) {
-        const fs::path p = entry.path();
-        std::error_code e2;
-        if (entry.is_directory(e2)) {
-            const std::string name = p.filename().string();
-            // <id>.corrupt-N: a package moved aside by the bake dir, kept for inspection only.
-            if (name.find(".corrupt-") != std::string::npos) continue;
-            if (isValidModelId(name) && fs::exists(p / bake::kManifestFile, e2)) out[name] = p.string();
-            continue;
-        }
-        if (!entry.is_regular_file(e2)) continue;
+    // Names first, sorted: what wins between two files of one id must not depend on the
+    // file system's order.
+    std::vector<fs::path> entries;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) entries.push_back(it->path());
+    if (ec) return makeError(ErrorCode::IoError, "cannot list models directory '" + dir + "': " + ec.message());
+    std::sort(entries.begin(), entries.end());
+    // GOCAD Model3d (.ml), TSolid (.so) and groups (.gp) hold bodies; Voxet/SGrid/PLine
+    // alone hold nothing a section draws yet.
+    static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts", ".ml",
+                                                      ".so",  ".gp",   ".xml", ".vtu"};
+    auto modelExtension = [](const fs::path& p) {
         std::string ext = p.extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-        // GOCAD Model3d (.ml), TSolid (.so) and groups (.gp) hold bodies; Voxet/SGrid/PLine
-        // alone hold nothing a section draws yet.
-        static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts", ".ml",
-                                                          ".so",  ".gp",   ".xml", ".vtu"};
-        if (std::find(std::begin(kModelExts), std::end(kModelExts), ext) == std::end(kModelExts)) continue;
+        return std::find(std::begin(kModelExts), std::end(kModelExts), ext) != std::end(kModelExts);
+    };
+    ModelsDirScan out;
+    std::map<std::string, std::string> files;  // id -> file, before packages take their ids
+    auto skip = [&](const std::string& name, std::string reason) { out.skipped.push_back({name, std::move(reason)}); };
+    for (const fs::path& p : entries) {
+        const std::string name = p.filename().string();
+        if (name.empty() || name[0] == '.') continue;  // hidden: a bake dir, an editor's swap file
+        std::error_code e2;
+        // lstat, then stat through a symlink: a symlink's target is what is judged (never opened here).
+        struct stat lst {};
+        if (::lstat(p.c_str(), &lst) != 0) {
+            skip(name, std::string("cannot stat: ") + std::strerror(errno));
+            continue;
+        }
+        struct stat st {};
+        if (::stat(p.c_str(), &st) != 0) {
+            const int e = errno;
+            if (S_ISLNK(lst.st_mode) && e == ELOOP)
+                skip(name, "a symlink loop (" + std::string(std::strerror(e)) + ")");
+            else if (S_ISLNK(lst.st_mode) && e == ENOENT)
+                skip(name, "a dangling symlink (its target does not exist)");
+            else
+                skip(name,
+                     std::string(S_ISLNK(lst.st_mode) ? "a symlink whose target cannot be read: " : "cannot stat: ") +
+                         std::strerror(e));
+            continue;
+        }
+        if (S_ISDIR(st.st_mode)) {
+            // <id>.corrupt-N: a package moved aside by the bake dir, kept for inspection only.
+            if (name.find(".corrupt-") != std::string::npos) continue;
+            const bool manifest = fs::exists(p / bake::kManifestFile, e2);
+            if (manifest && isValidModelId(name)) {
+                out.models[name] = p.string();
+            } else if (manifest) {
+                skip(name, "a baked package whose name is not a valid model id ([A-Za-z0-9][A-Za-z0-9._-]{0,63})");
+            } else if (modelExtension(p)) {
+                skip(name, "a directory, not a model file (and not a baked package: no " +
+                               std::string(bake::kManifestFile) + ")");
+            } else {
+                bool packageFiles = false;
+                for (const char* f : {bake::kMeshFile, bake::kTextureFile, bake::kAttributesFile, bake::kSectionBvhFile,
+                                      bake::kVertexMapFile, "source.version"})
+                    packageFiles = packageFiles || fs::exists(p / f, e2);
+                skip(name, packageFiles
+                               ? "a package folder without " + std::string(bake::kManifestFile) +
+                                     " (an interrupted bake or copy?): not loaded"
+                               : "a directory without " + std::string(bake::kManifestFile) + ": not a baked package");
+            }
+            continue;
+        }
+        if (!S_ISREG(st.st_mode)) {
+            skip(name, fileKindName(st.st_mode) + (S_ISLNK(lst.st_mode) ? " behind a symlink" : "") +
+                           ", not a regular file: never opened");
+            continue;
+        }
+        if (!modelExtension(p)) continue;  // sidecars (.attributes.json, .crs, .blocks.csv), notes
         const std::string stem = p.stem().string();
         if (stem.size() > 11 && stem.ends_with(".attributes")) continue;
-        if (!isValidModelId(stem)) continue;
-        out.emplace(stem, p.string());  // a package of the same id (inserted or not yet) wins
+        if (!isValidModelId(stem)) {
+            skip(name, "'" + stem + "' is not a valid model id ([A-Za-z0-9][A-Za-z0-9._-]{0,63}, no '..')");
+            continue;
+        }
+        if (const auto it = files.find(stem); it != files.end()) {
+            skip(name, "model id '" + stem + "' is taken by " + fs::path(it->second).filename().string() +
+                           " (one file per id)");
+            continue;
+        }
+        if (auto s = probeModelFile(p.string(), maxFileBytes); !s) {
+            // The entry names the file: the reason without its path.
+            std::string why = s.error().message;
+            if (why.starts_with(p.string() + ": ")) why.erase(0, p.string().size() + 2);
+            skip(name, std::move(why));
+            continue;
+        }
+        files.emplace(stem, p.string());
     }
-    for (auto it = out.begin(); it != out.end(); ++it) {
-        std::error_code e3;
-        const fs::path pkg = fs::path(dir) / it->first;
-        if (fs::is_directory(pkg, e3) && fs::exists(pkg / bake::kManifestFile, e3)) it->second = pkg.string();
-    }
-    if (ec) return makeError(ErrorCode::IoError, "cannot list models directory '" + dir + "': " + ec.message());
+    for (auto& [id, path] : files) out.models.emplace(id, path);  // a package of the same id wins
     return out;
+}
+
+Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir) {
+    auto scan = scanModelsDir(dir);
+    if (!scan) return scan.error();
+    return std::move(scan.value().models);
 }
 
 void Catalog::add(std::shared_ptr<const CatalogModel> model) {

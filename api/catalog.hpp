@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/package.hpp"
+#include "model/io/loaders.hpp"
 #include "model/model.hpp"
 #include "model/result.hpp"
 #include "section/index/section_index.hpp"
@@ -49,6 +50,13 @@ struct CatalogModel {
     std::string rebakedFrom;
     // Set when loading fell back to slower work it should not have needed (logged).
     std::string loadWarning;
+    // Set when the model was to be baked into the bake dir and the bake failed (a full disk,
+    // a file size limit, a bake error): what this bake wrote was removed and the model is
+    // served from memory, unbaked (baking is an optimisation). Logged and shown by /readyz.
+    std::string bakeWarning;
+    // Older <id>.corrupt-N copies deleted when this load moved a corrupt package aside
+    // (kCorruptCopiesKept), for the log.
+    std::vector<std::string> deletedCorruptCopies;
     // The model's CRS to WGS 84 (EPSG:4326): one operation chosen at load for the model's
     // lon/lat extent (model/crs/crs.hpp CrsTransform). Null for a local model, and where PROJ
     // has no operation or only a ballpark one; then `wgs84Note` says why, and answers give
@@ -82,6 +90,11 @@ struct RayWait {
     const std::atomic<bool>* cancel = nullptr;
 };
 
+// How many <id>.corrupt-N copies of a corrupt baked package the bake dir keeps per id: moving
+// one aside deletes all but the newest kCorruptCopiesKept (highest N, this one included), so a
+// package that keeps failing its checks cannot fill the disk.
+constexpr int kCorruptCopiesKept = 2;
+
 // Loads, validates and indexes a model (the ray scene on a background thread, see `rays`): a file (glTF/GLB, OBJ,
 // TSurf, Geo3DML), or a baked package directory (bake/package.hpp: checksums verified, its mesh.glb is the geometry
 // with the validation stored at bake time (bake::packageModel), its manifest checksum the version). With `bakeDir`
@@ -89,20 +102,45 @@ struct RayWait {
 // the package format or its checksums change (a corrupt package is moved aside to <id>.corrupt-N); while the package is
 // current the source is read only for its version hash, never parsed. `mayBake` false (serve --no-bake: replicas on a
 // read-only models volume): nothing is baked; a raw model without a current package is refused (Unsupported, naming
-// why: missing, baked from another source version, stale format, failing its checks). Errors: the loader's or the
-// package reader's, and InvalidArgument when validation found errors (named).
+// why: missing, baked from another source version, stale format, failing its checks). A bake that fails (a full disk,
+// a file size limit, a bake error) removes bakeDir/<id>/ (what it wrote, and the unusable package it replaced) and the
+// model is served from memory with `bakeWarning` saying why. A model file is first checked with probeModelFile
+// (model/io/loaders.hpp) against `maxFileBytes`. Errors: the loader's or the package reader's, and InvalidArgument when
+// validation found errors (named).
 Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& id, const std::string& path,
                                                              const std::string& bakeDir = "", bool mayBake = true,
-                                                             RayBuild rays = RayBuild::Now);
+                                                             RayBuild rays = RayBuild::Now,
+                                                             std::uint64_t maxFileBytes = kDefaultMaxModelBytes);
 // A loaded, validated model indexed as the server does (tests and benchmarks build models
 // in memory); `version` as the caller chooses.
 Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
                                                            const std::string& version, RayBuild rays = RayBuild::Now);
 // The built-in demo mine (synthetic, EPSG:4523 at 105.05 E 30.62 N), `triangles` in total.
 Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles = 200000);
-// Model files directly in `dir` whose stem is a valid id, and package directories (holding a
-// manifest.json) whose name is a valid id: id -> path, sorted by id. A package wins over a
-// file of the same id. Packages moved aside as corrupt (<id>.corrupt-N) are not models.
+// An entry of a models directory that is not loaded, and why (for the log and /readyz).
+struct SkippedEntry {
+    std::string entry;   // its name in the directory
+    std::string reason;  // e.g. "a FIFO (named pipe), not a regular file: never opened"
+};
+
+struct ModelsDirScan {
+    std::map<std::string, std::string> models;  // id -> path, sorted by id
+    std::vector<SkippedEntry> skipped;          // in name order
+};
+
+// The models in `dir`: model files directly in it (by extension: .glb .gltf .obj .ts .ml .so
+// .gp .xml .vtu) whose stem is a valid id and that pass probeModelFile(maxFileBytes), and
+// package directories (holding a manifest.json) whose name is a valid id. A package wins over
+// a file of the same id; of two files of one id the first by name wins. Without blocking or
+// reading any file whole, entries that look like models or cannot be told apart are skipped
+// with a reason: FIFOs, sockets and devices (never opened for reading), dangling symlinks and
+// symlink loops, directories that are not packages (a package folder without manifest.json, a
+// directory named like a model file), model files without read permission, empty, too large,
+// or whose first bytes are not the format's, names that are not valid ids, a second file of
+// one id. Hidden entries (".name"), packages moved aside as corrupt (<id>.corrupt-N) and files
+// of other extensions (sidecars, notes) are passed over silently.
+Result<ModelsDirScan> scanModelsDir(const std::string& dir, std::uint64_t maxFileBytes = kDefaultMaxModelBytes);
+// scanModelsDir(dir).models.
 Result<std::map<std::string, std::string>> listModelFiles(const std::string& dir);
 
 class Catalog {

@@ -35,7 +35,8 @@ J viewParams() {
         queryParam("line", "string", "x1,y1,x2,y2[,...]: vertical section along a map polyline (2..256 vertices)"),
         queryParam("elevation", "number", "horizontal slice (plan map) at this elevation, m"),
         queryParam("coords", "string",
-                   "world (default) or lonlat: units of 'line' (degrees lon,lat on the model CRS's own datum)"),
+                   "world (default) or lonlat: units of 'line' (degrees lon,lat on the model CRS's own datum); "
+                   "with 'plane' or 'elevation' a 400 (world coordinates, always)"),
         queryParam("view", "string", "profile (default, exact CPU engine) or perspective (GL renderer)"),
         queryParam("frame", "string", "u0,u1,v0,v1: plane u/v metres shown in a profile (default: model bounds)"),
         queryParam("eye", "string", "x,y,z: perspective camera position, world m"),
@@ -145,8 +146,11 @@ J openApiDocument(const std::string& serverVersion) {
     get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok")));
     get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found); `rays` gives each "
                       "model's ray scene (pending, building, ready, failed), which queries without a cached image, "
-                      "perspective queries and boreholes wait for up to their deadline (504 past it). While the "
-                      "server has API keys, models.failed and rays are counts (by state) and name no model",
+                      "perspective queries and boreholes wait for up to their deadline (504 past it); "
+                      "models.failed (id, error), models.skipped (models-directory entries not loaded: entry, "
+                      "reason) and models.warnings (id, warning: e.g. a failed bake, the model served from memory) "
+                      "are reported, not a reason to be unready. While the server has API keys, models.failed, "
+                      "models.skipped, models.warnings and rays are counts and name no model",
                       J::array(), jsonResponse("ready; 503 while loading")));
     get("/metrics", op("Prometheus text format: requests and latency per route, queue depth, cache hits, render times",
                        J::array(), J{{"description", "metrics"}, {"content", {{"text/plain", J::object()}}}}));

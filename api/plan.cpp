@@ -168,6 +168,18 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
                                     : "more than one section geometry: give only one of 'plane', 'line', 'elevation'");
     if (param(params, "cut") && !plane)
         return makeError(ErrorCode::InvalidArgument, "parameter 'cut': needs planes ('plane' or 'planes')");
+    // 'coords' gives the units of 'line' only: checked here, whatever the geometry, so that a
+    // request that cannot mean what it says is refused at once rather than ignored.
+    const auto coords = param(params, "coords");
+    if (coords && *coords != "world" && *coords != "lonlat")
+        return makeError(ErrorCode::InvalidArgument,
+                         "parameter 'coords': '" + std::string(coords->substr(0, 64)) + "' is not 'world' or 'lonlat'");
+    if (coords && !line)
+        return makeError(ErrorCode::InvalidArgument,
+                         std::string("parameter 'coords': sets the units of 'line' only, and this request gives its "
+                                     "section as '") +
+                             (plane ? std::string(planeName) : std::string("elevation")) +
+                             "' (always world coordinates, metres): leave 'coords' out");
     if (plane) {
         auto planes = parsePlaneList(planeName, *plane);
         if (!planes) return planes.error();
@@ -208,14 +220,7 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
             return makeError(ErrorCode::InvalidArgument,
                              "parameter 'line': needs at least two x,y vertices (an even count of numbers), got " +
                                  std::to_string(v.value().size()) + " numbers");
-        bool lonlat = false;
-        if (const auto coords = param(params, "coords")) {
-            if (*coords == "lonlat")
-                lonlat = true;
-            else if (*coords != "world")
-                return makeError(ErrorCode::InvalidArgument,
-                                 "parameter 'coords': '" + std::string(*coords) + "' is not 'world' or 'lonlat'");
-        }
+        const bool lonlat = coords && *coords == "lonlat";
         def.geometry = Geometry::Line;
         for (std::size_t i = 0; i + 1 < v.value().size(); i += 2) {
             glm::dvec2 p{v.value()[i], v.value()[i + 1]};

@@ -9,7 +9,8 @@
 //                               a cut-out of a perspective view (api/cut.hpp)
 //     line=x1,y1,x2,y2[,...]    vertical section along a map polyline (2..256 vertices)
 //     elevation=z               horizontal slice (plan map) at elevation z, metres
-//   coords=world|lonlat         units of `line` (lonlat: degrees lon,lat in CGCS2000; default world)
+//   coords=world|lonlat         units of `line` (lonlat: degrees lon,lat in CGCS2000; default world);
+//                               an error with 'plane' or 'elevation' (world coordinates, always)
 //   view=profile|perspective    default profile
 //   frame=u0,u1,v0,v1           profile: plane u/v metres shown (default: the model's
 //                               bounds projected on the plane, 2 % margin, fitted to the size)

@@ -76,6 +76,11 @@ std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed = 0);
 Status writePackage(const Model& model, const BakedModel& baked, const std::string& dir, int zstdLevel = 3,
                     bool positionResiduals = true);
 
+// Writes `size` bytes to `path` under the name `path`.partial, then renames it. On any failure
+// (a full disk: ENOSPC; a file size limit: EFBIG) the partial file is removed and the error
+// names the file and the system's reason. Any thread.
+Status writeFileAtomically(const std::string& path, const void* data, std::size_t size);
+
 // Loads a written package as the server does (checksums, packageModel() with the validation
 // the bake stored) and fails, naming the part and the finding, where the server would refuse it.
 Status verifyPackage(const std::string& dir);

@@ -2,11 +2,14 @@
 // (package_validation.cpp), the zstd-compressed R32UI texture, the attribute table, and last
 // the manifest with every file's size and XXH64 checksum and its own. Every file is written
 // under a temporary name and renamed, so a reader never sees a half-written package as complete.
+#include <fcntl.h>
+#include <unistd.h>
 #include <xxhash.h>
 #include <zstd.h>
 
 #include <algorithm>
-#include <fstream>
+#include <cerrno>
+#include <cstring>
 
 #include "bake/package_internal.hpp"
 #include "model/json_text.hpp"
@@ -20,22 +23,49 @@ using json = nlohmann::ordered_json;
 namespace package_detail {
 
 Status writeFile(const fs::path& path, const void* data, std::size_t size) {
-    const fs::path tmp = path.string() + ".partial";
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) return makeError(ErrorCode::IoError, "cannot create " + tmp.string());
-        f.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
-        if (!f) return makeError(ErrorCode::IoError, "cannot write " + tmp.string() + " (disk full?)");
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) return makeError(ErrorCode::IoError, "cannot rename " + tmp.string() + ": " + ec.message());
-    return {};
+    return writeFileAtomically(path.string(), data, size);
 }
 
 }  // namespace package_detail
 
 using namespace package_detail;
+
+Status writeFileAtomically(const std::string& path, const void* data, std::size_t size) {
+    const std::string tmp = path + ".partial";
+    // Every failure removes the partial file: a bake that fails on a full disk (ENOSPC) or
+    // past a file size limit (EFBIG; the server ignores SIGXFSZ) leaves nothing behind.
+    auto fail = [&](int fd, const std::string& what, int err) {
+        if (fd >= 0) ::close(fd);
+        ::unlink(tmp.c_str());
+        return makeError(ErrorCode::IoError, what + ": " + std::strerror(err));
+    };
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        const int e = errno;
+        return fail(-1, "cannot create " + tmp, e);
+    }
+    const char* p = static_cast<const char*>(data);
+    std::size_t done = 0;
+    while (done < size) {
+        const ssize_t n = ::write(fd, p + done, std::min<std::size_t>(size - done, std::size_t(1) << 30));
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            const int e = errno;
+            return fail(
+                fd, "cannot write " + tmp + " (" + std::to_string(done) + " of " + std::to_string(size) + " bytes)", e);
+        }
+        done += std::size_t(n);
+    }
+    if (::close(fd) != 0) {
+        const int e = errno;
+        return fail(-1, "cannot write " + tmp + " (at close)", e);
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int e = errno;
+        return fail(-1, "cannot rename " + tmp + " to " + path, e);
+    }
+    return {};
+}
 
 std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed) { return XXH64(data, size, seed); }
 

@@ -23,7 +23,7 @@ struct ServeArgs {
     std::string configFile, host, models, bakeDir, gl, lod, cors, keysFile, logLevel;
     int port = -1, deadlineMs = -1, shutdownGraceMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
-    long long memoryBudgetMiB = -1;
+    long long memoryBudgetMiB = -1, maxModelMiB = -1;
     bool readyzPaths = false, noBake = false, bakeOnly = false;
     long long maxConnections = -1, headerTimeoutMs = -1, bodyTimeoutMs = -1, keepAliveMs = -1, keepAliveRequests = -1,
               sendTimeoutMs = -1;
@@ -40,17 +40,26 @@ int runBakeOnly(const server::ServerConfig& config) {
         std::fprintf(stderr, "geoslice serve: --bake-only needs --models DIR and --bake-dir DIR\n");
         return 2;
     }
-    auto files = api::listModelFiles(config.modelsDir);
-    if (!files) {
-        std::fprintf(stderr, "geoslice serve: %s\n", files.error().message.c_str());
+    const std::uint64_t maxFileBytes = std::uint64_t(config.maxModelMiB) << 20;
+    auto scan = api::scanModelsDir(config.modelsDir, maxFileBytes);
+    if (!scan) {
+        std::fprintf(stderr, "geoslice serve: %s\n", scan.error().message.c_str());
         return 1;
     }
+    for (const api::SkippedEntry& e : scan.value().skipped)
+        std::printf("bake: skipped %s: %s\n", e.entry.c_str(), e.reason.c_str());
+    const auto& files = scan.value().models;
     int failed = 0;
-    for (const auto& [id, path] : files.value()) {
-        auto m = api::loadCatalogModel(id, path, config.bakeDir, /*mayBake=*/!config.noBake);
+    for (const auto& [id, path] : files) {
+        auto m = api::loadCatalogModel(id, path, config.bakeDir, /*mayBake=*/!config.noBake, api::RayBuild::Now,
+                                       maxFileBytes);
         if (!m) {
             ++failed;
             std::printf("bake: %s failed: %s\n", id.c_str(), m.error().message.c_str());
+        } else if (!m.value()->bakeWarning.empty()) {
+            // --bake-only exists to bake: a model it could not bake is a failure here.
+            ++failed;
+            std::printf("bake: %s failed: %s\n", id.c_str(), m.value()->bakeWarning.c_str());
         } else {
             std::printf("bake: %s ready (%zu triangles, %.0f ms, version %s)%s%s\n", id.c_str(),
                         m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version.c_str(),
@@ -58,7 +67,7 @@ int runBakeOnly(const server::ServerConfig& config) {
         }
         std::fflush(stdout);
     }
-    std::printf("bake: %zu models, %d failed\n", files.value().size(), failed);
+    std::printf("bake: %zu models, %d failed\n", files.size(), failed);
     return failed ? 1 : 0;
 }
 
@@ -98,12 +107,16 @@ int runServe(const ServeArgs& a) {
     if (a.memoryBudgetMiB >= 0) config.memoryBudgetMiB = std::size_t(a.memoryBudgetMiB);
     if (a.readyzPaths) config.readyzPaths = true;
     if (a.noBake) config.noBake = true;
+    if (a.maxModelMiB > 0) config.maxModelMiB = std::size_t(a.maxModelMiB);
     if (a.demoTriangles > 0) config.demoTriangles = std::size_t(a.demoTriangles);
     if (a.maxBody > 0) config.maxBodyBytes = std::size_t(a.maxBody);
     if (auto s = server::checkConfig(config); !s) {
         std::fprintf(stderr, "geoslice serve: %s\n", s.error().message.c_str());
         return 2;
     }
+    // A write past a file size limit (RLIMIT_FSIZE) fails with EFBIG and the bake reports it
+    // (bake::writeFileAtomically) instead of the process dying of SIGXFSZ.
+    std::signal(SIGXFSZ, SIG_IGN);
     if (a.bakeOnly) return runBakeOnly(config);
     // Logs go to stderr (one logfmt line per event); stdout carries only the banner.
     spdlog::set_default_logger(spdlog::stderr_logger_mt("geoslice"));
@@ -164,6 +177,8 @@ void addServe(CLI::App& app, int& exitCode) {
     cmd->add_option(
         "--memory-budget-mib", a->memoryBudgetMiB,
         "Estimated memory of renders under way, MiB; beyond it 503 + Retry-After (default 4096; 0 = no limit)");
+    cmd->add_option("--max-model-mib", a->maxModelMiB,
+                    "Largest model file read, MiB (default 1024): a larger one is skipped, named in /readyz");
     cmd->add_flag("--readyz-paths", a->readyzPaths,
                   "Show absolute file paths in /readyz model errors (default: names only)");
     cmd->add_option("--deadline-ms", a->deadlineMs, "Per-request render deadline, ms (default 10000)");

@@ -4,9 +4,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
+#include "model/io/loaders.hpp"
 #include "model/json_text.hpp"
 #include "model/text_scan.hpp"
 
@@ -308,11 +307,10 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
 }
 
 Result<AttributeTable> AttributeTable::load(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return makeError(ErrorCode::IoError, path + ": cannot open attribute table");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    std::string text = ss.str();
+    // readFile: a FIFO or device named like a sidecar is refused, never opened to block.
+    auto read = readFile(path, std::size_t(1) << 30);
+    if (!read) return makeError(read.error().code, "attribute table " + read.error().message);
+    const std::string text = std::move(read.value());
     bool json = path.size() >= 5 && path.substr(path.size() - 5) == ".json";
     if (!json) return fromCsv(text, path);
     nlohmann::ordered_json j = nlohmann::ordered_json::parse(text, nullptr, /*allow_exceptions=*/false);

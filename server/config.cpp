@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "api/access_keys.hpp"
-#include "model/json_text.hpp"
 #include "model/io/loaders.hpp"
+#include "model/json_text.hpp"
 
 extern char** environ;
 
@@ -79,6 +79,12 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.readyzPaths, 0, 1);
     else if (key == "noBake")
         return number(c.noBake, 0, 1);
+    else if (key == "maxModelMiB")
+        return number(c.maxModelMiB, 1, 1 << 20);
+    else if (key == "bakeDir")
+        c.bakeDir = value;
+    else if (key == "lod")
+        c.lod = value;
     else
         return makeError(ErrorCode::InvalidArgument, source + ": unknown setting '" + key + "'");
     return {};
@@ -136,6 +142,7 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_MEMORY_BUDGET_MIB", "memoryBudgetMiB"},
         {"GEOSLICE_READYZ_PATHS", "readyzPaths"},
         {"GEOSLICE_NO_BAKE", "noBake"},
+        {"GEOSLICE_MAX_MODEL_MIB", "maxModelMiB"},
         {"GEOSLICE_DEMO_TRIANGLES", "demoTriangles"},
         {"GEOSLICE_LOG_LEVEL", "logLevel"},
     };

@@ -47,6 +47,10 @@
 //   noBake             GEOSLICE_NO_BAKE               --no-bake               0 (1: never bake; a model without a
 //                                                                             current baked package is refused and
 //                                                                             named in /readyz: read-only volumes)
+//   maxModelMiB        GEOSLICE_MAX_MODEL_MIB         --max-model-mib         1024 (largest model file read, MiB,
+//                                                                             1..1048576: a file is read whole and
+//                                                                             parsed in memory; a larger one is
+//                                                                             skipped from its size, named in /readyz)
 // clang-format on
 #pragma once
 
@@ -89,6 +93,8 @@ struct ServerConfig {
     std::size_t memoryBudgetMiB = 4096;  // render admission by estimated memory; 0 = off
     bool readyzPaths = false;            // /readyz shows file-system paths (else only file names)
     bool noBake = false;                 // never bake: serve baked packages only (api::loadCatalogModel mayBake)
+    // Largest model file read (MiB): model/io/loaders.hpp kDefaultMaxModelBytes, probeModelFile.
+    std::size_t maxModelMiB = 1024;
 };
 
 // Applies a JSON object's known keys (unknown keys are an error naming them).

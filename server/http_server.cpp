@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <cstdlib>
 #include <mutex>
 
@@ -53,24 +54,44 @@ struct SectionServer::Impl {
                 st.failed.push_back({{"id", "demo"}, {"error", demo.error().message}});
             }
         } else {
-            auto files = api::listModelFiles(config.modelsDir);
+            const std::uint64_t maxFileBytes = std::uint64_t(config.maxModelMiB) << 20;
+            auto files = api::scanModelsDir(config.modelsDir, maxFileBytes);
             if (!files) {
                 ok = false;
                 spdlog::error("event=models_dir_failed error=\"{}\"", files.error().message);
                 std::lock_guard lock(st.failedMutex);
                 st.failed.push_back({{"id", nullptr}, {"error", files.error().message}});
             } else {
-                if (files.value().empty()) spdlog::warn("event=models_dir_empty dir=\"{}\"", config.modelsDir);
-                for (const auto& [id, path] : files.value()) {
+                // Entries that are not loaded (a FIFO, a dangling symlink, a file too large...):
+                // named in the log and /readyz, never a reason to block or to stay unready.
+                for (const api::SkippedEntry& e : files.value().skipped) {
+                    spdlog::warn("event=models_dir_entry_skipped entry=\"{}\" reason=\"{}\"", e.entry, e.reason);
+                    std::lock_guard lock(st.failedMutex);
+                    st.skipped.push_back({{"entry", e.entry}, {"reason", e.reason}});
+                }
+                if (files.value().models.empty()) spdlog::warn("event=models_dir_empty dir=\"{}\"", config.modelsDir);
+                for (const auto& [id, path] : files.value().models) {
                     if (st.draining) break;
-                    auto m = api::loadCatalogModel(id, path, config.bakeDir, !config.noBake, api::RayBuild::Deferred);
+                    auto m = api::loadCatalogModel(id, path, config.bakeDir, !config.noBake, api::RayBuild::Deferred,
+                                                   maxFileBytes);
                     if (m) {
                         spdlog::info("event=model_loaded id={} triangles={} ms={:.0f} version={}", id,
                                      m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version);
-                        if (!m.value()->loadWarning.empty())
+                        if (!m.value()->loadWarning.empty()) {
                             spdlog::warn("event=model_load_warning id={} warning=\"{}\"", id, m.value()->loadWarning);
+                            std::lock_guard lock(st.failedMutex);
+                            st.warnings.push_back({{"id", id}, {"warning", m.value()->loadWarning}});
+                        }
                         if (!m.value()->rebakedFrom.empty())
                             spdlog::warn("event=package_rebaked id={} moved_aside=\"{}\"", id, m.value()->rebakedFrom);
+                        for (const std::string& old : m.value()->deletedCorruptCopies)
+                            spdlog::info("event=corrupt_copy_deleted id={} path=\"{}\" kept={}", id, old,
+                                         api::kCorruptCopiesKept);
+                        if (!m.value()->bakeWarning.empty()) {
+                            spdlog::warn("event=bake_failed id={} warning=\"{}\"", id, m.value()->bakeWarning);
+                            std::lock_guard lock(st.failedMutex);
+                            st.warnings.push_back({{"id", id}, {"warning", m.value()->bakeWarning}});
+                        }
                         const auto& notes = m.value()->model.notes;
                         if (auto w = notes.find("crs_warning"); w != notes.end())
                             spdlog::warn("event=model_crs_warning id={} warning=\"{}\"", id, w->second);

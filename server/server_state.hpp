@@ -4,7 +4,7 @@
 //
 // Threads and locks: handlers read and call into it from any handler thread. `config` and
 // `keys` are immutable; the catalog, metrics, GL status, render pool and render cache lock inside;
-// the flags are atomics; `failed` is guarded by `failedMutex`.
+// the flags are atomics; `failed`, `skipped` and `warnings` are guarded by `failedMutex`.
 #pragma once
 
 #include <atomic>
@@ -43,6 +43,10 @@ struct ServerState {
     std::mutex failedMutex;
     nlohmann::ordered_json failed = nlohmann::ordered_json::array();  // guarded by failedMutex:
                                                                       // {id, error} of models that did not load
+    // Guarded by failedMutex: {entry, reason} of models-directory entries not loaded
+    // (api::scanModelsDir), and {id, warning} of models served with a warning (a failed bake).
+    nlohmann::ordered_json skipped = nlohmann::ordered_json::array();
+    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
 };
 
 }  // namespace geoslice::server

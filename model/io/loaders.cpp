@@ -1,7 +1,13 @@
 #include "model/io/loaders.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -81,22 +87,124 @@ Status applyCrsDeclarations(Model& model, const std::filesystem::path& p, std::s
 
 }  // namespace
 
+namespace {
+
+// `path` opened for reading without blocking (a FIFO opened for reading would wait for a
+// writer forever) and checked to be a regular file; -1 with `error` set otherwise.
+int openRegularFile(const std::string& path, struct stat& st, Error& error) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        const int e = errno;
+        if (e == ENOENT)
+            error = makeError(ErrorCode::NotFound, path + ": does not exist (or is a dangling symlink)");
+        else if (e == EACCES)
+            error = makeError(ErrorCode::IoError, path + ": no read permission (" + std::strerror(e) + ")");
+        else if (e == ELOOP)
+            error = makeError(ErrorCode::IoError, path + ": a symlink loop (" + std::strerror(e) + ")");
+        else
+            error = makeError(ErrorCode::IoError, path + ": cannot open (" + std::string(std::strerror(e)) + ")");
+        return -1;
+    }
+    if (::fstat(fd, &st) != 0) {
+        error = makeError(ErrorCode::IoError, path + ": cannot stat (" + std::string(std::strerror(errno)) + ")");
+        ::close(fd);
+        return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        error = makeError(ErrorCode::IoError, path + ": " + fileKindName(st.st_mode) + ", not a regular file");
+        ::close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+// Reads up to `size` bytes at the file's current position (fewer only at its end).
+Result<std::size_t> readSome(int fd, char* out, std::size_t size, const std::string& path) {
+    std::size_t done = 0;
+    while (done < size) {
+        const ssize_t n = ::read(fd, out + done, std::min<std::size_t>(size - done, std::size_t(1) << 30));
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return makeError(ErrorCode::IoError, path + ": read failed (" + std::strerror(errno) + ")");
+        if (n == 0) break;
+        done += std::size_t(n);
+    }
+    return done;
+}
+
+}  // namespace
+
+std::string fileKindName(unsigned mode) {
+    if (S_ISREG(mode)) return "a regular file";
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+    if (S_ISSOCK(mode)) return "a socket";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISLNK(mode)) return "a symlink";
+    return "a special file";
+}
+
 Result<std::string> readFile(const std::string& path, std::size_t maxBytes) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        return makeError(ErrorCode::IoError, path + ": is a directory, not a file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return makeError(ErrorCode::NotFound, path + ": cannot open (does it exist and is it readable?)");
-    in.seekg(0, std::ios::end);
-    std::streamoff size = in.tellg();
-    if (size < 0) return makeError(ErrorCode::IoError, path + ": cannot determine the file size");
-    if (static_cast<std::uint64_t>(size) > maxBytes)
+    struct stat st {};
+    Error error;
+    const int fd = openRegularFile(path, st, error);
+    if (fd < 0) return error;
+    const std::uint64_t size = static_cast<std::uint64_t>(st.st_size);
+    if (size > maxBytes) {
+        ::close(fd);
         return makeError(ErrorCode::OutOfRange, path + ": " + std::to_string(size) + " bytes is over the limit of " +
                                                     std::to_string(maxBytes) + " bytes");
-    in.seekg(0);
+    }
     std::string data(static_cast<std::size_t>(size), '\0');
-    if (!in.read(data.data(), size)) return makeError(ErrorCode::IoError, path + ": read failed");
+    auto got = readSome(fd, data.data(), data.size(), path);
+    ::close(fd);
+    if (!got) return got.error();
+    if (got.value() != data.size())
+        return makeError(ErrorCode::IoError, path + ": read " + std::to_string(got.value()) + " of " +
+                                                 std::to_string(size) + " bytes (the file shrank while read)");
     return data;
+}
+
+Status probeModelFile(const std::string& path, std::uint64_t maxBytes) {
+    struct stat st {};
+    Error error;
+    const int fd = openRegularFile(path, st, error);
+    if (fd < 0) return error;
+    const std::uint64_t size = static_cast<std::uint64_t>(st.st_size);
+    auto refuse = [&](ErrorCode code, const std::string& why) {
+        ::close(fd);
+        return makeError(code, path + ": " + why);
+    };
+    if (size == 0) return refuse(ErrorCode::ParseError, "an empty file");
+    if (size > maxBytes)
+        return refuse(ErrorCode::OutOfRange, std::to_string(size) + " bytes is over the largest model file (" +
+                                                 std::to_string(maxBytes) +
+                                                 " bytes; the server's maxModelMiB setting)");
+    char head[kModelProbeBytes];
+    auto got = readSome(fd, head, std::min<std::uint64_t>(size, sizeof head), path);
+    ::close(fd);
+    if (!got) return got.error();
+    const std::string_view h(head, got.value());
+    if (h.empty())
+        return makeError(ErrorCode::IoError, path + ": read nothing from a file of " + std::to_string(size) + " bytes");
+    if (h.find_first_not_of('\0') == std::string_view::npos)
+        return makeError(ErrorCode::ParseError, path + ": its first " + std::to_string(h.size()) +
+                                                    " bytes are all zero (a sparse, truncated or preallocated "
+                                                    "file?), not a model");
+    const std::string ext = lowerExtension(path);
+    if (ext == ".glb" || ext == ".gltf") {
+        std::size_t i = h.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;  // a UTF-8 byte order mark
+        while (i < h.size() && (h[i] == ' ' || h[i] == '\t' || h[i] == '\r' || h[i] == '\n')) ++i;
+        if (h.compare(0, 4, "glTF") != 0 && (i == h.size() || h[i] != '{'))
+            return makeError(ErrorCode::ParseError,
+                             path + ": not glTF (its first bytes are neither the GLB magic 'glTF' nor a JSON object)");
+    } else if (ext == ".obj" || ext == ".ts" || ext == ".tsurf" || ext == ".ml" || ext == ".so" || ext == ".gp" ||
+               ext == ".vo" || ext == ".sg" || ext == ".pl") {
+        if (const std::size_t nul = h.find('\0'); nul != std::string_view::npos)
+            return makeError(ErrorCode::ParseError, path + ": a NUL byte at offset " + std::to_string(nul) +
+                                                        " of a text format (binary data, not a model)");
+    }
+    return {};
 }
 
 void finishLoadedModel(Model& model, bool classifyByClosure, bool validateModel) {

@@ -59,8 +59,27 @@ Result<Model> parseGeo3dml(std::string_view text, const std::string& source, con
 // VTK XML UnstructuredGrid: one closed body per formation (see model/io/vtu/vtu_loader.cpp).
 Result<Model> parseVtu(std::string_view bytes, const std::string& source, const VtuOptions& options = {});
 
-// Reads a whole file; refuses files over maxBytes with an OutOfRange error.
+// Reads a whole regular file; refuses files over maxBytes with an OutOfRange error. Opened
+// without blocking and checked with fstat first: a FIFO, socket or device is an error naming
+// it (a FIFO opened for reading would wait for a writer forever), never read.
 Result<std::string> readFile(const std::string& path, std::size_t maxBytes = std::size_t(4) << 30);
+
+// "a FIFO (named pipe)", "a directory", ... for a stat st_mode (error messages).
+std::string fileKindName(unsigned mode);
+
+// The largest model file a server reads by default (server setting maxModelMiB): 1 GiB.
+// A model file is read whole into memory and parsed (an OBJ of about 20 million triangles
+// is 1 GiB); a larger one is refused from its size before any of it is read.
+constexpr std::uint64_t kDefaultMaxModelBytes = std::uint64_t(1) << 30;
+// How much of a model file probeModelFile reads.
+constexpr std::size_t kModelProbeBytes = 4096;
+
+// Checks a model file before it is read, cheaply (one open, one fstat, one read of at most
+// kModelProbeBytes): a readable regular file (opened without blocking: a FIFO is never read),
+// not empty, at most maxBytes, and its first bytes plausible for its extension: not all zero
+// (a sparse or preallocated file), GLB magic or a JSON object for .glb/.gltf, no NUL byte in
+// a text format (.obj, GOCAD). Errors name the file and the reason.
+Status probeModelFile(const std::string& path, std::uint64_t maxBytes = kDefaultMaxModelBytes);
 
 // Shared by all loaders, after parsing:
 //  - parts with record == 0 get a record named after the part (kind from the part kind);

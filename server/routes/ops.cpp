@@ -1,8 +1,10 @@
 // The operator's routes: GET /healthz (alive), /readyz (models in, GL ready, workers not
-// all overrunning; 503 otherwise), /metrics (Prometheus text), /openapi.json. All open while
-// API keys are on (probes and scrapers carry none), so none of them names a model then:
-// /readyz counts failed models and ray scenes instead of naming them, and /metrics has no
-// model in any label (route templates, kinds and counts only).
+// all overrunning; 503 otherwise; models.failed, models.skipped (directory entries not
+// loaded, with the reason) and models.warnings (models served unbaked) are reported, never a
+// reason to be unready), /metrics (Prometheus text), /openapi.json. All open while API keys
+// are on (probes and scrapers carry none), so none of them names a model then: /readyz
+// counts failed, skipped and warned models and ray scenes instead of naming them, and
+// /metrics has no model in any label (route templates, kinds and counts only).
 #include "api/openapi.hpp"
 #include "model/version.hpp"
 #include "server/respond.hpp"
@@ -41,18 +43,26 @@ void readyz(ServerState& st, HttpResponse& res) {
     const bool modelsReady = st.loaded && st.catalog.size() > 0;
     const workers::GlStatus::Snapshot gl = st.glStatus.get();
     const bool glOk = !st.glEnabled || gl.ready;
-    Json failures;
+    Json failures, skipped, warnings;
     {
         std::lock_guard lock(st.failedMutex);
         failures = st.failed;
+        skipped = st.skipped;
+        warnings = st.warnings;
     }
-    // While API keys are on, model ids are confidential and this route is open: failures and
-    // ray scenes are counted, not named (the log names them: event=model_failed).
+    // While API keys are on, model ids are confidential and this route is open: failures,
+    // skipped entries, warnings and ray scenes are counted, not named (the log names them).
     const bool anonymous = st.keys.enabled();
-    if (anonymous) failures = failures.size();
+    if (anonymous) {
+        failures = failures.size();
+        skipped = skipped.size();
+        warnings = warnings.size();
+    }
     if (!st.config.readyzPaths && !anonymous)
-        for (auto& f : failures)
-            if (f.contains("error") && f["error"].is_string()) f["error"] = redactPaths(f["error"].get<std::string>());
+        for (Json* list : {&failures, &skipped, &warnings})
+            for (auto& f : *list)
+                for (const char* key : {"error", "reason", "warning"})
+                    if (f.contains(key) && f[key].is_string()) f[key] = redactPaths(f[key].get<std::string>());
     // Renders: overruns are counted; when every worker is running past its deadline the
     // server cannot take work and says so.
     const workers::PoolStats ps = st.pool->stats();
@@ -81,7 +91,12 @@ void readyz(ServerState& st, HttpResponse& res) {
         rays[m->id] = std::move(r);
     }
     Json j{{"ready", modelsReady && glOk && workersOk},
-           {"models", {{"loaded", st.catalog.size()}, {"done", bool(st.loaded)}, {"failed", failures}}},
+           {"models",
+            {{"loaded", st.catalog.size()},
+             {"done", bool(st.loaded)},
+             {"failed", failures},
+             {"skipped", skipped},
+             {"warnings", warnings}}},
            {"rays", std::move(rays)},
            {"gl", {{"enabled", st.glEnabled}, {"ready", gl.ready}, {"device", gl.device}}},
            {"workers", st.pool->workers()},

@@ -6,6 +6,7 @@
 
 #include "api/request.hpp"
 #include "api/tile_grid.hpp"
+#include "api/view.hpp"
 #include "server/respond.hpp"
 #include "server/routes/common.hpp"
 #include "server/routes/routes.hpp"
@@ -23,6 +24,9 @@ void defineSection(ServerState& st, const HttpRequest& req, HttpResponse& res) {
         return problem(res, s.error(), req.path);
     auto def = api::parseSectionDef(params.value(), m->id, m->model.crs);
     if (!def) return problem(res, def.error(), req.path);
+    // A colouring this model cannot draw (no block model, no such property, bad breaks) is
+    // refused now, not by every tile of the section later.
+    if (auto classes = api::blockClasses(*m, def.value()); !classes) return problem(res, classes.error(), req.path);
     auto grid = api::tileGrid(*m, def.value());
     if (!grid) return problem(res, grid.error(), req.path);
     const std::string sid = api::encodeSectionId(def.value());

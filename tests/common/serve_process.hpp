@@ -13,6 +13,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -29,8 +30,11 @@ public:
     using Env = std::vector<std::pair<std::string, std::string>>;
 
     // Starts `geoslice serve --host 127.0.0.1 --port 0 ARGS...` with `env` added; nullptr
-    // when it did not print its port within 60 s (the log then says why).
-    static std::unique_ptr<ServeProcess> start(const std::vector<std::string>& args, const Env& env = {}) {
+    // when it did not print its port within 60 s (the log then says why). `inChild` runs in
+    // the forked child just before exec (after its stdout and stderr are set up): setrlimit,
+    // dropping root; it must only make async-signal-safe calls.
+    static std::unique_ptr<ServeProcess> start(const std::vector<std::string>& args, const Env& env = {},
+                                               const std::function<void()>& inChild = {}) {
         auto p = std::unique_ptr<ServeProcess>(new ServeProcess());
         p->log_ = std::filesystem::temp_directory_path() /
                   ("geoslice_serve_" + std::to_string(getpid()) + "_" + std::to_string(counter()++) + ".log");
@@ -46,6 +50,7 @@ public:
             const int err = open(p->log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
             if (err >= 0) dup2(err, 2);
             for (const auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
+            if (inChild) inChild();
             std::vector<char*> cargv;
             for (auto& a : argv) cargv.push_back(a.data());
             cargv.push_back(nullptr);
