@@ -59,6 +59,13 @@ bool digestsEqual(const Sha256Digest& a, const Sha256Digest& b) {
     return CRYPTO_memcmp(a.data(), b.data(), a.size()) == 0;  // constant time (OpenSSL)
 }
 
+bool ApiKey::mayRead(std::string_view modelId) const {
+    if (allModels) return true;
+    for (const std::string& m : models)
+        if (m == modelId) return true;
+    return false;
+}
+
 Result<std::vector<ApiKey>> parseApiKeys(std::string_view text, const std::string& source) {
     std::vector<ApiKey> keys;
     std::size_t lineNo = 0;
