@@ -103,11 +103,7 @@ Status readModel3d(Context& cx, std::size_t startLine) {
     std::vector<Region> regions;
     std::vector<std::pair<std::string, std::vector<std::int64_t>>> layers;
 
-    Lines::Statement st;
-    Status bad;
-    bool ended = false;
-    while (lines.nextStatement(st, bad)) {
-        std::string_view line = st.line;
+    auto own = [&](Lines::Statement& st, bool& handled) -> Status {
         const std::string_view keyword = st.keyword;
         Tokens& tokens = st.tokens;
         if (keyword == "TSURF") {
@@ -120,6 +116,7 @@ Status readModel3d(Context& cx, std::size_t startLine) {
             if (tokens.next(tok)) f.type = toUtf8(tok);
             f.surface = toUtf8(unquote(tokens.rest()));
             for (int k = 0; k < 3; ++k) {
+                std::string_view line;
                 if (!lines.next(line))
                     return lines.failAt(lines.lastLine(), "TFACE " + std::to_string(f.id) +
                                                               " needs three key points after it (truncated file?)");
@@ -150,23 +147,12 @@ Status readModel3d(Context& cx, std::size_t startLine) {
             std::vector<std::int64_t> members;
             if (Status s = readZeroEndedList(lines, tokens, "LAYER " + name, members); !s) return s;
             layers.emplace_back(std::move(name), std::move(members));
-        } else if (keyword == "END") {
-            ended = true;
-            break;
-        } else if (keyword == "GOCAD") {
-            return lines.fail("a new GOCAD object starts before END of the Model3d header that starts on line " +
-                              std::to_string(startLine));
         } else {
-            bool handled = false;
-            if (Status s = info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-            if (!handled)
-                if (Status s = skipUnknown(lines, keyword, line); !s) return s;
+            handled = false;
         }
-    }
-    if (!bad) return bad;
-    if (!ended)
-        return lines.failAt(lines.lastLine(), "missing END of the Model3d header that starts on line " +
-                                                  std::to_string(startLine) + " (truncated file?)");
+        return {};
+    };
+    if (Status s = readObjectBody(cx, info, "Model3d header", startLine, own); !s) return s;
     const std::string where = "the Model3d that starts on line " + std::to_string(startLine);
     if (tfaces.empty()) return lines.failAt(startLine, where + " has no TFACE");
 

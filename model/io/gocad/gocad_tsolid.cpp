@@ -59,17 +59,10 @@ Status readTsolid(Context& cx, std::size_t startLine) {
     std::vector<std::string> surfaceNames;
     std::vector<SurfaceTri> surfaceTris;
 
-    Lines::Statement st;
-    Status bad;
-    bool ended = false;
-    while (lines.nextStatement(st, bad)) {
-        const std::string_view line = st.line, keyword = st.keyword;
+    auto own = [&](Lines::Statement& st, bool& handled) -> Status {
+        const std::string_view keyword = st.keyword;
         Tokens& tokens = st.tokens;
-        if (keyword == "VRTX" || keyword == "PVRTX") {
-            if (Status s = readVertex(cx, lines, tokens, keyword, "TSolid", schema, ids, positions); !s) return s;
-        } else if (keyword == "ATOM" || keyword == "PATOM") {
-            if (Status s = ids.addAtom(lines, tokens, keyword); !s) return s;
-        } else if (keyword == "TVOLUME") {
+        if (keyword == "TVOLUME") {
             regionNames.push_back(toUtf8(unquote(tokens.rest())));
             if (regionNames.back().empty()) regionNames.back() = "region_" + std::to_string(regionNames.size());
         } else if (keyword == "TETRA") {
@@ -112,28 +105,15 @@ Status readTsolid(Context& cx, std::size_t startLine) {
             for (auto& id : tri.ids)
                 if (Status s = readId(lines, tokens, "TRGL vertex id", id); !s) return s;
             surfaceTris.push_back(tri);
-        } else if (keyword == "END") {
-            ended = true;
-            break;
-        } else if (keyword == "GOCAD") {
-            return lines.fail("a new GOCAD object starts before END of the TSolid object that starts on line " +
-                              std::to_string(startLine));
         } else {
             static constexpr std::string_view kIgnored[] = {"MODEL",  "TFACE",  "KEYVERTICES", "MODEL_REGION",
                                                             "BSTONE", "BORDER", "CTETRA"};
-            if (std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored)) continue;
-            bool handled = false;
-            if (Status s = info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-            if (handled) continue;
-            if (Status s = schema.readKeyword(lines, keyword, tokens, handled); !s) return s;
-            if (handled) continue;
-            if (Status s = skipUnknown(lines, keyword, line); !s) return s;
+            handled = std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored);
         }
-    }
-    if (!bad) return bad;
-    if (!ended)
-        return lines.failAt(lines.lastLine(), "missing END of the TSolid object that starts on line " +
-                                                  std::to_string(startLine) + " (truncated file?)");
+        return {};
+    };
+    const KeywordReader vertices = vertexKeywords(cx, "TSolid", schema, ids, positions);
+    if (Status s = readObjectBody(cx, info, "TSolid object", startLine, own, vertices); !s) return s;
     if (Status s = ids.resolve(lines); !s) return s;
     if (tets.empty()) {
         cx.warn(startLine, "the TSolid object has no TETRA: no body");
