@@ -45,6 +45,7 @@ Status readObjectBody(Context& cx, ObjectInfo& info, std::string_view object, st
         if (Status s = info.readCommon(cx, keyword, st.tokens, line, handled); !s) return s;
         if (handled) continue;
         if (shared) {
+            handled = true;
             if (Status s = shared(st, handled); !s) return s;
             if (handled) continue;
         }
