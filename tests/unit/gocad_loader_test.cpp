@@ -473,6 +473,26 @@ TEST(GocadLoader, PlineWellPaths) {
     expectError(parseGocad("GOCAD PLine 1\nVRTX 1 0 0 0\nSEG 1\nEND\n", "bad.pl"), "bad.pl", "line 3");
 }
 
+// Vertex lines belong to their reader: never checked and skipped as unknown keywords, so
+// bytes after a constraint flag and a stray '{' load as they always did (a refactoring of
+// the keyword loop once sent them on to skipUnknown, which refused the first and skipped
+// to a '}' after the second).
+TEST(GocadLoader, VertexLinesAreNotSkippedAsUnknownKeywords) {
+    const std::string tail = "VRTX 1 0 0 0 {\nVRTX 2 1 0 0\nVRTX 3 0 1 0 CNXYZ \xff\nATOM 4 1 {\n";
+    auto ts = parseGocad("GOCAD TSurf 1\n" + tail + "TRGL 4 2 3\nEND\n", "v.ts");
+    ASSERT_TRUE(ts.ok()) << ts.error().message;
+    ASSERT_EQ(ts->surfaces.size(), 1u);
+    EXPECT_EQ(ts->surfaces[0].mesh.triangleCount(), 1u);
+    auto pl = parseGocad("GOCAD PLine 1\n" + tail + "SEG 4 2\nSEG 2 3\nEND\n", "v.pl");
+    ASSERT_TRUE(pl.ok()) << pl.error().message;
+    ASSERT_EQ(pl->lines.size(), 1u);
+    EXPECT_EQ(pl->lines[0].segments.size(), 4u);
+    auto so = parseGocad("GOCAD TSolid 1\nTVOLUME r\n" + tail + "VRTX 5 0 0 1\nTETRA 4 2 3 5\nEND\n", "v.so");
+    ASSERT_TRUE(so.ok()) << so.error().message;
+    ASSERT_EQ(so->bodies.size(), 1u);
+    EXPECT_EQ(so->bodies[0].mesh.triangleCount(), 4u);
+}
+
 TEST(GocadLoader, GroupMembersAreReadByTheirOwnReaders) {
     const std::string tsurf = std::string("GOCAD TSurf 1\nHEADER {\nname:s1\n}\n") + kTwoTriangles + "END\n";
     const std::string pline = "GOCAD PLine 1\nHEADER {\nname:l1\n}\nVRTX 1 0 0 0\nVRTX 2 1 1 1\nSEG 1 2\nEND\n";

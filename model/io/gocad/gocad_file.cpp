@@ -17,9 +17,47 @@
 
 namespace geoslice {
 namespace gocad {
-namespace {
 
 using namespace geoslice::text;
+
+Error missingEnd(const Lines& lines, std::string_view object, std::size_t startLine) {
+    return lines.failAt(lines.lastLine(), "missing END of the " + std::string(object) + " that starts on line " +
+                                              std::to_string(startLine) + " (truncated file?)");
+}
+
+Status readObjectBody(Context& cx, ObjectInfo& info, std::string_view object, std::size_t startLine,
+                      const KeywordReader& own, const KeywordReader& shared, bool* ended) {
+    Lines& lines = cx.lines;
+    Lines::Statement st;
+    Status bad;
+    while (lines.nextStatement(st, bad)) {
+        const std::string_view line = st.line, keyword = st.keyword;
+        bool handled = true;
+        if (Status s = own(st, handled); !s) return s;
+        if (handled) continue;
+        if (keyword == "END") {
+            if (ended) *ended = true;
+            return {};
+        }
+        if (keyword == "GOCAD")
+            return lines.fail("a new GOCAD object starts before END of the " + std::string(object) +
+                              " that starts on line " + std::to_string(startLine));
+        if (Status s = info.readCommon(cx, keyword, st.tokens, line, handled); !s) return s;
+        if (handled) continue;
+        if (shared) {
+            handled = true;
+            if (Status s = shared(st, handled); !s) return s;
+            if (handled) continue;
+        }
+        if (Status s = skipUnknown(lines, keyword, line); !s) return s;
+    }
+    if (!bad) return bad;
+    if (!ended) return missingEnd(lines, object, startLine);
+    *ended = false;
+    return {};
+}
+
+namespace {
 
 constexpr int kMaxGroupDepth = 16;
 
@@ -72,28 +110,18 @@ Status readGroup(Context& cx, std::size_t startLine, int depth) {
     if (depth > kMaxGroupDepth)
         return lines.fail("groups nested more than " + std::to_string(kMaxGroupDepth) + " deep");
     ObjectInfo info;
-    Lines::Statement st;
-    Status bad;
-    while (lines.nextStatement(st, bad)) {
-        const std::string_view line = st.line, keyword = st.keyword;
-        Tokens& tokens = st.tokens;
-        if (keyword == "BEGIN_MEMBERS") {
+    auto own = [&](Lines::Statement& st, bool& handled) -> Status {
+        if (st.keyword == "BEGIN_MEMBERS") {
             std::size_t members = 0;
-            if (Status s = readObjects(cx, depth, "END_MEMBERS", members); !s) return s;
-            continue;
+            return readObjects(cx, depth, "END_MEMBERS", members);
         }
-        if (keyword == "END") return {};
-        if (keyword == "GOCAD")
+        if (st.keyword == "GOCAD")
             return lines.fail("a GOCAD object outside BEGIN_MEMBERS ... END_MEMBERS of the group that starts on line " +
                               std::to_string(startLine));
-        bool handled = false;
-        if (Status s = info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-        if (!handled)
-            if (Status s = skipUnknown(lines, keyword, line); !s) return s;
-    }
-    if (!bad) return bad;
-    return lines.failAt(lines.lastLine(), "missing END of the group that starts on line " + std::to_string(startLine) +
-                                              " (truncated file?)");
+        handled = false;
+        return {};
+    };
+    return readObjectBody(cx, info, "group", startLine, own);
 }
 
 Result<Model> parse(std::string_view text, const std::string& source, const std::string& baseDir, bool tsurfOnly) {

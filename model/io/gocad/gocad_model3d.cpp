@@ -92,47 +92,48 @@ std::optional<bool> keyOrientation(const Mesh& mesh, std::size_t first, std::siz
     return std::nullopt;
 }
 
-}  // namespace
+// TFACE id type surface, then three key points on lines of their own.
+Status readTface(Lines& lines, Tokens& tokens, Tface& f) {
+    f.line = lines.lineNo();
+    if (Status s = readId(lines, tokens, "TFACE id", f.id); !s) return s;
+    std::string_view tok;
+    if (tokens.next(tok)) f.type = toUtf8(tok);
+    f.surface = toUtf8(unquote(tokens.rest()));
+    for (int k = 0; k < 3; ++k) {
+        std::string_view line;
+        if (!lines.next(line))
+            return lines.failAt(lines.lastLine(),
+                                "TFACE " + std::to_string(f.id) + " needs three key points after it (truncated file?)");
+        if (Status s = lines.checkText(line, false); !s) return s;
+        Tokens kt(trim(line));
+        for (int a = 0; a < 3; ++a) {
+            std::optional<double> v;
+            if (!kt.next(tok) || !(v = parseDouble(tok)) || !std::isfinite(*v))
+                return lines.fail("TFACE " + std::to_string(f.id) + ": key point " + std::to_string(k + 1) +
+                                  " needs three finite numbers x y z");
+            f.key[k][a] = *v;
+        }
+    }
+    return {};
+}
 
-Status readModel3d(Context& cx, std::size_t startLine) {
-    Lines& lines = cx.lines;
-    ObjectInfo info;
-    info.crs = cx.fileCrs;
+// What the Model3d header lists.
+struct Model3dHeader {
     std::vector<std::string> tsurfNames;
     std::vector<Tface> tfaces;
     std::vector<Region> regions;
     std::vector<std::pair<std::string, std::vector<std::int64_t>>> layers;
+    std::vector<std::pair<std::uint64_t, std::size_t>> tfaceById;  // sorted (id, index in tfaces)
 
-    Lines::Statement st;
-    Status bad;
-    bool ended = false;
-    while (lines.nextStatement(st, bad)) {
-        std::string_view line = st.line;
+    // TSURF, TFACE, REGION, LAYER (a KeywordReader for readObjectBody).
+    Status readKeyword(Lines& lines, Lines::Statement& st, bool& handled) {
         const std::string_view keyword = st.keyword;
         Tokens& tokens = st.tokens;
         if (keyword == "TSURF") {
             tsurfNames.push_back(toUtf8(unquote(tokens.rest())));
         } else if (keyword == "TFACE") {
             Tface f;
-            f.line = lines.lineNo();
-            if (Status s = readId(lines, tokens, "TFACE id", f.id); !s) return s;
-            std::string_view tok;
-            if (tokens.next(tok)) f.type = toUtf8(tok);
-            f.surface = toUtf8(unquote(tokens.rest()));
-            for (int k = 0; k < 3; ++k) {
-                if (!lines.next(line))
-                    return lines.failAt(lines.lastLine(), "TFACE " + std::to_string(f.id) +
-                                                              " needs three key points after it (truncated file?)");
-                if (Status s = lines.checkText(line, false); !s) return s;
-                Tokens kt(trim(line));
-                for (int a = 0; a < 3; ++a) {
-                    std::optional<double> v;
-                    if (!kt.next(tok) || !(v = parseDouble(tok)) || !std::isfinite(*v))
-                        return lines.fail("TFACE " + std::to_string(f.id) + ": key point " + std::to_string(k + 1) +
-                                          " needs three finite numbers x y z");
-                    f.key[k][a] = *v;
-                }
-            }
+            if (Status s = readTface(lines, tokens, f); !s) return s;
             tfaces.push_back(std::move(f));
         } else if (keyword == "REGION") {
             Region r;
@@ -150,48 +151,52 @@ Status readModel3d(Context& cx, std::size_t startLine) {
             std::vector<std::int64_t> members;
             if (Status s = readZeroEndedList(lines, tokens, "LAYER " + name, members); !s) return s;
             layers.emplace_back(std::move(name), std::move(members));
-        } else if (keyword == "END") {
-            ended = true;
-            break;
-        } else if (keyword == "GOCAD") {
-            return lines.fail("a new GOCAD object starts before END of the Model3d header that starts on line " +
-                              std::to_string(startLine));
         } else {
-            bool handled = false;
-            if (Status s = info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-            if (!handled)
-                if (Status s = skipUnknown(lines, keyword, line); !s) return s;
+            handled = false;
         }
+        return {};
     }
-    if (!bad) return bad;
-    if (!ended)
-        return lines.failAt(lines.lastLine(), "missing END of the Model3d header that starts on line " +
-                                                  std::to_string(startLine) + " (truncated file?)");
-    const std::string where = "the Model3d that starts on line " + std::to_string(startLine);
-    if (tfaces.empty()) return lines.failAt(startLine, where + " has no TFACE");
 
-    // TFACE ids -> index; ids are checked unique.
-    std::vector<std::pair<std::uint64_t, std::size_t>> byId;
-    for (std::size_t i = 0; i < tfaces.size(); ++i) byId.emplace_back(tfaces[i].id, i);
-    std::sort(byId.begin(), byId.end());
-    for (std::size_t i = 1; i < byId.size(); ++i)
-        if (byId[i].first == byId[i - 1].first)
-            return lines.failAt(tfaces[byId[i].second].line, "duplicate TFACE id " + std::to_string(byId[i].first));
-    auto tfaceIndex = [&](std::uint64_t id) -> std::optional<std::size_t> {
-        auto it = std::lower_bound(byId.begin(), byId.end(), std::make_pair(id, std::size_t(0)));
-        if (it == byId.end() || it->first != id) return std::nullopt;
+    // Sorts the TFACE ids, checking they are unique.
+    Status indexTfaces(const Lines& lines) {
+        for (std::size_t i = 0; i < tfaces.size(); ++i) tfaceById.emplace_back(tfaces[i].id, i);
+        std::sort(tfaceById.begin(), tfaceById.end());
+        for (std::size_t i = 1; i < tfaceById.size(); ++i)
+            if (tfaceById[i].first == tfaceById[i - 1].first)
+                return lines.failAt(tfaces[tfaceById[i].second].line,
+                                    "duplicate TFACE id " + std::to_string(tfaceById[i].first));
+        return {};
+    }
+    std::optional<std::size_t> tfaceIndex(std::uint64_t id) const {
+        auto it = std::lower_bound(tfaceById.begin(), tfaceById.end(), std::make_pair(id, std::size_t(0)));
+        if (it == tfaceById.end() || it->first != id) return std::nullopt;
         return it->second;
-    };
+    }
 
-    // The surfaces: the GOCAD TSurf objects that follow, one per TSURF.
-    std::vector<TsurfData> surfaces;
+    // Region id -> layer name.
+    void assignLayers() {
+        std::vector<std::pair<std::int64_t, std::size_t>> regionById;
+        for (std::size_t i = 0; i < regions.size(); ++i)
+            regionById.emplace_back(static_cast<std::int64_t>(regions[i].id), i);
+        std::sort(regionById.begin(), regionById.end());
+        for (const auto& [name, members] : layers)
+            for (std::int64_t id : members) {
+                auto it = std::lower_bound(regionById.begin(), regionById.end(), std::make_pair(id, std::size_t(0)));
+                for (; it != regionById.end() && it->first == id; ++it) regions[it->second].layer = name;
+            }
+    }
+};
+
+// The surfaces: the GOCAD TSurf objects after the header, one per TSURF, matched by name,
+// else to the first TSURF not yet matched. surfaceOfName[k]: the surface of TSURF k.
+Status readSurfaces(Context& cx, const std::vector<std::string>& tsurfNames, const std::string& where,
+                    std::vector<TsurfData>& surfaces, std::vector<int>& surfaceOfName) {
+    Lines& lines = cx.lines;
     std::vector<bool> assigned(tsurfNames.size(), false);
-    std::vector<int> surfaceOfName(tsurfNames.size(), -1);
+    surfaceOfName.assign(tsurfNames.size(), -1);
     // TSURF name -> its indices and a cursor past the ones already matched.
     std::map<std::string, std::pair<std::vector<std::size_t>, std::size_t>> byName;
     for (std::size_t i = 0; i < tsurfNames.size(); ++i) byName[tsurfNames[i]].first.push_back(i);
-    std::map<std::string, std::size_t> firstByName;  // TSURF name -> its first index
-    for (std::size_t i = tsurfNames.size(); i-- > 0;) firstByName[tsurfNames[i]] = i;
     std::size_t firstUnassigned = 0;
     while (surfaces.size() < tsurfNames.size()) {
         Lines::Mark m = lines.mark();
@@ -211,7 +216,6 @@ Status readModel3d(Context& cx, std::size_t startLine) {
         }
         TsurfData data;
         if (Status s = readTsurfData(cx, lines.lineNo(), data); !s) return s;
-        // Match by name, else the first surface not yet matched.
         std::size_t k = tsurfNames.size();
         if (auto it = byName.find(data.info.name); it != byName.end()) {
             auto& [indices, cursor] = it->second;
@@ -232,15 +236,23 @@ Status readModel3d(Context& cx, std::size_t startLine) {
         if (!assigned[i])
             return lines.failAt(lines.lineNo(), where + " names surface " + quoteToken(tsurfNames[i]) +
                                                     " (TSURF), but no GOCAD TSurf object for it follows");
+    return {};
+}
 
-    // Patches: the k-th TFACE of a surface in the header is the k-th TFACE of its TSurf.
-    std::vector<std::size_t> nextPatch(tsurfNames.size(), 0);
-    std::vector<std::size_t> order(tfaces.size());
+// Patches: the k-th TFACE of a surface in the header is the k-th TFACE of its TSurf. Sets
+// each TFACE's surface, triangles and orientation against its key triangle.
+Status placePatches(Context& cx, const CoordinateSystem& crs, const std::vector<TsurfData>& surfaces,
+                    const std::vector<int>& surfaceOfName, Model3dHeader& h) {
+    const Lines& lines = cx.lines;
+    std::map<std::string, std::size_t> firstByName;  // TSURF name -> its first index
+    for (std::size_t i = h.tsurfNames.size(); i-- > 0;) firstByName[h.tsurfNames[i]] = i;
+    std::vector<std::size_t> nextPatch(h.tsurfNames.size(), 0);
+    std::vector<std::size_t> order(h.tfaces.size());
     std::iota(order.begin(), order.end(), std::size_t(0));
     std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return tfaces[a].id < tfaces[b].id; });
+                     [&](std::size_t a, std::size_t b) { return h.tfaces[a].id < h.tfaces[b].id; });
     for (std::size_t i : order) {
-        Tface& f = tfaces[i];
+        Tface& f = h.tfaces[i];
         auto it = firstByName.find(f.surface);
         if (it == firstByName.end())
             return lines.failAt(f.line, "TFACE " + std::to_string(f.id) + " names surface " + quoteToken(f.surface) +
@@ -258,7 +270,7 @@ Status readModel3d(Context& cx, std::size_t startLine) {
         const std::size_t end = patch + 1 < s.tfaceStart.size() ? s.tfaceStart[patch + 1] : s.mesh.triangleCount();
         f.triangleCount = end - f.firstTriangle;
         glm::dvec3 key[3];
-        for (int q = 0; q < 3; ++q) key[q] = info.crs.toWorld(f.key[q]);
+        for (int q = 0; q < 3; ++q) key[q] = crs.toWorld(f.key[q]);
         std::optional<bool> same = keyOrientation(s.mesh, f.firstTriangle, f.triangleCount, key);
         if (!same) {
             for (auto& q : key) q.z = -q.z;  // as RINGMesh: a key triangle written with the other z sign
@@ -270,92 +282,109 @@ Status readModel3d(Context& cx, std::size_t startLine) {
                                 "like it");
         f.reversed = same.has_value() && !*same;
     }
+    return {};
+}
 
-    // Layers: region id -> layer name.
-    std::vector<std::pair<std::int64_t, std::size_t>> regionById;
-    for (std::size_t i = 0; i < regions.size(); ++i)
-        regionById.emplace_back(static_cast<std::int64_t>(regions[i].id), i);
-    std::sort(regionById.begin(), regionById.end());
-    for (const auto& [name, members] : layers)
-        for (std::int64_t id : members) {
-            auto it = std::lower_bound(regionById.begin(), regionById.end(), std::make_pair(id, std::size_t(0)));
-            for (; it != regionById.end() && it->first == id; ++it) regions[it->second].layer = name;
-        }
+// Every surface vertex welded by exact position, so that the regions' shells share positions.
+struct WeldedSurfaces {
+    std::vector<std::size_t> base;    // first vertex of each surface in the concatenation
+    std::vector<std::uint32_t> weld;  // concatenated vertex -> welded vertex
+    std::vector<glm::dvec3> welded;
+    std::vector<std::uint32_t> local;  // welded vertex -> vertex of the shell being built
+};
 
-    // One weld of every surface vertex, so that the regions' shells share positions exactly.
-    std::vector<std::size_t> base(surfaces.size() + 1, 0);
-    for (std::size_t i = 0; i < surfaces.size(); ++i) base[i + 1] = base[i] + surfaces[i].mesh.positions.size();
-    if (base.back() >= std::numeric_limits<std::uint32_t>::max())
+Status weldSurfaces(const Lines& lines, std::size_t startLine, const std::string& where,
+                    const std::vector<TsurfData>& surfaces, WeldedSurfaces& w) {
+    w.base.assign(surfaces.size() + 1, 0);
+    for (std::size_t i = 0; i < surfaces.size(); ++i) w.base[i + 1] = w.base[i] + surfaces[i].mesh.positions.size();
+    if (w.base.back() >= std::numeric_limits<std::uint32_t>::max())
         return lines.failAt(startLine, where + " has too many vertices");
     std::vector<glm::dvec3> all;
-    all.reserve(base.back());
+    all.reserve(w.base.back());
     for (const TsurfData& s : surfaces) all.insert(all.end(), s.mesh.positions.begin(), s.mesh.positions.end());
-    std::vector<glm::dvec3> welded;
-    const std::vector<std::uint32_t> weld = weldExact(all, welded);
-    all.clear();
-    all.shrink_to_fit();
+    w.weld = weldExact(all, w.welded);
+    w.local.assign(w.welded.size(), std::numeric_limits<std::uint32_t>::max());
+    return {};
+}
 
-    std::vector<std::uint32_t> local(welded.size(), std::numeric_limits<std::uint32_t>::max());
-    std::size_t bodies = 0;
-    for (const Region& r : regions) {
-        if (r.name == "Universe") continue;
-        // A patch listed with both signs lies inside the region (a dangling fault): it bounds nothing.
-        std::vector<std::int64_t> faces = r.faces;
-        std::sort(faces.begin(), faces.end());
-        std::vector<std::int64_t> kept;
-        std::string inside;  // patches listed on both sides: inside the region
-        for (std::int64_t s : faces) {
-            if (std::binary_search(faces.begin(), faces.end(), -s)) {
-                if (s > 0) inside += (inside.empty() ? "" : ", ") + std::to_string(s);
-                continue;
-            }
-            if (!kept.empty() && kept.back() == s) continue;
-            kept.push_back(s);
+// The patches of region `r` that bound it: a patch listed with both signs lies inside the
+// region (a dangling fault) and bounds nothing.
+std::vector<std::int64_t> boundingFaces(Context& cx, const Region& r) {
+    std::vector<std::int64_t> faces = r.faces;
+    std::sort(faces.begin(), faces.end());
+    std::vector<std::int64_t> kept;
+    std::string inside;  // patches listed on both sides: inside the region
+    for (std::int64_t s : faces) {
+        if (std::binary_search(faces.begin(), faces.end(), -s)) {
+            if (s > 0) inside += (inside.empty() ? "" : ", ") + std::to_string(s);
+            continue;
         }
-        if (!inside.empty())
-            cx.warn(r.line, "REGION " + r.name + " lists TFACE " + inside +
-                                " on both sides (a surface ending inside the region): not part of its boundary");
+        if (!kept.empty() && kept.back() == s) continue;
+        kept.push_back(s);
+    }
+    if (!inside.empty())
+        cx.warn(r.line, "REGION " + r.name + " lists TFACE " + inside +
+                            " on both sides (a surface ending inside the region): not part of its boundary");
+    return kept;
+}
+
+// The shell of region `r`: its patches oriented outward, on the welded vertices.
+Status regionShell(Context& cx, const Region& r, const std::vector<TsurfData>& surfaces, Model3dHeader& h,
+                   WeldedSurfaces& w, Mesh& mesh) {
+    const Lines& lines = cx.lines;
+    const std::vector<std::int64_t> kept = boundingFaces(cx, r);
+    for (std::int64_t s : kept) {
+        const std::uint64_t id = static_cast<std::uint64_t>(s < 0 ? -s : s);
+        std::optional<std::size_t> fi = h.tfaceIndex(id);
+        if (!fi)
+            return lines.failAt(r.line, "REGION " + r.name + " names TFACE " + std::to_string(id) +
+                                            ", which the model does not define");
+        Tface& f = h.tfaces[*fi];
+        if (++f.regions > 2)
+            return lines.failAt(r.line, "REGION " + r.name + " names TFACE " + std::to_string(id) +
+                                            ", which already bounds two other regions (a patch has two sides)");
+        const TsurfData& surf = surfaces[static_cast<std::size_t>(f.surfaceIndex)];
+        const std::size_t b = w.base[static_cast<std::size_t>(f.surfaceIndex)];
+        // Outward = away from the region: flip when the triangles turn towards it.
+        const bool flip = (s > 0) != f.reversed;
+        for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount; ++t) {
+            std::uint32_t v[3];
+            for (int q = 0; q < 3; ++q) {
+                const std::uint32_t g = w.weld[b + surf.mesh.indices[3 * t + static_cast<std::size_t>(q)]];
+                if (w.local[g] == std::numeric_limits<std::uint32_t>::max()) {
+                    w.local[g] = static_cast<std::uint32_t>(mesh.positions.size());
+                    mesh.positions.push_back(w.welded[g]);
+                }
+                v[q] = w.local[g];
+            }
+            if (flip) std::swap(v[1], v[2]);
+            mesh.indices.insert(mesh.indices.end(), {v[0], v[1], v[2]});
+        }
+    }
+    // Reset the shared map for the next region (only the entries this one set).
+    for (std::int64_t s : kept) {
+        const Tface& f = h.tfaces[*h.tfaceIndex(static_cast<std::uint64_t>(s < 0 ? -s : s))];
+        const TsurfData& surf = surfaces[static_cast<std::size_t>(f.surfaceIndex)];
+        const std::size_t b = w.base[static_cast<std::size_t>(f.surfaceIndex)];
+        for (std::size_t t = 3 * f.firstTriangle; t < 3 * (f.firstTriangle + f.triangleCount); ++t)
+            w.local[w.weld[b + surf.mesh.indices[t]]] = std::numeric_limits<std::uint32_t>::max();
+    }
+    return {};
+}
+
+// One closed body per region other than the Universe; returns how many.
+Result<std::size_t> addRegionBodies(Context& cx, std::size_t startLine, const std::string& where,
+                                    const std::vector<TsurfData>& surfaces, Model3dHeader& h) {
+    WeldedSurfaces w;
+    if (Status s = weldSurfaces(cx.lines, startLine, where, surfaces, w); !s) return s.error();
+    std::size_t bodies = 0;
+    for (const Region& r : h.regions) {
+        if (r.name == "Universe") continue;
         Part part;
         part.name = r.name;
         part.kind = PartKind::Body;
-        Mesh& mesh = part.mesh;
-        for (std::int64_t s : kept) {
-            const std::uint64_t id = static_cast<std::uint64_t>(s < 0 ? -s : s);
-            std::optional<std::size_t> fi = tfaceIndex(id);
-            if (!fi)
-                return lines.failAt(r.line, "REGION " + r.name + " names TFACE " + std::to_string(id) +
-                                                ", which the model does not define");
-            Tface& f = tfaces[*fi];
-            if (++f.regions > 2)
-                return lines.failAt(r.line, "REGION " + r.name + " names TFACE " + std::to_string(id) +
-                                                ", which already bounds two other regions (a patch has two sides)");
-            const TsurfData& surf = surfaces[static_cast<std::size_t>(f.surfaceIndex)];
-            const std::size_t b = base[static_cast<std::size_t>(f.surfaceIndex)];
-            // Outward = away from the region: flip when the triangles turn towards it.
-            const bool flip = (s > 0) != f.reversed;
-            for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount; ++t) {
-                std::uint32_t v[3];
-                for (int q = 0; q < 3; ++q) {
-                    const std::uint32_t g = weld[b + surf.mesh.indices[3 * t + static_cast<std::size_t>(q)]];
-                    if (local[g] == std::numeric_limits<std::uint32_t>::max()) {
-                        local[g] = static_cast<std::uint32_t>(mesh.positions.size());
-                        mesh.positions.push_back(welded[g]);
-                    }
-                    v[q] = local[g];
-                }
-                if (flip) std::swap(v[1], v[2]);
-                mesh.indices.insert(mesh.indices.end(), {v[0], v[1], v[2]});
-            }
-        }
-        // Reset the shared map for the next region (only the entries this one set).
-        for (std::int64_t s : kept) {
-            const Tface& f = tfaces[*tfaceIndex(static_cast<std::uint64_t>(s < 0 ? -s : s))];
-            const TsurfData& surf = surfaces[static_cast<std::size_t>(f.surfaceIndex)];
-            const std::size_t b = base[static_cast<std::size_t>(f.surfaceIndex)];
-            for (std::size_t t = 3 * f.firstTriangle; t < 3 * (f.firstTriangle + f.triangleCount); ++t)
-                local[weld[b + surf.mesh.indices[t]]] = std::numeric_limits<std::uint32_t>::max();
-        }
-        if (mesh.indices.empty()) {
+        if (Status s = regionShell(cx, r, surfaces, h, w, part.mesh); !s) return s.error();
+        if (part.mesh.indices.empty()) {
             cx.warn(r.line, "REGION " + r.name + " has no triangles: no body");
             continue;
         }
@@ -368,8 +397,31 @@ Status readModel3d(Context& cx, std::size_t startLine) {
         cx.model.bodies.push_back(std::move(part));
         ++bodies;
     }
-    if (bodies == 0 && !regions.empty()) cx.warn(startLine, where + " defines no region other than the Universe");
-    cx.declaredVolumes = cx.declaredVolumes || bodies > 0;
+    return bodies;
+}
+
+}  // namespace
+
+Status readModel3d(Context& cx, std::size_t startLine) {
+    Lines& lines = cx.lines;
+    ObjectInfo info;
+    info.crs = cx.fileCrs;
+    Model3dHeader h;
+    auto own = [&](Lines::Statement& st, bool& handled) { return h.readKeyword(lines, st, handled); };
+    if (Status s = readObjectBody(cx, info, "Model3d header", startLine, own); !s) return s;
+    const std::string where = "the Model3d that starts on line " + std::to_string(startLine);
+    if (h.tfaces.empty()) return lines.failAt(startLine, where + " has no TFACE");
+    if (Status s = h.indexTfaces(lines); !s) return s;
+    std::vector<TsurfData> surfaces;
+    std::vector<int> surfaceOfName;
+    if (Status s = readSurfaces(cx, h.tsurfNames, where, surfaces, surfaceOfName); !s) return s;
+    if (Status s = placePatches(cx, info.crs, surfaces, surfaceOfName, h); !s) return s;
+    h.assignLayers();
+    auto bodies = addRegionBodies(cx, startLine, where, surfaces, h);
+    if (!bodies) return bodies.error();
+    if (bodies.value() == 0 && !h.regions.empty())
+        cx.warn(startLine, where + " defines no region other than the Universe");
+    cx.declaredVolumes = cx.declaredVolumes || bodies.value() > 0;
     if (!info.name.empty()) cx.model.notes["gocad_model3d"] = info.name;
     for (TsurfData& s : surfaces) addTsurfPart(cx, std::move(s));
     return {};

@@ -22,43 +22,22 @@ Status readPline(Context& cx, std::size_t startLine) {
         std::size_t line = 0;
     };
     std::vector<Seg> segs;
-    Lines::Statement st;
-    Status bad;
-    bool ended = false;
-    while (lines.nextStatement(st, bad)) {
-        const std::string_view line = st.line, keyword = st.keyword;
+    auto own = [&](Lines::Statement& st, bool& handled) -> Status {
+        const std::string_view keyword = st.keyword;
         Tokens& tokens = st.tokens;
-        if (keyword == "VRTX" || keyword == "PVRTX") {
-            if (Status s = readVertex(cx, lines, tokens, keyword, "PLine", schema, ids, positions); !s) return s;
-        } else if (keyword == "ATOM" || keyword == "PATOM") {
-            if (Status s = ids.addAtom(lines, tokens, keyword); !s) return s;
-        } else if (keyword == "SEG") {
+        if (keyword == "SEG") {
             Seg s;
             s.line = lines.lineNo();
             if (Status e = readId(lines, tokens, "SEG vertex id", s.a); !e) return e;
             if (Status e = readId(lines, tokens, "SEG vertex id", s.b); !e) return e;
             segs.push_back(s);
-        } else if (keyword == "ILINE") {
-            continue;  // a new part of the same line object
-        } else if (keyword == "END") {
-            ended = true;
-            break;
-        } else if (keyword == "GOCAD") {
-            return lines.fail("a new GOCAD object starts before END of the PLine object that starts on line " +
-                              std::to_string(startLine));
-        } else {
-            bool handled = false;
-            if (Status s = info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-            if (handled) continue;
-            if (Status s = schema.readKeyword(lines, keyword, tokens, handled); !s) return s;
-            if (handled) continue;
-            if (Status s = skipUnknown(lines, keyword, line); !s) return s;
+            return {};
         }
-    }
-    if (!bad) return bad;
-    if (!ended)
-        return lines.failAt(lines.lastLine(), "missing END of the PLine object that starts on line " +
-                                                  std::to_string(startLine) + " (truncated file?)");
+        handled = keyword == "ILINE";  // a new part of the same line object
+        return {};
+    };
+    const KeywordReader vertices = vertexKeywords(cx, "PLine", schema, ids, positions);
+    if (Status s = readObjectBody(cx, info, "PLine object", startLine, own, vertices); !s) return s;
     if (Status s = ids.resolve(lines); !s) return s;
     if (segs.empty()) {
         cx.warn(startLine, "the PLine object has no SEG: no line");

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -71,6 +72,10 @@ private:
     std::size_t lastLine_ = 0;
     bool endsWithNewline_ = true;
 };
+
+// A reader of some of an object's keywords (readObjectBody): it reads one statement;
+// `handled` is true on entry, and it sets it to false for a keyword that is not one of its own.
+using KeywordReader = std::function<Status(Lines::Statement& st, bool& handled)>;
 
 // GOCAD ids are unsigned decimal integers: text::parseUnsigned.
 using IdStatus = text::IntStatus;
@@ -198,10 +203,12 @@ struct VertexIds {
     const Key* find(std::uint64_t id) const;
 };
 
-// One VRTX / PVRTX line of an object (`object` names it in errors): its position goes to
-// `positions`, its id to `ids`, its property values (or NaN padding) to `schema`.
-Status readVertex(Context& cx, const Lines& lines, text::Tokens& tokens, std::string_view keyword,
-                  std::string_view object, PropertySchema& schema, VertexIds& ids, std::vector<glm::dvec3>& positions);
+// The vertex keywords of a TSurf, TSolid or PLine (`object` names it in errors), as a
+// KeywordReader: each VRTX / PVRTX line's position goes to `positions`, its id to `ids`, its
+// property values (or NaN padding) to `schema`; ATOM / PATOM go to `ids`; PROPERTIES,
+// PROPERTY_CLASSES, ESIZES, NO_DATA_VALUES to `schema`.
+KeywordReader vertexKeywords(Context& cx, std::string_view object, PropertySchema& schema, VertexIds& ids,
+                             std::vector<glm::dvec3>& positions);
 
 // Binary sample files of Voxet and SGrid: `count` values of `esize` bytes (IEEE float 4
 // or 8, or signed/unsigned integers of 1, 2 or 4 bytes), big-endian unless `littleEndian`,
@@ -234,9 +241,31 @@ struct GridHeader {
     bool cellCentred = false;  // PROP_ALIGNMENT CELLS (SGrid)
 
     Status readKeyword(Context& cx, std::string_view keyword, text::Tokens& tokens, bool& handled);
+    // readKeyword as a KeywordReader.
+    KeywordReader keywords(Context& cx) {
+        return [this, &cx](Lines::Statement& st, bool& handled) {
+            return readKeyword(cx, st.keyword, st.tokens, handled);
+        };
+    }
+    // A grid of `type` ("Voxet", "SGrid") with the header's dims and alignment, named after
+    // the object (else the model); an error when the object had no AXIS_N.
+    Status startGrid(const Context& cx, std::string_view type, std::size_t startLine, const ObjectInfo& info,
+                     Grid& grid) const;
     // Reads every property's sample file into grid.properties (grid.dims set before).
     Status readProperties(Context& cx, std::size_t startLine, Grid& grid) const;
 };
+
+// Reads the statements of one object after its `GOCAD <Type>` line (number `startLine`)
+// through its END. Each statement goes to `own` (the type's keywords) first; then END ends
+// the object, GOCAD is an error (a new object before END), and any other keyword goes to
+// info.readCommon, then to `shared` when set (PropertySchema or GridHeader keywords), else to
+// skipUnknown. `object` names it in errors ("TSurf object", "Model3d header"). At the end of
+// the input without END: missingEnd, or, when `ended` is given, *ended = false and the caller
+// decides.
+Status readObjectBody(Context& cx, ObjectInfo& info, std::string_view object, std::size_t startLine,
+                      const KeywordReader& own, const KeywordReader& shared = {}, bool* ended = nullptr);
+// "missing END of the <object> that starts on line N (truncated file?)", at the input's last line.
+Error missingEnd(const Lines& lines, std::string_view object, std::size_t startLine);
 
 // Readers: called after the `GOCAD <Type>` line (number `startLine`), they read through the
 // object's END and add to cx.model.

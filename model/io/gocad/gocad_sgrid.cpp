@@ -81,48 +81,28 @@ Status readSgrid(Context& cx, std::size_t startLine) {
     std::string pointsFile, asciiFile;
     std::size_t pointsLine = 0, asciiLine = 0;
     SampleFormat pointsFormat;
-    Lines::Statement st;
-    Status bad;
-    bool ended = false;
-    while (lines.nextStatement(st, bad)) {
-        const std::string_view line = st.line, keyword = st.keyword;
+    auto own = [&](Lines::Statement& st, bool& handled) -> Status {
+        const std::string_view keyword = st.keyword;
         Tokens& tokens = st.tokens;
         if (keyword == "POINTS_FILE") {
             pointsFile = std::string(tokens.rest());
             pointsLine = lines.lineNo();
         } else if (keyword == "POINTS_OFFSET") {
-            if (Status s = readId(lines, tokens, "POINTS_OFFSET", pointsFormat.offset); !s) return s;
+            return readId(lines, tokens, "POINTS_OFFSET", pointsFormat.offset);
         } else if (keyword == "ASCII_DATA_FILE") {
             asciiFile = std::string(tokens.rest());
             asciiLine = lines.lineNo();
         } else if (keyword == "FLAGS_FILE" || keyword == "REGION_FLAGS_FILE" || keyword == "SPLIT_FILE") {
             cx.warn(lines.lineNo(), std::string(keyword) + " is not read (dead cells and regions are ignored)",
                     "sgrid " + std::string(keyword));
-        } else if (keyword == "END") {
-            ended = true;
-            break;
-        } else if (keyword == "GOCAD") {
-            return lines.fail("a new GOCAD object starts before END of the SGrid object that starts on line " +
-                              std::to_string(startLine));
         } else {
-            bool handled = false;
-            if (Status s = info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-            if (handled) continue;
-            if (Status s = header.readKeyword(cx, keyword, tokens, handled); !s) return s;
-            if (handled) continue;
-            if (Status s = skipUnknown(lines, keyword, line); !s) return s;
+            handled = false;
         }
-    }
-    if (!bad) return bad;
-    if (!ended)
-        return lines.failAt(lines.lastLine(), "missing END of the SGrid object that starts on line " +
-                                                  std::to_string(startLine) + " (truncated file?)");
-    if (header.dimsLine == 0) return lines.failAt(startLine, "the SGrid object has no AXIS_N");
+        return {};
+    };
+    if (Status s = readObjectBody(cx, info, "SGrid object", startLine, own, header.keywords(cx)); !s) return s;
     Grid grid;
-    grid.type = "SGrid";
-    grid.name = info.name.empty() ? cx.model.name : info.name;
-    for (int a = 0; a < 3; ++a) grid.dims[a] = header.dims[a];
-    grid.cellCentred = header.cellCentred;
+    if (Status s = header.startGrid(cx, "SGrid", startLine, info, grid); !s) return s;
     const std::size_t n = grid.sampleCount();
     if (!asciiFile.empty()) {
         auto path = dataFilePath(cx, asciiFile, asciiLine);

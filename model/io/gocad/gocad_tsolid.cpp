@@ -29,6 +29,7 @@ using namespace geoslice::text;
 namespace {
 
 constexpr std::size_t kMaxCellColumns = 64;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 struct Tet {
     std::uint64_t ids[4] = {0, 0, 0, 0};
@@ -42,240 +43,251 @@ struct SurfaceTri {
     std::size_t surface = 0;
 };
 
-}  // namespace
-
-Status readTsolid(Context& cx, std::size_t startLine) {
-    Lines& lines = cx.lines;
-    ObjectInfo info;
-    info.crs = cx.fileCrs;
+// What the lines of one TSolid object hold, as written.
+struct TsolidText {
     PropertySchema schema;
     VertexIds ids;
     std::vector<glm::dvec3> positions;
     std::vector<Tet> tets;
     std::vector<std::string> regionNames;
     std::vector<std::string> cellNames;
-    std::vector<float> cellValues;  // cellNames.size() per tet (when any)
+    std::vector<float> cellValues;  // cellColumns per tet (when any)
     std::size_t cellColumns = 0;
     std::vector<std::string> surfaceNames;
     std::vector<SurfaceTri> surfaceTris;
+};
 
-    Lines::Statement st;
-    Status bad;
-    bool ended = false;
-    while (lines.nextStatement(st, bad)) {
-        const std::string_view line = st.line, keyword = st.keyword;
-        Tokens& tokens = st.tokens;
-        if (keyword == "VRTX" || keyword == "PVRTX") {
-            if (Status s = readVertex(cx, lines, tokens, keyword, "TSolid", schema, ids, positions); !s) return s;
-        } else if (keyword == "ATOM" || keyword == "PATOM") {
-            if (Status s = ids.addAtom(lines, tokens, keyword); !s) return s;
-        } else if (keyword == "TVOLUME") {
-            regionNames.push_back(toUtf8(unquote(tokens.rest())));
-            if (regionNames.back().empty()) regionNames.back() = "region_" + std::to_string(regionNames.size());
-        } else if (keyword == "TETRA") {
-            Tet tet;
-            tet.line = lines.lineNo();
-            for (auto& id : tet.ids)
-                if (Status s = readId(lines, tokens, "TETRA vertex id", id); !s) return s;
-            if (regionNames.empty()) regionNames.push_back(info.name.empty() ? cx.model.name : info.name);
-            tet.region = static_cast<std::int32_t>(regionNames.size() - 1);
-            // Cell values after the four ids.
-            std::string_view tok;
-            std::size_t found = 0;
-            const std::size_t before = cellValues.size();
-            while (tokens.next(tok)) {
-                std::optional<double> v = parseDouble(tok);
-                if (!v) return lines.fail("TETRA cell value " + quoteToken(tok) + " is not a number");
-                if (++found > kMaxCellColumns)
-                    return lines.fail("more than " + std::to_string(kMaxCellColumns) + " values on a TETRA line");
-                const bool ok = std::isfinite(*v) && std::fabs(*v) <= std::numeric_limits<float>::max();
-                cellValues.push_back(ok ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN());
-            }
-            if (tets.empty()) cellColumns = found;
-            if (found != cellColumns) {
-                cellValues.resize(before);
-                return lines.fail("TETRA has " + std::to_string(found) + " cell values, the first TETRA had " +
-                                  std::to_string(cellColumns));
-            }
-            tets.push_back(tet);
-        } else if (keyword == "TETRA_PROPERTIES" || keyword == "CELL_PROPERTIES") {
-            cellNames.clear();
-            std::string_view tok;
-            while (tokens.next(tok) && cellNames.size() < kMaxCellColumns) cellNames.push_back(toUtf8(unquote(tok)));
-        } else if (keyword == "SURFACE") {
-            surfaceNames.push_back(toUtf8(unquote(tokens.rest())));
-        } else if (keyword == "TRGL") {
-            if (surfaceNames.empty()) surfaceNames.push_back(info.name.empty() ? cx.model.name : info.name);
-            SurfaceTri tri;
-            tri.line = lines.lineNo();
-            tri.surface = surfaceNames.size() - 1;
-            for (auto& id : tri.ids)
-                if (Status s = readId(lines, tokens, "TRGL vertex id", id); !s) return s;
-            surfaceTris.push_back(tri);
-        } else if (keyword == "END") {
-            ended = true;
-            break;
-        } else if (keyword == "GOCAD") {
-            return lines.fail("a new GOCAD object starts before END of the TSolid object that starts on line " +
-                              std::to_string(startLine));
-        } else {
-            static constexpr std::string_view kIgnored[] = {"MODEL",  "TFACE",  "KEYVERTICES", "MODEL_REGION",
-                                                            "BSTONE", "BORDER", "CTETRA"};
-            if (std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored)) continue;
-            bool handled = false;
-            if (Status s = info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-            if (handled) continue;
-            if (Status s = schema.readKeyword(lines, keyword, tokens, handled); !s) return s;
-            if (handled) continue;
-            if (Status s = skipUnknown(lines, keyword, line); !s) return s;
-        }
+// A TETRA line: four vertex ids, then as many cell values as the first TETRA had. `unnamed`
+// names the region of tetrahedra before any TVOLUME.
+Status readTetra(const Lines& lines, Tokens& tokens, const std::string& unnamed, TsolidText& t) {
+    Tet tet;
+    tet.line = lines.lineNo();
+    for (auto& id : tet.ids)
+        if (Status s = readId(lines, tokens, "TETRA vertex id", id); !s) return s;
+    if (t.regionNames.empty()) t.regionNames.push_back(unnamed);
+    tet.region = static_cast<std::int32_t>(t.regionNames.size() - 1);
+    std::string_view tok;
+    std::size_t found = 0;
+    const std::size_t before = t.cellValues.size();
+    while (tokens.next(tok)) {
+        std::optional<double> v = parseDouble(tok);
+        if (!v) return lines.fail("TETRA cell value " + quoteToken(tok) + " is not a number");
+        if (++found > kMaxCellColumns)
+            return lines.fail("more than " + std::to_string(kMaxCellColumns) + " values on a TETRA line");
+        const bool ok = std::isfinite(*v) && std::fabs(*v) <= std::numeric_limits<float>::max();
+        t.cellValues.push_back(ok ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN());
     }
-    if (!bad) return bad;
-    if (!ended)
-        return lines.failAt(lines.lastLine(), "missing END of the TSolid object that starts on line " +
-                                                  std::to_string(startLine) + " (truncated file?)");
-    if (Status s = ids.resolve(lines); !s) return s;
-    if (tets.empty()) {
-        cx.warn(startLine, "the TSolid object has no TETRA: no body");
-        return {};
+    if (t.tets.empty()) t.cellColumns = found;
+    if (found != t.cellColumns) {
+        t.cellValues.resize(before);
+        return lines.fail("TETRA has " + std::to_string(found) + " cell values, the first TETRA had " +
+                          std::to_string(t.cellColumns));
     }
+    t.tets.push_back(tet);
+    return {};
+}
 
-    // World positions, welded by exact position; properties of the first of each group.
-    std::vector<glm::dvec3> world(positions.size());
-    for (std::size_t i = 0; i < positions.size(); ++i) world[i] = info.crs.toWorld(positions[i]);
+// The TSolid's own keywords (a KeywordReader for readObjectBody).
+Status readTsolidKeyword(Context& cx, const ObjectInfo& info, Lines::Statement& st, TsolidText& t, bool& handled) {
+    const Lines& lines = cx.lines;
+    const std::string_view keyword = st.keyword;
+    Tokens& tokens = st.tokens;
+    const std::string& unnamed = info.name.empty() ? cx.model.name : info.name;
+    if (keyword == "TVOLUME") {
+        t.regionNames.push_back(toUtf8(unquote(tokens.rest())));
+        if (t.regionNames.back().empty()) t.regionNames.back() = "region_" + std::to_string(t.regionNames.size());
+    } else if (keyword == "TETRA") {
+        return readTetra(lines, tokens, unnamed, t);
+    } else if (keyword == "TETRA_PROPERTIES" || keyword == "CELL_PROPERTIES") {
+        t.cellNames.clear();
+        std::string_view tok;
+        while (tokens.next(tok) && t.cellNames.size() < kMaxCellColumns) t.cellNames.push_back(toUtf8(unquote(tok)));
+    } else if (keyword == "SURFACE") {
+        t.surfaceNames.push_back(toUtf8(unquote(tokens.rest())));
+    } else if (keyword == "TRGL") {
+        if (t.surfaceNames.empty()) t.surfaceNames.push_back(unnamed);
+        SurfaceTri tri;
+        tri.line = lines.lineNo();
+        tri.surface = t.surfaceNames.size() - 1;
+        for (auto& id : tri.ids)
+            if (Status s = readId(lines, tokens, "TRGL vertex id", id); !s) return s;
+        t.surfaceTris.push_back(tri);
+    } else {
+        static constexpr std::string_view kIgnored[] = {"MODEL",  "TFACE",  "KEYVERTICES", "MODEL_REGION",
+                                                        "BSTONE", "BORDER", "CTETRA"};
+        handled = std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored);
+    }
+    return {};
+}
+
+// The tetrahedra in world coordinates, their vertices welded by exact position.
+struct WeldedTets {
     VolumeMesh vm;
-    const std::vector<std::uint32_t> weld = weldExact(world, vm.positions);
-    const std::size_t columns = schema.columnNames.size();
-    std::vector<float> weldedProps;
-    if (columns > 0) {
-        weldedProps.assign(vm.positions.size() * columns, std::numeric_limits<float>::quiet_NaN());
-        std::vector<bool> set(vm.positions.size(), false);
-        for (std::size_t v = 0; v < positions.size(); ++v) {
-            if (set[weld[v]]) continue;
-            set[weld[v]] = true;
-            std::copy_n(schema.values.begin() + static_cast<std::ptrdiff_t>(v * columns), columns,
-                        weldedProps.begin() + static_cast<std::ptrdiff_t>(weld[v] * columns));
-        }
-    }
-    auto vertexOf = [&](std::uint64_t id, std::size_t atLine, const char* what) -> Result<std::uint32_t> {
+    std::vector<std::uint32_t> weld;  // vertex as read -> welded vertex
+    std::vector<float> props;         // per welded vertex: the properties of the first of its group
+    std::size_t columns = 0;
+    std::vector<std::uint32_t> byPos;  // welded vertices sorted by position (when columns > 0)
+
+    // The welded vertex of vertex id `id`, named on line `atLine` by a `what` line.
+    Result<std::uint32_t> vertexOf(const Lines& lines, std::size_t startLine, const VertexIds& ids, std::uint64_t id,
+                                   std::size_t atLine, const char* what) const {
         const VertexIds::Key* k = ids.find(id);
         if (!k)
             return lines.failAt(atLine, std::string(what) + " refers to vertex id " + std::to_string(id) +
                                             ", which is not defined in the TSolid object that starts on line " +
                                             std::to_string(startLine));
         return weld[k->index];
-    };
-    vm.cellTypes.reserve(tets.size());
-    vm.cellOffsets.reserve(tets.size() + 1);
-    vm.cellVertices.reserve(tets.size() * 4);
-    vm.cellRegions.reserve(tets.size());
+    }
+};
+
+bool positionLess(const glm::dvec3& p, const glm::dvec3& q) {
+    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+}
+
+Status weldTets(const Lines& lines, std::size_t startLine, const CoordinateSystem& crs, const TsolidText& t,
+                WeldedTets& w) {
+    std::vector<glm::dvec3> world(t.positions.size());
+    for (std::size_t i = 0; i < t.positions.size(); ++i) world[i] = crs.toWorld(t.positions[i]);
+    VolumeMesh& vm = w.vm;
+    w.weld = weldExact(world, vm.positions);
+    w.columns = t.schema.columnNames.size();
+    const std::size_t columns = w.columns;
+    if (columns > 0) {
+        w.props.assign(vm.positions.size() * columns, std::numeric_limits<float>::quiet_NaN());
+        std::vector<bool> set(vm.positions.size(), false);
+        for (std::size_t v = 0; v < t.positions.size(); ++v) {
+            if (set[w.weld[v]]) continue;
+            set[w.weld[v]] = true;
+            std::copy_n(t.schema.values.begin() + static_cast<std::ptrdiff_t>(v * columns), columns,
+                        w.props.begin() + static_cast<std::ptrdiff_t>(w.weld[v] * columns));
+        }
+    }
+    vm.cellTypes.reserve(t.tets.size());
+    vm.cellOffsets.reserve(t.tets.size() + 1);
+    vm.cellVertices.reserve(t.tets.size() * 4);
+    vm.cellRegions.reserve(t.tets.size());
     vm.cellOffsets.push_back(0);
-    for (const Tet& t : tets) {
-        for (std::uint64_t id : t.ids) {
-            auto v = vertexOf(id, t.line, "TETRA");
+    for (const Tet& tet : t.tets) {
+        for (std::uint64_t id : tet.ids) {
+            auto v = w.vertexOf(lines, startLine, t.ids, id, tet.line, "TETRA");
             if (!v) return v.error();
             vm.cellVertices.push_back(v.value());
         }
         vm.cellTypes.push_back(VolumeMesh::CellType::Tetra);
         vm.cellOffsets.push_back(static_cast<std::uint32_t>(vm.cellVertices.size()));
-        vm.cellRegions.push_back(t.region);
+        vm.cellRegions.push_back(tet.region);
     }
-    auto shells = regionBoundaries(vm, regionNames.size());
-    if (!shells) return lines.failAt(startLine, "TSolid: " + shells.error().message);
-
-    // Per-region cell statistics: volume-weighted mean, min, max of each cell column.
-    const std::size_t regions = regionNames.size();
-    std::vector<double> volume(regions, 0.0);
-    std::vector<double> sum(regions * cellColumns, 0.0), weight(regions * cellColumns, 0.0);
-    std::vector<double> lo(regions * cellColumns, std::numeric_limits<double>::infinity());
-    std::vector<double> hi(regions * cellColumns, -std::numeric_limits<double>::infinity());
-    for (std::size_t c = 0; c < tets.size(); ++c) {
-        const double v = std::fabs(cellVolume(vm, c));
-        const auto r = static_cast<std::size_t>(tets[c].region);
-        volume[r] += v;
-        for (std::size_t k = 0; k < cellColumns; ++k) {
-            const float x = cellValues[c * cellColumns + k];
-            if (std::isnan(x)) continue;
-            sum[r * cellColumns + k] += v * x;
-            weight[r * cellColumns + k] += v;
-            lo[r * cellColumns + k] = std::min(lo[r * cellColumns + k], double(x));
-            hi[r * cellColumns + k] = std::max(hi[r * cellColumns + k], double(x));
-        }
-    }
-
-    // Sorted welded positions, to find each shell vertex's properties.
-    std::vector<std::uint32_t> byPos(vm.positions.size());
-    std::iota(byPos.begin(), byPos.end(), 0u);
-    auto less = [&](const glm::dvec3& p, const glm::dvec3& q) {
-        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
-    };
+    w.byPos.resize(vm.positions.size());
+    std::iota(w.byPos.begin(), w.byPos.end(), 0u);
     if (columns > 0)
-        std::sort(byPos.begin(), byPos.end(),
-                  [&](std::uint32_t a, std::uint32_t b) { return less(vm.positions[a], vm.positions[b]); });
+        std::sort(w.byPos.begin(), w.byPos.end(),
+                  [&](std::uint32_t a, std::uint32_t b) { return positionLess(vm.positions[a], vm.positions[b]); });
+    return {};
+}
 
-    for (std::size_t r = 0; r < regions; ++r) {
-        Mesh& mesh = shells.value()[r];
+// Per-region statistics of the cell values: volume-weighted mean, min, max of each column.
+struct CellStats {
+    std::vector<double> volume, sum, weight, lo, hi;
+
+    CellStats(const TsolidText& t, const VolumeMesh& vm) {
+        const std::size_t regions = t.regionNames.size(), columns = t.cellColumns;
+        volume.assign(regions, 0.0);
+        sum.assign(regions * columns, 0.0);
+        weight.assign(regions * columns, 0.0);
+        lo.assign(regions * columns, std::numeric_limits<double>::infinity());
+        hi.assign(regions * columns, -std::numeric_limits<double>::infinity());
+        for (std::size_t c = 0; c < t.tets.size(); ++c) {
+            const double v = std::fabs(cellVolume(vm, c));
+            const auto r = static_cast<std::size_t>(t.tets[c].region);
+            volume[r] += v;
+            for (std::size_t k = 0; k < columns; ++k) {
+                const float x = t.cellValues[c * columns + k];
+                if (std::isnan(x)) continue;
+                sum[r * columns + k] += v * x;
+                weight[r * columns + k] += v;
+                lo[r * columns + k] = std::min(lo[r * columns + k], double(x));
+                hi[r * columns + k] = std::max(hi[r * columns + k], double(x));
+            }
+        }
+    }
+
+    // extra["cell_properties"] of region `r`.
+    nlohmann::ordered_json json(const TsolidText& t, std::size_t r) const {
+        nlohmann::ordered_json cp = nlohmann::ordered_json::object();
+        for (std::size_t k = 0; k < t.cellColumns; ++k) {
+            const std::string name = k < t.cellNames.size() ? t.cellNames[k] : "cell_property_" + std::to_string(k + 1);
+            const std::size_t i = r * t.cellColumns + k;
+            if (weight[i] > 0.0)
+                cp[name] = {{"mean", sum[i] / weight[i]}, {"min", lo[i]}, {"max", hi[i]}};
+            else
+                cp[name] = nullptr;
+        }
+        return cp;
+    }
+};
+
+// Gives each shell vertex the properties of the welded vertex at its position.
+void addShellProperties(const WeldedTets& w, const std::vector<std::string>& names, Mesh& mesh) {
+    const std::size_t columns = w.columns;
+    const VolumeMesh& vm = w.vm;
+    mesh.propertyNames = names;
+    mesh.propertyValues.reserve(mesh.positions.size() * columns);
+    for (const glm::dvec3& p : mesh.positions) {
+        auto it = std::lower_bound(w.byPos.begin(), w.byPos.end(), p, [&](std::uint32_t a, const glm::dvec3& q) {
+            return positionLess(vm.positions[a], q);
+        });
+        GS_ASSERT(it != w.byPos.end() && vm.positions[*it] == p, "a shell vertex is a mesh vertex");
+        mesh.propertyValues.insert(mesh.propertyValues.end(),
+                                   w.props.begin() + static_cast<std::ptrdiff_t>(*it * columns),
+                                   w.props.begin() + static_cast<std::ptrdiff_t>((*it + 1) * columns));
+    }
+}
+
+// One body per region with tetrahedra: its boundary, properties and record.
+void addBodies(Context& cx, const TsolidText& t, const WeldedTets& w, std::vector<Mesh>& shells) {
+    const CellStats stats(t, w.vm);
+    for (std::size_t r = 0; r < t.regionNames.size(); ++r) {
+        Mesh& mesh = shells[r];
         if (mesh.indices.empty()) continue;
-        if (columns > 0) {
-            mesh.propertyNames = schema.columnNames;
-            mesh.propertyValues.reserve(mesh.positions.size() * columns);
-            for (const glm::dvec3& p : mesh.positions) {
-                auto it = std::lower_bound(byPos.begin(), byPos.end(), p, [&](std::uint32_t a, const glm::dvec3& q) {
-                    return less(vm.positions[a], q);
-                });
-                GS_ASSERT(it != byPos.end() && vm.positions[*it] == p, "a shell vertex is a mesh vertex");
-                mesh.propertyValues.insert(mesh.propertyValues.end(),
-                                           weldedProps.begin() + static_cast<std::ptrdiff_t>(*it * columns),
-                                           weldedProps.begin() + static_cast<std::ptrdiff_t>((*it + 1) * columns));
-            }
-        }
+        if (w.columns > 0) addShellProperties(w, t.schema.columnNames, mesh);
         AttributeRecord rec;
-        rec.name = regionNames[r];
+        rec.name = t.regionNames[r];
         rec.kind = "body";
-        rec.extra["tetrahedra_volume_m3"] = volume[r];
-        if (cellColumns > 0) {
-            nlohmann::ordered_json cp = nlohmann::ordered_json::object();
-            for (std::size_t k = 0; k < cellColumns; ++k) {
-                const std::string name = k < cellNames.size() ? cellNames[k] : "cell_property_" + std::to_string(k + 1);
-                const std::size_t i = r * cellColumns + k;
-                if (weight[i] > 0.0)
-                    cp[name] = {{"mean", sum[i] / weight[i]}, {"min", lo[i]}, {"max", hi[i]}};
-                else
-                    cp[name] = nullptr;
-            }
-            rec.extra["cell_properties"] = std::move(cp);
-        }
+        rec.extra["tetrahedra_volume_m3"] = stats.volume[r];
+        if (t.cellColumns > 0) rec.extra["cell_properties"] = stats.json(t, r);
         Part part;
-        part.name = regionNames[r];
+        part.name = t.regionNames[r];
         part.kind = PartKind::Body;
         part.mesh = std::move(mesh);
         part.record = cx.model.attributes.add(std::move(rec));
         cx.model.bodies.push_back(std::move(part));
         cx.declaredVolumes = true;
     }
+}
 
-    // The object's surfaces, by vertex ids.
-    std::vector<std::vector<std::uint32_t>> surfaceIndices(surfaceNames.size());
-    for (const SurfaceTri& t : surfaceTris)
-        for (std::uint64_t id : t.ids) {
-            auto v = vertexOf(id, t.line, "TRGL");
+// The object's surfaces (SURFACE / TRGL), by vertex ids.
+Status addSurfaces(Context& cx, std::size_t startLine, const TsolidText& t, const WeldedTets& w) {
+    std::vector<std::vector<std::uint32_t>> surfaceIndices(t.surfaceNames.size());
+    for (const SurfaceTri& tri : t.surfaceTris)
+        for (std::uint64_t id : tri.ids) {
+            auto v = w.vertexOf(cx.lines, startLine, t.ids, id, tri.line, "TRGL");
             if (!v) return v.error();
-            surfaceIndices[t.surface].push_back(v.value());
+            surfaceIndices[tri.surface].push_back(v.value());
         }
-    std::vector<std::uint32_t> local(vm.positions.size(), std::numeric_limits<std::uint32_t>::max());
-    for (std::size_t s = 0; s < surfaceNames.size(); ++s) {
+    std::vector<std::uint32_t> local(w.vm.positions.size(), kNone);
+    for (std::size_t s = 0; s < t.surfaceNames.size(); ++s) {
         if (surfaceIndices[s].empty()) continue;
         Part part;
-        part.name = surfaceNames[s].empty() ? "surface_" + std::to_string(s + 1) : surfaceNames[s];
+        part.name = t.surfaceNames[s].empty() ? "surface_" + std::to_string(s + 1) : t.surfaceNames[s];
         part.kind = PartKind::Surface;
         for (std::uint32_t v : surfaceIndices[s]) {
-            if (local[v] == std::numeric_limits<std::uint32_t>::max()) {
+            if (local[v] == kNone) {
                 local[v] = static_cast<std::uint32_t>(part.mesh.positions.size());
-                part.mesh.positions.push_back(vm.positions[v]);
+                part.mesh.positions.push_back(w.vm.positions[v]);
             }
             part.mesh.indices.push_back(local[v]);
         }
-        for (std::uint32_t v : surfaceIndices[s]) local[v] = std::numeric_limits<std::uint32_t>::max();
+        for (std::uint32_t v : surfaceIndices[s]) local[v] = kNone;
         AttributeRecord rec;
         rec.name = part.name;
         rec.kind = "surface";
@@ -283,6 +295,29 @@ Status readTsolid(Context& cx, std::size_t startLine) {
         cx.model.surfaces.push_back(std::move(part));
     }
     return {};
+}
+
+}  // namespace
+
+Status readTsolid(Context& cx, std::size_t startLine) {
+    Lines& lines = cx.lines;
+    ObjectInfo info;
+    info.crs = cx.fileCrs;
+    TsolidText t;
+    auto own = [&](Lines::Statement& st, bool& handled) { return readTsolidKeyword(cx, info, st, t, handled); };
+    const KeywordReader vertices = vertexKeywords(cx, "TSolid", t.schema, t.ids, t.positions);
+    if (Status s = readObjectBody(cx, info, "TSolid object", startLine, own, vertices); !s) return s;
+    if (Status s = t.ids.resolve(lines); !s) return s;
+    if (t.tets.empty()) {
+        cx.warn(startLine, "the TSolid object has no TETRA: no body");
+        return {};
+    }
+    WeldedTets w;
+    if (Status s = weldTets(lines, startLine, info.crs, t, w); !s) return s;
+    auto shells = regionBoundaries(w.vm, t.regionNames.size());
+    if (!shells) return lines.failAt(startLine, "TSolid: " + shells.error().message);
+    addBodies(cx, t, w, shells.value());
+    return addSurfaces(cx, startLine, t, w);
 }
 
 }  // namespace geoslice::gocad

@@ -66,57 +66,32 @@ Status readTsurfData(Context& cx, std::size_t startLine, TsurfData& out) {
     std::vector<Triangle> triangles;
     std::vector<std::size_t> tfaceStart;
 
-    Lines::Statement st;
-    Status bad;
-    bool ended = false;
-    while (lines.nextStatement(st, bad)) {
-        const std::string_view line = st.line, keyword = st.keyword;
+    auto own = [&](Lines::Statement& st, bool& handled) -> Status {
+        const std::string_view keyword = st.keyword;
         Tokens& tokens = st.tokens;
-        if (keyword == "VRTX" || keyword == "PVRTX") {
-            if (Status s = readVertex(cx, lines, tokens, keyword, "TSurf", schema, ids, positions); !s) return s;
-            continue;
-        }
         if (keyword == "TRGL") {
             Triangle tri;
             if (Status s = readTriangle(lines, tokens, tri); !s) return s;
             triangles.push_back(tri);
-            continue;
-        }
-        if (keyword == "ATOM" || keyword == "PATOM") {
-            if (Status s = ids.addAtom(lines, tokens, keyword); !s) return s;
-            continue;
+            return {};
         }
         if (keyword == "TFACE") {
             tfaceStart.push_back(triangles.size());
-            continue;
+            return {};
         }
-        if (keyword == "END") {
-            ended = true;
-            break;
-        }
-        if (keyword == "GOCAD")
-            return lines.fail("a new GOCAD object starts before END of the TSurf object that starts on line " +
-                              std::to_string(startLine));
-        bool handled = false;
-        if (Status s = out.info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-        if (handled) continue;
-        if (Status s = schema.readKeyword(lines, keyword, tokens, handled); !s) return s;
-        if (handled) continue;
         // Topology and display records we do not need: borders, stones, lines.
         static constexpr std::string_view kIgnored[] = {"BSTONE", "BORDER", "SEG", "ILINE", "PLINE", "VRTX_END"};
-        if (std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored)) continue;
-        if (Status s = skipUnknown(lines, keyword, line); !s) return s;
-    }
-    if (!bad) return bad;
+        handled = std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored);
+        return {};
+    };
+    const KeywordReader vertices = vertexKeywords(cx, "TSurf", schema, ids, positions);
+    bool ended = false;
+    if (Status s = readObjectBody(cx, out.info, "TSurf object", startLine, own, vertices, &ended); !s) return s;
     if (!ended) {
-        // Lenient: complete lines and no END. A line cut in the middle is still an error
-        // (it has no newline, so it may be a number cut short).
-        if (!lines.text().empty() && lines.text().back() != '\n')
-            return lines.failAt(lines.lastLine(), "missing END of the TSurf object that starts on line " +
-                                                      std::to_string(startLine) + " (truncated file?)");
-        if (triangles.empty())
-            return lines.failAt(lines.lastLine(), "missing END of the TSurf object that starts on line " +
-                                                      std::to_string(startLine) + " (truncated file?)");
+        // Lenient: complete lines with triangles and no END. A line cut in the middle is still
+        // an error (it has no newline, so it may be a number cut short).
+        const bool cutLine = !lines.text().empty() && lines.text().back() != '\n';
+        if (cutLine || triangles.empty()) return missingEnd(lines, "TSurf object", startLine);
         cx.warn(lines.lastLine(), "the TSurf object that starts on line " + std::to_string(startLine) +
                                       " has no final END; its " + std::to_string(triangles.size()) +
                                       " complete triangles are kept");

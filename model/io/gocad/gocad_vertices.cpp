@@ -194,6 +194,9 @@ Status PropertySchema::appendVertex(Context& cx, Tokens& tokens, bool withProper
     return {};
 }
 
+namespace {
+
+// One VRTX / PVRTX line (`object` names the object in errors).
 Status readVertex(Context& cx, const Lines& lines, Tokens& tokens, std::string_view keyword, std::string_view object,
                   PropertySchema& schema, VertexIds& ids, std::vector<glm::dvec3>& positions) {
     VertexLine v;
@@ -204,6 +207,19 @@ Status readVertex(Context& cx, const Lines& lines, Tokens& tokens, std::string_v
     ids.addVertex(v.id, static_cast<std::uint32_t>(positions.size()), lines.lineNo());
     positions.push_back(v.p);
     return {};
+}
+
+}  // namespace
+
+KeywordReader vertexKeywords(Context& cx, std::string_view object, PropertySchema& schema, VertexIds& ids,
+                             std::vector<glm::dvec3>& positions) {
+    return [&cx, object, &schema, &ids, &positions](Lines::Statement& st, bool& handled) -> Status {
+        const Lines& lines = cx.lines;
+        if (st.keyword == "VRTX" || st.keyword == "PVRTX")
+            return readVertex(cx, lines, st.tokens, st.keyword, object, schema, ids, positions);
+        if (st.keyword == "ATOM" || st.keyword == "PATOM") return ids.addAtom(lines, st.tokens, st.keyword);
+        return schema.readKeyword(lines, st.keyword, st.tokens, handled);
+    };
 }
 
 Status VertexIds::addAtom(const Lines& lines, Tokens& tokens, std::string_view keyword) {

@@ -116,6 +116,16 @@ Status GridHeader::readKeyword(Context& cx, std::string_view keyword, Tokens& to
     return {};
 }
 
+Status GridHeader::startGrid(const Context& cx, std::string_view type, std::size_t startLine, const ObjectInfo& info,
+                             Grid& grid) const {
+    if (dimsLine == 0) return cx.lines.failAt(startLine, "the " + std::string(type) + " object has no AXIS_N");
+    grid.type = std::string(type);
+    grid.name = info.name.empty() ? cx.model.name : info.name;
+    for (int a = 0; a < 3; ++a) grid.dims[a] = dims[a];
+    grid.cellCentred = cellCentred;
+    return {};
+}
+
 Status GridHeader::readProperties(Context& cx, std::size_t startLine, Grid& grid) const {
     std::size_t count = grid.sampleCount();
     if (cellCentred) {
@@ -150,58 +160,27 @@ Status readVoxet(Context& cx, std::size_t startLine) {
     GridHeader header;
     glm::dvec3 o(0.0), axis[3] = {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)};
     glm::dvec3 mn(0.0), mx(1.0);
-    Lines::Statement st;
-    Status bad;
-    bool ended = false;
-    while (lines.nextStatement(st, bad)) {
-        const std::string_view line = st.line, keyword = st.keyword;
-        Tokens& tokens = st.tokens;
-        Status s;
-        if (keyword == "AXIS_O") {
-            s = readVector(lines, tokens, keyword, o);
-        } else if (keyword == "AXIS_U") {
-            s = readVector(lines, tokens, keyword, axis[0]);
-        } else if (keyword == "AXIS_V") {
-            s = readVector(lines, tokens, keyword, axis[1]);
-        } else if (keyword == "AXIS_W") {
-            s = readVector(lines, tokens, keyword, axis[2]);
-        } else if (keyword == "AXIS_MIN") {
-            s = readVector(lines, tokens, keyword, mn);
-        } else if (keyword == "AXIS_MAX") {
-            s = readVector(lines, tokens, keyword, mx);
-        } else if (keyword == "END") {
-            ended = true;
-            break;
-        } else if (keyword == "GOCAD") {
-            return lines.fail("a new GOCAD object starts before END of the Voxet object that starts on line " +
-                              std::to_string(startLine));
-        } else {
-            bool handled = false;
-            if (s = info.readCommon(cx, keyword, tokens, line, handled); !s) return s;
-            if (handled) continue;
-            if (s = header.readKeyword(cx, keyword, tokens, handled); !s) return s;
-            if (handled) continue;
-            s = skipUnknown(lines, keyword, line);
-        }
-        if (!s) return s;
-    }
-    if (!bad) return bad;
-    if (!ended)
-        return lines.failAt(lines.lastLine(), "missing END of the Voxet object that starts on line " +
-                                                  std::to_string(startLine) + " (truncated file?)");
-    if (header.dimsLine == 0) return lines.failAt(startLine, "the Voxet object has no AXIS_N");
+    auto own = [&](Lines::Statement& st, bool& handled) -> Status {
+        const std::string_view keyword = st.keyword;
+        if (keyword == "AXIS_O") return readVector(lines, st.tokens, keyword, o);
+        if (keyword == "AXIS_U") return readVector(lines, st.tokens, keyword, axis[0]);
+        if (keyword == "AXIS_V") return readVector(lines, st.tokens, keyword, axis[1]);
+        if (keyword == "AXIS_W") return readVector(lines, st.tokens, keyword, axis[2]);
+        if (keyword == "AXIS_MIN") return readVector(lines, st.tokens, keyword, mn);
+        if (keyword == "AXIS_MAX") return readVector(lines, st.tokens, keyword, mx);
+        handled = false;
+        return {};
+    };
+    if (Status s = readObjectBody(cx, info, "Voxet object", startLine, own, header.keywords(cx)); !s) return s;
     Grid grid;
-    grid.type = "Voxet";
-    grid.name = info.name.empty() ? cx.model.name : info.name;
+    if (Status s = header.startGrid(cx, "Voxet", startLine, info, grid); !s) return s;
     glm::dvec3 origin = o;
     for (int a = 0; a < 3; ++a) {
-        grid.dims[a] = header.dims[a];
         origin += mn[a] * axis[a];
         const double n = static_cast<double>(header.dims[a]);
         grid.step[a] = info.crs.vectorToWorld(n > 1 ? (mx[a] - mn[a]) / (n - 1.0) * axis[a] : glm::dvec3(0.0));
     }
     grid.origin = info.crs.toWorld(origin);
-    grid.cellCentred = header.cellCentred;
     if (Status s = header.readProperties(cx, startLine, grid); !s) return s;
     cx.model.grids.push_back(std::move(grid));
     return {};
