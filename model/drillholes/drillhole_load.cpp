@@ -132,8 +132,8 @@ public:
             for (std::size_t i = 0; i < header_.size() && found < 0; ++i)
                 if (text::equalsNoCase(header_[i], name)) found = int(i);
             if (found < 0) {
-                error = src_.file + ": the sidecar maps " + role + " to column '" + name +
-                        "', which the header does not have (" + headerList() + ")";
+                error = "the sidecar maps " + role + " to column '" + name + "', which the header does not have (" +
+                        headerList() + ")";
                 return false;
             }
             roles_[role] = found;
@@ -157,8 +157,8 @@ public:
             if (c.role.empty()) c.role = kind_ == "interval" ? "column" : "ignored";
         for (const std::string& need : requiredRoles(kind_))
             if (!roles_.count(need)) {
-                error = src_.file + ": no column for " + need + " (header: " + headerList() +
-                        "; name it in the sidecar's \"columns\")";
+                error =
+                    "no column for " + need + " (header: " + headerList() + "; name it in the sidecar's \"columns\")";
                 return false;
             }
         return true;
@@ -280,7 +280,7 @@ Status readCollars(const DrillholeTableSource& src, DrillholeDatabase& db) {
     DrillholeTableInfo info;
     info.dip = src.dip;
     std::string error;
-    if (!t.start(info, error)) return makeError(ErrorCode::ParseError, error);
+    if (!t.start(info, error)) return makeError(ErrorCode::ParseError, src.file + ": " + error);
     std::vector<std::size_t> collarRow;
     std::vector<std::string> rec;
     std::size_t row = 0;
