@@ -1,11 +1,16 @@
-// geoslice info [--json] FILE...: parts, triangles, bounds (world and lon/lat), CRS and the
-// validation report. Exits 1 when a file fails to load or has validation errors.
+// geoslice info [--json] [--drillholes SIDECAR] FILE...: parts, triangles, bounds (world and
+// lon/lat), CRS, the validation report and the drillhole database (a <stem>.drillholes.json
+// beside the model, or --drillholes): holes, stations, intervals, which column was read as
+// what, every warning. Exits 1 when a file fails to load or has validation errors, or when
+// the drillhole database cannot be loaded.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 
 #include "cli/commands.hpp"
+#include "model/drillholes/drillholes.hpp"
 #include "model/io/loaders.hpp"
 #include "model/json_text.hpp"
 
@@ -139,6 +144,82 @@ json modelJson(const std::string& file, const Model& m) {
     return j;
 }
 
+json drillholesJson(const DrillholeDatabase& db) {
+    json j;
+    j["source"] = db.source;
+    j["crs"] = db.crs.empty() ? json(nullptr) : json(db.crs);
+    j["holes"] = db.holes.size();
+    j["stations"] = db.stationCount();
+    j["tables"] = json::array();
+    for (const DrillholeTableInfo& t : db.tables) {
+        json tj = {{"kind", t.kind}, {"name", t.name}, {"file", t.file}, {"rows", t.rows}, {"rows_used", t.rowsUsed}};
+        if (t.dip) tj["dip"] = dipConventionName(*t.dip);
+        tj["columns"] = json::array();
+        for (const ColumnUse& c : t.columns)
+            tj["columns"].push_back({{"header", c.header}, {"role", c.role}, {"how", c.how}});
+        j["tables"].push_back(std::move(tj));
+    }
+    j["intervals"] = json::array();
+    for (const IntervalTable& t : db.intervals) {
+        json tj = {{"name", t.name}, {"file", t.file}, {"intervals", t.size()}, {"columns", json::array()}};
+        for (const IntervalColumn& c : t.columns)
+            tj["columns"].push_back({{"name", c.name}, {"type", c.numeric ? "number" : "text"}, {"unit", c.unit}});
+        j["intervals"].push_back(std::move(tj));
+    }
+    std::map<std::string, std::size_t> methods;
+    for (const Drillhole& h : db.holes) ++methods[h.path.method];
+    j["desurvey"] = methods;
+    j["warnings"] = json::array();
+    for (const DrillholeIssue& w : db.warnings)
+        j["warnings"].push_back({{"file", w.file}, {"row", w.row}, {"hole", w.hole}, {"message", w.message}});
+    return j;
+}
+
+void printDrillholes(const json& d) {
+    if (d.contains("error")) {
+        std::printf("  drillholes %s: %s\n", d["source"].get<std::string>().c_str(),
+                    d["error"]["message"].get<std::string>().c_str());
+        return;
+    }
+    std::printf("  drillholes %s: %zu holes, %zu survey stations, CRS %s\n", d["source"].get<std::string>().c_str(),
+                d["holes"].get<std::size_t>(), d["stations"].get<std::size_t>(),
+                d["crs"].is_null() ? "not stated" : d["crs"].get<std::string>().c_str());
+    for (const auto& t : d["tables"]) {
+        std::printf("    %-8s %-16s %-24s %zu rows, %zu used", t["kind"].get<std::string>().c_str(),
+                    t["name"].get<std::string>().c_str(), t["file"].get<std::string>().c_str(),
+                    t["rows"].get<std::size_t>(), t["rows_used"].get<std::size_t>());
+        if (t.contains("dip")) std::printf(", dip %s", t["dip"].get<std::string>().c_str());
+        std::printf("\n      columns:");
+        const char* sep = " ";
+        for (const auto& c : t["columns"]) {
+            std::printf("%s'%s' as %s", sep, c["header"].get<std::string>().c_str(),
+                        c["role"].get<std::string>().c_str());
+            if (!c["how"].get<std::string>().empty()) std::printf(" (%s)", c["how"].get<std::string>().c_str());
+            sep = ", ";
+        }
+        std::printf("\n");
+    }
+    for (const auto& t : d["intervals"]) {
+        std::printf("    intervals %-16s %zu intervals;", t["name"].get<std::string>().c_str(),
+                    t["intervals"].get<std::size_t>());
+        for (const auto& c : t["columns"]) {
+            std::printf(" %s (%s", c["name"].get<std::string>().c_str(), c["type"].get<std::string>().c_str());
+            if (!c["unit"].get<std::string>().empty()) std::printf(", %s", c["unit"].get<std::string>().c_str());
+            std::printf(")");
+        }
+        std::printf("\n");
+    }
+    for (const auto& [method, n] : d["desurvey"].items())
+        std::printf("    desurvey %s: %zu holes\n", method.c_str(), n.get<std::size_t>());
+    for (const auto& w : d["warnings"]) {
+        std::printf("    warning  %s", w["file"].get<std::string>().c_str());
+        if (w["row"].get<std::size_t>()) std::printf(" row %zu", w["row"].get<std::size_t>());
+        if (!w["hole"].get<std::string>().empty()) std::printf(", hole '%s'", w["hole"].get<std::string>().c_str());
+        std::printf(": %s\n", w["message"].get<std::string>().c_str());
+    }
+    std::printf("    drillholes %zu warnings\n", d["warnings"].size());
+}
+
 void printText(const json& j) {
     std::printf("%s: %s\n", j["file"].get<std::string>().c_str(), j["name"].get<std::string>().c_str());
     if (j["crs"]["id"] == "local")
@@ -205,6 +286,7 @@ void printText(const json& j) {
                     i["message"].get<std::string>().c_str());
     }
     std::printf("  validation %zu errors, %zu warnings\n", errors, warnings);
+    if (j.contains("drillholes")) printDrillholes(j["drillholes"]);
 }
 
 }  // namespace
@@ -219,7 +301,11 @@ void addInfo(CLI::App& app, int& exitCode) {
         ->required();
     cmd->add_flag("--json", *asJson, "One JSON document (an array when several files are given)");
     addLoadOptions(cmd, *load);
-    cmd->callback([files, asJson, load, &exitCode] {
+    auto drillholes = std::make_shared<std::string>();
+    cmd->add_option("--drillholes", *drillholes,
+                    "drillhole database: a sidecar JSON or a folder of collar.csv, survey.csv and interval tables "
+                    "(default: the <stem>.drillholes.json sidecar beside the model); docs/drillholes.md");
+    cmd->callback([files, asJson, load, drillholes, &exitCode] {
         json all = json::array();
         for (const auto& f : *files) {
             auto m = loadModel(f, *load);
@@ -233,6 +319,19 @@ void addInfo(CLI::App& app, int& exitCode) {
             }
             json j = modelJson(f, m.value());
             if (!j["ok"].get<bool>()) exitCode = 1;
+            const std::string dh = drillholes->empty() ? drillholeSidecarFor(f) : *drillholes;
+            if (!dh.empty()) {
+                auto db = loadDrillholes(dh);
+                if (db) {
+                    j["drillholes"] = drillholesJson(db.value());
+                } else {
+                    std::fprintf(stderr, "geoslice info: %s\n", db.error().message.c_str());
+                    j["drillholes"] = {
+                        {"source", dh},
+                        {"error", {{"code", errorCodeName(db.error().code)}, {"message", db.error().message}}}};
+                    exitCode = 1;
+                }
+            }
             if (!*asJson) printText(j);
             all.push_back(std::move(j));
         }
