@@ -239,6 +239,22 @@ private:
     std::vector<Unknown> order_;
 };
 
+// The hole a survey or interval row belongs to (its index in db.holes), or nullopt for a
+// blank id (warned) or an id without a collar (noted in `unknown`, reported once per hole).
+std::optional<std::uint32_t> rowHole(TableReader& t, const DrillholeDatabase& db, UnknownHoles& unknown,
+                                     const std::string& id, std::size_t row) {
+    if (id.empty()) {
+        t.warn(row, "", "blank hole id: row skipped");
+        return std::nullopt;
+    }
+    const auto it = db.index.find(id);
+    if (it == db.index.end()) {
+        unknown.add(id, row);
+        return std::nullopt;
+    }
+    return it->second;
+}
+
 const char* cellProblem(Cell c) { return c == Cell::Blank ? "blank" : "not a finite number:"; }
 
 std::string describe(const char* role, Cell c, const std::vector<std::string>& rec, int column,
@@ -361,16 +377,9 @@ void readSurveys(const DrillholeTableSource& src, DrillholeDatabase& db, const s
     const int hc = t.column("hole");
     while (t.next(rec, row)) {
         const std::string id = cellText(rec, hc);
-        if (id.empty()) {
-            t.warn(row, "", "blank hole id: row skipped");
-            continue;
-        }
-        auto it = db.index.find(id);
-        if (it == db.index.end()) {
-            unknown.add(id, row);
-            continue;
-        }
-        Drillhole& h = db.holes[it->second];
+        const auto hole = rowHole(t, db, unknown, id, row);
+        if (!hole) continue;
+        Drillhole& h = db.holes[*hole];
         double depth;
         const Cell cd = readCell(rec, t.column("depth"), depth);
         if (cd != Cell::Number) {
@@ -386,7 +395,7 @@ void readSurveys(const DrillholeTableSource& src, DrillholeDatabase& db, const s
         if (!h.stations.empty() && depth <= h.stations.back().depth + kDepthTolerance) {
             t.warn(row, id,
                    "survey depths not increasing: " + formatNumber(depth) + " m after " +
-                       formatNumber(h.stations.back().depth) + " m (row " + std::to_string(lastRow[it->second]) +
+                       formatNumber(h.stations.back().depth) + " m (row " + std::to_string(lastRow[*hole]) +
                        "): row skipped");
             continue;
         }
@@ -395,7 +404,7 @@ void readSurveys(const DrillholeTableSource& src, DrillholeDatabase& db, const s
                    "station at " + formatNumber(depth) + " m is past the hole's total depth " +
                        formatNumber(h.totalDepth) + " m: kept");
         h.stations.push_back({depth, az, dip});
-        lastRow[it->second] = row;
+        lastRow[*hole] = row;
         ++used;
     }
     unknown.report(t, collarFile);
@@ -434,15 +443,8 @@ void readIntervals(const DrillholeTableSource& src, DrillholeDatabase& db, const
     const int hc = t.column("hole");
     while (t.next(rec, row)) {
         const std::string id = cellText(rec, hc);
-        if (id.empty()) {
-            t.warn(row, "", "blank hole id: row skipped");
-            continue;
-        }
-        auto it = db.index.find(id);
-        if (it == db.index.end()) {
-            unknown.add(id, row);
-            continue;
-        }
+        const auto hole = rowHole(t, db, unknown, id, row);
+        if (!hole) continue;
         double from, to;
         const Cell cf = readCell(rec, t.column("from"), from);
         const Cell ct = readCell(rec, t.column("to"), to);
@@ -464,12 +466,12 @@ void readIntervals(const DrillholeTableSource& src, DrillholeDatabase& db, const
                        " m is reversed or empty (from >= to): row skipped");
             continue;
         }
-        const double td = db.holes[it->second].totalDepth;
+        const double td = db.holes[*hole].totalDepth;
         if (std::isfinite(td) && to > td + kDepthTolerance)
             t.warn(row, id,
                    "interval " + formatNumber(from) + ".." + formatNumber(to) + " m ends past the hole's total depth " +
                        formatNumber(td) + " m: kept");
-        table.hole.push_back(it->second);
+        table.hole.push_back(*hole);
         table.from.push_back(from);
         table.to.push_back(to);
         table.row.push_back(std::uint32_t(row));

@@ -8,11 +8,6 @@
 //   - no 500: bad input is a 4xx or 501 naming the problem, never an internal error;
 //   - every problem+json body in the answer is valid JSON (so UTF-8);
 //   - the server still answers /healthz after the input.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstddef>
@@ -28,6 +23,7 @@
 
 #include "server/config.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/raw_http.hpp"
 
 namespace {
 
@@ -66,41 +62,13 @@ constexpr std::string_view kSentinel = "GET /healthz HTTP/1.1\r\nHost: f\r\nConn
 
 // Sends `bytes` and then a last request that asks the server to close (a client that
 // half-closes is taken for gone and gets no answer, as with nginx), reads until the server
-// closes; false on a 60 s timeout. Input that leaves a request unfinished swallows the
-// last request and ends at the header or body deadline (short here).
+// closes (tests/common/raw_http.hpp); false on a 60 s timeout. Input that leaves a request
+// unfinished swallows the last request and ends at the header or body deadline.
 bool exchange(int port, std::string_view bytes, std::string& reply) {
-    const int fd = socket(AF_INET, SOCK_STREAM, 0);
-    if (fd < 0) std::abort();
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_port = htons(static_cast<std::uint16_t>(port));
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) std::abort();  // the server is gone
-    const std::string all = std::string(bytes) + std::string(kSentinel);
-    std::size_t sent = 0;
-    while (sent < all.size()) {
-        const ssize_t n = send(fd, all.data() + sent, all.size() - sent, MSG_NOSIGNAL);
-        if (n <= 0) break;  // the server closed early (it refused the request): fine
-        sent += std::size_t(n);
-    }
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    char buf[1 << 14];
-    bool done = false;
-    while (!done) {
-        const auto left =
-            std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now()).count();
-        if (left <= 0) break;
-        pollfd p{fd, POLLIN, 0};
-        if (poll(&p, 1, int(left)) <= 0) break;
-        const ssize_t n = recv(fd, buf, sizeof buf, 0);
-        if (n <= 0) {
-            done = true;
-        } else if (reply.size() < (8u << 20)) {
-            reply.append(buf, std::size_t(n));
-        }
-    }
-    close(fd);
-    return done;
+    auto x = geoslice::test::rawExchange(port, std::string(bytes) + std::string(kSentinel), 60000);
+    if (!x.connected) std::abort();  // the server is gone
+    reply = std::move(x.reply);
+    return x.closed;
 }
 
 // Every answer's status and, for problem+json, its body must be JSON.
