@@ -126,7 +126,7 @@ TEST(StlLoader, HostileAsciiInputsAreErrorsNamingTheLine) {
     const std::string facet =
         "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n endloop\nendfacet\n";
     ASSERT_TRUE(parseStl("solid a\n" + facet + "endsolid a\n", "ok.stl").ok());
-    expectWireError(parseStl("solid a\n" + facet, "u.stl"), "u.stl", {"line 9", "no 'endsolid'"});
+    expectWireError(parseStl("solid a\n" + facet, "u.stl"), "u.stl", {"line 8", "no 'endsolid'"});
     expectWireError(parseStl("solid a\nfacet normal 0 0 1\n outer loop\n  vertex 0 nan 0\n", "n.stl"), "n.stl",
                     {"line 4", "not a finite number"});
     expectWireError(parseStl("solid a\nfacet normal 0 0 1\n outer loop\n  vertex 0 x 0\n", "x.stl"), "x.stl",

@@ -199,7 +199,7 @@ Status PlyReader::readHeader() {
         }
     }
     if (!sawFormat) return failLine(lineNo, "the header has no 'format' line");
-    lineNo_ = lineNo;
+    lineNo_ = lineNo + 1;  // the body starts on the next line
     return {};
 }
 

@@ -112,6 +112,9 @@ Result<StringFile> readStringFile(std::string_view text, const std::string& sour
         sp.string = string;
         const int order[3] = {1, 0, 2};  // Y, X, Z in the file
         for (int k = 0; k < 3; ++k) {
+            if (f[static_cast<std::size_t>(k) + 1].empty())
+                return failAt(source, lineNo, std::string("the ") + "YXZ"[k] +
+                                                  " field is empty (a record is string number, Y, X, Z, ...)");
             auto v = parseDouble(f[static_cast<std::size_t>(k) + 1]);
             if (!v) return failAt(source, lineNo, "coordinate " + quoteToken(f[static_cast<std::size_t>(k) + 1]) + " is not a number");
             if (!std::isfinite(*v))
