@@ -96,7 +96,7 @@ bool looksLikeDxf(std::string_view data) {
     while (i < data.size() && i < 16 && (data[i] == ' ' || data[i] == '\t')) ++i;
     std::string_view head = data.substr(i, 64);
     return head.substr(0, 2) == "0\n" || head.substr(0, 3) == "0\r\n" ? head.find("SECTION") != std::string_view::npos
-                                                                     : head.substr(0, 3) == "999";
+                                                                      : head.substr(0, 3) == "999";
 }
 
 // The string file of a Surpac DTM: the file its header record names (its first field, a
@@ -245,8 +245,8 @@ Status probeModelFile(const std::string& path, std::uint64_t maxBytes) {
             return makeError(ErrorCode::Unsupported, path + ": a binary Surpac file (a NUL byte at offset " +
                                                          std::to_string(h.find('\0')) +
                                                          "), which geoslice does not read: save it as text");
-    } else if (ext == ".obj" || ext == ".dxf" || ext == ".ts" || ext == ".tsurf" || ext == ".ml" || ext == ".so" || ext == ".gp" ||
-               ext == ".vo" || ext == ".sg" || ext == ".pl") {
+    } else if (ext == ".obj" || ext == ".dxf" || ext == ".ts" || ext == ".tsurf" || ext == ".ml" || ext == ".so" ||
+               ext == ".gp" || ext == ".vo" || ext == ".sg" || ext == ".pl") {
         if (const std::size_t nul = h.find('\0'); nul != std::string_view::npos)
             return makeError(ErrorCode::ParseError, path + ": a NUL byte at offset " + std::to_string(nul) +
                                                         " of a text format (binary data, not a model)");

@@ -36,11 +36,11 @@ struct LoadOptions {
 
 // Dispatches on extension (.glb .gltf .obj .xml .geo3dml .vtu .stl .ply .dxf; GOCAD .ts .tsurf
 // .ml .so .vo .sg .pl .gp; Surpac .str .dtm) and, for unknown extensions, on content. A .dtm
-// is read with its string file: the one its header names, else <stem>.str, in its folder. A sidecar "<stem>.attributes.json" or ".csv" next to the file
-// is merged into the attribute table when present. The CRS comes from the file, the JSON
-// sidecar's "crs", a "<stem>.crs" file and options.crs (`--crs`), in the order and with
-// the rules of model/crs/model_crs.hpp; a CRS a model cannot use (feet) is an error. A block
-// model (options.blocks or a <stem>.blocks.json|csv sidecar) is attached last.
+// is read with its string file: the one its header names, else <stem>.str, in its folder. A sidecar
+// "<stem>.attributes.json" or ".csv" next to the file is merged into the attribute table when present. The CRS comes
+// from the file, the JSON sidecar's "crs", a "<stem>.crs" file and options.crs (`--crs`), in the order and with the
+// rules of model/crs/model_crs.hpp; a CRS a model cannot use (feet) is an error. A block model (options.blocks or a
+// <stem>.blocks.json|csv sidecar) is attached last.
 Result<Model> loadModel(const std::string& path, const LoadOptions& options = {});
 
 // From bytes in memory; `source` names the input in error messages (fuzzers use these).

@@ -31,8 +31,8 @@ TEST(DxfLoader, EzdxfSolidsOneLayerPerPart) {
     EXPECT_NEAR(wireSectionArea(m, "box_mesh", Plane{{1, 0, 0}, -500302.0}), 48.0, 48.0 * kWireRelTol);
     const Polyline* l = wireLine(m, "contours");
     ASSERT_NE(l, nullptr);
-    EXPECT_EQ(l->points.size(), 6u);    // closed LWPOLYLINE (3) + 3D POLYLINE (3)
-    EXPECT_EQ(l->segments.size(), 10u);  // 3 + 2 segments
+    EXPECT_EQ(l->points.size(), 6u);                                  // closed LWPOLYLINE (3) + 3D POLYLINE (3)
+    EXPECT_EQ(l->segments.size(), 10u);                               // 3 + 2 segments
     EXPECT_EQ(l->points[0], glm::dvec3(500050.0, 7000150.0, 330.0));  // the LWPOLYLINE's elevation
     EXPECT_EQ(l->points[4], glm::dvec3(500100.0, 7000200.0, 350.0));
     EXPECT_EQ(m.notes.at("dxf_skipped"), "CIRCLE 1");
@@ -45,9 +45,7 @@ TEST(DxfLoader, EzdxfR12) {
     expectBody(r.value(), "box_polyface", 1000.0);
 }
 
-std::string entities(const std::string& body) {
-    return "0\nSECTION\n2\nENTITIES\n" + body + "0\nENDSEC\n0\nEOF\n";
-}
+std::string entities(const std::string& body) { return "0\nSECTION\n2\nENTITIES\n" + body + "0\nENDSEC\n0\nEOF\n"; }
 
 std::string face(const std::string& layer, const double c[4][3]) {
     std::string s = "0\n3DFACE\n8\n" + layer + "\n";

@@ -52,8 +52,9 @@ TEST(PlyLoader, WithoutRegionPropertyOnePartNamedAfterTheStem) {
     EXPECT_EQ(r->surfaces[0].mesh.triangleCount(), 26u);
 }
 
-const std::string kHead = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
-                          "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+const std::string kHead =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
 const std::string kVerts = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
 
 TEST(PlyLoader, AsciiTetrahedronAndQuads) {
@@ -61,10 +62,11 @@ TEST(PlyLoader, AsciiTetrahedronAndQuads) {
     ASSERT_TRUE(r.ok()) << r.error().message;
     expectBody(r.value(), "tet", 1.0 / 6.0);
     // A quad face is fanned into two triangles.
-    auto q = parsePly("ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
-                      "element face 1\nproperty list int uint vertex_index\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
-                      "4 0 1 2 3\n",
-                      "quad.ply");
+    auto q = parsePly(
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+        "element face 1\nproperty list int uint vertex_index\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+        "4 0 1 2 3\n",
+        "quad.ply");
     ASSERT_TRUE(q.ok()) << q.error().message;
     EXPECT_EQ(q->surfaces.at(0).mesh.triangleCount(), 2u);
 }
@@ -88,8 +90,9 @@ TEST(PlyLoader, HostileInputsAreErrorsNamingLineOrOffset) {
     expectWireError(parsePly("solid x\n", "s.ply"), "s.ply", {"not PLY"});
 
     // Binary: a list count past the end, and a face count past the end, by byte offset.
-    std::string bin = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string bin =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
     const std::size_t body = bin.size();
     bin.append(36, '\0');
     std::string listPast = bin + std::string(1, '\xFF') + std::string(8, '\0');

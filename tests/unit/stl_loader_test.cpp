@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <cstring>
 #include <limits>
 #include <string>
 
@@ -131,8 +131,9 @@ TEST(StlLoader, HostileAsciiInputsAreErrorsNamingTheLine) {
                     {"line 4", "not a finite number"});
     expectWireError(parseStl("solid a\nfacet normal 0 0 1\n outer loop\n  vertex 0 x 0\n", "x.stl"), "x.stl",
                     {"line 4", "not a number"});
-    expectWireError(parseStl("solid a\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n endloop\n", "f.stl"),
-                    "f.stl", {"line 6", "3 vertices"});
+    expectWireError(
+        parseStl("solid a\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n endloop\n", "f.stl"),
+        "f.stl", {"line 6", "3 vertices"});
     expectWireError(parseStl("solid a\nendsolid\n", "e.stl"), "e.stl", {"no facets"});
     expectWireError(parseStl("solid a\nfoo\n", "k.stl"), "k.stl", {"line 2", "expected 'facet'"});
 }

@@ -49,13 +49,15 @@ TEST(SurpacLoader, StringFileOfThePairIsTwoStrings) {
     EXPECT_EQ(grid->segments.size(), 2u * 14);  // two segments of 8 points
 }
 
-const std::string kStr = "t,1-Jan-26,,\n0, 0.000, 0.000, 0.000, 0.000, 0.000, 0.000\n"
-                         "1, 0, 0, 0,\n1, 0, 1, 0,\n1, 1, 0, 0,\n1, 0, 0, 1,\n0, 0.000, 0.000, 0.000,\n"
-                         "0, 0.000, 0.000, 0.000, END\n";
+const std::string kStr =
+    "t,1-Jan-26,,\n0, 0.000, 0.000, 0.000, 0.000, 0.000, 0.000\n"
+    "1, 0, 0, 0,\n1, 0, 1, 0,\n1, 1, 0, 0,\n1, 0, 0, 1,\n0, 0.000, 0.000, 0.000,\n"
+    "0, 0.000, 0.000, 0.000, END\n";
 
 TEST(SurpacLoader, TetrahedronDtm) {
-    const std::string dtm = "t.str,\n0, 0.000, 0.000, 0.000, END\nOBJECT, 3,\nTRISOLATION, 1, closed=yes\n"
-                            "1, 1, 3, 2, 0, 0, 0,\n2, 1, 2, 4, 0, 0, 0,\n3, 1, 4, 3, 0, 0, 0,\n4, 2, 3, 4, 0, 0, 0,\nEND\n";
+    const std::string dtm =
+        "t.str,\n0, 0.000, 0.000, 0.000, END\nOBJECT, 3,\nTRISOLATION, 1, closed=yes\n"
+        "1, 1, 3, 2, 0, 0, 0,\n2, 1, 2, 4, 0, 0, 0,\n3, 1, 4, 3, 0, 0, 0,\n4, 2, 3, 4, 0, 0, 0,\nEND\n";
     auto r = parseSurpacDtm(dtm, "t.dtm", kStr, "t.str");
     ASSERT_TRUE(r.ok()) << r.error().message;
     expectBody(r.value(), "object 3", 1.0 / 6.0);
@@ -73,7 +75,8 @@ TEST(SurpacLoader, HostileInputsAreErrorsNamingTheLine) {
                     {"line 3", "before any OBJECT"});
     expectWireError(parseSurpacString("t,\n0, 0, 0, 0, 0, 0, 0\n1, nan, 0, 0,\n", "n.str"), "n.str",
                     {"line 3", "not finite"});
-    expectWireError(parseSurpacString("t,\n0, 0, 0, 0, 0, 0, 0\n1, 2, 3,\n", "f.str"), "f.str", {"line 3", "the Z field is empty"});
+    expectWireError(parseSurpacString("t,\n0, 0, 0, 0, 0, 0, 0\n1, 2, 3,\n", "f.str"), "f.str",
+                    {"line 3", "the Z field is empty"});
     expectWireError(parseSurpacString("t,\n0, 0, 0, 0, 0, 0, 0\n1, 2, 3, 4,\n", "u.str"), "u.str",
                     {"ends without its end record"});
     expectWireError(parseSurpacString("t,\nhello\n", "a.str"), "a.str", {"line 2", "axis record"});

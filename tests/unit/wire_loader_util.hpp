@@ -78,11 +78,13 @@ inline double wireSectionArea(const Model& m, const std::string& name, const Pla
 }
 
 // An error that names the source and contains every one of `parts`.
-inline void expectWireError(const Result<Model>& r, const std::string& source, std::initializer_list<std::string> parts) {
+inline void expectWireError(const Result<Model>& r, const std::string& source,
+                            std::initializer_list<std::string> parts) {
     ASSERT_FALSE(r.ok()) << "expected an error from " << source;
     const std::string& msg = r.error().message;
     EXPECT_NE(msg.find(source), std::string::npos) << msg;
-    for (const std::string& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "expected '" << p << "' in: " << msg;
+    for (const std::string& p : parts)
+        EXPECT_NE(msg.find(p), std::string::npos) << "expected '" << p << "' in: " << msg;
 }
 
 }  // namespace geoslice::test

@@ -116,7 +116,8 @@ Status DxfReader::readPairs() {
 
 Status DxfReader::number(const Pair& p, double& out) const {
     auto v = parseDouble(p.value);
-    if (!v) return failAt(p.line + 1, "group " + std::to_string(p.code) + ": " + quoteToken(p.value) + " is not a number");
+    if (!v)
+        return failAt(p.line + 1, "group " + std::to_string(p.code) + ": " + quoteToken(p.value) + " is not a number");
     if (!std::isfinite(*v))
         return failAt(p.line + 1, "group " + std::to_string(p.code) + ": " + quoteToken(p.value) + " is not finite");
     out = *v;
@@ -125,7 +126,8 @@ Status DxfReader::number(const Pair& p, double& out) const {
 
 Status DxfReader::integer(const Pair& p, std::int64_t& out) const {
     if (parseInt(p.value, out) != IntStatus::Ok)
-        return failAt(p.line + 1, "group " + std::to_string(p.code) + ": " + quoteToken(p.value) + " is not an integer");
+        return failAt(p.line + 1,
+                      "group " + std::to_string(p.code) + ": " + quoteToken(p.value) + " is not an integer");
     return {};
 }
 
@@ -163,7 +165,10 @@ Status DxfReader::face3d(std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
         const Pair& p = pairs_[i];
         if (p.code == 8) layer = p.value;
-        const int axis = p.code >= 10 && p.code <= 13 ? 0 : p.code >= 20 && p.code <= 23 ? 1 : p.code >= 30 && p.code <= 33 ? 2 : -1;
+        const int axis = p.code >= 10 && p.code <= 13   ? 0
+                         : p.code >= 20 && p.code <= 23 ? 1
+                         : p.code >= 30 && p.code <= 33 ? 2
+                                                        : -1;
         if (axis < 0) continue;
         const int corner = p.code % 10;
         if (Status s = number(p, c[corner][axis]); !s) return s;
@@ -183,8 +188,13 @@ Status DxfReader::line(std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
         const Pair& p = pairs_[i];
         if (p.code == 8) layer = p.value;
-        double* slot = p.code == 10 ? &a.x : p.code == 20 ? &a.y : p.code == 30 ? &a.z
-                     : p.code == 11 ? &z.x : p.code == 21 ? &z.y : p.code == 31 ? &z.z : nullptr;
+        double* slot = p.code == 10   ? &a.x
+                       : p.code == 20 ? &a.y
+                       : p.code == 30 ? &a.z
+                       : p.code == 11 ? &z.x
+                       : p.code == 21 ? &z.y
+                       : p.code == 31 ? &z.z
+                                      : nullptr;
         if (slot)
             if (Status s = number(p, *slot); !s) return s;
     }
@@ -204,7 +214,8 @@ Status DxfReader::lwPolyline(std::size_t b, std::size_t e) {
     std::vector<glm::dvec3> pts;
     for (std::size_t i = b; i < e; ++i) {
         const Pair& p = pairs_[i];
-        if (p.code == 8) layer = p.value;
+        if (p.code == 8)
+            layer = p.value;
         else if (p.code == 38) {
             if (Status s = number(p, elevation); !s) return s;
         } else if (p.code == 70) {
@@ -241,7 +252,8 @@ Status DxfReader::polyline(std::size_t i, std::size_t& next) {
     double elevation = 0.0;
     for (std::size_t k = i + 1; k < he; ++k) {
         const Pair& p = pairs_[k];
-        if (p.code == 8) layer = p.value;
+        if (p.code == 8)
+            layer = p.value;
         else if (p.code == 70) {
             if (Status s = integer(p, flags); !s) return s;
         } else if (p.code == 71) {
@@ -270,8 +282,8 @@ Status DxfReader::polyline(std::size_t i, std::size_t& next) {
             break;
         }
         if (type != "VERTEX")
-            return failAt(pairs_[k].line, "POLYLINE of line " + std::to_string(headLine) + ": expected VERTEX or SEQEND, found " +
-                                              quoteToken(type));
+            return failAt(pairs_[k].line, "POLYLINE of line " + std::to_string(headLine) +
+                                              ": expected VERTEX or SEQEND, found " + quoteToken(type));
         Vertex v;
         v.line = pairs_[k].line;
         for (std::size_t g = k + 1; g < ve; ++g) {
@@ -315,10 +327,13 @@ Status DxfReader::polyline(std::size_t i, std::size_t& next) {
     if (flags & 16) {  // M x N polygon mesh
         if (m < 2 || n < 2 || static_cast<std::uint64_t>(m) * static_cast<std::uint64_t>(n) != verts.size())
             return failAt(headLine, where + ": polygon mesh of " + std::to_string(m) + " x " + std::to_string(n) +
-                                        " vertices (groups 71, 72) has " + std::to_string(verts.size()) + " VERTEX records");
+                                        " vertices (groups 71, 72) has " + std::to_string(verts.size()) +
+                                        " VERTEX records");
         WeldedPart& p = part(layer);
         const bool closedM = flags & 1, closedN = flags & 32;
-        auto at = [&](std::int64_t a, std::int64_t b) { return verts[static_cast<std::size_t>((a % m) * n + (b % n))].p; };
+        auto at = [&](std::int64_t a, std::int64_t b) {
+            return verts[static_cast<std::size_t>((a % m) * n + (b % n))].p;
+        };
         for (std::int64_t a = 0; a < (closedM ? m : m - 1); ++a)
             for (std::int64_t b = 0; b < (closedN ? n : n - 1); ++b)
                 if (Status s = addFace(p, {at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)}); !s) return s;
@@ -378,7 +393,8 @@ Status DxfReader::mesh(std::size_t b, std::size_t e) {
             if (axis != axisNext) return failAt(p.line, "MESH: vertex coordinates out of order (10, 20, 30 expected)");
             if (axis == 0) {
                 if (positions.size() >= static_cast<std::size_t>(vertexCount))
-                    return failAt(p.line, "MESH: more vertices than the count (group 92) of " + std::to_string(vertexCount));
+                    return failAt(p.line,
+                                  "MESH: more vertices than the count (group 92) of " + std::to_string(vertexCount));
                 positions.emplace_back(0.0);
             }
             if (Status s = number(p, positions.back()[axis]); !s) return s;
@@ -451,12 +467,18 @@ Result<Model> DxfReader::run() {
         }
         Status s;
         std::size_t next = e;
-        if (p.value == "3DFACE") s = face3d(i + 1, e);
-        else if (p.value == "POLYLINE") s = polyline(i, next);
-        else if (p.value == "MESH") s = mesh(i + 1, e);
-        else if (p.value == "LINE") s = line(i + 1, e);
-        else if (p.value == "LWPOLYLINE") s = lwPolyline(i + 1, e);
-        else ++skipped_[std::string(toUtf8(p.value))];
+        if (p.value == "3DFACE")
+            s = face3d(i + 1, e);
+        else if (p.value == "POLYLINE")
+            s = polyline(i, next);
+        else if (p.value == "MESH")
+            s = mesh(i + 1, e);
+        else if (p.value == "LINE")
+            s = line(i + 1, e);
+        else if (p.value == "LWPOLYLINE")
+            s = lwPolyline(i + 1, e);
+        else
+            ++skipped_[std::string(toUtf8(p.value))];
         if (!s) return s.error();
         i = next;
     }
@@ -466,16 +488,19 @@ Result<Model> DxfReader::run() {
     for (Polyline& l : lines_)
         if (!l.segments.empty()) model.lines.push_back(std::move(l));
     if (model.bodies.empty() && model.lines.empty())
-        return makeError(ErrorCode::ParseError,
-                         source_ + (pairs_.empty() ? ": empty input" : ": no 3DFACE, POLYLINE, MESH, LINE or LWPOLYLINE entities in the ENTITIES section") +
-                             ": nothing to load");
+        return makeError(
+            ErrorCode::ParseError,
+            source_ +
+                (pairs_.empty() ? ": empty input"
+                                : ": no 3DFACE, POLYLINE, MESH, LINE or LWPOLYLINE entities in the ENTITIES section") +
+                ": nothing to load");
     std::string skipped;
     for (const auto& [type, count] : skipped_)
         skipped += (skipped.empty() ? "" : ", ") + type + " " + std::to_string(count);
     if (!skipped.empty()) model.notes["dxf_skipped"] = skipped;
     if (subdividedMeshes_ > 0)
-        model.notes["dxf_mesh_subdivision"] = std::to_string(subdividedMeshes_) +
-                                              " MESH entities ask for subdivision; their control cages were read";
+        model.notes["dxf_mesh_subdivision"] =
+            std::to_string(subdividedMeshes_) + " MESH entities ask for subdivision; their control cages were read";
     // Line objects get records too (finishLoadedModel() gives parts theirs).
     for (Polyline& l : model.lines) {
         AttributeRecord rec;

@@ -58,13 +58,17 @@ std::optional<Type> typeNamed(std::string_view s) {
 std::size_t sizeOf(Type t) {
     switch (t) {
         case Type::Int8:
-        case Type::UInt8: return 1;
+        case Type::UInt8:
+            return 1;
         case Type::Int16:
-        case Type::UInt16: return 2;
+        case Type::UInt16:
+            return 2;
         case Type::Int32:
         case Type::UInt32:
-        case Type::Float32: return 4;
-        case Type::Float64: return 8;
+        case Type::Float32:
+            return 4;
+        case Type::Float64:
+            return 8;
     }
     return 8;
 }
@@ -156,16 +160,21 @@ Status PlyReader::readHeader() {
             std::string_view f, version;
             tokens.next(f);
             tokens.next(version);
-            if (f == "ascii") format_ = Format::Ascii;
-            else if (f == "binary_little_endian") format_ = Format::BinaryLittle;
-            else if (f == "binary_big_endian") format_ = Format::BinaryBig;
-            else return failLine(lineNo, "unknown format " + quoteToken(f) +
-                                             " (ascii, binary_little_endian or binary_big_endian)");
+            if (f == "ascii")
+                format_ = Format::Ascii;
+            else if (f == "binary_little_endian")
+                format_ = Format::BinaryLittle;
+            else if (f == "binary_big_endian")
+                format_ = Format::BinaryBig;
+            else
+                return failLine(
+                    lineNo, "unknown format " + quoteToken(f) + " (ascii, binary_little_endian or binary_big_endian)");
             if (version != "1.0") return failLine(lineNo, "PLY version " + quoteToken(version) + " (1.0 is read)");
             sawFormat = true;
         } else if (kw == "element") {
             std::string_view name, count;
-            if (!tokens.next(name) || !tokens.next(count)) return failLine(lineNo, "'element' needs a name and a count");
+            if (!tokens.next(name) || !tokens.next(count))
+                return failLine(lineNo, "'element' needs a name and a count");
             std::uint64_t n = 0;
             if (parseUnsigned(count, n) != IntStatus::Ok)
                 return failLine(lineNo, "element count " + quoteToken(count) + " is not a whole number");
@@ -261,14 +270,48 @@ Status PlyReader::readValue(Type t, double& out) {
     if (swap) std::reverse(b, b + n);
     pos_ += n;
     switch (t) {
-        case Type::Int8: out = static_cast<std::int8_t>(b[0]); break;
-        case Type::UInt8: out = b[0]; break;
-        case Type::Int16: { std::int16_t v; std::memcpy(&v, b, 2); out = v; break; }
-        case Type::UInt16: { std::uint16_t v; std::memcpy(&v, b, 2); out = v; break; }
-        case Type::Int32: { std::int32_t v; std::memcpy(&v, b, 4); out = v; break; }
-        case Type::UInt32: { std::uint32_t v; std::memcpy(&v, b, 4); out = v; break; }
-        case Type::Float32: { float v; std::memcpy(&v, b, 4); out = v; break; }
-        case Type::Float64: { double v; std::memcpy(&v, b, 8); out = v; break; }
+        case Type::Int8:
+            out = static_cast<std::int8_t>(b[0]);
+            break;
+        case Type::UInt8:
+            out = b[0];
+            break;
+        case Type::Int16: {
+            std::int16_t v;
+            std::memcpy(&v, b, 2);
+            out = v;
+            break;
+        }
+        case Type::UInt16: {
+            std::uint16_t v;
+            std::memcpy(&v, b, 2);
+            out = v;
+            break;
+        }
+        case Type::Int32: {
+            std::int32_t v;
+            std::memcpy(&v, b, 4);
+            out = v;
+            break;
+        }
+        case Type::UInt32: {
+            std::uint32_t v;
+            std::memcpy(&v, b, 4);
+            out = v;
+            break;
+        }
+        case Type::Float32: {
+            float v;
+            std::memcpy(&v, b, 4);
+            out = v;
+            break;
+        }
+        case Type::Float64: {
+            double v;
+            std::memcpy(&v, b, 8);
+            out = v;
+            break;
+        }
     }
     return {};
 }
@@ -285,7 +328,8 @@ Status PlyReader::skipElement(const Element& e) {
             const std::uint64_t n = static_cast<std::uint64_t>(v);
             const std::uint64_t per = format_ == Format::Ascii ? 2 : sizeOf(p.type);
             if (n > (bytes_.size() - pos_) / per)
-                return failData("list '" + p.name + "' of " + std::to_string(n) + " items runs past the end of the file");
+                return failData("list '" + p.name + "' of " + std::to_string(n) +
+                                " items runs past the end of the file");
             if (format_ != Format::Ascii) {
                 pos_ += static_cast<std::size_t>(n * per);
             } else {
@@ -326,7 +370,8 @@ Status PlyReader::readVertices(const Element& e) {
                 const std::uint64_t per = format_ == Format::Ascii ? 2 : sizeOf(prop.type);
                 if (n > (bytes_.size() - pos_) / per) return failData("list '" + prop.name + "' runs past the end");
                 double ignored = 0.0;
-                if (format_ != Format::Ascii) pos_ += static_cast<std::size_t>(n * per);
+                if (format_ != Format::Ascii)
+                    pos_ += static_cast<std::size_t>(n * per);
                 else
                     for (std::uint64_t j = 0; j < n; ++j)
                         if (Status s = readValue(prop.type, ignored); !s) return s;
@@ -345,7 +390,8 @@ Status PlyReader::readVertices(const Element& e) {
 
 Status PlyReader::readFaces(const Element& e) {
     if (!haveVertices_)
-        return failLine(e.line, "element 'face' comes before element 'vertex' (faces index the vertices read before them)");
+        return failLine(e.line,
+                        "element 'face' comes before element 'vertex' (faces index the vertices read before them)");
     int indices = -1, region = -1;
     for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const Property& p = e.properties[k];

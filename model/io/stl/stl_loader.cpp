@@ -74,16 +74,14 @@ Result<Model> parseBinary(std::string_view bytes, const std::string& source) {
     const std::uint64_t count = readLe32(data + kHeaderBytes);
     const std::uint64_t needed = kHeaderBytes + 4 + kRecordBytes * count;
     if (needed != bytes.size())
-        return makeError(ErrorCode::ParseError,
-                         source + ": binary STL: the triangle count at offset 80 is " + std::to_string(count) +
-                             ", which needs " + std::to_string(needed) + " bytes, but the file has " +
-                             std::to_string(bytes.size()) +
-                             (needed > bytes.size() ? " (truncated?)" : " (trailing bytes?)"));
+        return makeError(ErrorCode::ParseError, source + ": binary STL: the triangle count at offset 80 is " +
+                                                    std::to_string(count) + ", which needs " + std::to_string(needed) +
+                                                    " bytes, but the file has " + std::to_string(bytes.size()) +
+                                                    (needed > bytes.size() ? " (truncated?)" : " (trailing bytes?)"));
     if (count == 0) return makeError(ErrorCode::ParseError, source + ": binary STL with no triangles: nothing to load");
     if (count > kMaxTriangles)
         return makeError(ErrorCode::OutOfRange, source + ": binary STL: " + std::to_string(count) +
-                                                    " triangles is over the limit of " +
-                                                    std::to_string(kMaxTriangles));
+                                                    " triangles is over the limit of " + std::to_string(kMaxTriangles));
     std::vector<WeldedPart> parts(1);
     parts[0].name = stemOf(source);
     parts[0].indices.reserve(static_cast<std::size_t>(count) * 3);
@@ -95,11 +93,11 @@ Result<Model> parseBinary(std::string_view bytes, const std::string& source) {
             for (int a = 0; a < 3; ++a) {
                 const float f = readLeFloat(rec + 12 * k + 4 * a);
                 if (!std::isfinite(f))
-                    return makeError(ErrorCode::ParseError,
-                                     source + ": binary STL: triangle " + std::to_string(t) + " at offset " +
-                                         std::to_string(offset) + ": vertex " + std::to_string(k + 1) +
-                                         " has a non-finite coordinate (byte offset " +
-                                         std::to_string(offset + 12 + 12 * k + 4 * a) + ")");
+                    return makeError(ErrorCode::ParseError, source + ": binary STL: triangle " + std::to_string(t) +
+                                                                " at offset " + std::to_string(offset) + ": vertex " +
+                                                                std::to_string(k + 1) +
+                                                                " has a non-finite coordinate (byte offset " +
+                                                                std::to_string(offset + 12 + 12 * k + 4 * a) + ")");
                 v[k][a] = static_cast<double>(f);
             }
         }
@@ -151,8 +149,7 @@ bool AsciiStl::next(Tokens& tokens, std::string_view& keyword) {
 Status AsciiStl::expect(std::string_view want, Tokens& tokens) {
     std::string_view keyword;
     if (!next(tokens, keyword)) return fail("the file ends where '" + std::string(want) + "' was expected");
-    if (!equalsNoCase(keyword, want))
-        return fail("expected '" + std::string(want) + "', found " + quoteToken(keyword));
+    if (!equalsNoCase(keyword, want)) return fail("expected '" + std::string(want) + "', found " + quoteToken(keyword));
     return {};
 }
 
@@ -171,7 +168,8 @@ Status AsciiStl::readFacet(Tokens& tokens, WeldedPart& part) {
     for (;;) {
         if (!next(tokens, keyword)) return fail("the file ends inside a facet (no 'endloop')");
         if (equalsNoCase(keyword, "endloop")) break;
-        if (!equalsNoCase(keyword, "vertex")) return fail("expected 'vertex' or 'endloop', found " + quoteToken(keyword));
+        if (!equalsNoCase(keyword, "vertex"))
+            return fail("expected 'vertex' or 'endloop', found " + quoteToken(keyword));
         glm::dvec3 p(0.0);
         for (int a = 0; a < 3; ++a) {
             if (!tokens.next(tok)) return fail("'vertex' needs x y z");
@@ -229,8 +227,7 @@ Result<Model> AsciiStl::run() {
 bool startsWithSolid(std::string_view bytes) {
     std::size_t i = 0;
     while (i < bytes.size() && isSpace(bytes[i])) ++i;
-    return startsWithNoCase(bytes.substr(i), "solid") &&
-           (bytes.size() == i + 5 || isSpace(bytes[i + 5]));
+    return startsWithNoCase(bytes.substr(i), "solid") && (bytes.size() == i + 5 || isSpace(bytes[i + 5]));
 }
 
 }  // namespace

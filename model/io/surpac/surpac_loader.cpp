@@ -46,7 +46,8 @@ std::vector<std::string_view> fields(std::string_view line) {
     std::size_t start = 0;
     for (;;) {
         const std::size_t comma = line.find(',', start);
-        out.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+        out.push_back(
+            trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
         if (comma == std::string_view::npos) break;
         start = comma + 1;
     }
@@ -60,8 +61,8 @@ Error failAt(const std::string& source, std::size_t line, const std::string& wha
 Status checkText(std::string_view text, const std::string& source, const char* what) {
     const std::size_t n = std::min<std::size_t>(text.size(), 4096);
     if (text.substr(0, n).find('\0') != std::string_view::npos)
-        return makeError(ErrorCode::Unsupported, source + ": a binary Surpac " + what +
-                                                     " file, which geoslice does not read: save it as text");
+        return makeError(ErrorCode::Unsupported,
+                         source + ": a binary Surpac " + what + " file, which geoslice does not read: save it as text");
     return {};
 }
 
@@ -91,12 +92,14 @@ Result<StringFile> readStringFile(std::string_view text, const std::string& sour
         const auto f = fields(line);
         if (lineNo == 2) {  // the axis record: checked for form only
             if (f.size() < 4 || f[0] != "0")
-                return failAt(source, lineNo, "not a Surpac string file: the axis record should be '0, y1, x1, z1, ...'");
+                return failAt(source, lineNo,
+                              "not a Surpac string file: the axis record should be '0, y1, x1, z1, ...'");
             continue;
         }
         if (f.size() < 4)
-            return failAt(source, lineNo, "a record needs string number, Y, X, Z; found " + std::to_string(f.size()) +
-                                              " field" + (f.size() == 1 ? "" : "s"));
+            return failAt(source, lineNo,
+                          "a record needs string number, Y, X, Z; found " + std::to_string(f.size()) + " field" +
+                              (f.size() == 1 ? "" : "s"));
         std::int64_t string = 0;
         if (parseInt(f[0], string) != IntStatus::Ok || string < 0)
             return failAt(source, lineNo, "string number " + quoteToken(f[0]) + " is not a whole number");
@@ -113,12 +116,16 @@ Result<StringFile> readStringFile(std::string_view text, const std::string& sour
         const int order[3] = {1, 0, 2};  // Y, X, Z in the file
         for (int k = 0; k < 3; ++k) {
             if (f[static_cast<std::size_t>(k) + 1].empty())
-                return failAt(source, lineNo, std::string("the ") + "YXZ"[k] +
-                                                  " field is empty (a record is string number, Y, X, Z, ...)");
+                return failAt(
+                    source, lineNo,
+                    std::string("the ") + "YXZ"[k] + " field is empty (a record is string number, Y, X, Z, ...)");
             auto v = parseDouble(f[static_cast<std::size_t>(k) + 1]);
-            if (!v) return failAt(source, lineNo, "coordinate " + quoteToken(f[static_cast<std::size_t>(k) + 1]) + " is not a number");
+            if (!v)
+                return failAt(source, lineNo,
+                              "coordinate " + quoteToken(f[static_cast<std::size_t>(k) + 1]) + " is not a number");
             if (!std::isfinite(*v))
-                return failAt(source, lineNo, "coordinate " + quoteToken(f[static_cast<std::size_t>(k) + 1]) + " is not finite");
+                return failAt(source, lineNo,
+                              "coordinate " + quoteToken(f[static_cast<std::size_t>(k) + 1]) + " is not finite");
             sp.p[order[k]] = *v;
         }
         sp.segmentStart = newSegment || out.points.empty() || out.points.back().string != string;
@@ -129,9 +136,10 @@ Result<StringFile> readStringFile(std::string_view text, const std::string& sour
     }
     if (lineNo < 2) return makeError(ErrorCode::ParseError, source + ": not a Surpac string file (no axis record)");
     if (!ended)
-        return makeError(ErrorCode::ParseError, source + ": line " + std::to_string(lineNo) +
-                                                    ": the file ends without its end record '0, 0.000, 0.000, 0.000, END'"
-                                                    " (truncated?)");
+        return makeError(ErrorCode::ParseError,
+                         source + ": line " + std::to_string(lineNo) +
+                             ": the file ends without its end record '0, 0.000, 0.000, 0.000, END'"
+                             " (truncated?)");
     return out;
 }
 
@@ -164,7 +172,8 @@ void addStrings(Model& model, const StringFile& sf) {
 Result<Model> parseSurpacString(std::string_view text, const std::string& source) {
     auto sf = readStringFile(text, source);
     if (!sf) return sf.error();
-    if (sf->points.empty()) return makeError(ErrorCode::ParseError, source + ": a string file with no points: nothing to load");
+    if (sf->points.empty())
+        return makeError(ErrorCode::ParseError, source + ": a string file with no points: nothing to load");
     Model model;
     model.source = source;
     model.name = std::filesystem::path(source).stem().string();
@@ -220,7 +229,8 @@ Result<Model> parseSurpacDtm(std::string_view dtm, const std::string& dtmSource,
         if (current == std::string::npos)
             return failAt(dtmSource, lineNo, "a triangle record before any OBJECT and TRISOLATION");
         if (f.size() < 4)
-            return failAt(dtmSource, lineNo, "a triangle record needs id, p1, p2, p3; found " + std::to_string(f.size()) + " fields");
+            return failAt(dtmSource, lineNo,
+                          "a triangle record needs id, p1, p2, p3; found " + std::to_string(f.size()) + " fields");
         glm::dvec3 c[3];
         for (int k = 0; k < 3; ++k) {
             std::int64_t id = 0;
@@ -228,8 +238,9 @@ Result<Model> parseSurpacDtm(std::string_view dtm, const std::string& dtmSource,
             if (parseInt(tok, id) != IntStatus::Ok)
                 return failAt(dtmSource, lineNo, "point number " + quoteToken(tok) + " is not a whole number");
             if (id < 1 || static_cast<std::uint64_t>(id) > points.size())
-                return failAt(dtmSource, lineNo, "point number " + std::to_string(id) + " is out of range: " + strSource +
-                                                     " has " + std::to_string(points.size()) + " points");
+                return failAt(dtmSource, lineNo,
+                              "point number " + std::to_string(id) + " is out of range: " + strSource + " has " +
+                                  std::to_string(points.size()) + " points");
             c[k] = points[static_cast<std::size_t>(id - 1)].p;
         }
         parts[current].addTriangle(c[0], c[1], c[2]);
@@ -241,7 +252,8 @@ Result<Model> parseSurpacDtm(std::string_view dtm, const std::string& dtmSource,
                                                     ": the file ends without its END record (truncated?)");
     for (std::size_t i = 0; i < parts.size(); ++i) {
         const auto [o, t] = keys[i];
-        parts[i].name = "object " + std::to_string(o) + (trisolationsPerObject[o] > 1 ? " trisolation " + std::to_string(t) : "");
+        parts[i].name =
+            "object " + std::to_string(o) + (trisolationsPerObject[o] > 1 ? " trisolation " + std::to_string(t) : "");
     }
     Model model;
     model.source = dtmSource;
