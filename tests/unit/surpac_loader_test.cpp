@@ -2,9 +2,13 @@
 // written by Surpac (tests/data/surpac/profile_5m_circle.str), a .str/.dtm pair written by
 // make_surpac.py (Y before X; a closed box -> body with the closed-form volume and sections, an
 // open grid -> surface), and hostile inputs that must be errors naming the line.
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "tests/unit/wire_loader_util.hpp"
@@ -86,6 +90,37 @@ TEST(SurpacLoader, HostileInputsAreErrorsNamingTheLine) {
     // A .dtm without its string file.
     auto missing = loadModel(wireData("surpac/no_such.dtm"));
     ASSERT_FALSE(missing.ok());
+}
+
+}  // namespace
+}  // namespace geoslice
+
+namespace geoslice {
+namespace {
+
+// probeModelFile (model/io/loaders.hpp) on the new extensions: cheap refusals with the reason.
+TEST(WireProbe, BinaryDxfBinarySurpacAndNonPlyAreRefusedBeforeReading) {
+    const auto dir = std::filesystem::temp_directory_path() / ("geoslice_wire_probe_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    auto write = [&](const std::string& name, const std::string& bytes) {
+        const std::string path = (dir / name).string();
+        std::ofstream(path, std::ios::binary) << bytes;
+        return path;
+    };
+    auto dxf = probeModelFile(write("b.dxf", std::string("AutoCAD Binary DXF\r\n\x1a\0", 22)));
+    ASSERT_FALSE(dxf.ok());
+    EXPECT_EQ(dxf.error().code, ErrorCode::Unsupported);
+    EXPECT_NE(dxf.error().message.find("binary DXF"), std::string::npos);
+    auto dtm = probeModelFile(write("b.dtm", std::string("\x01\x02\0\x03", 4)));
+    ASSERT_FALSE(dtm.ok());
+    EXPECT_NE(dtm.error().message.find("binary Surpac"), std::string::npos);
+    auto ply = probeModelFile(write("n.ply", "solid x\n"));
+    ASSERT_FALSE(ply.ok());
+    EXPECT_NE(ply.error().message.find("not PLY"), std::string::npos);
+    EXPECT_TRUE(probeModelFile(test::wireData("stl/box_binary.stl")).ok());  // binary STL: NUL bytes are fine
+    EXPECT_TRUE(probeModelFile(test::wireData("dxf/solids.dxf")).ok());
+    EXPECT_TRUE(probeModelFile(test::wireData("surpac/box.dtm")).ok());
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace
