@@ -86,6 +86,9 @@ TEST(DxfLoader, HostileInputsAreErrorsNamingTheLine) {
                     {"line 13", "POLYLINE of line 5", "expected VERTEX or SEQEND, found 'ENDSEC'"});
     expectWireError(parseDxf("0\nSECTION\n2\nENTITIES\n0\nPOLYLINE\n70\n64\n0\nVERTEX\n70\n192\n", "q.dxf"), "q.dxf",
                     {"line 5", "without SEQEND"});
+    // A polygon mesh whose M x N wraps around 2^64 to the (zero) VERTEX records it has.
+    expectWireError(parseDxf(entities("0\nPOLYLINE\n70\n16\n71\n4294967296\n72\n4294967296\n0\nSEQEND\n"), "w.dxf"),
+                    "w.dxf", {"line 5", "polygon mesh of 4294967296 x 4294967296", "has 0 VERTEX records"});
     // MESH with a vertex count far past its groups: refused before reserving.
     expectWireError(parseDxf(entities("0\nMESH\n8\nm\n92\n1000000000000\n10\n0\n20\n0\n30\n0\n93\n0\n"), "h.dxf"),
                     "h.dxf", {"line 9", "vertex count 1000000000000"});

@@ -325,7 +325,10 @@ Status DxfReader::polyline(std::size_t i, std::size_t& next) {
         return {};
     }
     if (flags & 16) {  // M x N polygon mesh
-        if (m < 2 || n < 2 || static_cast<std::uint64_t>(m) * static_cast<std::uint64_t>(n) != verts.size())
+        // m and n at most the vertex count first: their product cannot then wrap around.
+        const auto size = static_cast<std::int64_t>(verts.size());
+        if (m < 2 || n < 2 || m > size || n > size ||
+            static_cast<std::uint64_t>(m) * static_cast<std::uint64_t>(n) != verts.size())
             return failAt(headLine, where + ": polygon mesh of " + std::to_string(m) + " x " + std::to_string(n) +
                                         " vertices (groups 71, 72) has " + std::to_string(verts.size()) +
                                         " VERTEX records");
