@@ -1,8 +1,9 @@
 // PLY (Stanford polygon file) reader: ASCII, binary little-endian and binary big-endian.
 //
 // No PLY library is packaged in Debian 12 (apt-cache search finds none; tinyply, happly
-// and rply are not packaged), and libassimp's PLY importer drops face properties other than
-// colours and material_index, so this is a bounded reader written for geoslice.
+// and rply are not packaged), and libassimp's PLY importer keeps only the face properties it
+// knows (colours, material_index, texture coordinates), not a `region` or `label`, so this is
+// a bounded reader written for geoslice.
 //
 // Frame: world coordinates, z up, metres, no axis swap (as OBJ and STL).
 //
@@ -17,6 +18,8 @@
 //    the file stem;
 //  - every other element and property (normals, colours, texture coordinates, edges,
 //    materials) is skipped by its declared type.
+// Each part's corners are welded exactly (model/io/weld.hpp): writers that repeat a vertex per
+// face still give closed bodies; finishLoadedModel() makes closed parts bodies, open ones surfaces.
 // Every element count and list length is checked against the bytes left before anything is
 // allocated; errors name the file and the line (ASCII, header) or byte offset (binary).
 #include <algorithm>
@@ -347,7 +350,7 @@ Status PlyReader::readVertices(const Element& e) {
     for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const Property& p = e.properties[k];
         for (int a = 0; a < 3; ++a)
-            if (!p.list && p.name == std::string_view("xyz" + a, 1)) axis[a] = static_cast<int>(k);
+            if (!p.list && p.name.size() == 1 && p.name[0] == "xyz"[a]) axis[a] = static_cast<int>(k);
     }
     for (int a = 0; a < 3; ++a)
         if (axis[a] < 0)
