@@ -429,9 +429,10 @@ Result<ModelsDirScan> scanModelsDir(const std::string& dir, std::uint64_t maxFil
     if (ec) return makeError(ErrorCode::IoError, "cannot list models directory '" + dir + "': " + ec.message());
     std::sort(entries.begin(), entries.end());
     // GOCAD Model3d (.ml), TSolid (.so) and groups (.gp) hold bodies; Voxet/SGrid/PLine
-    // alone hold nothing a section draws yet.
-    static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts", ".ml",
-                                                      ".so",  ".gp",   ".xml", ".vtu"};
+    // and Surpac string files (.str) alone hold nothing a section draws yet (a .dtm is read
+    // with its .str).
+    static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts",  ".ml",  ".so", ".gp",
+                                                      ".xml", ".vtu",  ".stl", ".ply", ".dxf", ".dtm"};
     auto modelExtension = [](const fs::path& p) {
         std::string ext = p.extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
