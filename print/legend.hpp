@@ -24,6 +24,7 @@ struct LegendEntry {
     std::string lithology;  // may be empty
     std::string age;        // may be empty
     bool line = false;      // a surface's trace (drawn as a line swatch), not a body
+    Lithology pattern = Lithology::None;  // drawn over the swatch's colour (section/fill/patterns.hpp)
 };
 
 // Entries for the parts `source` shows; one per record (parts sharing a record share an entry).
