@@ -22,7 +22,8 @@
 //   colour=PROP breaks=b1,.. ramp=NAME   colour by a block property (BlockColouring)
 //   labels=0|1 patterns=0|1     profile views: unit codes inside their polygons and lithology
 //                               patterns (section/fill/labels.hpp, patterns.hpp); unset =
-//                               the output's default (images off, SVG and print sheets on)
+//                               the output's default (labels: on in print sheets only;
+//                               patterns: on in SVG and print sheets, off in images)
 // Units: metres in the model's CRS (x easting, y northing, z elevation), degrees for lon/lat.
 // Pure functions, any thread.
 #pragma once

@@ -7,8 +7,8 @@
 #include "api/legend.hpp"
 #include "model/clock.hpp"
 #include "model/json_text.hpp"
-#include "section/cut/contours.hpp"
 #include "print/pattern_cairo.hpp"
+#include "section/cut/contours.hpp"
 #include "section/fill/vector_export.hpp"
 
 namespace geoslice::api {
@@ -196,7 +196,8 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
         print::decorateSectionImage(*model.index, lineSection ? lineSection->bodies : planeSection->bodies,
                                     v.mapping->rect, v.width, v.height, v.rgba.data(),
                                     v.ids.size() == v.rgba.size() / 4 ? v.ids.data() : nullptr,
-                                    {plan.labels.value_or(false), plan.patterns.value_or(false), kLabelPx});
+                                    {plan.labels.value_or(false), plan.patterns.value_or(false), kLabelPx},
+                                    lineSection ? &lineSection->traces : &planeSection->traces);
     v.renderMs = msSince(t0);
     return v;
 }
@@ -212,7 +213,7 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     RasterOptions ro;
     ro.background = plan.section.background;
     SvgOverlays overlays;
-    overlays.labels = plan.labels.value_or(true);
+    overlays.labels = plan.labels.value_or(false);
     overlays.patterns = plan.patterns.value_or(true);
     overlays.labelPx = kLabelPx;
     overlays.textWidth = print::labelTextWidth;

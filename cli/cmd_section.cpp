@@ -209,10 +209,10 @@ void addSection(CLI::App& app, int& exitCode) {
     cmd->add_option("--dpi", o->dpi, "Resolution of a .png/.jpg/.webp sheet, 50..600 (default 150)");
     cmd->add_option("--date", o->date, "The title block's date, YYYY-MM-DD (default: today, UTC)");
     cmd->add_flag("--labels", o->labels,
-                  "Images (--out): unit codes inside their polygons (on by default in --svg and --print)");
+                  "Images (--out) and --svg: unit codes inside their polygons (on by default in --print)");
     cmd->add_flag("--patterns", o->patterns,
                   "Images (--out): lithology patterns over the units' colours (on by default in --svg and --print)");
-    cmd->add_flag("--no-labels", o->noLabels, "No unit codes in --svg and --print (and not in images)");
+    cmd->add_flag("--no-labels", o->noLabels, "No unit codes in --print sheets");
     cmd->add_flag("--no-patterns", o->noPatterns, "No lithology patterns in --svg and --print (and not in images)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
     cmd->add_option("--threads", o->threads, "Threads for the cut: 1 or 2 (default 1)");
@@ -385,7 +385,8 @@ void addSection(CLI::App& app, int& exitCode) {
         if ((o->labels && !o->noLabels) || (o->patterns && !o->noPatterns))
             print::decorateSectionImage(idx, polyline ? lineSection->bodies : section->bodies, rect, width, height,
                                         rgba.data(), ids.data(),
-                                        {o->labels && !o->noLabels, o->patterns && !o->noPatterns});
+                                        {o->labels && !o->noLabels, o->patterns && !o->noPatterns},
+                                        polyline ? &lineSection->traces : &section->traces);
         for (const auto& out : o->outs) {
             Status s = endsWith(out, ".ppm")   ? writePpm(out, rgba, width, height)
                        : endsWith(out, ".pgm") ? writePgm16(out, ids, width, height)
@@ -402,7 +403,7 @@ void addSection(CLI::App& app, int& exitCode) {
         }
         if (!o->svg.empty()) {
             SvgOverlays overlays;
-            overlays.labels = !o->noLabels;
+            overlays.labels = o->labels && !o->noLabels;
             overlays.patterns = !o->noPatterns;
             overlays.textWidth = print::labelTextWidth;
             auto svg = toSvg(idx, source, rect, width, height, ro, overlays);

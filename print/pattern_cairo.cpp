@@ -41,7 +41,9 @@ void fromSurface(cairo_surface_t* s, std::uint8_t* rgba, int w, int h) {
         for (int x = 0; x < w; ++x) {
             const std::uint32_t v = row[x], a = v >> 24;
             std::uint8_t* p = &rgba[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * 4];
-            auto un = [a](std::uint32_t c) { return std::uint8_t(a ? std::min<std::uint32_t>(255, (c * 255 + a / 2) / a) : 0); };
+            auto un = [a](std::uint32_t c) {
+                return std::uint8_t(a ? std::min<std::uint32_t>(255, (c * 255 + a / 2) / a) : 0);
+            };
             p[0] = un((v >> 16) & 255);
             p[1] = un((v >> 8) & 255);
             p[2] = un(v & 255);
@@ -55,21 +57,18 @@ void fromSurface(cairo_surface_t* s, std::uint8_t* rgba, int w, int h) {
 cairo_pattern_t* lithologyPattern(Lithology l, double s) {
     if (l == Lithology::None) return nullptr;
     const PatternTile& t = patternTile(l);
+    if (t.solid)  // a plain colour: no tile seams at scales that are not whole pixels
+        return cairo_pattern_create_rgba(t.ink.r / 255.0, t.ink.g / 255.0, t.ink.b / 255.0, t.ink.a / 255.0);
     cairo_rectangle_t extents{0.0, 0.0, t.width * s, t.height * s};
     cairo_surface_t* tile = cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, &extents);
     cairo_t* cr = cairo_create(tile);
     cairo_scale(cr, s, s);
     setColour(cr, t.ink);
-    if (t.solid) {
-        cairo_rectangle(cr, 0.0, 0.0, t.width, t.height);
-        cairo_fill(cr);
-    }
     cairo_set_line_width(cr, t.strokeMm);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
     for (const auto& line : t.polylines) {
-        for (std::size_t i = 0; i < line.size(); ++i)
-            (i ? cairo_line_to : cairo_move_to)(cr, line[i].x, line[i].y);
+        for (std::size_t i = 0; i < line.size(); ++i) (i ? cairo_line_to : cairo_move_to)(cr, line[i].x, line[i].y);
         cairo_stroke(cr);
     }
     for (const glm::dvec3& c : t.circles) {
@@ -168,7 +167,7 @@ namespace geoslice::print {
 
 void decorateSectionImage(const SectionIndex& index, const std::vector<BodySection>& bodies, const FrameRect& rect,
                           int width, int height, std::uint8_t* rgba, const std::uint32_t* ids,
-                          const ImageDecorations& o) {
+                          const ImageDecorations& o, const std::vector<SectionTrace>* traces) {
     const Model* m = index.model;
     auto lithologyOf = [m](RecordId r) { return m ? recordLithology(m->attributes.find(r)) : Lithology::None; };
     if (o.patterns && ids) drawPatternsOnImage(rgba, ids, width, height, lithologyOf, o.pxPerMm);
@@ -178,14 +177,13 @@ void decorateSectionImage(const SectionIndex& index, const std::vector<BodySecti
     style.size = o.labelPx;
     style.textWidth = labelTextWidth;
     std::vector<ImageLabel> labels;
-    for (const PlacedLabel& l :
-         sectionLabels(index, bodies,
-                       [&](const glm::dvec2& p) { return glm::dvec2((p.x - rect.u0) * sx, (rect.v1 - p.y) * sy); },
-                       LabelBox{0.0, 0.0, double(width), double(height)}, style)) {
+    for (const PlacedLabel& l : sectionLabels(
+             index, bodies, [&](const glm::dvec2& p) { return glm::dvec2((p.x - rect.u0) * sx, (rect.v1 - p.y) * sy); },
+             LabelBox{0.0, 0.0, double(width), double(height)}, style, traces)) {
         const Rgba8 c = index.parts[l.part].colour;
         const Lithology lith = o.patterns ? lithologyOf(l.record) : Lithology::None;
-        labels.push_back({l, lith == Lithology::Coal ? patternTile(lith).ink : Rgba8{c.r, c.g, c.b, 255},
-                          labelInk(c, lith)});
+        labels.push_back(
+            {l, lith == Lithology::Coal ? patternTile(lith).ink : Rgba8{c.r, c.g, c.b, 255}, labelInk(c, lith)});
     }
     drawLabelsOnImage(rgba, width, height, labels, o.labelPx);
 }

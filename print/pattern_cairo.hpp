@@ -36,21 +36,20 @@ struct ImageLabel {
 };
 // Draws the labels' boxes and texts (font size `sizePx`, centred on label.at, the baseline
 // of section/fill/labels.hpp labelBaseline) into the image.
-void drawLabelsOnImage(std::uint8_t* rgba, int width, int height, const std::vector<ImageLabel>& labels,
-                       double sizePx);
+void drawLabelsOnImage(std::uint8_t* rgba, int width, int height, const std::vector<ImageLabel>& labels, double sizePx);
 
 struct ImageDecorations {
     bool labels = false;
     bool patterns = false;
-    double labelPx = 12.0;            // font size of the labels, pixels
-    double pxPerMm = 96.0 / 25.4;     // pattern tiles' scale
+    double labelPx = 12.0;         // font size of the labels, pixels
+    double pxPerMm = 96.0 / 25.4;  // pattern tiles' scale
 };
 // A section image's decorations: patterns over the units' pixels (by `ids`; none without
 // ids), then the unit codes placed in the bodies' polygons (section frame `rect` -> pixels
-// as the raster maps it), each on a box of its unit's colour.
+// as the raster maps it), each on a box of its unit's colour, clear of the `traces`.
 void decorateSectionImage(const SectionIndex& index, const std::vector<BodySection>& bodies, const FrameRect& rect,
                           int width, int height, std::uint8_t* rgba, const std::uint32_t* ids,
-                          const ImageDecorations& options);
+                          const ImageDecorations& options, const std::vector<SectionTrace>* traces = nullptr);
 
 // Advance width (pixels) of `text` at a font size of `sizePx` pixels, in the sheets' fonts.
 double labelTextWidth(const std::string& text, double sizePx);

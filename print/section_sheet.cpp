@@ -262,7 +262,7 @@ void unitLabels(Sheet& sheet, const SectionIndex& index, const VectorSource& src
         const PagePoint p = f.toPage(q);
         return glm::dvec2(p.x, p.y);
     };
-    for (const PlacedLabel& l : sectionLabels(index, *src.bodies, toPage, view, style)) {
+    for (const PlacedLabel& l : sectionLabels(index, *src.bodies, toPage, view, style, src.traces)) {
         const Lithology lith = lithologyOfRecord(index, l.record);
         const Rgba8 c = index.parts[l.part].colour;
         PathItem box;

@@ -197,7 +197,8 @@ std::string unitCode(const AttributeRecord* record, const std::string& fallback)
     return record->name.empty() ? fallback : record->name;
 }
 
-std::vector<PlacedLabel> placeLabels(const std::vector<LabelCandidate>& candidates, const LabelBox& view, double gap) {
+std::vector<PlacedLabel> placeLabels(const std::vector<LabelCandidate>& candidates, const LabelBox& view, double gap,
+                                     const std::vector<std::vector<glm::dvec2>>& obstacles) {
     struct Order {
         double area;
         std::size_t index;
@@ -221,6 +222,13 @@ std::vector<PlacedLabel> placeLabels(const std::vector<LabelCandidate>& candidat
         const LabelBox box{p.x - 0.5 * c.width, p.y - 0.5 * c.height, p.x + 0.5 * c.width, p.y + 0.5 * c.height};
         if (box.x0 < view.x0 || box.y0 < view.y0 || box.x1 > view.x1 || box.y1 > view.y1) continue;
         if (!boxInsidePolygon(box, c.rings)) continue;
+        const LabelBox padded{box.x0 - gap, box.y0 - gap, box.x1 + gap, box.y1 + gap};
+        const bool blocked = std::any_of(obstacles.begin(), obstacles.end(), [&](const std::vector<glm::dvec2>& line) {
+            for (std::size_t i = 0; i + 1 < line.size(); ++i)
+                if (segmentMeetsBox(line[i], line[i + 1], padded)) return true;
+            return false;
+        });
+        if (blocked) continue;
         if (std::any_of(placed.begin(), placed.end(), [&](const PlacedLabel& q) { return q.box.overlaps(box, gap); }))
             continue;
         placed.push_back({c.text, p, box, c.record, c.part});
@@ -278,8 +286,17 @@ std::vector<LabelCandidate> sectionLabelCandidates(const SectionIndex& index, co
 
 std::vector<PlacedLabel> sectionLabels(const SectionIndex& index, const std::vector<BodySection>& bodies,
                                        const std::function<glm::dvec2(const glm::dvec2&)>& toOutput,
-                                       const LabelBox& view, const LabelStyle& style) {
-    return placeLabels(sectionLabelCandidates(index, bodies, toOutput, view, style), view, 0.3 * style.size);
+                                       const LabelBox& view, const LabelStyle& style,
+                                       const std::vector<SectionTrace>* traces) {
+    std::vector<std::vector<glm::dvec2>> obstacles;
+    if (traces)
+        for (const SectionTrace& t : *traces) {
+            std::vector<glm::dvec2> line;
+            for (const glm::dvec2& p : t.points) line.push_back(toOutput(p));
+            if (t.closed && !t.points.empty()) line.push_back(toOutput(t.points.front()));
+            obstacles.push_back(std::move(line));
+        }
+    return placeLabels(sectionLabelCandidates(index, bodies, toOutput, view, style), view, 0.3 * style.size, obstacles);
 }
 
 }  // namespace geoslice

@@ -66,14 +66,15 @@ struct PlacedLabel {
     std::uint32_t part = 0;
 };
 
-// Greedy placement (see above) of `candidates` inside `view` with `gap` between boxes.
+// Greedy placement (see above) of `candidates` inside `view` with `gap` between boxes; a box
+// that meets one of the `obstacles` (polylines in the output frame: fault traces) is dropped too.
 std::vector<PlacedLabel> placeLabels(const std::vector<LabelCandidate>& candidates, const LabelBox& view,
-                                     double gap = 0.0);
+                                     double gap = 0.0, const std::vector<std::vector<glm::dvec2>>& obstacles = {});
 
 // Geometry of a label's text at font size `size` (output units, em): its box and where
 // the baseline goes. Box height 1.0 em plus padding (DejaVu Sans: ascender 0.76, descender 0.24).
 struct LabelStyle {
-    double size = 12.0;    // font size (output units)
+    double size = 12.0;     // font size (output units)
     double padding = 0.15;  // em, each side
     // Advance width of `text` at `size` output units; default: an estimate for DejaVu Sans
     // that errs wide (0.62 em a Latin letter or digit, 0.8 upper case, 1.0 a CJK character).
@@ -90,9 +91,11 @@ std::vector<LabelCandidate> sectionLabelCandidates(const SectionIndex& index, co
                                                    const std::function<glm::dvec2(const glm::dvec2&)>& toOutput,
                                                    const LabelBox& view, const LabelStyle& style);
 
-// sectionLabelCandidates then placeLabels with a gap of 0.3 em.
+// sectionLabelCandidates then placeLabels with a gap of 0.3 em, clear of the `traces`
+// (surfaces' traces: faults, horizons) when given.
 std::vector<PlacedLabel> sectionLabels(const SectionIndex& index, const std::vector<BodySection>& bodies,
                                        const std::function<glm::dvec2(const glm::dvec2&)>& toOutput,
-                                       const LabelBox& view, const LabelStyle& style);
+                                       const LabelBox& view, const LabelStyle& style,
+                                       const std::vector<SectionTrace>* traces = nullptr);
 
 }  // namespace geoslice

@@ -126,14 +126,20 @@ PatternTile makeTile(Lithology l) {
         case Lithology::Limestone:  // bricks: courses and staggered joints
             t.width = 6.0;
             t.height = 3.0;
-            t.polylines = {{P{0.0, 0.75}, P{6.0, 0.75}}, {P{0.0, 2.25}, P{6.0, 2.25}}, {P{1.5, 0.75}, P{1.5, 2.25}},
-                           {P{4.5, 2.25}, P{4.5, 3.0}},  {P{4.5, 0.0}, P{4.5, 0.75}}};
+            t.polylines = {{P{0.0, 0.75}, P{6.0, 0.75}},
+                           {P{0.0, 2.25}, P{6.0, 2.25}},
+                           {P{1.5, 0.75}, P{1.5, 2.25}},
+                           {P{4.5, 2.25}, P{4.5, 3.0}},
+                           {P{4.5, 0.0}, P{4.5, 0.75}}};
             break;
         case Lithology::Dolomite:  // bricks with slanted joints
             t.width = 6.0;
             t.height = 3.0;
-            t.polylines = {{P{0.0, 0.75}, P{6.0, 0.75}}, {P{0.0, 2.25}, P{6.0, 2.25}}, {P{1.9, 0.75}, P{1.1, 2.25}},
-                           {P{4.9, 2.25}, P{4.5, 3.0}},  {P{4.5, 0.0}, P{4.1, 0.75}}};
+            t.polylines = {{P{0.0, 0.75}, P{6.0, 0.75}},
+                           {P{0.0, 2.25}, P{6.0, 2.25}},
+                           {P{1.9, 0.75}, P{1.1, 2.25}},
+                           {P{4.9, 2.25}, P{4.5, 3.0}},
+                           {P{4.5, 0.0}, P{4.1, 0.75}}};
             break;
         case Lithology::Conglomerate:  // pebbles
             t.width = 8.0;
@@ -300,11 +306,13 @@ std::string svgPattern(Lithology l, double s) {
                     "\" patternUnits=\"userSpaceOnUse\" width=\"" + num(t.width * s) + "\" height=\"" +
                     num(t.height * s) + "\">";
     const std::string ink = hex(t.ink);
-    if (t.solid) o += "<rect width=\"" + num(t.width * s) + "\" height=\"" + num(t.height * s) + "\" fill=\"" + ink + "\"/>";
+    if (t.solid)
+        o += "<rect width=\"" + num(t.width * s) + "\" height=\"" + num(t.height * s) + "\" fill=\"" + ink + "\"/>";
     const std::string stroke = "fill=\"none\" stroke=\"" + ink + "\" stroke-width=\"" + num(t.strokeMm * s) + "\"";
     for (const auto& line : t.polylines) {
         o += "<polyline " + stroke + " points=\"";
-        for (std::size_t i = 0; i < line.size(); ++i) o += (i ? " " : "") + num(line[i].x * s) + "," + num(line[i].y * s);
+        for (std::size_t i = 0; i < line.size(); ++i)
+            o += (i ? " " : "") + num(line[i].x * s) + "," + num(line[i].y * s);
         o += "\"/>";
     }
     for (const glm::dvec3& c : t.circles)

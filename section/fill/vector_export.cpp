@@ -214,20 +214,22 @@ Result<std::string> toSvg(const SectionIndex& index, const VectorSource& src, co
         style.textWidth = overlays.textWidth;
         auto toPx = [&](const glm::dvec2& p) { return glm::dvec2((p.x - rect.u0) * sx, (rect.v1 - p.y) * sy); };
         const LabelBox view{0.0, 0.0, double(width), double(height)};
-        for (const PlacedLabel& l : sectionLabels(index, *src.bodies, toPx, view, style)) {
+        for (const PlacedLabel& l :
+             sectionLabels(index, *src.bodies, toPx, view, style, options.traces ? src.traces : nullptr)) {
             const SectionPart& part = index.parts[l.part];
             const Rgba8 ink = labelInk(part.colour, lithologyOf(l.record));
             std::snprintf(buf, sizeof buf,
                           "<g class=\"unit-label\" data-record=\"%u\"><rect x=\"%.3f\" y=\"%.3f\" width=\"%.3f\" "
                           "height=\"%.3f\" rx=\"%.2f\" fill=\"%s\"/>",
                           l.record, l.box.x0, l.box.y0, l.box.x1 - l.box.x0, l.box.y1 - l.box.y0, 0.2 * style.size,
-                          hexColour(lithologyOf(l.record) == Lithology::Coal ? patternTile(Lithology::Coal).ink
-                                                                              : Rgba8{part.colour.r, part.colour.g,
-                                                                                      part.colour.b, 255})
+                          hexColour(lithologyOf(l.record) == Lithology::Coal
+                                        ? patternTile(Lithology::Coal).ink
+                                        : Rgba8{part.colour.r, part.colour.g, part.colour.b, 255})
                               .c_str());
             out += buf;
             std::snprintf(buf, sizeof buf,
-                          "<text x=\"%.3f\" y=\"%.3f\" font-family=\"DejaVu Sans, WenQuanYi Micro Hei, sans-serif\" font-size=\"%.2f\" "
+                          "<text x=\"%.3f\" y=\"%.3f\" font-family=\"DejaVu Sans, WenQuanYi Micro Hei, sans-serif\" "
+                          "font-size=\"%.2f\" "
                           "text-anchor=\"middle\" fill=\"%s\">",
                           l.at.x, labelBaseline(l.at.y, style.size), style.size, hexColour(ink).c_str());
             out += buf;

@@ -63,7 +63,7 @@ nlohmann::ordered_json toGeoJson(const SectionIndex& index, const VectorSource& 
 // data-record, on a box of the unit's colour that hides the pattern under the text).
 struct SvgOverlays {
     bool patterns = true;
-    bool labels = true;
+    bool labels = false;    // off: the plain SVG stays an overlay of the image
     double labelPx = 12.0;  // font size of the labels, pixels
     // Advance width of a label at a size (pixels); empty: estimateTextWidth (errs wide).
     std::function<double(const std::string& text, double size)> textWidth;
