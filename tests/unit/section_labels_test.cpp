@@ -379,7 +379,9 @@ TEST(UnitLabels, PrintSheetShowsCodesAndPatterns) {
     auto plain = print::sectionSheet(idx, s.value(), o, info);
     ASSERT_TRUE(plain.ok());
     for (const print::SheetItem& item : plain->items)
-        if (const auto* p = std::get_if<print::PathItem>(&item)) EXPECT_EQ(p->pattern, Lithology::None);
+        if (const auto* p = std::get_if<print::PathItem>(&item)) {
+            EXPECT_EQ(p->pattern, Lithology::None);
+        }
     EXPECT_LT(plain->items.size(), sheet->items.size());
 }
 
