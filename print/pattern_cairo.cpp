@@ -3,6 +3,7 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "print/sheet.hpp"
@@ -32,13 +33,15 @@ cairo_surface_t* toSurface(const std::uint8_t* rgba, int w, int h) {
     return s;
 }
 
-void fromSurface(cairo_surface_t* s, std::uint8_t* rgba, int w, int h) {
+// Back to straight alpha, only inside [x0, x1) x [y0, y1): the premultiplied round trip is
+// lossy for partly transparent pixels, so pixels nothing was drawn on are left untouched.
+void fromSurface(cairo_surface_t* s, std::uint8_t* rgba, int w, int x0, int y0, int x1, int y1) {
     cairo_surface_flush(s);
     const unsigned char* data = cairo_image_surface_get_data(s);
     const int stride = cairo_image_surface_get_stride(s);
-    for (int y = 0; y < h; ++y) {
+    for (int y = y0; y < y1; ++y) {
         const auto* row = reinterpret_cast<const std::uint32_t*>(data + std::size_t(y) * std::size_t(stride));
-        for (int x = 0; x < w; ++x) {
+        for (int x = x0; x < x1; ++x) {
             const std::uint32_t v = row[x], a = v >> 24;
             std::uint8_t* p = &rgba[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * 4];
             auto un = [a](std::uint32_t c) {
@@ -157,7 +160,11 @@ void drawLabelsOnImage(std::uint8_t* rgba, int w, int h, const std::vector<Image
         cairo_show_text(cr, l.label.text.c_str());
     }
     cairo_destroy(cr);
-    fromSurface(s, rgba, w, h);
+    for (const ImageLabel& l : labels) {  // the boxes' pixels, where all drawing happened
+        const LabelBox& b = l.label.box;
+        fromSurface(s, rgba, w, std::clamp(int(std::floor(b.x0)), 0, w), std::clamp(int(std::floor(b.y0)), 0, h),
+                    std::clamp(int(std::ceil(b.x1)), 0, w), std::clamp(int(std::ceil(b.y1)), 0, h));
+    }
     cairo_surface_destroy(s);
 }
 
