@@ -600,6 +600,7 @@ TEST(PrintRaster, DecoratedSheetAtItsResolution) {
     SheetOptions o = fx.options("A5");
     o.rasterGeometry = true;
     o.dpi = 100.0;
+    o.labels = o.patterns = false;  // nothing over the raster but the surrounds (section_labels_test.cpp)
     auto sheet = sectionSheet(*fx.index, fx.section, o, fx.info());
     ASSERT_TRUE(sheet.ok()) << sheet.error().message;
     const ImageItem* image = nullptr;
