@@ -343,9 +343,9 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
                        o.patterns);
     }
     if (o.rasterGeometry && o.patterns) rasterPatterns(sheet, index, shape.source, f);
-    if (o.labels) unitLabels(sheet, index, shape.source, f, o.labelPt);
     drawAxes(sheet, f, shape.axes);
     drawEnds(sheet, shape, f);
+    if (o.labels) unitLabels(sheet, index, shape.source, f, o.labelPt);  // over the grid lines
 
     sheet.add(rect(l.neat, kInk, 0.5));
     PathItem rules;
