@@ -59,6 +59,11 @@ J viewParams() {
                    "each cell's exact piece; profile views, tiles, GeoJSON and SVG"),
         queryParam("breaks", "string", "b1,b2,...: increasing class breaks of 'colour' (default: 5 equal classes)"),
         queryParam("ramp", "string", "colour ramp of 'colour': viridis (default), magma, greys, spectral"),
+        queryParam("labels", "string",
+                   "0|1: profile views, unit codes inside their polygons (default: on in print sheets, off in "
+                   "images and SVG)"),
+        queryParam("patterns", "string",
+                   "0|1: profile views, lithology fill patterns (default: on in SVG and print sheets, off in images)"),
     });
 }
 

@@ -94,6 +94,8 @@ std::string ViewPlan::canonical() const {
         }
     }
     s += "&size=" + std::to_string(width) + "x" + std::to_string(height);
+    if (labels) s += *labels ? "&labels=1" : "&labels=0";
+    if (patterns) s += *patterns ? "&patterns=1" : "&patterns=0";
     return s;
 }
 
@@ -106,7 +108,8 @@ const std::vector<std::string_view>& sectionParamNames() {
 const std::vector<std::string_view>& viewParamNames() {
     static const std::vector<std::string_view> names = [] {
         std::vector<std::string_view> n = sectionParamNames();
-        for (std::string_view v : {"view", "frame", "size", "eye", "target", "up", "fov"}) n.push_back(v);
+        for (std::string_view v : {"view", "frame", "size", "eye", "target", "up", "fov", "labels", "patterns"})
+            n.push_back(v);
         return n;
     }();
     return names;
@@ -274,6 +277,12 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
         plan.width = s.value().width;
         plan.height = s.value().height;
     }
+    for (const char* name : {"labels", "patterns"})
+        if (const auto v = param(params, name)) {
+            auto b = parseBool(name, *v);
+            if (!b) return b.error();
+            (std::string_view(name) == "labels" ? plan.labels : plan.patterns) = b.value();
+        }
     const auto view = param(params, "view");
     if (!view || *view == "profile") {
         plan.view = ViewKind::Profile;

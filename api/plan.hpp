@@ -20,6 +20,10 @@
 //                               elevation stretched k times about the bounds' centre elevation
 //   bg=transparent|#rrggbb[aa]  background (default transparent)
 //   colour=PROP breaks=b1,.. ramp=NAME   colour by a block property (BlockColouring)
+//   labels=0|1 patterns=0|1     profile views: unit codes inside their polygons and lithology
+//                               patterns (section/fill/labels.hpp, patterns.hpp); unset =
+//                               the output's default (labels: on in print sheets only;
+//                               patterns: on in SVG and print sheets, off in images)
 // Units: metres in the model's CRS (x easting, y northing, z elevation), degrees for lon/lat.
 // Pure functions, any thread.
 #pragma once
@@ -86,6 +90,8 @@ struct ViewPlan {
     std::optional<FrameRect> frame;           // profile; nullopt = default frame
     std::optional<PerspectiveCamera> camera;  // perspective, world; nullopt = default camera
     int width = 1024, height = 1024;
+    std::optional<bool> labels;    // labels=0|1; nullopt: the output's default
+    std::optional<bool> patterns;  // patterns=0|1; nullopt: the output's default
 
     std::string canonical() const;  // the section's canonical text plus the view's fields
 };

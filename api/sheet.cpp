@@ -147,6 +147,8 @@ Result<SheetOutput> renderSheet(const CatalogModel& model, const SheetRequest& r
     o.dpi = request.dpi;
     o.cancel = cancel;
     o.scaleName = "parameter 'scale'";
+    o.labels = request.plan.labels.value_or(true);
+    o.patterns = request.plan.patterns.value_or(true);
     auto classes = blockClasses(model, def);
     if (!classes) return classes.error();
     if (classes.value()) o.blocks = print::SheetBlocks{model.model.blocks.get(), *classes.value(), model.blockRecords};

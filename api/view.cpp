@@ -7,6 +7,7 @@
 #include "api/legend.hpp"
 #include "model/clock.hpp"
 #include "model/json_text.hpp"
+#include "print/pattern_cairo.hpp"
 #include "section/cut/contours.hpp"
 #include "section/fill/vector_export.hpp"
 
@@ -147,6 +148,10 @@ Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& p
     return m;
 }
 
+namespace {
+constexpr double kLabelPx = 12.0;  // labels at print scale on a 96 dpi screen (9 pt)
+}  // namespace
+
 Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan, const std::atomic<bool>* cancel) {
     if (plan.view != ViewKind::Profile)
         return makeError(ErrorCode::InvalidArgument, "renderProfile: the plan is not a profile view");
@@ -159,6 +164,8 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
     ro.background = plan.section.background;
     ro.cancel = cancel;
     ViewImage v;
+    std::optional<PolylineSection> lineSection;
+    std::optional<Section> planeSection;
     if (plan.section.geometry == Geometry::Line) {
         auto section = computePolylineSection(*model.index, plan.section.line);
         if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
@@ -170,6 +177,7 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
         v.height = plan.height;
         v.rgba = std::move(image.value().rgba);
         v.ids = std::move(image.value().ids);
+        lineSection = std::move(section.value());
     } else {
         auto section = computeSection(*model.index, sectionPlane(plan.section));
         if (!section) return section.error();
@@ -180,9 +188,16 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
         v.height = plan.height;
         v.rgba = std::move(image.value().rgba);
         v.ids = std::move(image.value().ids);
+        planeSection = std::move(section.value());
     }
     v.mapping = std::move(mapping.value());
     if (classes.value()) colourByBlocks(model, *classes.value(), *v.mapping, v);
+    if (plan.labels.value_or(false) || plan.patterns.value_or(false))
+        print::decorateSectionImage(*model.index, lineSection ? lineSection->bodies : planeSection->bodies,
+                                    v.mapping->rect, v.width, v.height, v.rgba.data(),
+                                    v.ids.size() == v.rgba.size() / 4 ? v.ids.data() : nullptr,
+                                    {plan.labels.value_or(false), plan.patterns.value_or(false), kLabelPx},
+                                    lineSection ? &lineSection->traces : &planeSection->traces);
     v.renderMs = msSince(t0);
     return v;
 }
@@ -197,9 +212,14 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     if (!classes) return classes.error();
     RasterOptions ro;
     ro.background = plan.section.background;
+    SvgOverlays overlays;
+    overlays.labels = plan.labels.value_or(false);
+    overlays.patterns = plan.patterns.value_or(true);
+    overlays.labelPx = kLabelPx;
+    overlays.textWidth = print::labelTextWidth;
     auto emit = [&](const VectorSource& source) -> Result<std::string> {
         if (auto c = checkCancel(cancel); !c) return c.error();
-        if (svg) return toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro);
+        if (svg) return toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro, overlays);
         return jsonText(toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane));
     };
     // The cells' exact pieces inside the clipping bodies (plane u/v or line s/z), drawn over the

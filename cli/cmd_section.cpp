@@ -1,6 +1,7 @@
 // geoslice section MODEL (--plane a,b,c,d | --elevation z | --line x1,y1,x2,y2[,...])
 // [--size WxH] [--frame u0,u1,v0,v1 | --exaggeration k] [--out F.png|F.jpg|F.webp|F.ppm|F.pgm]... [--geojson F]
-// [--geojson-frame plane|world] [--svg F] [--areas]: the exact section engine from the
+// [--geojson-frame plane|world] [--svg F] [--labels] [--patterns] [--no-labels] [--no-patterns]
+// [--areas]: the exact section engine from the
 // command line. Colour images go through image/image_encode.hpp (PNG, JPEG, WebP) or
 // binary PPM (composited over white); the ID buffer is written as 16-bit binary PGM
 // (record ids, big-endian, 0 = none). --geojson / --svg write the polygons and traces
@@ -28,6 +29,7 @@
 #include "print/cairo_output.hpp"
 #include "print/map_scale.hpp"
 #include "print/paper.hpp"
+#include "print/pattern_cairo.hpp"
 #include "print/section_sheet.hpp"
 #include "print/sheet_date.hpp"
 #include "print/svg_output.hpp"
@@ -135,6 +137,8 @@ Result<print::SheetOptions> sheetOptionsFromFlags(const Opts& o, const std::opti
     so.rasterGeometry = ext != "pdf" && ext != "svg";
     so.frame = frame;
     so.scaleName = "--scale";
+    so.labels = !o.noLabels;
+    so.patterns = !o.noPatterns;
     if (!o.date.empty() && !print::isCalendarDate(o.date))
         return makeError(ErrorCode::InvalidArgument, "--date \"" + o.date + "\" is not YYYY-MM-DD");
     return so;
@@ -162,6 +166,7 @@ void addSection(CLI::App& app, int& exitCode) {
         std::vector<std::string> outs;
         double elevation = NAN, exaggeration = 1.0;
         bool areas = false;
+        bool labels = false, patterns = false, noLabels = false, noPatterns = false;
         unsigned threads = 1;
         LoadOptions load;
     };
@@ -203,6 +208,12 @@ void addSection(CLI::App& app, int& exitCode) {
                     "Sheet scale denominator S (1:S); default: the smallest round scale that fits the paper");
     cmd->add_option("--dpi", o->dpi, "Resolution of a .png/.jpg/.webp sheet, 50..600 (default 150)");
     cmd->add_option("--date", o->date, "The title block's date, YYYY-MM-DD (default: today, UTC)");
+    cmd->add_flag("--labels", o->labels,
+                  "Images (--out) and --svg: unit codes inside their polygons (on by default in --print)");
+    cmd->add_flag("--patterns", o->patterns,
+                  "Images (--out): lithology patterns over the units' colours (on by default in --svg and --print)");
+    cmd->add_flag("--no-labels", o->noLabels, "No unit codes in --print sheets");
+    cmd->add_flag("--no-patterns", o->noPatterns, "No lithology patterns in --svg and --print (and not in images)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
     cmd->add_option("--threads", o->threads, "Threads for the cut: 1 or 2 (default 1)");
     addColourOptions(cmd, o->colour,
@@ -371,6 +382,11 @@ void addSection(CLI::App& app, int& exitCode) {
                 source.svgOverBodies = blockPiecesSvg(*model->blocks, *classes, pieces, rect, width, height);
             }
         }
+        if ((o->labels && !o->noLabels) || (o->patterns && !o->noPatterns))
+            print::decorateSectionImage(idx, polyline ? lineSection->bodies : section->bodies, rect, width, height,
+                                        rgba.data(), ids.data(),
+                                        {o->labels && !o->noLabels, o->patterns && !o->noPatterns},
+                                        polyline ? &lineSection->traces : &section->traces);
         for (const auto& out : o->outs) {
             Status s = endsWith(out, ".ppm")   ? writePpm(out, rgba, width, height)
                        : endsWith(out, ".pgm") ? writePgm16(out, ids, width, height)
@@ -386,7 +402,11 @@ void addSection(CLI::App& app, int& exitCode) {
             if (Status s = writeText(o->geojson, jsonText(g) + "\n"); !s) return fail(s.error().message, 1);
         }
         if (!o->svg.empty()) {
-            auto svg = toSvg(idx, source, rect, width, height, ro);
+            SvgOverlays overlays;
+            overlays.labels = o->labels && !o->noLabels;
+            overlays.patterns = !o->noPatterns;
+            overlays.textWidth = print::labelTextWidth;
+            auto svg = toSvg(idx, source, rect, width, height, ro, overlays);
             if (!svg) return fail(svg.error().message, 1);
             if (Status s = writeText(o->svg, svg.value()); !s) return fail(s.error().message, 1);
         }

@@ -51,6 +51,12 @@ struct SheetOptions {
     std::string scaleName = "scale";            // how errors name the scale (parameter or flag)
     const std::atomic<bool>* cancel = nullptr;  // read by the raster fill
     std::optional<SheetBlocks> blocks;          // colour by a block property
+    // Lithology patterns over the units' colours (section/fill/patterns.hpp; units whose
+    // lithology is known) and in their legend swatches; unit codes inside the polygons
+    // (section/fill/labels.hpp) at labelPt points.
+    bool patterns = true;
+    bool labels = true;
+    double labelPt = 7.0;
 };
 
 // What the title block says about where the section came from (the caller knows).
