@@ -53,7 +53,7 @@ struct SliceRenderer::Impl {
     struct Uniforms {
         GLint viewProj = -1, planes = -1, planeCount = -1, unionMode = -1, faceRole = -1, record = -1, colour = -1,
               capRecord = -1, capColour = -1, lightDir = -1, shadeScale = -1, eye = -1, lodShift = -1, baked = -1,
-              fetch = -1, background = -1;
+              fetch = -1, background = -1, snap = -1;
     };
     struct Variant {
         GlProgram program;
@@ -67,6 +67,7 @@ struct SliceRenderer::Impl {
     FxaaPass fxaa;
     RenderTarget target;
     ClusterSelection selection;  // reused by every part's draw
+    float subpixelSteps = 0.0f;  // 2^GL_SUBPIXEL_BITS (shaders/slice.vert uSnap), 0: not snapped
 };
 
 Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context) {
@@ -95,6 +96,7 @@ Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context)
         v.u.baked = v.program.uniform("uBaked");
         v.u.fetch = v.program.uniform("uFetch");
         v.u.background = v.program.uniform("uBackground");
+        v.u.snap = v.program.uniform("uSnap");
         programs.push_back(std::move(v));
     }
     auto trace = TracePass::create(gl);
@@ -106,6 +108,9 @@ Result<std::unique_ptr<SliceRenderer>> SliceRenderer::create(GlContext& context)
     auto impl = std::make_unique<Impl>(context, std::move(trace).value(), std::move(fxaa).value());
     impl->programs = std::move(programs);
     impl->capProgram = std::move(caps).value();
+    GLint subpixelBits = 0;
+    gl.GetIntegerv(GL_SUBPIXEL_BITS, &subpixelBits);
+    if (subpixelBits >= 1 && subpixelBits <= 12) impl->subpixelSteps = std::ldexp(1.0f, subpixelBits);
     return std::unique_ptr<SliceRenderer>(new SliceRenderer(std::move(impl)));
 }
 
@@ -278,6 +283,8 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     gl.ProgramUniform4fv(prog, v.u.eye, 1, glm::value_ptr(eyeUniform));
     gl.ProgramUniform4fv(prog, v.u.background, 1, bg);
     gl.ProgramUniform1f(prog, v.u.lodShift, 0.0f);
+    const float snap[3] = {float(request.width), float(request.height), impl.subpixelSteps};
+    gl.ProgramUniform3fv(prog, v.u.snap, 1, snap);
     const bool baked = model.hasIdTexture() && request.bakedIds;
     gl.ProgramUniform1i(prog, v.u.baked, baked ? 1 : 0);
     gl.ProgramUniform1i(prog, v.u.fetch, 0);
