@@ -33,9 +33,7 @@ constexpr double kWidth = 3000.0, kDepth = 2000.0, kThickness = 30.0;
 constexpr int kLayers = 14, kColumns = 121;
 const glm::dvec3 kOffset(35'500'000.0, 3'390'000.0, 0.0);
 
-double horizon(int k, double x, double y) {
-    return k * kThickness + 12.0 * std::sin(x / 200.0 + 0.4) + 0.04 * y;
-}
+double horizon(int k, double x, double y) { return k * kThickness + 12.0 * std::sin(x / 200.0 + 0.4) + 0.04 * y; }
 
 // Contacts shared triangle for triangle (as RINGMesh regions share their boundary surfaces)
 // or triangulated differently on the two sides (rows and diagonals).
@@ -74,12 +72,14 @@ Part layer(int k, Contacts contacts) {
     // Top and bottom: one diagonal (shared contacts) or opposite ones.
     for (int i = 0; i + 1 < kColumns; ++i) {
         for (int j = 0; j + 1 < rb; ++j) {
-            const std::uint32_t q[4] = {at(b, rb, i, j), at(b, rb, i + 1, j), at(b, rb, i + 1, j + 1), at(b, rb, i, j + 1)};
+            const std::uint32_t q[4] = {at(b, rb, i, j), at(b, rb, i + 1, j), at(b, rb, i + 1, j + 1),
+                                        at(b, rb, i, j + 1)};
             tri(q[0], q[1], q[2], {0, 0, -1});
             tri(q[0], q[2], q[3], {0, 0, -1});
         }
         for (int j = 0; j + 1 < rt; ++j) {
-            const std::uint32_t q[4] = {at(t, rt, i, j), at(t, rt, i + 1, j), at(t, rt, i + 1, j + 1), at(t, rt, i, j + 1)};
+            const std::uint32_t q[4] = {at(t, rt, i, j), at(t, rt, i + 1, j), at(t, rt, i + 1, j + 1),
+                                        at(t, rt, i, j + 1)};
             if (sameDiagonal) {
                 tri(q[0], q[1], q[2], {0, 0, 1});
                 tri(q[0], q[2], q[3], {0, 0, 1});
@@ -168,8 +168,8 @@ Agreement interiorAgreement(const Model& model) {
         RasterOptions ro;
         ro.colour = false;
         ro.traces = false;
-        auto exact = rasterizeSection(*index.value(), section.value(), std::get<ProfileCamera>(req.view).rect, kSize,
-                                      kSize, ro);
+        auto exact =
+            rasterizeSection(*index.value(), section.value(), std::get<ProfileCamera>(req.view).rect, kSize, kSize, ro);
         EXPECT_TRUE(exact.ok()) << exact.error().message;
         if (!exact.ok()) return out;
         const auto& e = exact->ids;
