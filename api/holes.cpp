@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
+#include <tuple>
 
 #include <cairo.h>
 
@@ -229,45 +231,109 @@ void drawHoles(const CatalogModel& model, const ViewHoles& holes, const PixelMap
     if (holes.empty() || !model.drillholes) return;
     const int w = image.width, h = image.height;
     if (image.rgba.size() != std::size_t(w) * std::size_t(h) * 4) return;
-    // Only the box the drawing covers is drawn and composited (labels reach 80 px right).
-    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
-    auto grow = [&](const glm::dvec2& p) {
-        x0 = std::min(x0, p.x);
-        y0 = std::min(y0, p.y);
-        x1 = std::max(x1, p.x);
-        y1 = std::max(y1, p.y);
+    const bool coloured = holes.style.table != nullptr;
+    // Runs: consecutive spans of one hole, side and colour that join end to end, as pixel
+    // polylines; each group of runs of one side and colour is one path, stroked once (a stroke
+    // per chord cost ten times the section itself). Dashes restart with each run.
+    struct Run {
+        bool front = false;
+        Rgba8 colour;
+        std::vector<glm::dvec2> points;
     };
-    for (const HoleTracePiece& p : holes.section.pieces) grow(toPixel(mapping, p.a)), grow(toPixel(mapping, p.b));
+    std::vector<Run> runs;
+    const HoleTracePiece* last = nullptr;
+    double lastTo = 0.0;
+    for (const Span& s : spansOf(holes, holes.style.table)) {
+        const Rgba8 c = spanColour(holes.style, s);
+        const glm::dvec2 a = toPixel(mapping, s.a), b = toPixel(mapping, s.b);
+        const bool joins = last && !runs.empty() && last->hole == s.piece->hole && last->front == s.piece->front &&
+                           last->leg == s.piece->leg && lastTo == s.from && runs.back().colour == c;
+        if (!joins) runs.push_back({s.piece->front, c, {a}});
+        runs.back().points.push_back(b);
+        last = s.piece;
+        lastTo = s.to;
+    }
+    // The overlay is drawn with cairo into a buffer kept per thread and composited over the
+    // image, both only in the 16-pixel tiles that something is drawn in (a fresh full-size
+    // surface cost more in page faults and blending than the drawing; bench/drillholes.cpp).
+    constexpr int kTile = 16;
+    const int tx = (w + kTile - 1) / kTile, ty = (h + kTile - 1) / kTile;
+    std::vector<unsigned char> dirty(std::size_t(tx) * std::size_t(ty), 0);
+    auto mark = [&](double x0, double y0, double x1, double y1) {
+        const int i0 = std::max(0, int(std::floor(x0)) / kTile), i1 = std::min(tx - 1, int(std::floor(x1)) / kTile);
+        const int j0 = std::max(0, int(std::floor(y0)) / kTile), j1 = std::min(ty - 1, int(std::floor(y1)) / kTile);
+        if (x1 < 0.0 || y1 < 0.0 || x0 >= w || y0 >= h) return;
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) dirty[std::size_t(j) * std::size_t(tx) + std::size_t(i)] = 1;
+    };
+    constexpr double kLineReach = 6.0;  // half the widest stroke (casing) plus antialiasing, px
+    for (const Run& r : runs)
+        for (std::size_t k = 1; k < r.points.size(); ++k) {
+            const glm::dvec2 a = r.points[k - 1], b = r.points[k];
+            const int steps = std::max(1, int(std::ceil(glm::length(b - a) / 8.0)));
+            for (int s = 0; s <= steps; ++s) {
+                const glm::dvec2 p = a + (b - a) * (double(s) / steps);
+                mark(p.x - kLineReach - 8.0, p.y - kLineReach - 8.0, p.x + kLineReach + 8.0, p.y + kLineReach + 8.0);
+            }
+        }
+    for (const HolePierce& p : holes.section.pierces) {
+        const glm::dvec2 q = toPixel(mapping, p.at);
+        mark(q.x - 7.0, q.y - 7.0, q.x + 7.0, q.y + 7.0);
+    }
+    thread_local std::vector<unsigned char> buffer;
+    const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_ARGB32, w);
+    const std::size_t bytes = std::size_t(stride) * std::size_t(h);
+    if (buffer.size() < bytes) buffer.resize(bytes);
+    cairo_surface_t* surface = cairo_image_surface_create_for_data(buffer.data(), CAIRO_FORMAT_ARGB32, w, h, stride);
+    cairo_t* cr = cairo_create(surface);
+    cairo_select_font_face(cr, print::kFontFamily, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
+    cairo_set_font_size(cr, 11.0);
     for (const HoleLabel& l : holes.section.labels) {
         const glm::dvec2 q = toPixel(mapping, l.at);
-        grow(q + glm::dvec2(-10.0, -24.0));
-        grow(q + glm::dvec2(90.0, 10.0));
+        cairo_text_extents_t e;
+        cairo_text_extents(cr, model.drillholes->holes[l.hole].id.c_str(), &e);
+        mark(q.x - 8.0, q.y - 10.0 + e.y_bearing - 4.0, q.x + 6.0 + e.x_advance + 4.0, q.y + 2.0);
     }
-    const int bx0 = std::max(0, int(std::floor(x0)) - 8), by0 = std::max(0, int(std::floor(y0)) - 8);
-    const int bx1 = std::min(w, int(std::ceil(x1)) + 8), by1 = std::min(h, int(std::ceil(y1)) + 8);
-    if (bx1 <= bx0 || by1 <= by0) return;
-    const int bw = bx1 - bx0, bh = by1 - by0;
-    cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, bw, bh);
-    cairo_t* cr = cairo_create(surface);
-    cairo_translate(cr, -bx0, -by0);
+    auto forDirtyRows = [&](const std::function<void(int y, int x0, int x1)>& f) {
+        for (int j = 0; j < ty; ++j)
+            for (int i = 0; i < tx;) {
+                if (!dirty[std::size_t(j) * std::size_t(tx) + std::size_t(i)]) {
+                    ++i;
+                    continue;
+                }
+                int e = i;
+                while (e < tx && dirty[std::size_t(j) * std::size_t(tx) + std::size_t(e)]) ++e;
+                const int x0 = i * kTile, x1 = std::min(w, e * kTile);
+                for (int y = j * kTile; y < std::min(h, (j + 1) * kTile); ++y) f(y, x0, x1);
+                i = e;
+            }
+    };
+    forDirtyRows([&](int y, int x0, int x1) {
+        std::memset(buffer.data() + std::size_t(y) * std::size_t(stride) + std::size_t(x0) * 4, 0,
+                    std::size_t(x1 - x0) * 4);
+    });
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-    const std::vector<Span> spans = spansOf(holes, holes.style.table);
-    const bool coloured = holes.style.table != nullptr;
-    // Dashes continue along a hole: the offset is the pixel length drawn so far.
-    auto strokeSpans = [&](bool casing) {
-        std::uint32_t hole = UINT32_MAX;
-        double run = 0.0;
-        for (const Span& s : spans) {
-            if (s.piece->hole != hole) hole = s.piece->hole, run = 0.0;
-            const glm::dvec2 a = toPixel(mapping, s.a), b = toPixel(mapping, s.b);
-            const bool front = s.piece->front;
+    std::vector<std::size_t> order(runs.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    auto key = [&](const Run& r) { return std::tuple(r.front, r.colour.r, r.colour.g, r.colour.b); };
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t x, std::size_t y) { return key(runs[x]) < key(runs[y]); });
+    const double dash[2] = {7.0, 5.0};
+    auto strokeGroups = [&](bool casing) {
+        for (std::size_t i = 0; i < order.size();) {
+            const Run& first = runs[order[i]];
+            std::size_t j = i;
+            for (;
+                 j < order.size() && (casing ? runs[order[j]].front == first.front : key(runs[order[j]]) == key(first));
+                 ++j) {
+                const Run& r = runs[order[j]];
+                cairo_move_to(cr, r.points[0].x, r.points[0].y);
+                for (std::size_t k = 1; k < r.points.size(); ++k) cairo_line_to(cr, r.points[k].x, r.points[k].y);
+            }
+            const bool front = first.front;
             const double width = front ? 4.0 : 2.5;
-            const double dash[2] = {7.0, 5.0};
-            cairo_set_dash(cr, front ? nullptr : dash, front ? 0 : 2, run);
-            run += glm::length(b - a);
-            cairo_move_to(cr, a.x, a.y);
-            cairo_line_to(cr, b.x, b.y);
+            cairo_set_dash(cr, front ? nullptr : dash, front ? 0 : 2, 0.0);
             if (casing) {
                 if (coloured)
                     cairo_set_source_rgba(cr, 0.08, 0.08, 0.08, front ? 0.9 : 0.55);
@@ -275,15 +341,16 @@ void drawHoles(const CatalogModel& model, const ViewHoles& holes, const PixelMap
                     cairo_set_source_rgba(cr, 1.0, 1.0, 1.0, front ? 0.85 : 0.6);
                 cairo_set_line_width(cr, width + 2.5);
             } else {
-                const Rgba8 c = spanColour(holes.style, s);
+                const Rgba8 c = first.colour;
                 cairo_set_source_rgba(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0, front ? 1.0 : 0.7);
                 cairo_set_line_width(cr, width);
             }
             cairo_stroke(cr);
+            i = j;
         }
     };
-    strokeSpans(true);
-    strokeSpans(false);
+    strokeGroups(true);
+    strokeGroups(false);
     cairo_set_dash(cr, nullptr, 0, 0.0);
     for (const HolePierce& p : holes.section.pierces) {
         const glm::dvec2 q = toPixel(mapping, p.at);
@@ -294,8 +361,6 @@ void drawHoles(const CatalogModel& model, const ViewHoles& holes, const PixelMap
         cairo_set_line_width(cr, 1.5);
         cairo_stroke(cr);
     }
-    cairo_select_font_face(cr, print::kFontFamily, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
-    cairo_set_font_size(cr, 11.0);
     for (const HoleLabel& l : holes.section.labels) {
         const glm::dvec2 q = toPixel(mapping, l.at);
         if (l.collar) {
@@ -306,24 +371,28 @@ void drawHoles(const CatalogModel& model, const ViewHoles& holes, const PixelMap
             cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
             cairo_fill(cr);
         }
-        const std::string& id = model.drillholes->holes[l.hole].id;
-        cairo_move_to(cr, q.x + 6.0, q.y - 10.0);
-        cairo_text_path(cr, id.c_str());
+        // The halo is the text shown at eight offsets: cached glyphs, where a stroked text path
+        // cost half the overlay.
+        const char* id = model.drillholes->holes[l.hole].id.c_str();
         cairo_set_source_rgba(cr, 1.0, 1.0, 1.0, 0.9);
-        cairo_set_line_width(cr, 3.0);
-        cairo_stroke_preserve(cr);
+        for (const auto& [ox, oy] :
+             {std::pair{-1.5, 0.0}, std::pair{1.5, 0.0}, std::pair{0.0, -1.5}, std::pair{0.0, 1.5},
+              std::pair{-1.0, -1.0}, std::pair{1.0, 1.0}, std::pair{-1.0, 1.0}, std::pair{1.0, -1.0}}) {
+            cairo_move_to(cr, q.x + 6.0 + ox, q.y - 10.0 + oy);
+            cairo_show_text(cr, id);
+        }
         cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-        cairo_fill(cr);
+        cairo_move_to(cr, q.x + 6.0, q.y - 10.0);
+        cairo_show_text(cr, id);
     }
     cairo_destroy(cr);
     cairo_surface_flush(surface);
     // Over: the overlay (premultiplied BGRA in native order) onto the straight-alpha image.
-    const unsigned char* src = cairo_image_surface_get_data(surface);
-    const int stride = cairo_image_surface_get_stride(surface);
-    for (int y = 0; y < bh; ++y) {
-        const std::uint32_t* row = reinterpret_cast<const std::uint32_t*>(src + std::size_t(y) * std::size_t(stride));
-        std::uint8_t* dst = image.rgba.data() + (std::size_t(by0 + y) * std::size_t(w) + std::size_t(bx0)) * 4;
-        for (int x = 0; x < bw; ++x, dst += 4) {
+    forDirtyRows([&](int y, int x0, int x1) {
+        const std::uint32_t* row =
+            reinterpret_cast<const std::uint32_t*>(buffer.data() + std::size_t(y) * std::size_t(stride));
+        std::uint8_t* dst = image.rgba.data() + (std::size_t(y) * std::size_t(w) + std::size_t(x0)) * 4;
+        for (int x = x0; x < x1; ++x, dst += 4) {
             const std::uint32_t p = row[x];
             const double sa = double(p >> 24) / 255.0;
             if (sa == 0.0) continue;
@@ -338,7 +407,7 @@ void drawHoles(const CatalogModel& model, const ViewHoles& holes, const PixelMap
             dst[2] = mix(sb, dst[2]);
             dst[3] = std::uint8_t(std::lround(255.0 * oa));
         }
-    }
+    });
     cairo_surface_destroy(surface);
 }
 

@@ -6,7 +6,10 @@
 // <= 1 s on one core for 10,000 x 100 x 20), and the desurvey alone; then the segment index
 // (model/drillholes/hole_index.hpp): its build, and the median time to find the holes within
 // 50 m of a new plane (`planes` random vertical, inclined and horizontal planes through the
-// field; goal <= 1 ms). Single-threaded. Prints one JSON document.
+// field; goal <= 1 ms); and a 1024 x 1024 profile image of the demo mine (api::renderProfile,
+// 200,000 triangles, its 32 generated holes) with holes drawn (holes=200&holecolour=unit) and
+// without (holes=0), interleaved, median of `repeats` x 3 (at least 5) each over three
+// vertical sections (goal: with <= 1.2 x without). Single-threaded. Prints one JSON document.
 #include <unistd.h>
 
 #include <algorithm>
@@ -22,6 +25,10 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "api/catalog.hpp"
+#include "api/holes.hpp"
+#include "api/plan.hpp"
+#include "api/view.hpp"
 #include "bench/bench_util.hpp"
 #include "model/drillholes/drillholes.hpp"
 #include "model/drillholes/hole_index.hpp"
@@ -124,27 +131,80 @@ int main(int argc, char** argv) {
     }
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);
-    nlohmann::ordered_json j = {{"benchmark", "drillholes"},
-                                {"holes", holes},
-                                {"stations", stationCount},
-                                {"intervals", intervalCount},
-                                {"warnings", warnings},
-                                {"load_desurvey_wall_s_median", bench::median(wall)},
-                                {"load_desurvey_cpu_s_median", bench::median(cpu)},
-                                {"desurvey_only_wall_s", desurveyWall},
-                                {"goal_s", 1.0},
-                                {"index_segments", index.segments().size()},
-                                {"index_segments_per_hole", double(index.segments().size()) / double(holes)},
-                                {"index_nodes", index.nodeCount()},
-                                {"index_build_wall_s", buildWall},
-                                {"holes_near_plane_window_m", window},
-                                {"holes_near_plane_planes", planes},
-                                {"holes_near_plane_ms_median", bench::median(nearMs)},
-                                {"holes_near_plane_ms_max", *std::max_element(nearMs.begin(), nearMs.end())},
-                                {"holes_near_plane_found_median", bench::median(found)},
-                                {"holes_near_plane_goal_ms", 1.0},
-                                {"peak_rss_mib", bench::peakRssMiB()},
-                                {"load_average", bench::loadAverage()}};
+    // Profile images with and without holes.
+    auto demo = api::makeDemoModel(200000);
+    if (!demo) {
+        std::fprintf(stderr, "bench_drillholes: %s\n", demo.error().message.c_str());
+        return 1;
+    }
+    const api::CatalogModel& m = *demo.value();
+    const glm::dvec3 centre = m.index->bounds.centre();
+    std::vector<double> withMs, withoutMs, withCpuMs, withoutCpuMs, overlayMs, drawnPieces;
+    const std::size_t imageRepeats = std::max<std::size_t>(5, 5 * repeats);
+    for (std::size_t r = 0; r < imageRepeats; ++r)
+        for (int k = 0; k < 3; ++k) {
+            const double y = centre.y + 800.0 * (k - 1);
+            char plane[96];
+            std::snprintf(plane, sizeof plane, "0,1,0,%.17g", -y);
+            for (const bool holesOn : {true, false}) {
+                api::Params p{{"plane", plane}, {"size", "1024x1024"}};
+                if (holesOn) {
+                    p["holes"] = "200";
+                    p["holecolour"] = "unit";
+                } else {
+                    p["holes"] = "0";
+                }
+                auto plan = api::parseViewPlan(p, "demo", m.model.crs);
+                if (!plan) return 1;
+                const double t0 = bench::nowSeconds(), c0 = bench::processCpuSeconds();
+                auto image = api::renderProfile(m, plan.value());
+                (holesOn ? withMs : withoutMs).push_back(1e3 * (bench::nowSeconds() - t0));
+                (holesOn ? withCpuMs : withoutCpuMs).push_back(1e3 * (bench::processCpuSeconds() - c0));
+                if (!image) return 1;
+                if (holesOn) {
+                    // The drawing alone: project and draw over the finished image again.
+                    const double o0 = bench::nowSeconds();
+                    auto drawn = api::viewHoles(m, plan.value().section, *image.value().mapping);
+                    if (!drawn) return 1;
+                    api::drawHoles(m, drawn.value(), *image.value().mapping, image.value());
+                    overlayMs.push_back(1e3 * (bench::nowSeconds() - o0));
+                    drawnPieces.push_back(double(drawn.value().section.pieces.size()));
+                }
+            }
+        }
+    const double withMedian = bench::median(withMs), withoutMedian = bench::median(withoutMs);
+    nlohmann::ordered_json j = {
+        {"benchmark", "drillholes"},
+        {"holes", holes},
+        {"stations", stationCount},
+        {"intervals", intervalCount},
+        {"warnings", warnings},
+        {"load_desurvey_wall_s_median", bench::median(wall)},
+        {"load_desurvey_cpu_s_median", bench::median(cpu)},
+        {"desurvey_only_wall_s", desurveyWall},
+        {"goal_s", 1.0},
+        {"index_segments", index.segments().size()},
+        {"index_segments_per_hole", double(index.segments().size()) / double(holes)},
+        {"index_nodes", index.nodeCount()},
+        {"index_build_wall_s", buildWall},
+        {"holes_near_plane_window_m", window},
+        {"holes_near_plane_planes", planes},
+        {"holes_near_plane_ms_median", bench::median(nearMs)},
+        {"holes_near_plane_ms_max", *std::max_element(nearMs.begin(), nearMs.end())},
+        {"holes_near_plane_found_median", bench::median(found)},
+        {"holes_near_plane_goal_ms", 1.0},
+        {"section_1024_images_each", withMs.size()},
+        {"section_1024_without_holes_ms_median", withoutMedian},
+        {"section_1024_with_holes_ms_median", withMedian},
+        {"section_1024_holes_ratio", withMedian / withoutMedian},
+        {"section_1024_without_holes_cpu_ms_median", bench::median(withoutCpuMs)},
+        {"section_1024_with_holes_cpu_ms_median", bench::median(withCpuMs)},
+        {"section_1024_holes_cpu_ratio", bench::median(withCpuMs) / bench::median(withoutCpuMs)},
+        {"section_1024_holes_overlay_ms_median", bench::median(overlayMs)},
+        {"section_1024_holes_pieces_median", bench::median(drawnPieces)},
+        {"section_1024_holes_ratio_goal", 1.2},
+        {"peak_rss_mib", bench::peakRssMiB()},
+        {"load_average", bench::loadAverage()}};
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
 }
