@@ -411,6 +411,66 @@ void drawHoles(const CatalogModel& model, const ViewHoles& holes, const PixelMap
     cairo_surface_destroy(surface);
 }
 
+void addHolesToSheet(const CatalogModel& model, const ViewHoles& holes, const print::MapFrame& frame,
+                     print::Sheet& sheet) {
+    if (holes.empty() || !model.drillholes) return;
+    const bool coloured = holes.style.table != nullptr;
+    auto page = [&](const glm::dvec2& uv) { return frame.toPage(uv); };
+    const std::vector<Span> spans = spansOf(holes, holes.style.table);
+    for (const bool casing : {true, false})
+        for (const Span& s : spans) {
+            const bool front = s.piece->front;
+            print::PathItem p;
+            p.closed = false;
+            p.subpaths.push_back({page(s.a), page(s.b)});
+            const double width = front ? 0.5 : 0.3;
+            p.strokeMm = casing ? width + 0.3 : width;
+            p.dashMm = front ? 0.0 : 1.5;
+            p.clip = frame.box;
+            if (casing) {
+                p.stroke = coloured ? Rgba8{20, 20, 20, std::uint8_t(front ? 230 : 140)}
+                                    : Rgba8{255, 255, 255, std::uint8_t(front ? 217 : 153)};
+            } else {
+                Rgba8 c = spanColour(holes.style, s);
+                c.a = front ? 255 : 180;
+                p.stroke = c;
+                p.title = model.drillholes->holes[s.piece->hole].id;
+            }
+            sheet.add(std::move(p));
+        }
+    for (const HolePierce& q : holes.section.pierces) {
+        print::PathItem disc;
+        const print::PagePoint c = page(q.at);
+        std::vector<print::PagePoint> ring;
+        for (int k = 0; k < 16; ++k)
+            ring.push_back(
+                {c.x + 0.5 * std::cos(k * 0.39269908169872414), c.y + 0.5 * std::sin(k * 0.39269908169872414)});
+        disc.subpaths.push_back(std::move(ring));
+        disc.fill = Rgba8{255, 255, 255, 255};
+        disc.stroke = Rgba8{0, 0, 0, 255};
+        disc.strokeMm = 0.2;
+        disc.clip = frame.box;
+        sheet.add(std::move(disc));
+    }
+    for (const HoleLabel& l : holes.section.labels) {
+        const print::PagePoint c = page(l.at);
+        if (c.x < frame.box.x || c.x > frame.box.right() || c.y < frame.box.y || c.y > frame.box.bottom()) continue;
+        if (l.collar) {
+            print::PathItem tri;
+            tri.subpaths.push_back({{c.x, c.y}, {c.x - 0.7, c.y - 1.1}, {c.x + 0.7, c.y - 1.1}});
+            tri.fill = Rgba8{0, 0, 0, 255};
+            tri.stroke.reset();
+            sheet.add(std::move(tri));
+        }
+        print::TextItem t;
+        t.at = {c.x + 0.8, c.y - 1.3};
+        t.text = model.drillholes->holes[l.hole].id;
+        t.sizePt = 6.0;
+        t.bold = true;
+        sheet.add(std::move(t));
+    }
+}
+
 std::string holesSvg(const CatalogModel& model, const ViewHoles& holes, const PixelMapping& mapping) {
     if (holes.empty() || !model.drillholes) return "";
     std::string out = "<g class=\"drillholes\" fill=\"none\" stroke-linecap=\"butt\">\n";

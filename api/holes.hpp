@@ -28,6 +28,8 @@
 #include "api/catalog.hpp"
 #include "api/json_writer.hpp"
 #include "api/plan.hpp"
+#include "print/map_frame.hpp"
+#include "print/sheet.hpp"
 #include "section/blocks/block_section.hpp"
 #include "section/holes/hole_section.hpp"
 
@@ -76,6 +78,12 @@ std::string holesSvg(const CatalogModel& model, const ViewHoles& holes, const Pi
 // (u, v or s, z) or, with `toWorld`, world x, y, z of the projected points (on the plane).
 std::vector<nlohmann::ordered_json> holesGeoJson(const CatalogModel& model, const ViewHoles& holes,
                                                  const std::function<glm::dvec3(const glm::dvec2&)>* toWorld);
+
+// The holes on a print sheet (print/section_sheet.hpp SheetOptions::overlay): the same marks
+// in page millimetres (lines 0.5 / 0.3 mm, dashes 1.5 mm, pierce discs 1 mm across, ids 6 pt),
+// clipped to the map box.
+void addHolesToSheet(const CatalogModel& model, const ViewHoles& holes, const print::MapFrame& frame,
+                     print::Sheet& sheet);
 
 // A pixel query's drillhole: the drawn hole nearest to pixel point (x, y) (pixel frame,
 // fractional) within `radiusPx`.

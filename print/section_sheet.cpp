@@ -286,6 +286,7 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
         }
         vectorGeometry(sheet, index, shape.source, f, pieces ? &*pieces : nullptr, o.blocks ? &*o.blocks : nullptr);
     }
+    if (o.overlay) o.overlay(f, sheet);
     drawAxes(sheet, f, shape.axes);
     drawEnds(sheet, shape, f);
 
