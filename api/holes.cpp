@@ -476,7 +476,19 @@ std::string holesSvg(const CatalogModel& model, const ViewHoles& holes, const Pi
     std::string out = "<g class=\"drillholes\" fill=\"none\" stroke-linecap=\"butt\">\n";
     char buf[512];
     const bool coloured = holes.style.table != nullptr;
-    for (const Span& s : spansOf(holes, holes.style.table)) {
+    const std::vector<Span> spans = spansOf(holes, holes.style.table);
+    // The casing under the traces, as on the images.
+    for (const Span& s : spans) {
+        const glm::dvec2 a = toPixel(mapping, s.a), b = toPixel(mapping, s.b);
+        const bool front = s.piece->front;
+        std::snprintf(buf, sizeof buf,
+                      "<line class=\"casing\" x1=\"%.3f\" y1=\"%.3f\" x2=\"%.3f\" y2=\"%.3f\" stroke=\"%s\" "
+                      "stroke-width=\"%.1f\" stroke-opacity=\"%.2f\"%s/>\n",
+                      a.x, a.y, b.x, b.y, coloured ? "#141414" : "#ffffff", front ? 6.5 : 5.0,
+                      coloured ? (front ? 0.9 : 0.55) : (front ? 0.85 : 0.6), front ? "" : " stroke-dasharray=\"7 5\"");
+        out += buf;
+    }
+    for (const Span& s : spans) {
         const glm::dvec2 a = toPixel(mapping, s.a), b = toPixel(mapping, s.b);
         const bool front = s.piece->front;
         const Rgba8 c = spanColour(holes.style, s);
@@ -492,7 +504,6 @@ std::string holesSvg(const CatalogModel& model, const ViewHoles& holes, const Pi
         std::snprintf(buf, sizeof buf, " %.2f-%.2f m (%s)</title></line>\n", s.from, s.to,
                       front ? "in front of the section" : "behind the section");
         out += xmlText(id) + buf;
-        (void)coloured;
     }
     for (const HolePierce& p : holes.section.pierces) {
         const glm::dvec2 q = toPixel(mapping, p.at);

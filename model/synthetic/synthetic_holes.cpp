@@ -65,6 +65,9 @@ SyntheticHoleSources syntheticHoleSources(const Model& model, const std::functio
         if (!deviated) {
             x = b.min.x + sx * (0.1 + 0.8 * ((k % 6) + 0.2 + 0.6 * uniform(rng)) / 6.0);
             y = b.min.y + sy * (0.1 + 0.8 * ((k / 6) + 0.2 + 0.6 * uniform(rng)) / 4.0);
+            // The third row is a fence along the model's middle northing (within 20 m), which the
+            // demo's default east-west section shows.
+            if (k / 6 == 2) y = 0.5 * (b.min.y + b.max.y) + 40.0 * (uniform(rng) - 0.5);
         } else {
             x = b.min.x + sx * (0.3 + 0.4 * uniform(rng));
             y = b.min.y + sy * (0.3 + 0.4 * uniform(rng));

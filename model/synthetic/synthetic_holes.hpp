@@ -3,7 +3,8 @@
 // of the demo show holes whose logs can be checked against the model.
 //
 // Layout (world metres, from the model's bounds): 24 vertical holes on a jittered 6 x 4 grid
-// over the inner 80 % of the map extent, and 8 deviated holes near the centre, collared at
+// over the inner 80 % of the map extent (its third row a fence within 20 m of the middle
+// northing, on the default east-west section), and 8 deviated holes near the centre, collared at
 // -60 degrees and curving (azimuth drifting 40 degrees and steepening to about -80 over
 // their length; survey stations every 30 m). Each hole starts on the model's top surface
 // (`topAt`) and ends 70 % of the way down to the model's base.
