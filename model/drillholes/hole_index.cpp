@@ -94,38 +94,45 @@ std::uint32_t HoleIndex::buildNode(std::uint32_t begin, std::uint32_t end) {
     return self;
 }
 
-void HoleIndex::segmentsNearPlane(const glm::dvec3& n, double d, double window, std::vector<std::uint32_t>& out) const {
-    out.clear();
+template <typename Visit>
+void HoleIndex::visitNearPlane(const glm::dvec3& n, double d, double window, const Visit& visit) const {
     if (nodes_.empty() || !(window >= 0.0)) return;
     const glm::dvec3 an = glm::abs(n);
     std::uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
+        const std::uint32_t at = stack[--top];
+        const Node& node = nodes_[at];
         const glm::dvec3 c = 0.5 * (node.lo + node.hi), h = 0.5 * (node.hi - node.lo);
         if (std::abs(glm::dot(n, c) + d) > window + glm::dot(an, h)) continue;
         if (node.count > 0) {
             for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
                 const HoleSegment& s = segments_[order_[i]];
                 const double sa = glm::dot(n, s.a) + d, sb = glm::dot(n, s.b) + d;
-                if (std::min(sa, sb) <= window && std::max(sa, sb) >= -window) out.push_back(order_[i]);
+                if (std::min(sa, sb) <= window && std::max(sa, sb) >= -window) visit(order_[i]);
             }
         } else {
             // Depth is bounded by the median split: log2(segments) + 1 < 64.
             stack[top++] = node.first;
-            stack[top++] = std::uint32_t(&node - nodes_.data()) + 1;
+            stack[top++] = at + 1;
         }
     }
+}
+
+void HoleIndex::segmentsNearPlane(const glm::dvec3& n, double d, double window, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    visitNearPlane(n, d, window, [&out](std::uint32_t i) { out.push_back(i); });
     std::sort(out.begin(), out.end());
 }
 
 std::vector<std::uint32_t> HoleIndex::holesNearPlane(const glm::dvec3& normal, double d, double window) const {
-    std::vector<std::uint32_t> segs;
-    segmentsNearPlane(normal, d, window, segs);
+    // A mark per hole instead of sorting every segment found.
+    std::vector<unsigned char> seen(endDepth_.size(), 0);
+    visitNearPlane(normal, d, window, [&](std::uint32_t i) { seen[segments_[i].hole] = 1; });
     std::vector<std::uint32_t> holes;
-    for (std::uint32_t s : segs)
-        if (holes.empty() || holes.back() != segments_[s].hole) holes.push_back(segments_[s].hole);
+    for (std::uint32_t h = 0; h < seen.size(); ++h)
+        if (seen[h]) holes.push_back(h);
     return holes;
 }
 

@@ -55,6 +55,8 @@ private:
         std::uint32_t count = 0;  // leaf: entries; 0: inner (the left child is this node + 1)
     };
     std::uint32_t buildNode(std::uint32_t begin, std::uint32_t end);
+    template <typename Visit>
+    void visitNearPlane(const glm::dvec3& normal, double d, double window, const Visit& visit) const;
 
     std::vector<HoleSegment> segments_;
     std::vector<double> endDepth_;
