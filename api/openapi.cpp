@@ -64,6 +64,14 @@ J viewParams() {
                    "images and SVG)"),
         queryParam("patterns", "string",
                    "0|1: profile views, lithology fill patterns (default: on in SVG and print sheets, off in images)"),
+        queryParam("holes", "number",
+                   "drillholes within this many metres of the section drawn on profile views, 0..100000 (default "
+                   "50; 0: none)"),
+        queryParam("holecolour", "string",
+                   "an interval column (or TABLE.COLUMN) of the model's drillholes: intervals coloured by category "
+                   "or class"),
+        queryParam("holebreaks", "string", "b1,b2,...: class breaks of a number 'holecolour' column"),
+        queryParam("holeramp", "string", "colour ramp of 'holecolour': viridis (default), magma, greys, spectral"),
     });
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "api/holes.hpp"
 #include "api/legend.hpp"
 #include "model/clock.hpp"
 #include "model/json_text.hpp"
@@ -160,6 +161,8 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
     if (!mapping) return mapping.error();
     auto classes = blockClasses(model, plan.section);
     if (!classes) return classes.error();
+    auto holes = viewHoles(model, plan.section, mapping.value());
+    if (!holes) return holes.error();
     RasterOptions ro;
     ro.background = plan.section.background;
     ro.cancel = cancel;
@@ -198,6 +201,7 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
                                     v.ids.size() == v.rgba.size() / 4 ? v.ids.data() : nullptr,
                                     {plan.labels.value_or(false), plan.patterns.value_or(false), kLabelPx},
                                     lineSection ? &lineSection->traces : &planeSection->traces);
+    drawHoles(model, holes.value(), *v.mapping, v);
     v.renderMs = msSince(t0);
     return v;
 }
@@ -210,6 +214,8 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     if (!mapping) return mapping.error();
     auto classes = blockClasses(model, plan.section);
     if (!classes) return classes.error();
+    auto holes = viewHoles(model, plan.section, mapping.value());
+    if (!holes) return holes.error();
     RasterOptions ro;
     ro.background = plan.section.background;
     SvgOverlays overlays;
@@ -217,10 +223,29 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     overlays.patterns = plan.patterns.value_or(true);
     overlays.labelPx = kLabelPx;
     overlays.textWidth = print::labelTextWidth;
+    // The drillholes go last: over everything in SVG, after the section's features in GeoJSON.
+    auto withHoles = [&](std::string svgText) {
+        const std::string g = holesSvg(model, holes.value(), mapping.value());
+        const auto end = svgText.rfind("</svg>");
+        if (!g.empty() && end != std::string::npos) svgText.insert(end, g);
+        return svgText;
+    };
+    auto addHoles = [&](nlohmann::ordered_json& doc, const VectorSource& source) {
+        if (holes.value().empty()) return;
+        for (auto& f : holesGeoJson(model, holes.value(), world ? &source.toWorld : nullptr))
+            doc["features"].push_back(std::move(f));
+        if (auto legend = holeLegendJson(holes.value().style); !legend.is_null()) doc["holeLegend"] = std::move(legend);
+    };
     auto emit = [&](const VectorSource& source) -> Result<std::string> {
         if (auto c = checkCancel(cancel); !c) return c.error();
-        if (svg) return toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro, overlays);
-        return jsonText(toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane));
+        if (svg) {
+            auto text = toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro, overlays);
+            if (!text) return text;
+            return withHoles(std::move(text.value()));
+        }
+        nlohmann::ordered_json doc = toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane);
+        addHoles(doc, source);
+        return jsonText(doc);
     };
     // The cells' exact pieces inside the clipping bodies (plane u/v or line s/z), drawn over the
     // bodies' own fills.
@@ -256,6 +281,7 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     auto features = blockPiecesGeoJson(blocks, pc, pieces.value(), world ? &source.toWorld : nullptr);
     for (auto& f : features) doc["features"].push_back(std::move(f));
     doc["blockLegend"] = blockLegendJson(blocks, pc);
+    addHoles(doc, source);
     return jsonText(doc);
 }
 

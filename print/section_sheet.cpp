@@ -343,6 +343,7 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
                        o.patterns);
     }
     if (o.rasterGeometry && o.patterns) rasterPatterns(sheet, index, shape.source, f);
+    if (o.overlay) o.overlay(f, sheet);
     drawAxes(sheet, f, shape.axes);
     drawEnds(sheet, shape, f);
     if (o.labels) unitLabels(sheet, index, shape.source, f, o.labelPt);  // over the grid lines

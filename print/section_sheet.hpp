@@ -13,6 +13,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -57,6 +58,10 @@ struct SheetOptions {
     bool patterns = true;
     bool labels = true;
     double labelPt = 7.0;
+    // Drawn over the section's geometry, before the axes and surrounds (e.g. drillholes,
+    // api/holes.hpp): items in page mm through the map frame (MapFrame::toPage of section
+    // coordinates), clipped by the caller to frame.box.
+    std::function<void(const MapFrame& frame, Sheet& sheet)> overlay;
 };
 
 // What the title block says about where the section came from (the caller knows).
