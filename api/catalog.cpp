@@ -377,6 +377,13 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
         }
     }
     if (auto s = indexModel(*m, rays); !s) return s.error();
+    if (const std::string sidecar = drillholeSidecarFor(path); !sidecar.empty()) {
+        auto db = loadDrillholes(sidecar);
+        if (db)
+            m->drillholes = std::make_shared<const DrillholeDatabase>(std::move(db).value());
+        else
+            m->drillholesError = db.error().message;
+    }
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }

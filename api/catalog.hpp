@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/package.hpp"
+#include "model/drillholes/drillholes.hpp"
 #include "model/io/loaders.hpp"
 #include "model/model.hpp"
 #include "model/result.hpp"
@@ -69,6 +70,11 @@ struct CatalogModel {
     std::unordered_map<RecordId, std::string> bodyName;
     // Records of the bodies that clip the block model (model.blocks), sorted; empty without one.
     std::vector<RecordId> blockRecords;
+    // The drillhole database (docs/drillholes.md): the <stem>.drillholes.json sidecar beside the
+    // model file or package directory, loaded with the model; null without one. When a sidecar
+    // is there but does not load, `drillholesError` says why (the model is served anyway).
+    std::shared_ptr<const DrillholeDatabase> drillholes;
+    std::string drillholesError;
 
     // {id, version, crs, bounds, triangles, bodies: [...], surfaces: [...], legend: [...]}
     nlohmann::ordered_json summary() const;
