@@ -106,7 +106,7 @@ TEST_F(ServerDrillholes, CheckFindsTheShiftedContactAndWarnsOfTheMissingUnit) {
     EXPECT_TRUE(warned) << j["warnings"].dump();
     // The CLI's document is the same (but for how the model and the sidecar are named).
     const auto cli = test::runGeoslice("holes check '" + (dir_ / "strata.glb").string() + "' --json");
-    ASSERT_EQ(cli.code, 0) << cli.err;
+    ASSERT_EQ(cli.exitCode, 0) << cli.out;
     const json c = json::parse(cli.out);
     EXPECT_EQ(c["holes"], j["holes"]);
     EXPECT_EQ(c["units"], j["units"]);
