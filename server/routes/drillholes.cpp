@@ -23,8 +23,8 @@ constexpr std::size_t kMaxHoleIdBytes = 256;
 // 409 when its sidecar did not load (the model is served; the message says why).
 const DrillholeDatabase* drillholesOf(const api::CatalogModel& m, const HttpRequest& req, HttpResponse& res) {
     if (m.drillholes) return m.drillholes.get();
-    if (!m.drillholesError.empty()) {
-        problem(res, 409, "model '" + m.id + "': its drillhole sidecar did not load: " + m.drillholesError, req.path,
+    if (!m.drillholeWarning.empty()) {
+        problem(res, 409, "model '" + m.id + "': " + m.drillholeWarning, req.path,
                 "drillholes_not_loaded");
         return nullptr;
     }
