@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/package.hpp"
+#include "model/drillholes/drillholes.hpp"
 #include "model/drillholes/hole_index.hpp"
 #include "model/io/loaders.hpp"
 #include "model/model.hpp"

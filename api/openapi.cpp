@@ -125,6 +125,9 @@ const std::vector<RouteSpec>& apiRoutes() {
         {"GET", "/v1/models/{id}/borehole"},
         {"GET", "/v1/models/{id}/reserves"},
         {"GET", "/v1/models/{id}/reserves.csv"},
+        {"GET", "/v1/models/{id}/drillholes/check"},
+        {"GET", "/v1/models/{id}/drillholes/check.csv"},
+        {"GET", "/v1/models/{id}/drillholes/{hole}/log"},
         {"POST", "/v1/models/{id}/sections"},
         {"GET", "/v1/sections/{sid}"},
         {"GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}"},
@@ -247,6 +250,31 @@ J openApiDocument(const std::string& serverVersion) {
                J{{"description",
                   "CSV with a header row: one row per body, then a '(total)' row; empty cells where JSON has null"},
                  {"content", {{"text/csv", J::object()}}}}));
+    }
+    {
+        const char* what =
+            "the model checked against its drillholes (the <id>.drillholes.json sidecar beside the model): per hole "
+            "and per unit the logged and agreeing length and their share; each logged contact's distance to the "
+            "nearest model contact between the same units along the hole (model depth - logged depth, m; null: "
+            "none); the codes and their units; warnings. The same document as `geoslice holes check --json` "
+            "(api/drillhole_check.hpp). 404: the model has no drillholes; 409: its sidecar did not load.";
+        const J rows = queryParam("rows", "string", "CSV only: units (default, rows per hole and unit) or contacts");
+        get("/v1/models/{id}/drillholes/check",
+            op(what, J::array({id, queryParam("format", "string", "json (default) or csv (as check.csv)"), rows}),
+               J{{"description", "the check; ETag and Cache-Control set"},
+                 {"content", {{"application/json", J::object()}, {"text/csv", J::object()}}}}));
+        get("/v1/models/{id}/drillholes/check.csv",
+            op(what, J::array({id, rows}),
+               J{{"description",
+                  "CSV with a header row: hole,unit,in_model,logged_m,agreed_m,share (hole * = all holes), or with "
+                  "rows=contacts hole,depth_m,code_above,code_below,unit_above,unit_below,model_depth_m,distance_m"},
+                 {"content", {{"text/csv", J::object()}}}}));
+        get("/v1/models/{id}/drillholes/{hole}/log",
+            op("one drillhole's strip log: collar, survey stations, desurveyed path, every interval table's "
+               "intervals with their columns (code intervals with the unit they name), and the model's units along "
+               "the same hole. 404 names an unknown hole.",
+               J::array({id, pathParam("hole", "hole id, percent-encoded (%2F for /), at most 256 bytes")}),
+               jsonResponse("the log")));
     }
     post("/v1/models/{id}/sections",
          J{{"summary",

@@ -19,5 +19,6 @@ void addReserves(CLI::App& app, int& exitCode);
 void addBake(CLI::App& app, int& exitCode);
 void addServe(CLI::App& app, int& exitCode);
 void addQuery(CLI::App& app, int& exitCode);
+void addHoles(CLI::App& app, int& exitCode);
 
 }  // namespace geoslice::cli

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     geoslice::cli::addBake(app, exitCode);
     geoslice::cli::addServe(app, exitCode);
     geoslice::cli::addQuery(app, exitCode);
+    geoslice::cli::addHoles(app, exitCode);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -619,6 +619,7 @@ Result<DrillholeDatabase> buildDrillholes(DrillholeSources sources) {
     DrillholeDatabase db;
     db.source = std::move(sources.source);
     db.crs = std::move(sources.crs);
+    db.units = std::move(sources.units);
     if (auto s = readCollars(sources.collar, db); !s) return s.error();
     if (sources.survey) readSurveys(*sources.survey, db, sources.collar.file);
     for (const auto& t : sources.intervals) readIntervals(t, db, sources.collar.file);
@@ -629,6 +630,32 @@ Result<DrillholeDatabase> buildDrillholes(DrillholeSources sources) {
     }
     return db;
 }
+
+namespace {
+
+// The sidecar's "units" object (DrillholeUnitMap).
+Result<DrillholeUnitMap> unitMapFromJson(const nlohmann::json& j, const std::string& sidecar) {
+    if (!j.is_object()) return makeError(ErrorCode::ParseError, sidecar + ": \"units\" must be an object");
+    DrillholeUnitMap u;
+    for (const char* key : {"table", "column"}) {
+        if (!j.contains(key)) continue;
+        if (!j[key].is_string())
+            return makeError(ErrorCode::ParseError, sidecar + ": units." + key + " must be a string");
+        (std::string(key) == "table" ? u.table : u.column) = j[key].get<std::string>();
+    }
+    if (j.contains("map")) {
+        if (!j["map"].is_object())
+            return makeError(ErrorCode::ParseError, sidecar + ": units.map must be an object (code -> unit)");
+        for (const auto& [code, unit] : j["map"].items()) {
+            if (!unit.is_string())
+                return makeError(ErrorCode::ParseError, sidecar + ": units.map." + code + " must be a string");
+            u.map.emplace_back(code, unit.get<std::string>());
+        }
+    }
+    return u;
+}
+
+}  // namespace
 
 Result<DrillholeDatabase> loadDrillholes(const std::string& path) {
     namespace fs = std::filesystem;
@@ -677,6 +704,11 @@ Result<DrillholeDatabase> loadDrillholes(const std::string& path) {
     if (j.contains("crs")) {
         if (!j["crs"].is_string()) return makeError(ErrorCode::ParseError, path + ": \"crs\" must be a string");
         src.crs = j["crs"].get<std::string>();
+    }
+    if (j.contains("units")) {
+        auto units = unitMapFromJson(j["units"], path);
+        if (!units) return units.error();
+        src.units = std::move(units).value();
     }
     if (!j.contains("collar")) return makeError(ErrorCode::ParseError, path + ": no \"collar\" table");
     auto collar = tableFromJson(j["collar"], dir, dip, path, "collar");

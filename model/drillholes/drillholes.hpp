@@ -128,10 +128,21 @@ struct Drillhole {
     HolePath path;
 };
 
+// The sidecar's "units": which interval column holds the codes that are compared with the
+// model's units (the model checked against its holes, api/drillhole_check.hpp) and how codes
+// map to units. {"table": "lithology", "column": "lith", "map": {"SST": "Sandstone"}}; every
+// key optional. Without a map a code names a unit itself (case-insensitive).
+struct DrillholeUnitMap {
+    std::string table;   // an interval table's name; empty: the first table holding `column`
+    std::string column;  // empty: the first text column named like a lithology code
+    std::vector<std::pair<std::string, std::string>> map;  // code -> unit, sorted by code
+};
+
 struct DrillholeDatabase {
-    std::string source;            // the sidecar or folder it was loaded from
-    std::string crs;               // the sidecar's "crs"; empty when not stated
-    std::vector<Drillhole> holes;  // collar table order
+    std::string source;                     // the sidecar or folder it was loaded from
+    std::string crs;                        // the sidecar's "crs"; empty when not stated
+    std::optional<DrillholeUnitMap> units;  // the sidecar's "units", when given
+    std::vector<Drillhole> holes;           // collar table order
     std::vector<IntervalTable> intervals;
     std::vector<DrillholeTableInfo> tables;  // collar, survey (when any), interval tables
     std::vector<DrillholeIssue> warnings;
@@ -155,6 +166,7 @@ struct DrillholeTableSource {
 struct DrillholeSources {
     std::string source;
     std::string crs;
+    std::optional<DrillholeUnitMap> units;
     DrillholeTableSource collar;
     std::optional<DrillholeTableSource> survey;
     std::vector<DrillholeTableSource> intervals;

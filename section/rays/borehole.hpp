@@ -30,6 +30,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -37,6 +38,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "model/drillholes/drillholes.hpp"
 #include "model/model.hpp"
 #include "model/result.hpp"
 #include "section/rays/ray_scene.hpp"
@@ -71,6 +73,26 @@ struct Borehole {
     std::vector<BoreholeCrossing> crossings;                        // ascending `depth`
 };
 
+// A hole as a polyline of chords: points[i] (world) at distance depth[i] along the hole
+// (metres, strictly increasing). Each chord is cast as a ray; `exact`, when set, is the hole's
+// true position at a depth (a minimum-curvature arc, HolePath::at): every boundary found on a
+// chord is then moved onto the hole itself (below). Without `exact` the chords are the hole.
+struct HolePolyline {
+    std::vector<glm::dvec3> points;
+    std::vector<double> depth;
+    std::function<glm::dvec3(double)> exact;
+};
+
+// Largest distance (metres) between a minimum-curvature arc and the chords holePolyline()
+// traces it with: each leg of dogleg beta and length L is cut into n = ceil(sqrt(L beta /
+// (8 kHoleChordSagittaM))) equal chords, whose sagitta is at most L beta / (8 n^2).
+constexpr double kHoleChordSagittaM = 0.01;
+
+// The desurveyed hole as chords: every node of `path`, each leg subdivided as above, and the
+// straight extension to `toDepth` when it is below the last node; `exact` = path.at. The path
+// must outlive the polyline.
+HolePolyline holePolyline(const HolePath& path, double toDepth, double maxSagitta = kHoleChordSagittaM);
+
 class BoreholeTracer {
 public:
     // Builds an Embree scene over the model's closed bodies and its open surfaces. The
@@ -95,6 +117,20 @@ public:
     // down through its bottom. Errors: InvalidArgument (non-finite); OutOfRange when
     // (x, y) lies outside the model's map extent (names the point and the extent).
     Result<Borehole> traceVertical(double x, double y) const;
+
+    // The same rule along a polyline (a drillhole): traceRay is its one-chord case. Depths
+    // (`from`, `to`, `depth`) are distances along the hole from points[0] (depth[0] is added),
+    // `collarDepth` the first hit's. Where the ray casts carry float32 error, every boundary is
+    // moved onto the exact hole: the crossing, in double precision, of the hole (the chord's
+    // line, or `exact` between the chord's ends by regula falsi) with the plane of the triangle
+    // the chord hit. On planar faces the boundaries are then exact to about 1e-12 relative;
+    // where a curved hole crosses a face next to the one its chord hit, the error is at most
+    // the chord's sagitta over the sine of the angle between hole and face. Chords outside the
+    // model's box are skipped; a state (inside which bodies) is carried from chord to chord,
+    // the first chord's from the first hit of each body on the ray beyond it.
+    // Errors: InvalidArgument (fewer than two points, sizes differ, non-finite, depths not
+    // increasing).
+    Result<Borehole> tracePath(const HolePolyline& path) const;
 
 private:
     BoreholeTracer() = default;

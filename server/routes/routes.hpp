@@ -33,6 +33,7 @@ void addSectionRoutes(Router& router, ServerState& state);
 void addQueryRoutes(Router& router, ServerState& state);
 void addBoreholeRoutes(Router& router, ServerState& state);
 void addReservesRoutes(Router& router, ServerState& state);
+void addDrillholeRoutes(Router& router, ServerState& state);
 void addTileRoutes(Router& router, ServerState& state);
 
 // section.{format} hands these on (section.cpp decides which one answers).
@@ -49,6 +50,7 @@ inline void addAllRoutes(Router& router, ServerState& state) {
     addQueryRoutes(router, state);
     addBoreholeRoutes(router, state);
     addReservesRoutes(router, state);
+    addDrillholeRoutes(router, state);
     addTileRoutes(router, state);
 }
 
