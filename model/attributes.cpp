@@ -99,7 +99,7 @@ nlohmann::ordered_json AttributeRecord::toJson() const {
     if (!age.empty()) j["age"] = age;
     if (!era.empty()) j["era"] = era;
     j["colour"] = formatColour(colour);
-    if (!colourSource.empty()) j["colour_source"] = colourSource;
+    j["colour_source"] = colourSource.empty() ? "default" : colourSource;
     if (!nameSource.empty()) j["name_source"] = nameSource;
     if (density) j["density"] = *density;
     if (grade) j["grade"] = *grade;
@@ -210,9 +210,10 @@ Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j,
                 s = str(r.era);
             else if (key == "grade_unit")
                 s = str(r.gradeUnit);
-            else if (key == "colour_source")
+            else if (key == "colour_source") {
                 s = str(r.colourSource);
-            else if (key == "name_source")
+                if (r.colourSource == "default") r.colourSource.clear();  // nobody chose it
+            } else if (key == "name_source")
                 s = str(r.nameSource);
             else if (key == "density")
                 s = num(r.density);

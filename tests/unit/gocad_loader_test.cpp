@@ -463,7 +463,7 @@ TEST(GocadLoader, SgridPointsFromBinaryAndAsciiFiles) {
     EXPECT_EQ(c->grids[0].properties[0].values[0], 42.0f);
     // Properties of both alignments in one grid: refused, naming the line.
     expectError(loadModel(dir.write("mixed.sg", cells + "PROPERTY 2 rho\nPROP_ALIGNMENT 2 POINTS\nEND\n")), "mixed.sg",
-                "PROP_ALIGNMENT 2 POINTS differs from the alignment on line 7");
+                "PROP_ALIGNMENT 2 POINTS differs from the alignment on line 8");
     expectError(loadModel(dir.write("bad.sg", cells + "PROP_ALIGNMENT 1 FACES\nEND\n")), "bad.sg",
                 "PROP_ALIGNMENT 1 must be POINTS or CELLS");
 }

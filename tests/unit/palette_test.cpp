@@ -224,16 +224,24 @@ TEST(Palette, FileColoursAndSidecarsWin) {
     { std::ofstream(dir / "two.attributes.csv") << "id,name,colour\n7,Coloured,\n8,Plain fault,#ff0000\n"; }
     m = loadModel((dir / "two.ts").string());
     ASSERT_TRUE(m.ok()) << m.error().message;
-    c = m->attributes.findByName("Coloured");
+    auto partRecord = [&](const std::string& name) -> const AttributeRecord* {
+        for (const auto* list : {&m->bodies, &m->surfaces})
+            for (const Part& p : *list)
+                if (p.name == name) return m->attributes.find(p.record);
+        return nullptr;
+    };
+    c = partRecord("Coloured");
+    ASSERT_NE(c, nullptr);
     EXPECT_EQ(c->colour, (Rgba8{51, 102, 153, 255}));
     EXPECT_EQ(c->colourSource, "file (GOCAD *solid*color)");
     EXPECT_EQ(c->nameSource, "sidecar");
-    f = m->attributes.findByName("Plain fault");
+    f = partRecord("Plain fault");
+    ASSERT_NE(f, nullptr);
     EXPECT_EQ(f->colour, (Rgba8{255, 0, 0, 255}));
     EXPECT_EQ(f->colourSource, "sidecar");
     // colour_source survives the attribute table's JSON (baked packages keep it).
     auto back = AttributeTable::fromJson(m->attributes.toJson(), "roundtrip");
     ASSERT_TRUE(back.ok());
-    EXPECT_EQ(back->findByName("Coloured")->colourSource, "file (GOCAD *solid*color)");
+    EXPECT_EQ(back->find(7)->colourSource, "file (GOCAD *solid*color)");
     std::filesystem::remove_all(dir);
 }
