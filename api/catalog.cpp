@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iterator>
+#include <limits>
 #include <string_view>
 
 #include "api/plan.hpp"
@@ -17,6 +19,7 @@
 #include "model/json_text.hpp"
 #include "model/mesh/validate.hpp"
 #include "model/synthetic/synthetic.hpp"
+#include "model/synthetic/synthetic_holes.hpp"
 #include "section/blocks/block_section.hpp"
 #include "section/index/leaf_order.hpp"
 
@@ -376,8 +379,43 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
         }
     }
     if (auto s = indexModel(*m, rays); !s) return s.error();
+    if (const std::string sidecar = drillholeSidecarFor(path); !sidecar.empty()) {
+        auto db = loadDrillholes(sidecar);
+        if (db)
+            attachDrillholes(*m, std::move(db.value()));
+        else
+            m->drillholeWarning = "drillholes " + sidecar + " not loaded: " + db.error().message;
+    }
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
+}
+
+void attachDrillholes(CatalogModel& model, DrillholeDatabase db) {
+    // The database's contents, hashed: ids, collars, stations, intervals and their cells.
+    std::uint64_t h = fnv1a64("drillholes");
+    auto add = [&h](const void* p, std::size_t n) { h = fnv1a64(std::string_view(static_cast<const char*>(p), n), h); };
+    auto addText = [&](const std::string& t) { add(t.data(), t.size() + 1); };
+    for (const Drillhole& d : db.holes) {
+        addText(d.id);
+        add(&d.collar, sizeof d.collar);
+        add(&d.totalDepth, sizeof d.totalDepth);
+        for (const glm::dvec3& p : d.path.position) add(&p, sizeof p);
+        add(d.path.depth.data(), d.path.depth.size() * sizeof(double));
+    }
+    for (const IntervalTable& t : db.intervals) {
+        addText(t.name);
+        add(t.hole.data(), t.hole.size() * sizeof(std::uint32_t));
+        add(t.from.data(), t.from.size() * sizeof(double));
+        add(t.to.data(), t.to.size() * sizeof(double));
+        for (const IntervalColumn& c : t.columns) {
+            addText(c.name);
+            add(c.numbers.data(), c.numbers.size() * sizeof(double));
+            for (const std::string& x : c.texts) addText(x);
+        }
+    }
+    model.version = hex64(fnv1a64(model.version + ":" + hex64(h)));
+    model.holeIndex = std::make_shared<const HoleIndex>(db);
+    model.drillholes = std::make_shared<const DrillholeDatabase>(std::move(db));
 }
 
 Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles) {
@@ -399,12 +437,30 @@ Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles)
     m->model.name = "demo";
     validate(m->model);  // closed flags and nesting, as every loader does
     if (auto s = indexModel(*m, RayBuild::Now); !s) return s.error();
+    // The demo's drillholes are logged from the model itself: its top by a vertical ray, its
+    // unit at each metre by the point classifier (the ray scene, waited for here).
+    auto rays = m->rays->wait();
+    if (!rays) return rays.error();
+    const BoreholeTracer* tracer = rays.value().tracer;
+    const Classifier* classifier = rays.value().classifier;
+    auto holes = syntheticHoleSources(
+        m->model,
+        [tracer](double x, double y) {
+            auto b = tracer->traceVertical(x, y);
+            return b && !std::isnan(b.value().collarDepth) ? b.value().collar.z
+                                                           : std::numeric_limits<double>::quiet_NaN();
+        },
+        [classifier](const glm::dvec3& p) { return classifier->classify(p); });
+    auto db = buildDrillholes(std::move(holes.sources));
+    if (!db) return db.error();
+    attachDrillholes(*m, std::move(db.value()));
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }
 
 Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
-                                                           const std::string& version, RayBuild rays) {
+                                                           const std::string& version, RayBuild rays,
+                                                           std::optional<DrillholeDatabase> drillholes) {
     const auto t0 = std::chrono::steady_clock::now();
     auto m = std::make_shared<CatalogModel>();
     m->id = id;
@@ -412,6 +468,7 @@ Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id
     m->version = version;
     m->model = std::move(model);
     if (auto s = indexModel(*m, rays); !s) return s.error();
+    if (drillholes) attachDrillholes(*m, std::move(*drillholes));
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }
@@ -428,9 +485,10 @@ Result<ModelsDirScan> scanModelsDir(const std::string& dir, std::uint64_t maxFil
     if (ec) return makeError(ErrorCode::IoError, "cannot list models directory '" + dir + "': " + ec.message());
     std::sort(entries.begin(), entries.end());
     // GOCAD Model3d (.ml), TSolid (.so) and groups (.gp) hold bodies; Voxet/SGrid/PLine
-    // alone hold nothing a section draws yet.
-    static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts", ".ml",
-                                                      ".so",  ".gp",   ".xml", ".vtu"};
+    // and Surpac string files (.str) alone hold nothing a section draws yet (a .dtm is read
+    // with its .str).
+    static constexpr std::string_view kModelExts[] = {".glb", ".gltf", ".obj", ".ts",  ".ml",  ".so", ".gp",
+                                                      ".xml", ".vtu",  ".stl", ".ply", ".dxf", ".dtm"};
     auto modelExtension = [](const fs::path& p) {
         std::string ext = p.extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });

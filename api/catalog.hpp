@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -22,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/package.hpp"
+#include "model/drillholes/hole_index.hpp"
 #include "model/io/loaders.hpp"
 #include "model/model.hpp"
 #include "model/result.hpp"
@@ -69,6 +71,13 @@ struct CatalogModel {
     std::unordered_map<RecordId, std::string> bodyName;
     // Records of the bodies that clip the block model (model.blocks), sorted; empty without one.
     std::vector<RecordId> blockRecords;
+    // The drillhole database drawn on sections (api/holes.hpp): the <stem>.drillholes.json
+    // sidecar beside the model file, or the demo's generated holes; null without one. When
+    // there is one, `version` also hashes its contents (a changed database changes every
+    // cache key). `drillholeWarning`: the sidecar exists but did not load (why; logged).
+    std::shared_ptr<const DrillholeDatabase> drillholes;
+    std::shared_ptr<const HoleIndex> holeIndex;
+    std::string drillholeWarning;
 
     // {id, version, crs, bounds, triangles, bodies: [...], surfaces: [...], legend: [...]}
     nlohmann::ordered_json summary() const;
@@ -113,9 +122,15 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
                                                              std::uint64_t maxFileBytes = kDefaultMaxModelBytes);
 // A loaded, validated model indexed as the server does (tests and benchmarks build models
 // in memory); `version` as the caller chooses.
+// `drillholes`: attached as a sidecar's would be (attachDrillholes).
 Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
-                                                           const std::string& version, RayBuild rays = RayBuild::Now);
-// The built-in demo mine (synthetic, EPSG:4523 at 105.05 E 30.62 N), `triangles` in total.
+                                                           const std::string& version, RayBuild rays = RayBuild::Now,
+                                                           std::optional<DrillholeDatabase> drillholes = std::nullopt);
+// Attaches a drillhole database (and its index) to a model being built, and folds the
+// database's contents into its version.
+void attachDrillholes(CatalogModel& model, DrillholeDatabase db);
+// The built-in demo mine (synthetic, EPSG:4523 at 105.05 E 30.62 N), `triangles` in total,
+// with its generated drillholes (model/synthetic/synthetic_holes.hpp).
 Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles = 200000);
 // An entry of a models directory that is not loaded, and why (for the log and /readyz).
 struct SkippedEntry {

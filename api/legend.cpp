@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <string>
 
+#include "print/pattern_cairo.hpp"
+#include "section/fill/patterns.hpp"
 #include "stb_easy_font.h"
 
 namespace geoslice::api {
@@ -83,6 +85,7 @@ LegendImage renderLegend(const CatalogModel& model, int scale, const PropertyCla
         Rgba8 colour;
         std::string label;
         bool line;
+        RecordId record = kNoRecord;  // bodies: the swatch shows the record's lithology pattern
     };
     std::vector<Row> rows;
     std::vector<RecordId> seen;  // fault blocks of one stratum share a record: one row each
@@ -91,11 +94,11 @@ LegendImage renderLegend(const CatalogModel& model, int scale, const PropertyCla
             if (std::find(seen.begin(), seen.end(), p.record) != seen.end()) return;
             seen.push_back(p.record);
         }
-        Row r{Rgba8{}, p.name, line};
+        Row r{Rgba8{}, p.name, line, line ? kNoRecord : p.record};
         if (const AttributeRecord* rec = model.model.attributes.find(p.record)) {
             r.colour = rec->colour;
             if (!rec->name.empty()) r.label = rec->name;
-            if (!rec->lithology.empty()) r.label += " - " + rec->lithology;
+            if (const std::string lith = lithologyText(*rec); !lith.empty()) r.label += " - " + lith;
         }
         rows.push_back(std::move(r));
     };
@@ -132,6 +135,19 @@ LegendImage renderLegend(const CatalogModel& model, int scale, const PropertyCla
         }
         drawText(canvas, pad * 2 + swatch, y + scale, rows[i].label, scale, Rgba8{20, 20, 20, 255});
     }
+    // Lithology patterns (section/fill/patterns.hpp) inside the bodies' swatches, tiles
+    // scaled with the legend (1.9 px a millimetre per unit of scale).
+    std::vector<std::uint32_t> ids(std::size_t(img.width) * std::size_t(img.height), kNoRecord);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (rows[i].line || rows[i].record == kNoRecord) continue;
+        const int y = pad + int(i) * rowH;
+        for (int j = std::max(0, y + 1); j < std::min(img.height, y + swatch - 1); ++j)
+            for (int x = pad + 1; x < std::min(img.width, pad + swatch - 1); ++x)
+                ids[std::size_t(j) * std::size_t(img.width) + std::size_t(x)] = rows[i].record;
+    }
+    print::drawPatternsOnImage(
+        img.rgba.data(), ids.data(), img.width, img.height,
+        [&](RecordId r) { return recordLithology(model.model.attributes.find(r)); }, 1.9 * scale);
     return img;
 }
 

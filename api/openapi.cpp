@@ -59,6 +59,19 @@ J viewParams() {
                    "each cell's exact piece; profile views, tiles, GeoJSON and SVG"),
         queryParam("breaks", "string", "b1,b2,...: increasing class breaks of 'colour' (default: 5 equal classes)"),
         queryParam("ramp", "string", "colour ramp of 'colour': viridis (default), magma, greys, spectral"),
+        queryParam("labels", "string",
+                   "0|1: profile views, unit codes inside their polygons (default: on in print sheets, off in "
+                   "images and SVG)"),
+        queryParam("patterns", "string",
+                   "0|1: profile views, lithology fill patterns (default: on in SVG and print sheets, off in images)"),
+        queryParam("holes", "number",
+                   "drillholes within this many metres of the section drawn on profile views, 0..100000 (default "
+                   "50; 0: none)"),
+        queryParam("holecolour", "string",
+                   "an interval column (or TABLE.COLUMN) of the model's drillholes: intervals coloured by category "
+                   "or class"),
+        queryParam("holebreaks", "string", "b1,b2,...: class breaks of a number 'holecolour' column"),
+        queryParam("holeramp", "string", "colour ramp of 'holecolour': viridis (default), magma, greys, spectral"),
     });
 }
 

@@ -121,6 +121,11 @@ Result<QueryAnswer> answerPixel(const CatalogModel& model, const ViewPlan& plan,
     a.section = mapping->sectionAt(i, j);
     a.line = mapping->geometry == Geometry::Line;
     a.distanceAlong = a.line ? a.section.x : a.section.x - mapping->rect.u0;
+    if (model.holeIndex && plan.section.holes.window > 0.0) {
+        auto holes = viewHoles(model, plan.section, *mapping);
+        if (!holes) return holes.error();
+        a.hole = holeNearPixel(model, holes.value(), *mapping, double(i) + 0.5, double(j) + 0.5);
+    }
     if (cached && !cached->ids.empty()) {
         const std::size_t p = std::size_t(j) * std::size_t(cached->width) + std::size_t(i);
         a.record = cached->ids[p];
@@ -259,6 +264,7 @@ void writeQueryAnswer(const CatalogModel& model, const QueryAnswer& a, std::stri
         w.key("record").null().key("message").value("no geology at this pixel");
     }
     if (model.model.blocks) writeBlockAnswer(w, *model.model.blocks, a.cell, a.perspective);
+    if (a.hole) writeHoleHit(w, model, *a.hole);
     if (a.perspective) {
         w.key("distanceFromEye").value(a.distanceAlong);
         if (std::isfinite(a.world.x)) {

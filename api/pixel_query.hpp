@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/holes.hpp"
 #include "api/request.hpp"
 #include "api/view.hpp"
 
@@ -32,6 +33,9 @@ struct QueryAnswer {
     // The block cell (blockCellAt), from the cells buffer when cached; perspective views: on a
     // cut face only (where the image colours by cell).
     std::size_t cell = BlockModel::kNoCell;
+    // Profile views: the drawn drillhole within kHoleQueryPixels of the pixel centre, if any
+    // (api/holes.hpp), answered next to the model's record ("drillhole").
+    std::optional<HoleHit> hole;
 };
 // InvalidArgument naming the parameter ('plane', 'planes' or 'elevation') when the cut of a
 // perspective view keeps no part of the model's bounds (api/cut.hpp).

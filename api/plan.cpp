@@ -73,6 +73,11 @@ std::string SectionDef::canonical() const {
         s += "&colour=" + colour->property + "&ramp=" + colour->ramp;
         if (colour->breaks) s += "&breaks=" + join(colour->breaks->data(), colour->breaks->size());
     }
+    if (holes.window != kDefaultHoleWindow) s += "&holes=" + formatNumber(holes.window);
+    if (!holes.column.empty()) {
+        s += "&holecolour=" + holes.column + "&holeramp=" + holes.ramp;
+        if (holes.breaks) s += "&holebreaks=" + join(holes.breaks->data(), holes.breaks->size());
+    }
     return s;
 }
 
@@ -94,22 +99,95 @@ std::string ViewPlan::canonical() const {
         }
     }
     s += "&size=" + std::to_string(width) + "x" + std::to_string(height);
+    if (labels) s += *labels ? "&labels=1" : "&labels=0";
+    if (patterns) s += *patterns ? "&patterns=1" : "&patterns=0";
     return s;
 }
 
 const std::vector<std::string_view>& sectionParamNames() {
-    static const std::vector<std::string_view> names{"plane", "planes", "cut",    "line",   "elevation", "coords",
-                                                     "vx",    "bg",     "colour", "breaks", "ramp"};
+    static const std::vector<std::string_view> names{"plane",  "planes", "cut",        "line",       "elevation",
+                                                     "coords", "vx",     "bg",         "colour",     "breaks",
+                                                     "ramp",   "holes",  "holecolour", "holebreaks", "holeramp"};
     return names;
 }
 
 const std::vector<std::string_view>& viewParamNames() {
     static const std::vector<std::string_view> names = [] {
         std::vector<std::string_view> n = sectionParamNames();
-        for (std::string_view v : {"view", "frame", "size", "eye", "target", "up", "fov"}) n.push_back(v);
+        for (std::string_view v : {"view", "frame", "size", "eye", "target", "up", "fov", "labels", "patterns"})
+            n.push_back(v);
         return n;
     }();
     return names;
+}
+
+namespace {
+
+Result<std::vector<double>> parseBreaks(std::string_view name, std::string_view text) {
+    auto v = parseNumberList(name, text, 0, 64);
+    if (!v) return v.error();
+    if (v.value().empty())
+        return makeError(ErrorCode::InvalidArgument, "parameter '" + std::string(name) + "': no numbers");
+    for (std::size_t i = 1; i < v.value().size(); ++i)
+        if (!(v.value()[i] > v.value()[i - 1]))
+            return makeError(ErrorCode::InvalidArgument,
+                             "parameter '" + std::string(name) + "': values must increase strictly");
+    return v;
+}
+
+bool isColumnName(std::string_view s) {
+    if (s.empty() || s.size() > 64) return false;
+    for (char c : s)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-')) return false;
+    return true;
+}
+
+}  // namespace
+
+Result<HoleDrawing> parseHoleDrawing(const Params& params) {
+    HoleDrawing h;
+    if (const auto w = param(params, "holes")) {
+        auto v = parseNumber("holes", *w);
+        if (!v) return v.error();
+        if (!(v.value() >= 0.0 && v.value() <= kMaxHoleWindow))
+            return makeError(ErrorCode::OutOfRange, "parameter 'holes': " + std::string(w->substr(0, 64)) +
+                                                        " is outside 0..100000 metres (0 draws no holes)");
+        h.window = v.value();
+    }
+    // breaks= and ramp= belong to colour= when it is given, else to holecolour=.
+    const bool shared = !param(params, "colour");
+    const auto ramp = param(params, "holeramp") ? param(params, "holeramp")
+                      : shared                  ? param(params, "ramp")
+                                                : std::nullopt;
+    const std::string_view rampName = param(params, "holeramp") ? "holeramp" : "ramp";
+    const auto breaks = param(params, "holebreaks") ? param(params, "holebreaks")
+                        : shared                    ? param(params, "breaks")
+                                                    : std::nullopt;
+    const std::string_view breaksName = param(params, "holebreaks") ? "holebreaks" : "breaks";
+    if (const auto c = param(params, "holecolour")) {
+        if (!isColumnName(*c))
+            return makeError(ErrorCode::InvalidArgument,
+                             "parameter 'holecolour': an interval column name of 1..64 characters A-Z a-z 0-9 _ . -");
+        h.column = std::string(*c);
+        if (ramp) {
+            if (!isRampName(*ramp)) {
+                std::string known;
+                for (auto n : rampNames()) known += (known.empty() ? "" : ", ") + std::string(n);
+                return makeError(ErrorCode::InvalidArgument, "parameter '" + std::string(rampName) + "': '" +
+                                                                 std::string(ramp->substr(0, 64)) + "' is not one of " +
+                                                                 known);
+            }
+            h.ramp = std::string(*ramp);
+        }
+        if (breaks) {
+            auto v = parseBreaks(breaksName, *breaks);
+            if (!v) return v.error();
+            h.breaks = std::move(v.value());
+        }
+    } else if (param(params, "holebreaks") || param(params, "holeramp")) {
+        return makeError(ErrorCode::InvalidArgument, "parameters 'holebreaks' and 'holeramp' need 'holecolour=COLUMN'");
+    }
+    return h;
 }
 
 Result<std::optional<BlockColouring>> parseBlockColouring(const Params& params) {
@@ -144,8 +222,9 @@ Result<std::optional<BlockColouring>> parseBlockColouring(const Params& params) 
         }
         return std::optional<BlockColouring>(std::move(bc));
     }
-    if (param(params, "breaks") || param(params, "ramp"))
-        return makeError(ErrorCode::InvalidArgument, "parameters 'breaks' and 'ramp' need 'colour=PROPERTY'");
+    if ((param(params, "breaks") || param(params, "ramp")) && !param(params, "holecolour"))
+        return makeError(ErrorCode::InvalidArgument,
+                         "parameters 'breaks' and 'ramp' need 'colour=PROPERTY' (or 'holecolour=COLUMN')");
     return std::optional<BlockColouring>();
 }
 
@@ -260,6 +339,9 @@ Result<SectionDef> parseSectionDef(const Params& params, const std::string& mode
     auto colour = parseBlockColouring(params);
     if (!colour) return colour.error();
     def.colour = std::move(colour.value());
+    auto holes = parseHoleDrawing(params);
+    if (!holes) return holes.error();
+    def.holes = std::move(holes.value());
     return def;
 }
 
@@ -274,6 +356,12 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
         plan.width = s.value().width;
         plan.height = s.value().height;
     }
+    for (const char* name : {"labels", "patterns"})
+        if (const auto v = param(params, name)) {
+            auto b = parseBool(name, *v);
+            if (!b) return b.error();
+            (std::string_view(name) == "labels" ? plan.labels : plan.patterns) = b.value();
+        }
     const auto view = param(params, "view");
     if (!view || *view == "profile") {
         plan.view = ViewKind::Profile;

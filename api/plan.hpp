@@ -20,6 +20,12 @@
 //                               elevation stretched k times about the bounds' centre elevation
 //   bg=transparent|#rrggbb[aa]  background (default transparent)
 //   colour=PROP breaks=b1,.. ramp=NAME   colour by a block property (BlockColouring)
+//   labels=0|1 patterns=0|1     profile views: unit codes inside their polygons and lithology
+//                               patterns (section/fill/labels.hpp, patterns.hpp); unset =
+//                               the output's default (labels: on in print sheets only;
+//                               patterns: on in SVG and print sheets, off in images)
+//   holes=W holecolour=COL holebreaks=b1,.. holeramp=NAME   drillholes drawn on profile
+//                               views (HoleDrawing, api/holes.hpp)
 // Units: metres in the model's CRS (x easting, y northing, z elevation), degrees for lon/lat.
 // Pure functions, any thread.
 #pragma once
@@ -61,6 +67,21 @@ struct BlockColouring {
     std::optional<std::vector<double>> breaks;
 };
 
+// Drillholes on profile views (api/holes.hpp): the holes within `window` metres of the section
+// (holes=W, default kDefaultHoleWindow, 0 = none drawn), their intervals coloured by the
+// interval column `column` (holecolour=COL: a text column by category, a number column by
+// classes of `breaks` on `ramp`, as block properties are; holebreaks=, holeramp=, or breaks=
+// and ramp= when no colour= is given). COL is [A-Za-z0-9_.-]{1,64}, or TABLE.COL to pick the
+// interval table.
+constexpr double kDefaultHoleWindow = 50.0;  // m
+constexpr double kMaxHoleWindow = 100000.0;  // m
+struct HoleDrawing {
+    double window = kDefaultHoleWindow;
+    std::string column;  // empty: holes in one colour
+    std::string ramp = "viridis";
+    std::optional<std::vector<double>> breaks;
+};
+
 struct SectionDef {
     std::string model;
     Geometry geometry = Geometry::Plane;
@@ -74,9 +95,11 @@ struct SectionDef {
     double exaggeration = 1.0;     // vertical exaggeration of profile frames
     Rgba8 background{0, 0, 0, 0};
     std::optional<BlockColouring> colour;  // colour the clipping bodies by a block property
+    HoleDrawing holes;                     // drillholes drawn on profile views
 
-    // "model=..&plane=..&vx=..&bg=..[&colour=..&ramp=..&breaks=..]" with every number in
-    // shortest round-trip form.
+    // "model=..&plane=..&vx=..&bg=..[&colour=..&ramp=..&breaks=..][&holes=..][&holecolour=..
+    // &holeramp=..&holebreaks=..]" with every number in shortest round-trip form (holes= only
+    // when not the default).
     std::string canonical() const;
 };
 
@@ -86,6 +109,8 @@ struct ViewPlan {
     std::optional<FrameRect> frame;           // profile; nullopt = default frame
     std::optional<PerspectiveCamera> camera;  // perspective, world; nullopt = default camera
     int width = 1024, height = 1024;
+    std::optional<bool> labels;    // labels=0|1; nullopt: the output's default
+    std::optional<bool> patterns;  // patterns=0|1; nullopt: the output's default
 
     std::string canonical() const;  // the section's canonical text plus the view's fields
 };
@@ -97,6 +122,8 @@ const std::vector<std::string_view>& viewParamNames();
 
 // colour, breaks and ramp of `params` (nullopt when there is no 'colour').
 Result<std::optional<BlockColouring>> parseBlockColouring(const Params& params);
+// holes, holecolour, holebreaks/holeramp (or breaks/ramp without colour) of `params`.
+Result<HoleDrawing> parseHoleDrawing(const Params& params);
 // Parses the section fields of `params`. `crs` converts lon/lat lines (error when local).
 Result<SectionDef> parseSectionDef(const Params& params, const std::string& model, const Crs& crs);
 // Parses a whole view. Errors name the parameter (InvalidArgument / OutOfRange).

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "api/holes.hpp"
 #include "api/view.hpp"
 #include "print/cairo_output.hpp"
 #include "print/map_scale.hpp"
@@ -147,9 +148,20 @@ Result<SheetOutput> renderSheet(const CatalogModel& model, const SheetRequest& r
     o.dpi = request.dpi;
     o.cancel = cancel;
     o.scaleName = "parameter 'scale'";
+    o.labels = request.plan.labels.value_or(true);
+    o.patterns = request.plan.patterns.value_or(true);
     auto classes = blockClasses(model, def);
     if (!classes) return classes.error();
     if (classes.value()) o.blocks = print::SheetBlocks{model.model.blocks.get(), *classes.value(), model.blockRecords};
+    // The drillholes over the geology (api/holes.hpp), projected as on the view's images.
+    auto mapping = profileMapping(model, request.plan);
+    if (!mapping) return mapping.error();
+    auto holes = viewHoles(model, def, mapping.value());
+    if (!holes) return holes.error();
+    if (!holes.value().empty())
+        o.overlay = [&model, &holes](const print::MapFrame& frame, print::Sheet& sheet) {
+            addHolesToSheet(model, holes.value(), frame, sheet);
+        };
     print::SheetInfo info;
     info.model = model.id;
     info.version = model.version;

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <limits>
 
+#include "api/holes.hpp"
 #include "api/legend.hpp"
 #include "model/clock.hpp"
 #include "model/json_text.hpp"
+#include "print/pattern_cairo.hpp"
 #include "section/cut/contours.hpp"
 #include "section/fill/vector_export.hpp"
 
@@ -147,6 +149,10 @@ Result<PixelMapping> profileMapping(const CatalogModel& model, const ViewPlan& p
     return m;
 }
 
+namespace {
+constexpr double kLabelPx = 12.0;  // labels at print scale on a 96 dpi screen (9 pt)
+}  // namespace
+
 Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan, const std::atomic<bool>* cancel) {
     if (plan.view != ViewKind::Profile)
         return makeError(ErrorCode::InvalidArgument, "renderProfile: the plan is not a profile view");
@@ -155,10 +161,14 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
     if (!mapping) return mapping.error();
     auto classes = blockClasses(model, plan.section);
     if (!classes) return classes.error();
+    auto holes = viewHoles(model, plan.section, mapping.value());
+    if (!holes) return holes.error();
     RasterOptions ro;
     ro.background = plan.section.background;
     ro.cancel = cancel;
     ViewImage v;
+    std::optional<PolylineSection> lineSection;
+    std::optional<Section> planeSection;
     if (plan.section.geometry == Geometry::Line) {
         auto section = computePolylineSection(*model.index, plan.section.line);
         if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
@@ -170,6 +180,7 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
         v.height = plan.height;
         v.rgba = std::move(image.value().rgba);
         v.ids = std::move(image.value().ids);
+        lineSection = std::move(section.value());
     } else {
         auto section = computeSection(*model.index, sectionPlane(plan.section));
         if (!section) return section.error();
@@ -180,9 +191,17 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
         v.height = plan.height;
         v.rgba = std::move(image.value().rgba);
         v.ids = std::move(image.value().ids);
+        planeSection = std::move(section.value());
     }
     v.mapping = std::move(mapping.value());
     if (classes.value()) colourByBlocks(model, *classes.value(), *v.mapping, v);
+    if (plan.labels.value_or(false) || plan.patterns.value_or(false))
+        print::decorateSectionImage(*model.index, lineSection ? lineSection->bodies : planeSection->bodies,
+                                    v.mapping->rect, v.width, v.height, v.rgba.data(),
+                                    v.ids.size() == v.rgba.size() / 4 ? v.ids.data() : nullptr,
+                                    {plan.labels.value_or(false), plan.patterns.value_or(false), kLabelPx},
+                                    lineSection ? &lineSection->traces : &planeSection->traces);
+    drawHoles(model, holes.value(), *v.mapping, v);
     v.renderMs = msSince(t0);
     return v;
 }
@@ -195,12 +214,38 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     if (!mapping) return mapping.error();
     auto classes = blockClasses(model, plan.section);
     if (!classes) return classes.error();
+    auto holes = viewHoles(model, plan.section, mapping.value());
+    if (!holes) return holes.error();
     RasterOptions ro;
     ro.background = plan.section.background;
+    SvgOverlays overlays;
+    overlays.labels = plan.labels.value_or(false);
+    overlays.patterns = plan.patterns.value_or(true);
+    overlays.labelPx = kLabelPx;
+    overlays.textWidth = print::labelTextWidth;
+    // The drillholes go last: over everything in SVG, after the section's features in GeoJSON.
+    auto withHoles = [&](std::string svgText) {
+        const std::string g = holesSvg(model, holes.value(), mapping.value());
+        const auto end = svgText.rfind("</svg>");
+        if (!g.empty() && end != std::string::npos) svgText.insert(end, g);
+        return svgText;
+    };
+    auto addHoles = [&](nlohmann::ordered_json& doc, const VectorSource& source) {
+        if (holes.value().empty()) return;
+        for (auto& f : holesGeoJson(model, holes.value(), world ? &source.toWorld : nullptr))
+            doc["features"].push_back(std::move(f));
+        if (auto legend = holeLegendJson(holes.value().style); !legend.is_null()) doc["holeLegend"] = std::move(legend);
+    };
     auto emit = [&](const VectorSource& source) -> Result<std::string> {
         if (auto c = checkCancel(cancel); !c) return c.error();
-        if (svg) return toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro);
-        return jsonText(toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane));
+        if (svg) {
+            auto text = toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro, overlays);
+            if (!text) return text;
+            return withHoles(std::move(text.value()));
+        }
+        nlohmann::ordered_json doc = toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane);
+        addHoles(doc, source);
+        return jsonText(doc);
     };
     // The cells' exact pieces inside the clipping bodies (plane u/v or line s/z), drawn over the
     // bodies' own fills.
@@ -236,6 +281,7 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     auto features = blockPiecesGeoJson(blocks, pc, pieces.value(), world ? &source.toWorld : nullptr);
     for (auto& f : features) doc["features"].push_back(std::move(f));
     doc["blockLegend"] = blockLegendJson(blocks, pc);
+    addHoles(doc, source);
     return jsonText(doc);
 }
 

@@ -1,6 +1,7 @@
 // geoslice section MODEL (--plane a,b,c,d | --elevation z | --line x1,y1,x2,y2[,...])
 // [--size WxH] [--frame u0,u1,v0,v1 | --exaggeration k] [--out F.png|F.jpg|F.webp|F.ppm|F.pgm]... [--geojson F]
-// [--geojson-frame plane|world] [--svg F] [--areas]: the exact section engine from the
+// [--geojson-frame plane|world] [--svg F] [--labels] [--patterns] [--no-labels] [--no-patterns]
+// [--areas]: the exact section engine from the
 // command line. Colour images go through image/image_encode.hpp (PNG, JPEG, WebP) or
 // binary PPM (composited over white); the ID buffer is written as 16-bit binary PGM
 // (record ids, big-endian, 0 = none). --geojson / --svg write the polygons and traces
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -20,14 +22,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/catalog.hpp"
+#include "api/holes.hpp"
 #include "api/params.hpp"
+#include "api/view.hpp"
 #include "cli/commands.hpp"
 #include "image/image_encode.hpp"
+#include "model/drillholes/drillholes.hpp"
 #include "model/io/loaders.hpp"
 #include "model/json_text.hpp"
 #include "print/cairo_output.hpp"
 #include "print/map_scale.hpp"
 #include "print/paper.hpp"
+#include "print/pattern_cairo.hpp"
 #include "print/section_sheet.hpp"
 #include "print/sheet_date.hpp"
 #include "print/svg_output.hpp"
@@ -135,6 +142,8 @@ Result<print::SheetOptions> sheetOptionsFromFlags(const Opts& o, const std::opti
     so.rasterGeometry = ext != "pdf" && ext != "svg";
     so.frame = frame;
     so.scaleName = "--scale";
+    so.labels = !o.noLabels;
+    so.patterns = !o.noPatterns;
     if (!o.date.empty() && !print::isCalendarDate(o.date))
         return makeError(ErrorCode::InvalidArgument, "--date \"" + o.date + "\" is not YYYY-MM-DD");
     return so;
@@ -160,8 +169,10 @@ void addSection(CLI::App& app, int& exitCode) {
         double scale = NAN, dpi = 150.0;
         ColourOptions colour;
         std::vector<std::string> outs;
+        std::string holes, holeColour, holeBreaks, holeRamp, drillholes;
         double elevation = NAN, exaggeration = 1.0;
         bool areas = false;
+        bool labels = false, patterns = false, noLabels = false, noPatterns = false;
         unsigned threads = 1;
         LoadOptions load;
     };
@@ -203,7 +214,24 @@ void addSection(CLI::App& app, int& exitCode) {
                     "Sheet scale denominator S (1:S); default: the smallest round scale that fits the paper");
     cmd->add_option("--dpi", o->dpi, "Resolution of a .png/.jpg/.webp sheet, 50..600 (default 150)");
     cmd->add_option("--date", o->date, "The title block's date, YYYY-MM-DD (default: today, UTC)");
+    cmd->add_flag("--labels", o->labels,
+                  "Images (--out) and --svg: unit codes inside their polygons (on by default in --print)");
+    cmd->add_flag("--patterns", o->patterns,
+                  "Images (--out): lithology patterns over the units' colours (on by default in --svg and --print)");
+    cmd->add_flag("--no-labels", o->noLabels, "No unit codes in --print sheets");
+    cmd->add_flag("--no-patterns", o->noPatterns, "No lithology patterns in --svg and --print (and not in images)");
     cmd->add_flag("--areas", o->areas, "Print JSON with the section frame and each body's area (m^2) on stdout");
+    cmd->add_option("--holes", o->holes,
+                    "Draw the drillholes within this many metres of the section (default 50; 0: none), as HTTP "
+                    "holes=");
+    cmd->add_option("--holecolour", o->holeColour,
+                    "Colour hole intervals by this interval column (or TABLE.COLUMN), as HTTP holecolour=");
+    cmd->add_option("--holebreaks", o->holeBreaks, "Class breaks of a number --holecolour column, comma-separated");
+    cmd->add_option("--holeramp", o->holeRamp,
+                    "Colour ramp of --holecolour: viridis (default), magma, greys, spectral");
+    cmd->add_option("--drillholes", o->drillholes,
+                    "Drillhole database: a sidecar JSON or a folder of CSV tables (default: the "
+                    "<stem>.drillholes.json sidecar beside the model); docs/drillholes.md");
     cmd->add_option("--threads", o->threads, "Threads for the cut: 1 or 2 (default 1)");
     addColourOptions(cmd, o->colour,
                      "Colour the block model's clipping bodies by this block property (images; SVG and GeoJSON of "
@@ -269,8 +297,32 @@ void addSection(CLI::App& app, int& exitCode) {
             sheetOptions = std::move(so.value());
         }
 
+        api::Params holeParams;
+        if (!o->holes.empty()) holeParams["holes"] = o->holes;
+        if (!o->holeColour.empty()) holeParams["holecolour"] = o->holeColour;
+        if (!o->holeBreaks.empty()) holeParams["holebreaks"] = o->holeBreaks;
+        if (!o->holeRamp.empty()) holeParams["holeramp"] = o->holeRamp;
+        auto holeDrawing = api::parseHoleDrawing(holeParams);
+        if (!holeDrawing) {
+            std::string m = holeDrawing.error().message;
+            for (const char* name : {"holes", "holecolour", "holebreaks", "holeramp"})
+                if (auto at = m.find(std::string("parameter '") + name + "'"); at != std::string::npos)
+                    m.replace(at, std::strlen(name) + 12, std::string("--") + name);
+            return fail(m, 2);
+        }
+
         auto model = loadModel(o->model, o->load);
         if (!model) return fail(model.error().message, 1);
+        // The drillholes drawn over the outputs (api/holes.hpp), held as a catalog model of
+        // their own: the database, its index and the model's attribute table (unit colours).
+        api::CatalogModel holesModel;
+        holesModel.id = std::filesystem::path(o->model).filename().string();
+        if (const std::string dh = o->drillholes.empty() ? drillholeSidecarFor(o->model) : o->drillholes; !dh.empty()) {
+            auto db = loadDrillholes(dh);
+            if (!db) return fail("drillholes " + dh + ": " + db.error().message, 1);
+            holesModel.model.attributes = model->attributes;
+            api::attachDrillholes(holesModel, std::move(db.value()));
+        }
         if (model->validation.hasErrors())
             std::fprintf(stderr, "geoslice section: warning: %s has validation errors; contours may stay open\n",
                          o->model.c_str());
@@ -371,6 +423,47 @@ void addSection(CLI::App& app, int& exitCode) {
                 source.svgOverBodies = blockPiecesSvg(*model->blocks, *classes, pieces, rect, width, height);
             }
         }
+        if ((o->labels && !o->noLabels) || (o->patterns && !o->noPatterns))
+            print::decorateSectionImage(idx, polyline ? lineSection->bodies : section->bodies, rect, width, height,
+                                        rgba.data(), ids.data(),
+                                        {o->labels && !o->noLabels, o->patterns && !o->noPatterns},
+                                        polyline ? &lineSection->traces : &section->traces);
+        api::ViewHoles holes;
+        api::PixelMapping mapping;
+        mapping.geometry = polyline            ? api::Geometry::Line
+                           : !o->plane.empty() ? api::Geometry::Plane
+                                               : api::Geometry::Elevation;
+        mapping.rect = rect;
+        mapping.width = width;
+        mapping.height = height;
+        if (polyline) {
+            mapping.line = lineSection->line;
+        } else {
+            mapping.planar.section = section->frame;
+            mapping.planar.rect = rect;
+            mapping.planar.width = width;
+            mapping.planar.height = height;
+        }
+        {
+            api::SectionDef def;
+            def.holes = holeDrawing.value();
+            auto vh = api::viewHoles(holesModel, def, mapping);
+            if (!vh) {
+                std::string m = vh.error().message;
+                if (auto at = m.find("parameter 'holecolour'"); at != std::string::npos)
+                    m.replace(at, 22, "--holecolour");
+                return fail(m, 2);
+            }
+            holes = std::move(vh.value());
+        }
+        if (!holes.empty()) {
+            api::ViewImage view;
+            view.width = width;
+            view.height = height;
+            view.rgba = std::move(rgba);
+            api::drawHoles(holesModel, holes, mapping, view);
+            rgba = std::move(view.rgba);
+        }
         for (const auto& out : o->outs) {
             Status s = endsWith(out, ".ppm")   ? writePpm(out, rgba, width, height)
                        : endsWith(out, ".pgm") ? writePgm16(out, ids, width, height)
@@ -383,11 +476,20 @@ void addSection(CLI::App& app, int& exitCode) {
                 for (auto& f : blockPiecesGeoJson(*model->blocks, *classes, pieces,
                                                   o->geojsonFrame == "world" ? &source.toWorld : nullptr))
                     g["features"].push_back(std::move(f));
+            for (auto& f : api::holesGeoJson(holesModel, holes, o->geojsonFrame == "world" ? &source.toWorld : nullptr))
+                g["features"].push_back(std::move(f));
+            if (auto legend = api::holeLegendJson(holes.style); !legend.is_null()) g["holeLegend"] = std::move(legend);
             if (Status s = writeText(o->geojson, jsonText(g) + "\n"); !s) return fail(s.error().message, 1);
         }
         if (!o->svg.empty()) {
-            auto svg = toSvg(idx, source, rect, width, height, ro);
+            SvgOverlays overlays;
+            overlays.labels = o->labels && !o->noLabels;
+            overlays.patterns = !o->noPatterns;
+            overlays.textWidth = print::labelTextWidth;
+            auto svg = toSvg(idx, source, rect, width, height, ro, overlays);
             if (!svg) return fail(svg.error().message, 1);
+            if (const auto end = svg.value().rfind("</svg>"); end != std::string::npos)
+                svg.value().insert(end, api::holesSvg(holesModel, holes, mapping));
             if (Status s = writeText(o->svg, svg.value()); !s) return fail(s.error().message, 1);
         }
         if (sheetOptions) {
@@ -407,6 +509,10 @@ void addSection(CLI::App& app, int& exitCode) {
                 sheetOptions->blocks =
                     print::SheetBlocks{model->blocks.get(), *classes, blockClipRecords(model.value(), *model->blocks)};
             }
+            if (!holes.empty())
+                sheetOptions->overlay = [&](const print::MapFrame& frame, print::Sheet& sheet) {
+                    api::addHolesToSheet(holesModel, holes, frame, sheet);
+                };
             auto sheet = polyline ? print::sectionSheet(idx, *lineSection, *sheetOptions, info)
                                   : print::sectionSheet(idx, *section, *sheetOptions, info);
             if (!sheet) return fail(sheet.error().message, sheet.error().code == ErrorCode::OutOfRange ? 2 : 1);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "print/pattern_cairo.hpp"
 #include "print/text_metrics.hpp"
 #include "view/view_limits.hpp"
 
@@ -30,10 +31,13 @@ void drawPath(cairo_t* cr, const PathItem& p) {
     if (p.fill) {
         setColour(cr, *p.fill);
         cairo_set_fill_rule(cr, CAIRO_FILL_RULE_EVEN_ODD);
-        if (p.stroke)
-            cairo_fill_preserve(cr);
-        else
-            cairo_fill(cr);
+        cairo_fill_preserve(cr);
+    }
+    if (cairo_pattern_t* pattern = lithologyPattern(p.pattern, 1.0)) {
+        cairo_set_source(cr, pattern);
+        cairo_set_fill_rule(cr, CAIRO_FILL_RULE_EVEN_ODD);
+        cairo_fill_preserve(cr);
+        cairo_pattern_destroy(pattern);
     }
     if (p.stroke) {
         setColour(cr, *p.stroke);

@@ -18,7 +18,8 @@ LegendEntry entryOf(const SectionIndex& index, std::uint32_t part, bool line) {
     if (index.model) {
         if (const AttributeRecord* r = index.model->attributes.find(p.record)) {
             if (!r->name.empty()) e.name = r->name;
-            e.lithology = r->lithology;
+            e.lithology = lithologyText(*r);
+            if (!line) e.pattern = recordLithology(r);
             e.age = r->age;
         }
     }
@@ -79,6 +80,7 @@ double drawLegend(Sheet& sheet, const PageRect& area, const std::vector<LegendEn
             swatch.subpaths = {
                 {{area.x, y}, {area.x + kSwatchW, y}, {area.x + kSwatchW, y + kSwatchH}, {area.x, y + kSwatchH}}};
             swatch.fill = e.colour;
+            swatch.pattern = e.pattern;
             swatch.stroke = Rgba8{40, 40, 40, 255};
             swatch.strokeMm = 0.15;
         }

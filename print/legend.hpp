@@ -20,10 +20,11 @@ namespace geoslice::print {
 struct LegendEntry {
     RecordId record = kNoRecord;
     Rgba8 colour;
-    std::string name;       // the record's name, else the part's
-    std::string lithology;  // may be empty
-    std::string age;        // may be empty
-    bool line = false;      // a surface's trace (drawn as a line swatch), not a body
+    std::string name;                     // the record's name, else the part's
+    std::string lithology;                // may be empty
+    std::string age;                      // may be empty
+    bool line = false;                    // a surface's trace (drawn as a line swatch), not a body
+    Lithology pattern = Lithology::None;  // drawn over the swatch's colour (section/fill/patterns.hpp)
 };
 
 // Entries for the parts `source` shows; one per record (parts sharing a record share an entry).

@@ -10,11 +10,13 @@
 #include "print/legend.hpp"
 #include "print/map_scale.hpp"
 #include "print/north_arrow.hpp"
+#include "print/pattern_cairo.hpp"
 #include "print/round_numbers.hpp"
 #include "print/scale_bar.hpp"
 #include "print/section_ends.hpp"
 #include "print/text_metrics.hpp"
 #include "print/title_block.hpp"
+#include "section/fill/labels.hpp"
 #include "section/fill/vector_export.hpp"
 #include "view/exaggeration.hpp"
 
@@ -109,8 +111,12 @@ PathItem rect(const PageRect& r, std::optional<Rgba8> stroke, double widthMm) {
 }
 
 // The section's polygons and traces as page paths clipped to the map box.
+Lithology lithologyOfRecord(const SectionIndex& index, RecordId r) {
+    return index.model ? recordLithology(index.model->attributes.find(r)) : Lithology::None;
+}
+
 void vectorGeometry(Sheet& sheet, const SectionIndex& index, const VectorSource& src, const MapFrame& f,
-                    const std::vector<BlockPiece>* blockPieces, const SheetBlocks* blocks) {
+                    const std::vector<BlockPiece>* blockPieces, const SheetBlocks* blocks, bool patterns) {
     std::vector<const BodySection*> order;
     for (const BodySection& b : *src.bodies) order.push_back(&b);
     std::stable_sort(order.begin(), order.end(), [&](const BodySection* a, const BodySection* b) {
@@ -134,6 +140,7 @@ void vectorGeometry(Sheet& sheet, const SectionIndex& index, const VectorSource&
         p.strokeMm = 0.12;
         p.clip = f.box;
         p.title = part.part ? part.part->name : "";
+        if (patterns) p.pattern = lithologyOfRecord(index, b->record);
         sheet.add(std::move(p));
     }
     if (blockPieces && blocks) {
@@ -223,6 +230,52 @@ Status rasterGeometry(Sheet& sheet, const Shape& shape, const MapFrame& f, const
     return {};
 }
 
+// The patterns of a raster sheet: pattern-only paths of the bodies' polygons over the image.
+void rasterPatterns(Sheet& sheet, const SectionIndex& index, const VectorSource& src, const MapFrame& f) {
+    for (const BodySection& b : *src.bodies) {
+        const Lithology l = lithologyOfRecord(index, b.record);
+        if (l == Lithology::None) continue;
+        PathItem p;
+        for (const SectionPolygon& poly : b.polygons) {
+            auto ring = [&](const Ring& r) {
+                std::vector<PagePoint> sub;
+                for (const glm::dvec2& q : r) sub.push_back(f.toPage(q));
+                p.subpaths.push_back(std::move(sub));
+            };
+            ring(poly.outer);
+            for (const Ring& h : poly.holes) ring(h);
+        }
+        p.pattern = l;
+        p.clip = f.box;
+        sheet.add(std::move(p));
+    }
+}
+
+// Unit codes inside the polygons (section/fill/labels.hpp), each on a box of its unit's
+// colour that hides the pattern under the text.
+void unitLabels(Sheet& sheet, const SectionIndex& index, const VectorSource& src, const MapFrame& f, double sizePt) {
+    LabelStyle style;
+    style.size = sizePt * kMmPerPoint;
+    style.textWidth = [](const std::string& text, double sizeMm) { return textWidthMm(text, sizeMm / kMmPerPoint); };
+    const LabelBox view{f.box.x, f.box.y, f.box.right(), f.box.bottom()};
+    auto toPage = [&](const glm::dvec2& q) {
+        const PagePoint p = f.toPage(q);
+        return glm::dvec2(p.x, p.y);
+    };
+    for (const PlacedLabel& l : sectionLabels(index, *src.bodies, toPage, view, style, src.traces)) {
+        const Lithology lith = lithologyOfRecord(index, l.record);
+        const Rgba8 c = index.parts[l.part].colour;
+        PathItem box;
+        box.subpaths = {{{l.box.x0, l.box.y0}, {l.box.x1, l.box.y0}, {l.box.x1, l.box.y1}, {l.box.x0, l.box.y1}}};
+        box.fill = lith == Lithology::Coal ? patternTile(Lithology::Coal).ink : Rgba8{c.r, c.g, c.b, 255};
+        sheet.add(std::move(box));
+        TextItem t{{l.at.x, labelBaseline(l.at.y, style.size)}, l.text, sizePt};
+        t.anchor = TextAnchor::Middle;
+        t.colour = labelInk(c, lith);
+        sheet.add(std::move(t));
+    }
+}
+
 void drawEnds(Sheet& sheet, const Shape& shape, const MapFrame& f) {
     for (const Shape::End& e : shape.ends) {
         const double x = f.toPage({e.u, f.shown.v1}).x;
@@ -243,7 +296,9 @@ void drawEnds(Sheet& sheet, const Shape& shape, const MapFrame& f) {
 }
 
 Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOptions& o, const SheetInfo& info) {
-    const std::vector<LegendEntry> legend = sectionLegend(index, shape.source);
+    std::vector<LegendEntry> legend = sectionLegend(index, shape.source);
+    if (!o.patterns)
+        for (LegendEntry& e : legend) e.pattern = Lithology::None;
     std::optional<LegendRamp> ramp;
     if (o.blocks) ramp = legendRamp(*o.blocks->blocks, o.blocks->classes);
     const SheetLayout l = layoutFor(o.paper, legendRows(legend, ramp ? &*ramp : nullptr));
@@ -284,10 +339,14 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
             if (!p) return p.error();
             pieces = std::move(p.value());
         }
-        vectorGeometry(sheet, index, shape.source, f, pieces ? &*pieces : nullptr, o.blocks ? &*o.blocks : nullptr);
+        vectorGeometry(sheet, index, shape.source, f, pieces ? &*pieces : nullptr, o.blocks ? &*o.blocks : nullptr,
+                       o.patterns);
     }
+    if (o.rasterGeometry && o.patterns) rasterPatterns(sheet, index, shape.source, f);
+    if (o.overlay) o.overlay(f, sheet);
     drawAxes(sheet, f, shape.axes);
     drawEnds(sheet, shape, f);
+    if (o.labels) unitLabels(sheet, index, shape.source, f, o.labelPt);  // over the grid lines
 
     sheet.add(rect(l.neat, kInk, 0.5));
     PathItem rules;

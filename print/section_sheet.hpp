@@ -13,6 +13,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -51,6 +52,16 @@ struct SheetOptions {
     std::string scaleName = "scale";            // how errors name the scale (parameter or flag)
     const std::atomic<bool>* cancel = nullptr;  // read by the raster fill
     std::optional<SheetBlocks> blocks;          // colour by a block property
+    // Lithology patterns over the units' colours (section/fill/patterns.hpp; units whose
+    // lithology is known) and in their legend swatches; unit codes inside the polygons
+    // (section/fill/labels.hpp) at labelPt points.
+    bool patterns = true;
+    bool labels = true;
+    double labelPt = 7.0;
+    // Drawn over the section's geometry, before the axes and surrounds (e.g. drillholes,
+    // api/holes.hpp): items in page mm through the map frame (MapFrame::toPage of section
+    // coordinates), clipped by the caller to frame.box.
+    std::function<void(const MapFrame& frame, Sheet& sheet)> overlay;
 };
 
 // What the title block says about where the section came from (the caller knows).

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "model/attributes.hpp"
+#include "section/fill/patterns.hpp"
 
 namespace geoslice::print {
 
@@ -43,6 +44,9 @@ struct PathItem {
     double dashMm = 0.0;  // > 0: dashes and gaps of this length
     std::optional<PageRect> clip;
     std::string title;  // SVG: a <title> (e.g. the unit's name); ignored by cairo
+    // A lithology pattern (section/fill/patterns.hpp) filled over `fill` (even-odd), tiles
+    // aligned with the page's origin: a PDF tiling pattern, an SVG <pattern>.
+    Lithology pattern = Lithology::None;
 };
 
 enum class TextAnchor { Start, Middle, End };

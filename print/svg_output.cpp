@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <map>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -47,6 +48,7 @@ Result<std::string> renderSvg(const Sheet& sheet) {
     page.append_attribute("fill") = "#ffffff";
 
     std::map<std::tuple<double, double, double, double>, std::string> clips;
+    std::set<std::string> patterns;
     auto clipId = [&](const PageRect& r) {
         const auto key = std::make_tuple(r.x, r.y, r.width, r.height);
         auto it = clips.find(key);
@@ -93,6 +95,21 @@ Result<std::string> renderSvg(const Sheet& sheet) {
             }
             if (p->clip) path.append_attribute("clip-path") = ("url(#" + clipId(*p->clip) + ")").c_str();
             if (!p->title.empty()) path.append_child("title").text() = p->title.c_str();
+            if (p->pattern != Lithology::None) {  // the pattern over the fill
+                const std::string name(lithologyName(p->pattern));
+                if (patterns.insert(name).second) {
+                    pugi::xml_document tile;
+                    tile.load_string(svgPattern(p->pattern, 1.0).c_str());
+                    defs.append_copy(tile.first_child());
+                }
+                pugi::xml_node over = svg.append_child("path");
+                over.append_attribute("d") = d.c_str();
+                over.append_attribute("class") = "lith";
+                over.append_attribute("data-lithology") = name.c_str();
+                over.append_attribute("fill") = ("url(#lith-" + name + ")").c_str();
+                over.append_attribute("fill-rule") = "evenodd";
+                if (p->clip) over.append_attribute("clip-path") = ("url(#" + clipId(*p->clip) + ")").c_str();
+            }
         }
         if (const auto* t = std::get_if<TextItem>(&item)) {
             if (t->text.empty()) continue;

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Runs one libFuzzer target (clang, ASan+UBSan) on a copy of its seed corpus.
-# Usage: bash scripts/fuzz.sh tsurf|gocad|obj|geo3dml|gltf|vtu|package|request|request_whole|http [seconds=60]
+# Usage: bash scripts/fuzz.sh tsurf|gocad|obj|geo3dml|gltf|vtu|stl|ply|dxf|surpac|package|request|request_whole|http [seconds=60]
 # Crashes are written to build-fuzz/crash-*; replay one with: build-fuzz/tests/fuzz/fuzz_<name> FILE
 set -euo pipefail
 cd "$(dirname "$0")/.."
-name=${1:?usage: scripts/fuzz.sh tsurf|gocad|obj|geo3dml|gltf|vtu|package|request|request_whole|http [seconds]}
+name=${1:?usage: scripts/fuzz.sh tsurf|gocad|obj|geo3dml|gltf|vtu|stl|ply|dxf|surpac|package|request|request_whole|http [seconds]}
 seconds=${2:-60}
 [ -d "tests/fuzz/corpus/$name" ] || { echo "no corpus tests/fuzz/corpus/$name" >&2; exit 2; }
 bash scripts/install-deps.sh

@@ -45,6 +45,8 @@ dev=(
   # bench/table1: its peers and plots (benchmark-only, never linked into geoslice):
   # VTK 9.1's cutters through Python, CGAL's Polygon_mesh_slicer (headers), matplotlib
   python3-vtk9 libcgal-dev python3-matplotlib
+  # generators of the STL/PLY/DXF test files (tests/data/wire/make_*.py; the files are committed)
+  python3-ezdxf python3-meshio
   # deploy tests (tests/deploy, deploy/test-image.sh): containers, load balancer, load
   podman buildah crun fuse-overlayfs debootstrap nginx-light wrk python3-yaml
   # web client tests (tests/web): the browser driven by playwright-core, CJK glyphs

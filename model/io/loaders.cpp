@@ -103,6 +103,43 @@ Status applyCrsDeclarations(Model& model, const std::filesystem::path& p, std::s
     return {};
 }
 
+// Content sniffing for files whose extension says nothing.
+bool looksLikeAsciiStl(std::string_view data) {
+    const std::string_view head = data.substr(0, 512);
+    return head.substr(0, 6) == "solid " && head.find("facet") != std::string_view::npos;
+}
+
+bool looksLikeDxf(std::string_view data) {
+    std::size_t i = 0;
+    while (i < data.size() && i < 16 && (data[i] == ' ' || data[i] == '\t')) ++i;
+    std::string_view head = data.substr(i, 64);
+    return head.substr(0, 2) == "0\n" || head.substr(0, 3) == "0\r\n" ? head.find("SECTION") != std::string_view::npos
+                                                                      : head.substr(0, 3) == "999";
+}
+
+// The string file of a Surpac DTM: the file its header record names (its first field, a
+// bare file name: only the name is used, in the DTM's folder), else <stem>.str or <stem>.STR.
+Result<std::string> surpacStringFileFor(const std::string& dtmPath, std::string_view dtm) {
+    const std::filesystem::path p(dtmPath);
+    std::vector<std::filesystem::path> candidates;
+    const std::string_view firstLine = dtm.substr(0, std::min(dtm.find('\n'), std::size_t(1024)));
+    std::string_view named = firstLine.substr(0, firstLine.find(','));
+    while (!named.empty() && (named.back() == ' ' || named.back() == '\r')) named.remove_suffix(1);
+    while (!named.empty() && named.front() == ' ') named.remove_prefix(1);
+    if (!named.empty() && named.find('\0') == std::string_view::npos) {
+        const std::filesystem::path name = std::filesystem::path(std::string(named)).filename();
+        if (!name.empty() && name != "." && name != "..") candidates.push_back(p.parent_path() / name);
+    }
+    candidates.push_back(p.parent_path() / (p.stem().string() + ".str"));
+    candidates.push_back(p.parent_path() / (p.stem().string() + ".STR"));
+    for (const auto& c : candidates) {
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(c, ec)) return c.string();
+    }
+    return makeError(ErrorCode::NotFound, dtmPath + ": the DTM's string file (" + candidates.front().string() +
+                                              ") does not exist; a .dtm numbers the points of its .str");
+}
+
 }  // namespace
 
 namespace {
@@ -216,8 +253,18 @@ Status probeModelFile(const std::string& path, std::uint64_t maxBytes) {
         if (h.compare(0, 4, "glTF") != 0 && (i == h.size() || h[i] != '{'))
             return makeError(ErrorCode::ParseError,
                              path + ": not glTF (its first bytes are neither the GLB magic 'glTF' nor a JSON object)");
-    } else if (ext == ".obj" || ext == ".ts" || ext == ".tsurf" || ext == ".ml" || ext == ".so" || ext == ".gp" ||
-               ext == ".vo" || ext == ".sg" || ext == ".pl") {
+    } else if (ext == ".dxf" && h.compare(0, 18, "AutoCAD Binary DXF") == 0) {
+        return makeError(ErrorCode::Unsupported,
+                         path + ": a binary DXF, which geoslice does not read: save it as ASCII DXF");
+    } else if (ext == ".ply" && h.compare(0, 3, "ply") != 0) {
+        return makeError(ErrorCode::ParseError, path + ": not PLY (its first line is not 'ply')");
+    } else if (ext == ".str" || ext == ".dtm") {
+        if (h.find('\0') != std::string_view::npos)
+            return makeError(ErrorCode::Unsupported, path + ": a binary Surpac file (a NUL byte at offset " +
+                                                         std::to_string(h.find('\0')) +
+                                                         "), which geoslice does not read: save it as text");
+    } else if (ext == ".obj" || ext == ".dxf" || ext == ".ts" || ext == ".tsurf" || ext == ".ml" || ext == ".so" ||
+               ext == ".gp" || ext == ".vo" || ext == ".sg" || ext == ".pl") {
         if (const std::size_t nul = h.find('\0'); nul != std::string_view::npos)
             return makeError(ErrorCode::ParseError, path + ": a NUL byte at offset " + std::to_string(nul) +
                                                         " of a text format (binary data, not a model)");
@@ -290,11 +337,25 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
         model = parseObj(data, path);
     } else if (ext == ".xml" || ext == ".geo3dml" || ext == ".gml") {
         model = parseGeo3dml(data, path, baseDir);
+    } else if (ext == ".ply" || starts("ply\n") || starts("ply\r\n")) {
+        model = parsePly(data, path);
+    } else if (ext == ".dxf" || starts("AutoCAD Binary DXF") || looksLikeDxf(data)) {
+        model = parseDxf(data, path);
+    } else if (ext == ".str") {
+        model = parseSurpacString(data, path);
+    } else if (ext == ".dtm") {
+        auto strPath = surpacStringFileFor(path, data);
+        if (!strPath) return strPath.error();
+        auto str = readFile(strPath.value());
+        if (!str) return str.error();
+        model = parseSurpacDtm(data, path, str.value(), strPath.value());
+    } else if (ext == ".stl" || isBinaryStl(data) || looksLikeAsciiStl(data)) {
+        model = parseStl(data, path);
     } else {
         return makeError(ErrorCode::Unsupported,
                          path +
-                             ": unknown model format (expected .glb, .gltf, .obj, .vtu, GOCAD .ts .ml .so .vo .sg .pl "
-                             ".gp, or Geo3DML .xml)");
+                             ": unknown model format (expected .glb, .gltf, .obj, .vtu, .stl, .ply, .dxf, GOCAD .ts "
+                             ".ml .so .vo .sg .pl .gp, Geo3DML .xml, or Surpac .str .dtm)");
     }
     if (!model) return model;
 

@@ -34,13 +34,13 @@ struct LoadOptions {
     BlockOptions blocks;
 };
 
-// Dispatches on extension (.glb .gltf .obj .xml .geo3dml .vtu; GOCAD .ts .tsurf .ml .so .vo
-// .sg .pl .gp) and, for unknown
-// extensions, on content. A sidecar "<stem>.attributes.json" or ".csv" next to the file
-// is merged into the attribute table when present. The CRS comes from the file, the JSON
-// sidecar's "crs", a "<stem>.crs" file and options.crs (`--crs`), in the order and with
-// the rules of model/crs/model_crs.hpp; a CRS a model cannot use (feet) is an error. A block
-// model (options.blocks or a <stem>.blocks.json|csv sidecar) is attached last.
+// Dispatches on extension (.glb .gltf .obj .xml .geo3dml .vtu .stl .ply .dxf; GOCAD .ts .tsurf
+// .ml .so .vo .sg .pl .gp; Surpac .str .dtm) and, for unknown extensions, on content. A .dtm
+// is read with its string file: the one its header names, else <stem>.str, in its folder. A sidecar
+// "<stem>.attributes.json" or ".csv" next to the file is merged into the attribute table when present. The CRS comes
+// from the file, the JSON sidecar's "crs", a "<stem>.crs" file and options.crs (`--crs`), in the order and with the
+// rules of model/crs/model_crs.hpp; a CRS a model cannot use (feet) is an error. A block model (options.blocks or a
+// <stem>.blocks.json|csv sidecar) is attached last.
 Result<Model> loadModel(const std::string& path, const LoadOptions& options = {});
 
 // From bytes in memory; `source` names the input in error messages (fuzzers use these).
@@ -58,6 +58,22 @@ Result<Model> parseGocad(std::string_view text, const std::string& source, const
 Result<Model> parseGeo3dml(std::string_view text, const std::string& source, const std::string& baseDir = "");
 // VTK XML UnstructuredGrid: one closed body per formation (see model/io/vtu/vtu_loader.cpp).
 Result<Model> parseVtu(std::string_view bytes, const std::string& source, const VtuOptions& options = {});
+
+// STL, ASCII or binary (told apart by the binary size rule 84 + 50 n; model/io/stl/stl_loader.cpp):
+// ASCII solids are parts named after the solid, a binary file one part named after the stem.
+Result<Model> parseStl(std::string_view bytes, const std::string& source);
+// Whether `bytes` has the exact size of a binary STL with the triangle count at offset 80.
+bool isBinaryStl(std::string_view bytes);
+// PLY, ASCII or binary (model/io/ply/ply_loader.cpp): a face property such as `region` splits parts.
+Result<Model> parsePly(std::string_view bytes, const std::string& source);
+// ASCII DXF (model/io/dxf/dxf_loader.cpp): 3DFACE, polyface/polygon-mesh POLYLINE and MESH
+// faces as one part per layer; LINE, LWPOLYLINE and other POLYLINEs as lines.
+Result<Model> parseDxf(std::string_view text, const std::string& source);
+// Surpac string file (model/io/surpac/surpac_loader.cpp): its strings as lines.
+Result<Model> parseSurpacString(std::string_view text, const std::string& source);
+// Surpac DTM with the string file whose points its triangles number: one part per trisolation.
+Result<Model> parseSurpacDtm(std::string_view dtm, const std::string& dtmSource, std::string_view str,
+                             const std::string& strSource);
 
 // Reads a whole regular file; refuses files over maxBytes with an OutOfRange error. Opened
 // without blocking and checked with fstat first: a FIFO, socket or device is an error naming
@@ -78,7 +94,8 @@ constexpr std::size_t kModelProbeBytes = 4096;
 // kModelProbeBytes): a readable regular file (opened without blocking: a FIFO is never read),
 // not empty, at most maxBytes, and its first bytes plausible for its extension: not all zero
 // (a sparse or preallocated file), GLB magic or a JSON object for .glb/.gltf, no NUL byte in
-// a text format (.obj, GOCAD). Errors name the file and the reason.
+// a text format (.obj, .dxf, GOCAD), 'ply' first for .ply, no binary DXF or binary Surpac
+// .str/.dtm (refused as Unsupported). Errors name the file and the reason.
 Status probeModelFile(const std::string& path, std::uint64_t maxBytes = kDefaultMaxModelBytes);
 
 // Shared by all loaders, after parsing:

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <string>
+
+#include "section/fill/labels.hpp"
+#include "section/fill/patterns.hpp"
 
 namespace geoslice {
 namespace {
@@ -131,7 +135,7 @@ json toGeoJson(const SectionIndex& index, const VectorSource& src, VectorFrame f
 }
 
 Result<std::string> toSvg(const SectionIndex& index, const VectorSource& src, const FrameRect& rect, int width,
-                          int height, const RasterOptions& options) {
+                          int height, const RasterOptions& options, const SvgOverlays& overlays) {
     if (Status s = checkFrame(rect, width, height); !s) return s.error();
     const double sx = width / (rect.u1 - rect.u0), sy = height / (rect.v1 - rect.v0);
     char buf[256];
@@ -159,6 +163,21 @@ Result<std::string> toSvg(const SectionIndex& index, const VectorSource& src, co
     std::stable_sort(order.begin(), order.end(), [&](const BodySection* a, const BodySection* b) {
         return index.parts[a->part].depth < index.parts[b->part].depth;
     });
+    const Model* model = index.model;
+    auto lithologyOf = [&](RecordId r) {
+        return overlays.patterns && model ? recordLithology(model->attributes.find(r)) : Lithology::None;
+    };
+    {  // <pattern> definitions of the lithologies shown
+        std::map<int, std::string> defs;
+        for (const BodySection* b : order)
+            if (const Lithology l = lithologyOf(b->record); l != Lithology::None)
+                defs.emplace(int(l), svgPattern(l, 96.0 / 25.4));
+        if (!defs.empty()) {
+            out += "<defs>\n";
+            for (const auto& [k, def] : defs) out += def + "\n";
+            out += "</defs>\n";
+        }
+    }
     for (const BodySection* b : order) {
         std::string d;
         auto ring = [&](const Ring& r) {
@@ -180,8 +199,43 @@ Result<std::string> toSvg(const SectionIndex& index, const VectorSource& src, co
         out += d + "\"><title>" + xmlEscape(part.part->name);
         std::snprintf(buf, sizeof buf, " (record %u): %.3f m2</title></path>\n", b->record, b->area);
         out += buf;
+        if (const Lithology l = lithologyOf(b->record); l != Lithology::None) {
+            const std::string name(lithologyName(l));
+            std::snprintf(buf, sizeof buf, "<path class=\"lith\" data-lithology=\"%s\" data-record=\"%u\" ",
+                          name.c_str(), b->record);
+            out += buf;
+            out += "fill=\"url(#lith-" + name + ")\" fill-rule=\"evenodd\" d=\"" + d + "\"/>\n";
+        }
     }
     out += src.svgOverBodies;
+    if (overlays.labels) {
+        LabelStyle style;
+        style.size = overlays.labelPx;
+        style.textWidth = overlays.textWidth;
+        auto toPx = [&](const glm::dvec2& p) { return glm::dvec2((p.x - rect.u0) * sx, (rect.v1 - p.y) * sy); };
+        const LabelBox view{0.0, 0.0, double(width), double(height)};
+        for (const PlacedLabel& l :
+             sectionLabels(index, *src.bodies, toPx, view, style, options.traces ? src.traces : nullptr)) {
+            const SectionPart& part = index.parts[l.part];
+            const Rgba8 ink = labelInk(part.colour, lithologyOf(l.record));
+            std::snprintf(buf, sizeof buf,
+                          "<g class=\"unit-label\" data-record=\"%u\"><rect x=\"%.3f\" y=\"%.3f\" width=\"%.3f\" "
+                          "height=\"%.3f\" rx=\"%.2f\" fill=\"%s\"/>",
+                          l.record, l.box.x0, l.box.y0, l.box.x1 - l.box.x0, l.box.y1 - l.box.y0, 0.2 * style.size,
+                          hexColour(lithologyOf(l.record) == Lithology::Coal
+                                        ? patternTile(Lithology::Coal).ink
+                                        : Rgba8{part.colour.r, part.colour.g, part.colour.b, 255})
+                              .c_str());
+            out += buf;
+            std::snprintf(buf, sizeof buf,
+                          "<text x=\"%.3f\" y=\"%.3f\" font-family=\"DejaVu Sans, WenQuanYi Micro Hei, sans-serif\" "
+                          "font-size=\"%.2f\" "
+                          "text-anchor=\"middle\" fill=\"%s\">",
+                          l.at.x, labelBaseline(l.at.y, style.size), style.size, hexColour(ink).c_str());
+            out += buf;
+            out += xmlEscape(l.text) + "</text></g>\n";
+        }
+    }
     if (options.traces) {
         for (const SectionTrace& t : *src.traces) {
             const SectionPart& part = index.parts[t.part];

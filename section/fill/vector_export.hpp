@@ -57,9 +57,21 @@ VectorSource vectorSource(const PolylineSection& section);
 // GeoJSON FeatureCollection (see above). `index` supplies part names, records and the model.
 nlohmann::ordered_json toGeoJson(const SectionIndex& index, const VectorSource& source, VectorFrame frame);
 
+// What the SVG draws over the bodies' fills (section/fill/patterns.hpp, section/fill/labels.hpp):
+// lithology patterns as <pattern> elements filling a second <path> per body whose record's
+// lithology is known (class "lith"), and unit codes as <text> elements (class "unit-label",
+// data-record, on a box of the unit's colour that hides the pattern under the text).
+struct SvgOverlays {
+    bool patterns = true;
+    bool labels = false;    // off: the plain SVG stays an overlay of the image
+    double labelPx = 12.0;  // font size of the labels, pixels
+    // Advance width of a label at a size (pixels); empty: estimateTextWidth (errs wide).
+    std::function<double(const std::string& text, double size)> textWidth;
+};
+
 // SVG document of width x height pixels showing `rect` (2D frame of the source).
 // Errors: those of checkFrame.
 Result<std::string> toSvg(const SectionIndex& index, const VectorSource& source, const FrameRect& rect, int width,
-                          int height, const RasterOptions& options = {});
+                          int height, const RasterOptions& options = {}, const SvgOverlays& overlays = {});
 
 }  // namespace geoslice

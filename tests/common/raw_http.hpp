@@ -1,6 +1,7 @@
 // Raw bytes to a server on loopback and what comes back, for requests no HTTP client
 // library would send (invalid UTF-8 in the request line, smuggling probes, folded headers).
-// Every read has a deadline; nothing here retries.
+// Every read has a deadline; nothing here retries a request (an interrupted system call
+// is resumed).
 #pragma once
 
 #include <arpa/inet.h>
@@ -10,6 +11,7 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <string>
@@ -43,6 +45,7 @@ inline RawExchange rawExchange(int port, std::string_view bytes, int timeoutMs =
     std::size_t sent = 0;
     while (sent < bytes.size()) {
         const ssize_t n = send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+        if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;
         sent += std::size_t(n);
     }
@@ -53,9 +56,14 @@ inline RawExchange rawExchange(int port, std::string_view bytes, int timeoutMs =
         const auto left =
             std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now()).count();
         if (left <= 0) break;
+        // A signal (libFuzzer's timer every -timeout/2 s, a profiler's) interrupts poll and
+        // recv with EINTR: wait again, never take it for a timeout or a close.
         pollfd p{fd, POLLIN, 0};
-        if (poll(&p, 1, int(left)) <= 0) break;
+        const int ready = poll(&p, 1, int(left));
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready <= 0) break;
         const ssize_t n = recv(fd, buf, sizeof buf, 0);
+        if (n < 0 && errno == EINTR) continue;
         if (n <= 0) {
             out.closed = true;
             break;

@@ -18,6 +18,8 @@
 #include <string>
 #include <string_view>
 
+#include <unistd.h>
+
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
@@ -103,19 +105,47 @@ void checkAnswers(std::string_view reply) {
     }
 }
 
+// On a stall, every thread's stack (gdb attached to this process) before the trap, so the
+// report says where the server waits, not only that it did.
+void dumpThreads() {
+    const std::string cmd = "gdb -p " + std::to_string(getpid()) +
+                            " -batch -nx -ex 'set pagination off' -ex 'thread apply all bt 25' 2>/dev/null 1>&2";
+    if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "fuzz_server: gdb could not print the threads\n");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     SectionServer& s = server();
     std::string reply;
     if (!exchange(s.port(), std::string_view(reinterpret_cast<const char*>(data), size), reply)) {
-        std::fprintf(stderr, "fuzz_server: no end to the answer within 60 s\n");
+        std::fprintf(stderr, "fuzz_server: no end to the answer within 60 s; %zu bytes of it: %.300s\n", reply.size(),
+                     reply.c_str());
+        dumpThreads();
         __builtin_trap();
     }
     checkAnswers(reply);
     std::string health;
-    if (!exchange(s.port(), "", health) || health.rfind("HTTP/1.1 200", 0) != 0) {
-        std::fprintf(stderr, "fuzz_server: /healthz failed after the input: %.200s\n", health.c_str());
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool closed = exchange(s.port(), "", health);
+    if (!closed || health.rfind("HTTP/1.1 200", 0) != 0) {
+        const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0);
+        std::fprintf(stderr, "fuzz_server: /healthz failed after the input (%s after %lld ms): %.200s\n",
+                     closed ? "closed" : "not closed", static_cast<long long>(ms.count()), health.c_str());
+        // Transient or lasting? Ask again, and show the transport's counters.
+        for (int i = 0; i < 3; ++i) {
+            std::string again;
+            const bool c = exchange(s.port(), "", again);
+            std::fprintf(stderr, "fuzz_server: retry %d: %s: %.40s\n", i, c ? "closed" : "not closed", again.c_str());
+        }
+        auto m = geoslice::test::rawExchange(s.port(), "GET /metrics HTTP/1.1\r\nHost: f\r\nConnection: close\r\n\r\n",
+                                             60000);
+        for (std::size_t at = 0; (at = m.reply.find("\ngeoslice_connection", at)) != std::string::npos;) {
+            const std::size_t end = m.reply.find('\n', ++at);
+            std::fprintf(stderr, "  %s\n", m.reply.substr(at, end - at).c_str());
+            at = end;
+        }
+        dumpThreads();
         __builtin_trap();
     }
     return 0;

@@ -73,8 +73,9 @@ TEST_F(Sheets, PdfSvgAndDecoratedImages) {
     EXPECT_GT(texts, 30u);
     EXPECT_TRUE(title);
 
-    // The plain SVG (no layout) is unchanged: the section alone in pixel space.
-    auto plain = get(kBase + "svg?" + kPlane + "&size=256x128");
+    // The plain SVG (no layout) is unchanged: the section alone in pixel space (holes=0: the
+    // demo's drillholes would add their ids as text).
+    auto plain = get(kBase + "svg?" + kPlane + "&size=256x128&holes=0");
     ASSERT_TRUE(plain);
     EXPECT_EQ(plain->status, 200);
     EXPECT_EQ(plain->body.find("<text"), std::string::npos);

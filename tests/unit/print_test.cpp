@@ -413,7 +413,10 @@ void expectGolden(const DecodedImage& actual, const std::string& name) {
 // its text extracted (pdftotext) -- text stays text.
 TEST(PrintPdf, OpensInPopplerAndMatchesItsGolden) {
     Fixture fx;
-    auto sheet = sectionSheet(*fx.index, fx.section, fx.options(), fx.info());
+    // The golden predates unit labels and lithology patterns (print_labels_test.cpp tests them).
+    SheetOptions o = fx.options();
+    o.labels = o.patterns = false;
+    auto sheet = sectionSheet(*fx.index, fx.section, o, fx.info());
     ASSERT_TRUE(sheet.ok());
     auto pdf = renderPdf(sheet.value());
     ASSERT_TRUE(pdf.ok()) << pdf.error().message;
@@ -475,6 +478,7 @@ struct BlockFixture : Fixture {
 TEST(PrintSheet, BlockColouredSheetShowsItsRamp) {
     BlockFixture fx;
     SheetOptions o = fx.options();
+    o.labels = o.patterns = false;  // the golden predates labels and patterns (print_labels_test.cpp)
     o.blocks = fx.sheetBlocks();
     const PropertyClasses& classes = o.blocks->classes;
     // Vector: one path per piece with a value, in its class colour; the ramp in the legend.
@@ -596,6 +600,7 @@ TEST(PrintRaster, DecoratedSheetAtItsResolution) {
     SheetOptions o = fx.options("A5");
     o.rasterGeometry = true;
     o.dpi = 100.0;
+    o.labels = o.patterns = false;  // nothing over the raster but the surrounds (section_labels_test.cpp)
     auto sheet = sectionSheet(*fx.index, fx.section, o, fx.info());
     ASSERT_TRUE(sheet.ok()) << sheet.error().message;
     const ImageItem* image = nullptr;
