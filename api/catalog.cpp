@@ -154,11 +154,10 @@ nlohmann::ordered_json CatalogModel::summary() const {
     const Aabb b = model.bounds();
     j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
     if (crs.isProjected()) {
-        auto lo = crs.toLonLat(b.min.x, b.min.y);
-        auto hi = crs.toLonLat(b.max.x, b.max.y);
-        if (lo && hi)
-            j["lonlatBounds"] = {{"min", {lo.value().x, lo.value().y}},
-                                 {"max", {hi.value().x, hi.value().y}},
+        // The envelope of the box's edges (model/crs/crs.hpp lonLatBoxOf), as `geoslice info`.
+        if (auto ll = lonLatBoxOf(crs, {b.min.x, b.min.y}, {b.max.x, b.max.y}))
+            j["lonlatBounds"] = {{"min", {ll->west, ll->south}},
+                                 {"max", {ll->east, ll->north}},
                                  {"axes", {"lon", "lat"}},
                                  {"crs", crs.geographicId()}};
     }

@@ -46,6 +46,11 @@ json partJson(const Model& m, const Part& p) {
               {"degenerate_triangles", r.degenerateTriangles},
               {"duplicate_triangles", r.duplicateTriangles},
               {"non_finite_vertices", r.nonFiniteVertices}};
+    if (const AttributeRecord* rec = m.attributes.find(p.record)) {
+        j["colour"] = formatColour(rec->colour);
+        j["colour_source"] = rec->colourSource.empty() ? "default" : rec->colourSource;
+        j["name_source"] = rec->nameSource.empty() ? "file" : rec->nameSource;
+    }
     if (p.kind == PartKind::Body) {
         j["volume_m3"] = r.signedVolume;
         j["flipped"] = r.flipped;
@@ -55,18 +60,13 @@ json partJson(const Model& m, const Part& p) {
     return j;
 }
 
-// Lon/lat box of the model's map footprint (corners and edge midpoints), projected CRS only.
+// Lon/lat box of the model's map footprint (model/crs/crs.hpp lonLatBoxOf, as the API's
+// lonlatBounds), projected CRS only.
 std::optional<std::pair<glm::dvec2, glm::dvec2>> lonLatBounds(const Model& m, const Aabb& b) {
     if (!m.crs.isProjected() || !b.valid()) return std::nullopt;
-    glm::dvec2 lo(1e9), hi(-1e9);
-    for (double fx : {0.0, 0.5, 1.0})
-        for (double fy : {0.0, 0.5, 1.0}) {
-            auto ll = m.crs.toLonLat(b.min.x + fx * (b.max.x - b.min.x), b.min.y + fy * (b.max.y - b.min.y));
-            if (!ll) return std::nullopt;
-            lo = glm::min(lo, ll.value());
-            hi = glm::max(hi, ll.value());
-        }
-    return std::make_pair(lo, hi);
+    auto box = lonLatBoxOf(m.crs, {b.min.x, b.min.y}, {b.max.x, b.max.y});
+    if (!box) return std::nullopt;
+    return std::make_pair(glm::dvec2(box->west, box->south), glm::dvec2(box->east, box->north));
 }
 
 json modelJson(const std::string& file, const Model& m) {
@@ -247,6 +247,9 @@ void printText(const json& j) {
                         p["triangles"].get<std::size_t>(), p["closed"].get<bool>() ? "closed" : "open");
             if (p.contains("volume_m3"))
                 std::printf("  %.4g m3  depth %d", p["volume_m3"].get<double>(), p["nesting_depth"].get<int>());
+            if (p.contains("colour"))
+                std::printf("  colour %s: %s; name: %s", p["colour"].get<std::string>().c_str(),
+                            p["colour_source"].get<std::string>().c_str(), p["name_source"].get<std::string>().c_str());
             std::printf("\n");
         }
     }

@@ -99,6 +99,8 @@ nlohmann::ordered_json AttributeRecord::toJson() const {
     if (!age.empty()) j["age"] = age;
     if (!era.empty()) j["era"] = era;
     j["colour"] = formatColour(colour);
+    j["colour_source"] = colourSource.empty() ? "default" : colourSource;
+    if (!nameSource.empty()) j["name_source"] = nameSource;
     if (density) j["density"] = *density;
     if (grade) j["grade"] = *grade;
     if (!gradeUnit.empty()) j["grade_unit"] = gradeUnit;
@@ -208,6 +210,11 @@ Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j,
                 s = str(r.era);
             else if (key == "grade_unit")
                 s = str(r.gradeUnit);
+            else if (key == "colour_source") {
+                s = str(r.colourSource);
+                if (r.colourSource == "default") r.colourSource.clear();  // nobody chose it
+            } else if (key == "name_source")
+                s = str(r.nameSource);
             else if (key == "density")
                 s = num(r.density);
             else if (key == "grade")
@@ -218,6 +225,7 @@ Result<AttributeTable> AttributeTable::fromJson(const nlohmann::ordered_json& j,
                     return makeError(ErrorCode::ParseError,
                                      where + ": \"" + key + "\" is not a colour like \"#a0b0c0\"");
                 r.colour = *c;
+                if (r.colourSource.empty()) r.colourSource = "table";
             } else {
                 appendField(r.extra, key, value);  // keys of a parsed object are unique
             }
@@ -295,6 +303,7 @@ Result<AttributeTable> AttributeTable::fromCsv(std::string_view text, const std:
                 if (!col)
                     return makeError(ErrorCode::ParseError, where + ": colour \"" + value + "\" is not like #a0b0c0");
                 r.colour = *col;
+                r.colourSource = "table";
             } else if (auto d = parseDouble(value)) {
                 appendField(r.extra, key, *d);  // header names are unique (checked above)
             } else {

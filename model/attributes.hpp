@@ -36,11 +36,17 @@ struct AttributeRecord {
     std::string age;        // e.g. "Late Triassic (T3x)"
     std::string era;        // e.g. "Mesozoic"
     Rgba8 colour;
+    // Where colour and name came from, shown by `geoslice info` and the API's records:
+    // "file (GOCAD *solid*color)", "sidecar", "table", "palette" (model/style/palette.hpp)...
+    // An empty colourSource means nobody chose the colour: the default palette fills it in.
+    std::string colourSource;
+    std::string nameSource;
     std::optional<double> density;                                    // t/m^3
     std::optional<double> grade;                                      // in gradeUnit
     std::string gradeUnit;                                            // e.g. "% SiO2", "g/t Au"
     nlohmann::ordered_json extra = nlohmann::ordered_json::object();  // untouched fields
 
+    // colour_source / name_source are written when known and read back by fromJson.
     nlohmann::ordered_json toJson() const;
 };
 

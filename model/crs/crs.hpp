@@ -176,7 +176,10 @@ private:
 bool crsNetworkAccessEnabled();
 
 // The lon/lat box of a projected or geographic extent [min, max] (API axis order, the
-// CRS's units), from its corners and edge midpoints converted to the CRS's own datum.
+// CRS's units): the envelope of its four edges, each sampled at kLonLatEdgeSteps points and
+// converted to the CRS's own datum. The one lon/lat envelope of a model (`geoslice info`,
+// GET /v1/models/{id} lonlatBounds, the WGS 84 transform's area).
+constexpr int kLonLatEdgeSteps = 64;
 Result<LonLatBox> lonLatBoxOf(const Crs& crs, const glm::dvec2& min, const glm::dvec2& max);
 
 }  // namespace geoslice

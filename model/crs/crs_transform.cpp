@@ -301,20 +301,26 @@ bool crsNetworkAccessEnabled() { return proj::networkEnabled(); }
 Result<LonLatBox> lonLatBoxOf(const Crs& crs, const glm::dvec2& min, const glm::dvec2& max) {
     if (crs.isLocal()) return makeError(ErrorCode::InvalidArgument, "a local CRS has no lon/lat");
     LonLatBox box{1e9, 1e9, -1e9, -1e9};
-    for (double fx : {0.0, 0.5, 1.0}) {
-        for (double fy : {0.0, 0.5, 1.0}) {
-            const glm::dvec2 p = min + glm::dvec2(fx, fy) * (max - min);
-            glm::dvec2 ll = p;
-            if (crs.isProjected()) {
-                auto r = crs.toLonLat(p.x, p.y);
-                if (!r) return r.error();
-                ll = r.value();
-            }
-            box.west = std::min(box.west, ll.x);
-            box.east = std::max(box.east, ll.x);
-            box.south = std::min(box.south, ll.y);
-            box.north = std::max(box.north, ll.y);
+    auto add = [&](const glm::dvec2& p) -> Status {
+        glm::dvec2 ll = p;
+        if (crs.isProjected()) {
+            auto r = crs.toLonLat(p.x, p.y);
+            if (!r) return r.error();
+            ll = r.value();
         }
+        box.west = std::min(box.west, ll.x);
+        box.east = std::max(box.east, ll.x);
+        box.south = std::min(box.south, ll.y);
+        box.north = std::max(box.north, ll.y);
+        return {};
+    };
+    // The extent's four edges, each densified: a projected grid's straight edge is curved in
+    // lon/lat, and its extreme latitude or longitude can lie between the corners.
+    const glm::dvec2 corners[4] = {min, {max.x, min.y}, max, {min.x, max.y}};
+    for (int e = 0; e < 4; ++e) {
+        const glm::dvec2 a = corners[e], b = corners[(e + 1) % 4];
+        for (int k = 0; k < kLonLatEdgeSteps; ++k)
+            if (Status s = add(a + (b - a) * (double(k) / kLonLatEdgeSteps)); !s) return s.error();
     }
     return box;
 }

@@ -10,11 +10,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <unordered_map>
 
 #include "model/crs/model_crs.hpp"
 #include "model/mesh/validate.hpp"
+#include "model/style/palette.hpp"
 
 namespace geoslice {
 namespace {
@@ -35,22 +37,38 @@ std::string lowerExtension(const std::string& path) {
 //  - sidecar rows that match no part by name or id are listed in a warning (a validation
 //    issue, the model note "sidecar_unmatched", and a line on stderr), never dropped silently.
 void mergeSidecar(Model& model, const AttributeTable& side, const std::string& sidePath) {
-    std::unordered_map<RecordId, std::string> oldNames;
-    for (const auto& [id, rec] : model.attributes.records()) oldNames.emplace(id, rec.name);
-    for (const auto& [id, rec] : side.records()) model.attributes.put(rec);
+    const std::map<RecordId, AttributeRecord> old = model.attributes.records();
+    for (const auto& [id, rec] : side.records()) {
+        AttributeRecord r = rec;
+        r.nameSource = "sidecar";
+        if (!r.colourSource.empty()) r.colourSource = "sidecar";
+        model.attributes.put(std::move(r));
+    }
+    // A sidecar row without a colour keeps the colour the file gave the part it names.
+    auto keepFileColour = [&](RecordId sideId, RecordId oldId) {
+        AttributeRecord* r = model.attributes.find(sideId);
+        auto it = old.find(oldId);
+        if (!r || !r->colourSource.empty() || it == old.end()) return;
+        if (it->second.colourSource.empty() || it->second.colourSource == "palette") return;
+        r->colour = it->second.colour;
+        r->colourSource = it->second.colourSource;
+    };
     std::set<RecordId> matched;
     for (auto* list : {&model.bodies, &model.surfaces}) {
         for (auto& part : *list) {
             if (const AttributeRecord* r = side.findByName(part.name)) {
+                keepFileColour(r->id, part.record);
                 part.record = r->id;
                 matched.insert(r->id);
             } else if (const AttributeRecord* same = side.find(part.record)) {
-                if (auto it = oldNames.find(part.record); it != oldNames.end() && it->second == part.name)
+                keepFileColour(same->id, part.record);
+                if (auto it = old.find(part.record); it != old.end() && it->second.name == part.name)
                     part.name = same->name;
                 matched.insert(same->id);
             }
         }
     }
+    applyDefaultColours(model);
     std::string list;
     std::size_t unmatched = 0;
     for (const auto& [id, rec] : side.records()) {
@@ -293,6 +311,7 @@ void finishLoadedModel(Model& model, bool classifyByClosure, bool validateModel)
             byName.emplace(p.name, p.record);
         }
     }
+    applyDefaultColours(model);
     model.recentre();
     if (validateModel) validate(model);
 }

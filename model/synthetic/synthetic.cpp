@@ -274,6 +274,7 @@ Result<Model> generateSynthetic(const SyntheticOptions& options) {
         r.age = sp.age;
         r.era = sp.era;
         r.colour = *parseColour(sp.colour);
+        r.colourSource = "generator";
         r.density = sp.density;
         model.attributes.put(r);
     }
@@ -287,6 +288,7 @@ Result<Model> generateSynthetic(const SyntheticOptions& options) {
         r.age = "Late Triassic (T3x)";
         r.era = "Mesozoic";
         r.colour = *parseColour("#e8322a");
+        r.colourSource = "generator";
         r.density = 2.60;
         r.grade = 98.6;
         r.gradeUnit = "% SiO2";
@@ -299,6 +301,7 @@ Result<Model> generateSynthetic(const SyntheticOptions& options) {
             fr.kind = "fault";
             fr.lithology = "fault breccia";
             fr.colour = *parseColour("#111111");
+            fr.colourSource = "generator";
             fr.extra["dip_deg"] = 70.0;
             fr.extra["dip_direction"] = id == kF1 ? "E" : "W";
             fr.extra["throw_m"] = id == kF1 ? 150.0 : 90.0;

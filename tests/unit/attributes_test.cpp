@@ -102,7 +102,7 @@ TEST(Attributes, ManyExtraFieldsStayLinear) {
     ASSERT_EQ(extra.size(), 50000u);
     EXPECT_EQ(extra.get_ref<const nlohmann::ordered_json::object_t&>().back().first, "f49999");
     auto j = t->toJson();
-    EXPECT_EQ(j["records"][0].size(), 50000u + 3u);  // id, name, colour + extras
+    EXPECT_EQ(j["records"][0].size(), 50000u + 4u);  // id, name, colour, colour_source + extras
     auto dup = AttributeTable::fromCsv("id,name,name\n1,a,b\n", "dup.csv");
     ASSERT_FALSE(dup.ok());
     EXPECT_NE(dup.error().message.find("appears twice"), std::string::npos);

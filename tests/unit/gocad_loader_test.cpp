@@ -450,6 +450,22 @@ TEST(GocadLoader, SgridPointsFromBinaryAndAsciiFiles) {
     dir.write("shortpts@@", bigEndianFloats(std::vector<float>(20, 0.0f)));
     expectError(loadModel(dir.write("shortb.sg", head + "POINTS_FILE shortpts@@\nEND\n")), "shortb.sg", "96");
     expectError(loadModel(dir.write("none.sg", head + "END\n")), "none.sg", "neither POINTS_FILE");
+
+    // PROP_ALIGNMENT with the property number (as Gocad and SKUA write SGrids): one cell.
+    dir.write("cell@@", bigEndianFloats({42}));
+    const std::string cells =
+        "GOCAD SGrid 1\nHEADER {\nname:sg\n}\nAXIS_N 2 2 2\nPOINTS_FILE pts@@\n"
+        "PROPERTY 1 poro\nPROP_ALIGNMENT 1 CELLS\nPROP_ESIZE 1 4\nPROP_FILE 1 cell@@\n";
+    auto c = loadModel(dir.write("numbered.sg", cells + "END\n"));
+    ASSERT_TRUE(c.ok()) << c.error().message;
+    EXPECT_TRUE(c->grids[0].cellCentred);
+    ASSERT_EQ(c->grids[0].properties[0].values.size(), 1u);
+    EXPECT_EQ(c->grids[0].properties[0].values[0], 42.0f);
+    // Properties of both alignments in one grid: refused, naming the line.
+    expectError(loadModel(dir.write("mixed.sg", cells + "PROPERTY 2 rho\nPROP_ALIGNMENT 2 POINTS\nEND\n")), "mixed.sg",
+                "PROP_ALIGNMENT 2 POINTS differs from the alignment on line 8");
+    expectError(loadModel(dir.write("bad.sg", cells + "PROP_ALIGNMENT 1 FACES\nEND\n")), "bad.sg",
+                "PROP_ALIGNMENT 1 must be POINTS or CELLS");
 }
 
 TEST(GocadLoader, PlineWellPaths) {

@@ -212,7 +212,10 @@ Result<AttributeRecord> Reader::buildRecord(pugi::xml_node feature, const std::s
                 break;
             }
             case FieldRole::Colour:
-                if (const std::optional<Rgba8> c = parseColour(t)) rec.colour = *c;
+                if (const std::optional<Rgba8> c = parseColour(t)) {
+                    rec.colour = *c;
+                    rec.colourSource = "file (Geo3DML colour field)";
+                }
                 break;
             case FieldRole::None:
                 break;

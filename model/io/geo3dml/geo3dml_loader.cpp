@@ -310,6 +310,8 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
             if (!problem.empty()) volumeProblems.push_back(std::string(name) + ": " + problem);
         } else if (name == "LineString") {
             error = appendLineString(n, line);
+        } else if (name == "GeoVolume" || name == "GeoGrid") {
+            return Walk::Descend;  // wrappers of the volume and grid elements above
         } else if (name.starts_with("Geo") || name == "Grid" || name == "Point") {
             return Walk::Skip;  // another Geo3DML volume / grid, or a point or line: nothing to triangulate
         } else {
@@ -345,9 +347,12 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
     if (mesh.indices.empty()) {
         if (!volumeProblems.empty()) return std::nullopt;  // warned above
         const pugi::xml_node geometry = firstElementChild(shape);
-        if (geometry)
+        if (geometry) {
             census_.add(localName(geometry.name()));
-        else
+            warn(featureName, "its geometry <" + std::string(localName(geometry.name())) +
+                                  "> is not read (geoslice reads TINs, tetrahedral, cuboid, prism and truncated-grid "
+                                  "volumes, gml:RectifiedGrid and line strings); the feature is skipped");
+        } else
             ++featuresWithoutGeometry_;
         return std::nullopt;
     }
@@ -403,8 +408,9 @@ Error Reader::nothingToLoad(pugi::xml_node root, const std::string& modelName) c
         msg += "): load those";
     }
     msg +=
-        ". geoslice reads Geo3DML TIN surfaces (GeoTin, gml:TriangulatedSurface); grids, volumes, "
-        "boreholes and section lines are skipped";
+        ". geoslice reads Geo3DML TIN surfaces (GeoTin, gml:TriangulatedSurface), volumes (GeoTetrahedronVolume, "
+        "GeoCuboidVolume, GeoTriangularPrismVolume, GeoTruncatedRegularGrid, gml:RectifiedGrid) and line strings "
+        "(borehole intervals, section lines)";
     return makeError(ErrorCode::Unsupported, msg);
 }
 

@@ -89,6 +89,27 @@ bool writeNothing(std::string* err, const std::string&, const std::vector<unsign
     return false;
 }
 
+// The sRGB colour of a mesh's first material with a baseColorFactor (linear RGBA in glTF)
+// and the material's name; nullopt when it has none or only the default white.
+std::optional<std::pair<Rgba8, std::string>> materialColour(const tinygltf::Model& g, const tinygltf::Mesh& gm) {
+    for (const auto& prim : gm.primitives) {
+        if (prim.material < 0 || static_cast<std::size_t>(prim.material) >= g.materials.size()) continue;
+        const tinygltf::Material& mat = g.materials[static_cast<std::size_t>(prim.material)];
+        const std::vector<double>& f = mat.pbrMetallicRoughness.baseColorFactor;
+        if (f.size() != 4 || (f[0] == 1.0 && f[1] == 1.0 && f[2] == 1.0 && f[3] == 1.0)) continue;
+        auto encode = [](double linear) {
+            const double v = std::clamp(std::isfinite(linear) ? linear : 0.0, 0.0, 1.0);
+            const double srgb = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+            return static_cast<std::uint8_t>(std::lround(srgb * 255.0));
+        };
+        const double a = std::clamp(std::isfinite(f[3]) ? f[3] : 1.0, 0.0, 1.0);
+        return std::make_pair(
+            Rgba8{encode(f[0]), encode(f[1]), encode(f[2]), static_cast<std::uint8_t>(std::lround(a * 255.0))},
+            mat.name.empty() ? "material " + std::to_string(prim.material) : mat.name);
+    }
+    return std::nullopt;
+}
+
 Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const std::string& source,
                                const std::string& baseDir) {
     if (size == 0) return makeError(ErrorCode::ParseError, source + ": empty file");
@@ -255,6 +276,21 @@ Result<Model> parseGltfChecked(const std::uint8_t* data, std::size_t size, const
             if (!t) return t.error();
             for (const auto& [id, r] : t->records()) model.attributes.put(r);
             part.record = rec["id"].get<RecordId>();
+        }
+        // The material's baseColorFactor (linear) colours a part whose record has no colour.
+        if (auto mc = materialColour(g, gm)) {
+            AttributeRecord* r = part.record != kNoRecord ? model.attributes.find(part.record) : nullptr;
+            if (!r) {
+                AttributeRecord rec;
+                rec.name = part.name;
+                rec.nameSource = "file (glTF node or mesh name)";
+                part.record = model.attributes.add(std::move(rec));
+                r = model.attributes.find(part.record);
+            }
+            if (r->colourSource.empty()) {
+                r->colour = mc->first;
+                r->colourSource = "file (glTF material '" + mc->second + "' baseColorFactor)";
+            }
         }
         allKinds = allKinds && kindKnown;
         (part.kind == PartKind::Body ? model.bodies : model.surfaces).push_back(std::move(part));

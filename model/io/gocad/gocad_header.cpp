@@ -175,13 +175,14 @@ void ObjectInfo::headerEntries(const std::map<std::string, std::string>& header)
     for (const auto& [key, value] : header) {
         if (key == "name") {
             name = toUtf8(unquote(value));
-        } else if (key == "*solid*color" || key == "color") {
+        } else if (key == "*solid*color" || key == "*surface*color" || key == "*line*color" || key == "color" ||
+                   key == "*atoms*color") {
             std::optional<Rgba8> c = parseColour(value);
             if (!c) {
                 rawColour = toUtf8(value);
                 continue;
             }
-            (key == "color" ? colour : solidColour) = *c;
+            colours[key] = *c;
         }
     }
 }
@@ -216,7 +217,15 @@ Status ObjectInfo::readCommon(Context& cx, std::string_view keyword, Tokens& tok
 AttributeRecord ObjectInfo::record() const {
     AttributeRecord rec;
     rec.name = name;
-    rec.colour = solidColour ? *solidColour : colour ? *colour : Rgba8{};
+    // The object's own kind of colour first, then a plain `color`, then point markers'.
+    for (const char* key : {"*solid*color", "*surface*color", "*line*color", "color", "*atoms*color"}) {
+        if (auto it = colours.find(key); it != colours.end()) {
+            rec.colour = it->second;
+            rec.colourSource = std::string("file (GOCAD ") + key + ")";
+            break;
+        }
+    }
+    if (!name.empty()) rec.nameSource = "file (GOCAD name:)";
     if (!geologicalType.empty()) {
         std::string t = lower(geologicalType);
         if (t == "fault" || t == "normal_fault" || t == "reverse_fault")
@@ -233,7 +242,7 @@ AttributeRecord ObjectInfo::record() const {
     if (!geologicalFeature.empty()) rec.extra["geological_feature"] = geologicalFeature;
     if (!stratigraphicPosition.empty()) rec.extra["stratigraphic_position"] = stratigraphicPosition;
     if (!crs.text.empty()) rec.extra["gocad_coordinate_system"] = toUtf8(crs.text);
-    if (!rawColour.empty() && !solidColour && !colour) rec.extra["gocad_color"] = rawColour;
+    if (!rawColour.empty() && colours.empty()) rec.extra["gocad_color"] = rawColour;
     return rec;
 }
 

@@ -41,7 +41,14 @@ bool Lines::nextStatement(Statement& out, Status& bad) {
             return false;
         }
         std::string_view t = text::trim(line);
-        if (t.empty() || t.front() == '#') continue;
+        if (!t.empty() && t.front() == '#') {
+            // "# CTETRA region ..." (RINGMesh and OpenGeode TSolids): a tetrahedron's region in
+            // a comment line; read as a CTETRA statement. Other comments are skipped.
+            const std::string_view rest = text::trim(t.substr(1));
+            if (rest.substr(0, 7) != "CTETRA " && rest.substr(0, 7) != "CTETRA\t") continue;
+            t = rest;
+        }
+        if (t.empty()) continue;
         out.line = line;
         out.text = t;
         out.tokens = text::Tokens(t);

@@ -137,7 +137,7 @@ Status skipUnknown(Lines& lines, std::string_view keyword, std::string_view line
 // The record every GOCAD object gets: name, colour, GEOLOGICAL_TYPE -> kind, provenance.
 struct ObjectInfo {
     std::string name;
-    std::optional<Rgba8> solidColour, colour;
+    std::map<std::string, Rgba8> colours;  // header key (*solid*color, color...) -> colour
     std::string rawColour;
     std::string geologicalType, geologicalFeature, stratigraphicPosition;
     CoordinateSystem crs;
@@ -238,7 +238,8 @@ struct GridHeader {
     std::map<std::uint64_t, Prop> props;  // by property number
     std::size_t dims[3] = {0, 0, 0};
     std::size_t dimsLine = 0;
-    bool cellCentred = false;  // PROP_ALIGNMENT CELLS (SGrid)
+    bool cellCentred = false;       // PROP_ALIGNMENT CELLS (SGrid)
+    std::size_t alignmentLine = 0;  // line of the last PROP_ALIGNMENT, 0: none
 
     Status readKeyword(Context& cx, std::string_view keyword, text::Tokens& tokens, bool& handled);
     // readKeyword as a KeywordReader.

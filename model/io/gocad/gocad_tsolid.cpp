@@ -2,8 +2,14 @@
 // PVRTX / ATOM define vertices (ids shared by the whole object, ATOMs alias a vertex);
 // TETRA a b c d [cell values] adds a cell to the current region (LightTSolid: one region,
 // named after the object). After MODEL, SURFACE / TFACE / TRGL list the object's surfaces
-// by vertex ids; MODEL_REGION lines are not needed (the tetrahedra say which region is
-// where) and are skipped.
+// by vertex ids.
+//
+// Regions without TVOLUME (LightTSolid as RINGMesh and OpenGeode write it: one VRTX per
+// position, SHAREDVRTX for the same position in another region): a "# CTETRA region ..."
+// comment line after a TETRA names its region; without those, each MODEL_REGION name +-tface
+// line seeds a region at the tetrahedron on that side (+: where the first TRGL of TFACE
+// `tface`, (b-a)x(c-a), points) of that triangle, and the region is every tetrahedron
+// reachable from the seed across faces that are not TRGLs of the model's surfaces.
 //
 // What it becomes: VolumeMesh -> regionBoundaries() -> one closed body per TVOLUME
 // (model/mesh/volume_mesh.hpp), records named after the regions; the surfaces stay surfaces.
@@ -15,6 +21,7 @@
 // each TVOLUME's vertices again instead of ATOMs still give regions whose shared faces
 // match.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -30,6 +37,7 @@ namespace {
 
 constexpr std::size_t kMaxCellColumns = 64;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::size_t kMaxRegions = 100000;
 
 struct Tet {
     std::uint64_t ids[4] = {0, 0, 0, 0};
@@ -41,6 +49,15 @@ struct SurfaceTri {
     std::uint64_t ids[3] = {0, 0, 0};
     std::size_t line = 0;
     std::size_t surface = 0;
+    std::uint64_t tface = 0;  // the TFACE number it follows (0: none)
+};
+
+// MODEL_REGION name +n / -n.
+struct ModelRegion {
+    std::string name;
+    bool positive = true;
+    std::uint64_t tface = 0;
+    std::size_t line = 0;
 };
 
 // What the lines of one TSolid object hold, as written.
@@ -55,6 +72,11 @@ struct TsolidText {
     std::size_t cellColumns = 0;
     std::vector<std::string> surfaceNames;
     std::vector<SurfaceTri> surfaceTris;
+    std::uint64_t currentTface = 0;
+    bool sawTvolume = false;
+    std::vector<std::string> ctetraNames;    // regions named by "# CTETRA" lines
+    std::vector<std::int32_t> ctetraRegion;  // per tet: index into ctetraNames, -1 none
+    std::vector<ModelRegion> modelRegions;
 };
 
 // A TETRA line: four vertex ids, then as many cell values as the first TETRA had. `unnamed`
@@ -94,10 +116,40 @@ Status readTsolidKeyword(Context& cx, const ObjectInfo& info, Lines::Statement& 
     Tokens& tokens = st.tokens;
     const std::string& unnamed = info.name.empty() ? cx.model.name : info.name;
     if (keyword == "TVOLUME") {
+        t.sawTvolume = true;
         t.regionNames.push_back(toUtf8(unquote(tokens.rest())));
         if (t.regionNames.back().empty()) t.regionNames.back() = "region_" + std::to_string(t.regionNames.size());
     } else if (keyword == "TETRA") {
-        return readTetra(lines, tokens, unnamed, t);
+        if (Status s = readTetra(lines, tokens, unnamed, t); !s) return s;
+        t.ctetraRegion.push_back(-1);
+    } else if (keyword == "CTETRA") {
+        std::string_view name;
+        if (t.tets.empty() || !tokens.next(name)) return {};  // a stray comment: nothing to name
+        const std::string n = toUtf8(unquote(name));
+        auto it = std::find(t.ctetraNames.begin(), t.ctetraNames.end(), n);
+        if (it == t.ctetraNames.end()) {
+            if (t.ctetraNames.size() >= kMaxRegions)
+                return lines.fail("more than " + std::to_string(kMaxRegions) + " regions named by CTETRA lines");
+            it = t.ctetraNames.insert(t.ctetraNames.end(), n);
+        }
+        t.ctetraRegion.back() = static_cast<std::int32_t>(it - t.ctetraNames.begin());
+    } else if (keyword == "TFACE") {
+        std::uint64_t n = 0;
+        if (Status s = readId(lines, tokens, "TFACE number", n); !s) return s;
+        t.currentTface = n;
+    } else if (keyword == "MODEL_REGION") {
+        ModelRegion r;
+        r.line = lines.lineNo();
+        std::string_view name, side;
+        if (!tokens.next(name) || !tokens.next(side) || side.size() < 2 || (side[0] != '+' && side[0] != '-'))
+            return lines.fail("MODEL_REGION needs a name and a signed TFACE number like +3 or -1");
+        r.name = toUtf8(unquote(name));
+        r.positive = side[0] == '+';
+        Tokens number(side.substr(1));
+        if (Status s = readId(lines, number, "MODEL_REGION TFACE number", r.tface); !s) return s;
+        if (t.modelRegions.size() >= kMaxRegions)
+            return lines.fail("more than " + std::to_string(kMaxRegions) + " MODEL_REGION lines");
+        t.modelRegions.push_back(std::move(r));
     } else if (keyword == "TETRA_PROPERTIES" || keyword == "CELL_PROPERTIES") {
         t.cellNames.clear();
         std::string_view tok;
@@ -109,12 +161,12 @@ Status readTsolidKeyword(Context& cx, const ObjectInfo& info, Lines::Statement& 
         SurfaceTri tri;
         tri.line = lines.lineNo();
         tri.surface = t.surfaceNames.size() - 1;
+        tri.tface = t.currentTface;
         for (auto& id : tri.ids)
             if (Status s = readId(lines, tokens, "TRGL vertex id", id); !s) return s;
         t.surfaceTris.push_back(tri);
     } else {
-        static constexpr std::string_view kIgnored[] = {"MODEL",  "TFACE",  "KEYVERTICES", "MODEL_REGION",
-                                                        "BSTONE", "BORDER", "CTETRA"};
+        static constexpr std::string_view kIgnored[] = {"MODEL", "KEYVERTICES", "BSTONE", "BORDER"};
         handled = std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored);
     }
     return {};
@@ -182,6 +234,126 @@ Status weldTets(const Lines& lines, std::size_t startLine, const CoordinateSyste
     if (columns > 0)
         std::sort(w.byPos.begin(), w.byPos.end(),
                   [&](std::uint32_t a, std::uint32_t b) { return positionLess(vm.positions[a], vm.positions[b]); });
+    return {};
+}
+
+using FaceKey = std::array<std::uint32_t, 3>;
+
+FaceKey faceKey(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    FaceKey k{a, b, c};
+    std::sort(k.begin(), k.end());
+    return k;
+}
+
+// Regions of a TSolid without TVOLUME: from "# CTETRA" names, else grown from MODEL_REGION
+// seeds (see the top of this file). Sets t.regionNames, each tet's region and the cells'.
+Status assignRegions(Context& cx, std::size_t startLine, TsolidText& t, WeldedTets& w) {
+    const Lines& lines = cx.lines;
+    VolumeMesh& vm = w.vm;
+    const std::size_t cells = t.tets.size();
+    const bool named = std::any_of(t.ctetraRegion.begin(), t.ctetraRegion.end(), [](std::int32_t r) { return r >= 0; });
+    if (t.sawTvolume || (!named && t.modelRegions.empty())) return {};
+    std::vector<std::int32_t> region(cells, -1);
+    std::vector<std::string> names;
+    if (named) {
+        names = t.ctetraNames;
+        region = t.ctetraRegion;
+    } else {
+        // Faces of the tetrahedra, sorted, to find neighbours and the seeds' tetrahedra.
+        std::vector<std::pair<FaceKey, std::uint32_t>> faces;
+        faces.reserve(cells * 4);
+        for (std::size_t c = 0; c < cells; ++c) {
+            const std::uint32_t* v = &vm.cellVertices[c * 4];
+            faces.push_back({faceKey(v[1], v[2], v[3]), std::uint32_t(c)});
+            faces.push_back({faceKey(v[0], v[2], v[3]), std::uint32_t(c)});
+            faces.push_back({faceKey(v[0], v[1], v[3]), std::uint32_t(c)});
+            faces.push_back({faceKey(v[0], v[1], v[2]), std::uint32_t(c)});
+        }
+        std::sort(faces.begin(), faces.end());
+        std::vector<FaceKey> walls;
+        walls.reserve(t.surfaceTris.size());
+        for (const SurfaceTri& tri : t.surfaceTris) {
+            std::uint32_t v[3];
+            for (int k = 0; k < 3; ++k) {
+                auto r = w.vertexOf(lines, startLine, t.ids, tri.ids[k], tri.line, "TRGL");
+                if (!r) return r.error();
+                v[k] = r.value();
+            }
+            walls.push_back(faceKey(v[0], v[1], v[2]));
+        }
+        std::sort(walls.begin(), walls.end());
+        auto isWall = [&](const FaceKey& k) { return std::binary_search(walls.begin(), walls.end(), k); };
+        std::vector<std::array<std::uint32_t, 4>> next(cells, {kNone, kNone, kNone, kNone});
+        std::vector<std::uint8_t> used(cells, 0);
+        for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
+            if (faces[i].first != faces[i + 1].first || isWall(faces[i].first)) continue;
+            const std::uint32_t a = faces[i].second, b = faces[i + 1].second;
+            if (used[a] < 4) next[a][used[a]++] = b;
+            if (used[b] < 4) next[b][used[b]++] = a;
+        }
+        for (const ModelRegion& mr : t.modelRegions) {
+            auto tri = std::find_if(t.surfaceTris.begin(), t.surfaceTris.end(),
+                                    [&](const SurfaceTri& s) { return s.tface == mr.tface; });
+            if (tri == t.surfaceTris.end())
+                return lines.failAt(mr.line, "MODEL_REGION " + mr.name + " refers to TFACE " +
+                                                 std::to_string(mr.tface) + ", which has no TRGL");
+            std::uint32_t v[3];
+            for (int k = 0; k < 3; ++k)
+                v[k] = w.vertexOf(lines, startLine, t.ids, tri->ids[k], tri->line, "TRGL").value();
+            const glm::dvec3 a = vm.positions[v[0]];
+            const glm::dvec3 n = glm::cross(vm.positions[v[1]] - a, vm.positions[v[2]] - a);
+            const FaceKey key = faceKey(v[0], v[1], v[2]);
+            auto it = std::lower_bound(faces.begin(), faces.end(), std::make_pair(key, std::uint32_t(0)));
+            std::uint32_t seed = kNone;
+            for (; it != faces.end() && it->first == key; ++it) {
+                const std::uint32_t* cv = &vm.cellVertices[std::size_t(it->second) * 4];
+                std::uint32_t apex = cv[0];
+                for (int k = 0; k < 4; ++k)
+                    if (cv[k] != key[0] && cv[k] != key[1] && cv[k] != key[2]) apex = cv[k];
+                const double side = glm::dot(n, vm.positions[apex] - a);
+                if ((mr.positive && side > 0.0) || (!mr.positive && side < 0.0)) seed = it->second;
+            }
+            if (seed == kNone)
+                return lines.failAt(mr.line, "MODEL_REGION " + mr.name + ": no tetrahedron lies on the " +
+                                                 (mr.positive ? "+" : "-") + " side of the first TRGL of TFACE " +
+                                                 std::to_string(mr.tface) + " (line " + std::to_string(tri->line) +
+                                                 ")");
+            if (region[seed] >= 0) {
+                cx.warn(mr.line, "MODEL_REGION " + mr.name + " seeds a tetrahedron of region " +
+                                     names[std::size_t(region[seed])] + ": read as that region");
+                continue;
+            }
+            const auto r = static_cast<std::int32_t>(names.size());
+            names.push_back(mr.name);
+            std::vector<std::uint32_t> stack{seed};
+            region[seed] = r;
+            while (!stack.empty()) {
+                const std::uint32_t c = stack.back();
+                stack.pop_back();
+                for (const std::uint32_t nb : next[c])
+                    if (nb != kNone && region[nb] < 0) {
+                        region[nb] = r;
+                        stack.push_back(nb);
+                    }
+            }
+        }
+    }
+    const std::size_t unassigned = static_cast<std::size_t>(std::count(region.begin(), region.end(), -1));
+    if (unassigned > 0) {
+        const std::string rest = "tetrahedra without a region";
+        cx.warn(startLine, std::to_string(unassigned) + " of " + std::to_string(cells) +
+                               " tetrahedra are in no region " +
+                               (named ? "(no CTETRA line)" : "(no MODEL_REGION seed reaches them)") +
+                               ": read as the region '" + rest + "'");
+        for (auto& r : region)
+            if (r < 0) r = static_cast<std::int32_t>(names.size());
+        names.push_back(rest);
+    }
+    t.regionNames = std::move(names);
+    for (std::size_t c = 0; c < cells; ++c) {
+        t.tets[c].region = region[c];
+        vm.cellRegions[c] = region[c];
+    }
     return {};
 }
 
@@ -314,6 +486,7 @@ Status readTsolid(Context& cx, std::size_t startLine) {
     }
     WeldedTets w;
     if (Status s = weldTets(lines, startLine, info.crs, t, w); !s) return s;
+    if (Status s = assignRegions(cx, startLine, t, w); !s) return s;
     auto shells = regionBoundaries(w.vm, t.regionNames.size());
     if (!shells) return lines.failAt(startLine, "TSolid: " + shells.error().message);
     addBodies(cx, t, w, shells.value());

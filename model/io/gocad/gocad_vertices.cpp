@@ -217,7 +217,10 @@ KeywordReader vertexKeywords(Context& cx, std::string_view object, PropertySchem
         const Lines& lines = cx.lines;
         if (st.keyword == "VRTX" || st.keyword == "PVRTX")
             return readVertex(cx, lines, st.tokens, st.keyword, object, schema, ids, positions);
-        if (st.keyword == "ATOM" || st.keyword == "PATOM") return ids.addAtom(lines, st.tokens, st.keyword);
+        // SHAREDVRTX / SHAREDPVRTX (LightTSolid, OpenGeode and SKUA exports): a vertex of
+        // another region at the position of an earlier VRTX; read as an ATOM of it.
+        if (st.keyword == "ATOM" || st.keyword == "PATOM" || st.keyword == "SHAREDVRTX" || st.keyword == "SHAREDPVRTX")
+            return ids.addAtom(lines, st.tokens, st.keyword);
         return schema.readKeyword(lines, st.keyword, st.tokens, handled);
     };
 }
@@ -254,7 +257,7 @@ Status VertexIds::resolve(const Lines& lines) {
     for (const Atom& a : atoms) {
         const Key* ref = find(a.ref);
         if (!ref || ref->line >= a.line)
-            return lines.failAt(a.line, "ATOM " + std::to_string(a.id) + " refers to vertex id " +
+            return lines.failAt(a.line, "ATOM/SHAREDVRTX " + std::to_string(a.id) + " refers to vertex id " +
                                             std::to_string(a.ref) + ", which is not defined before it");
         Key* self = const_cast<Key*>(find(a.id));
         GS_ASSERT(self != nullptr, "every ATOM has its own key");

@@ -53,13 +53,26 @@ Status GridHeader::readKeyword(Context& cx, std::string_view keyword, Tokens& to
         return {};
     }
     if (keyword == "PROP_ALIGNMENT") {
+        // "PROP_ALIGNMENT CELLS" for the whole grid, or "PROP_ALIGNMENT n CELLS" for property n
+        // (as Gocad/SKUA write SGrids); one grid holds properties of one alignment.
         std::string v = lower(tokens.rest());
+        std::string which = "PROP_ALIGNMENT";
+        if (const std::size_t sp = v.find_first_of(" \t");
+            sp != std::string::npos && text::parseDouble(v.substr(0, sp))) {
+            which += " " + v.substr(0, sp);
+            v = std::string(text::trimSpace(v.substr(sp)));
+        }
+        bool cells = false;
         if (v == "cells")
-            cellCentred = true;
-        else if (v == "points")
-            cellCentred = false;
-        else
-            return lines.fail("PROP_ALIGNMENT must be POINTS or CELLS, found " + quoteToken(tokens.rest()));
+            cells = true;
+        else if (v != "points")
+            return lines.fail(which + " must be POINTS or CELLS, found " + quoteToken(tokens.rest()));
+        if (alignmentLine != 0 && cells != cellCentred)
+            return lines.fail(which + " " + (cells ? "CELLS" : "POINTS") + " differs from the alignment on line " +
+                              std::to_string(alignmentLine) +
+                              ": properties on points and on cells in one grid are not read");
+        cellCentred = cells;
+        alignmentLine = lines.lineNo();
         return {};
     }
     static constexpr std::string_view kPropKeys[] = {"PROPERTY",    "PROP_FILE",   "PROP_ESIZE",         "PROP_ETYPE",

@@ -256,6 +256,37 @@ Result<Model> VtuReader::buildModel() {
             if (AttributeRecord* rec = model.attributes.find(part.record)) rec->extra[a.name] = first[r];
         }
     }
+    // A per-cell colour array (3 or 4 components, named like colour / color / rgb): a
+    // formation takes the colour of its first cell (0..1 floats or 0..255).
+    for (const auto& a : cellArrays_) {
+        std::string lowered;
+        for (const char c : a.name) lowered += static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+        if ((a.components != 3 && a.components != 4) ||
+            (lowered.find("colo") == std::string::npos && lowered.find("rgb") == std::string::npos))
+            continue;
+        std::vector<std::size_t> firstCell(values.size(), keptCells.size());
+        for (std::size_t i = 0; i < keptCells.size(); ++i) {
+            const auto r = static_cast<std::size_t>(vm.cellRegions[i]);
+            if (firstCell[r] == keptCells.size()) firstCell[r] = i;
+        }
+        for (auto& part : model.bodies) {
+            const std::size_t r =
+                direct ? static_cast<std::size_t>(
+                             std::lower_bound(values.begin(), values.end(), std::int64_t(part.record)) - values.begin())
+                       : static_cast<std::size_t>(part.record - 1);
+            if (r >= firstCell.size() || firstCell[r] == keptCells.size()) continue;
+            std::string text;
+            for (std::size_t k = 0; k < a.components; ++k)
+                text += std::to_string(a.values[keptCells[firstCell[r]] * a.components + k]) + " ";
+            AttributeRecord* rec = model.attributes.find(part.record);
+            if (!rec) continue;
+            if (const std::optional<Rgba8> c = parseColour(text)) {
+                rec->colour = *c;
+                rec->colourSource = "file (.vtu cell array '" + a.name + "')";
+            }
+        }
+        break;
+    }
     finishLoadedModel(model, /*classifyByClosure=*/false);
     return model;
 }
