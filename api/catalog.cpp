@@ -26,33 +26,6 @@
 namespace geoslice::api {
 namespace {
 
-// CatalogModel::toWgs84 / wgs84Note for the model's CRS and extent (the section index's
-// bounds: the model's, already computed).
-void chooseWgs84Transform(CatalogModel& m) {
-    const Crs& crs = m.model.crs;
-    if (crs.isLocal()) return;
-    const Aabb b = m.index->bounds;
-    auto box = lonLatBoxOf(crs, {b.min.x, b.min.y}, {b.max.x, b.max.y});
-    if (!box) {
-        m.wgs84Note = "no WGS 84 coordinates: the model's extent has no lon/lat (" + box.error().message + ")";
-        return;
-    }
-    auto wgs84 = Crs::fromEpsg(4326);
-    if (!wgs84) {
-        m.wgs84Note = "no WGS 84 coordinates: " + wgs84.error().message;
-        return;
-    }
-    auto t = CrsTransform::forArea(crs, wgs84.value(), box.value());
-    if (!t) {
-        m.wgs84Note = "no WGS 84 coordinates: " + t.error().message;
-    } else if (t->isBallpark()) {
-        m.wgs84Note = "no WGS 84 coordinates: PROJ knows only a ballpark transformation from " + crs.geographicName() +
-                      " to WGS 84 over this model's extent (" + t->operationName() + "), which ignores the datum shift";
-    } else {
-        m.toWgs84 = std::make_shared<const CrsTransform>(std::move(t.value()));
-    }
-}
-
 Status indexModel(CatalogModel& m, RayBuild rays) {
     if (m.model.validation.hasErrors()) {
         std::string first;
@@ -89,7 +62,11 @@ Status indexModel(CatalogModel& m, RayBuild rays) {
     for (const auto& [id, record] : m.model.attributes.records()) m.recordJson[id] = jsonText(record.toJson());
     for (const Part& p : m.model.bodies) m.bodyName.emplace(p.record, p.name);
     if (m.model.blocks) m.blockRecords = blockClipRecords(m.model, *m.model.blocks);
-    chooseWgs84Transform(m);
+    Wgs84Choice w = chooseWgs84Transform(m.model.crs, m.index->bounds);
+    m.toWgs84 = std::move(w.exact);
+    m.wgs84Note = std::move(w.exactNote);
+    m.lonLat = std::move(w.lonLat);
+    m.lonLatNote = std::move(w.lonLatNote);
     if (rays == RayBuild::Now) m.rays->start();
     return {};
 }
@@ -100,6 +77,45 @@ nlohmann::ordered_json recordOf(const AttributeTable& table, RecordId id) {
 }
 
 }  // namespace
+
+Wgs84Choice chooseWgs84Transform(const Crs& crs, const Aabb& b) {
+    Wgs84Choice c;
+    if (crs.isLocal()) {
+        c.exactNote = c.lonLatNote = "no WGS 84 coordinates: the model has no CRS";
+        return c;
+    }
+    auto box = lonLatBoxOf(crs, {b.min.x, b.min.y}, {b.max.x, b.max.y});
+    if (!box) {
+        c.exactNote = c.lonLatNote =
+            "no WGS 84 coordinates: the model's extent has no lon/lat (" + box.error().message + ")";
+        return c;
+    }
+    auto wgs84 = Crs::fromEpsg(4326);
+    if (!wgs84) {
+        c.exactNote = c.lonLatNote = "no WGS 84 coordinates: " + wgs84.error().message;
+        return c;
+    }
+    auto t = CrsTransform::forArea(crs, wgs84.value(), box.value());
+    if (!t) {
+        c.exactNote = c.lonLatNote = "no WGS 84 coordinates: " + t.error().message;
+        return c;
+    }
+    if (!t->isBallpark()) {
+        c.exact = c.lonLat = std::make_shared<const CrsTransform>(std::move(t.value()));
+        return c;
+    }
+    c.exactNote = "no WGS 84 coordinates: PROJ knows only a ballpark transformation from " + crs.geographicName() +
+                  " to WGS 84 over this model's extent (" + t->operationName() + "), which ignores the datum shift";
+    if (crs.isCgcs2000()) {
+        c.lonLat = std::make_shared<const CrsTransform>(std::move(t.value()));
+        c.lonLatNote =
+            "CGCS2000 written as WGS 84 without a datum shift (PROJ has only a ballpark operation; both are "
+            "ITRF-aligned and agree to about 1 m)";
+    } else {
+        c.lonLatNote = c.exactNote;
+    }
+    return c;
+}
 
 bool isValidModelId(std::string_view id) {
     if (id.empty() || id.size() > 64) return false;
@@ -384,7 +400,7 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
         if (db)
             attachDrillholes(*m, std::move(db.value()));
         else
-            m->drillholeWarning = "drillholes " + sidecar + " not loaded: " + db.error().message;
+            m->drillholeWarning = "drillholes " + sidecar + " did not load: " + db.error().message;
     }
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));

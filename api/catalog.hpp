@@ -66,6 +66,12 @@ struct CatalogModel {
     // that note instead of WGS 84 coordinates.
     std::shared_ptr<const CrsTransform> toWgs84;
     std::string wgs84Note;
+    // WGS 84 lon/lat for maps (GeoJSON space=world, RFC 7946): `toWgs84`, or for a CGCS2000
+    // model PROJ's ballpark operation (a null datum shift: CGCS2000 and WGS 84 are both
+    // ITRF-aligned and agree to about a metre), with `lonLatNote` saying so. Null where
+    // neither exists (local, or a datum whose only operation ignores a real shift).
+    std::shared_ptr<const CrsTransform> lonLat;
+    std::string lonLatNote;
     // Serialised attribute record per record id, and the first body's name per record,
     // made once at load so that a query answer is a few appends.
     std::unordered_map<RecordId, std::string> recordJson;
@@ -87,6 +93,14 @@ struct CatalogModel {
 };
 
 bool isValidModelId(std::string_view id);
+
+// The model-CRS -> WGS 84 operations for a model extent (CatalogModel::toWgs84 / lonLat and
+// their notes), for the catalog and the CLI alike.
+struct Wgs84Choice {
+    std::shared_ptr<const CrsTransform> exact, lonLat;
+    std::string exactNote, lonLatNote;
+};
+Wgs84Choice chooseWgs84Transform(const Crs& crs, const Aabb& bounds);
 
 // When the model's ray scene is built (CatalogModel::rays): Now starts the background build
 // as the model is loaded; Deferred leaves it to the caller (rays->start()), e.g. a server

@@ -140,12 +140,12 @@ J openApiDocument(const std::string& serverVersion) {
     const J format = pathParam("format", "image format", J{{"type", "string"}, {"enum", {"jpg", "png", "webp"}}});
     const J sectionFormat =
         pathParam("format",
-                  "image format, or vector: geojson (polygons and traces with attributes and areas) or svg, or pdf "
-                  "(a print-ready section sheet)",
-                  J{{"type", "string"}, {"enum", {"jpg", "png", "webp", "geojson", "svg", "pdf"}}});
+                  "image format, or vector: geojson (polygons and traces with attributes and areas), svg or dxf "
+                  "(CAD: a layer per unit, polylines, hatches, labels), or pdf (a print-ready section sheet)",
+                  J{{"type", "string"}, {"enum", {"jpg", "png", "webp", "geojson", "svg", "dxf", "pdf"}}});
     const J sid = pathParam("sid", "stateless section id from POST /v1/models/{id}/sections");
     J sectionResponse = imageResponse();
-    for (const char* type : {"application/geo+json", "image/svg+xml", "application/pdf"})
+    for (const char* type : {"application/geo+json", "image/svg+xml", "image/vnd.dxf", "application/pdf"})
         sectionResponse["content"][type] = J::object();
     J paths = J::object();
     auto get = [&](const std::string& path, J operation) { paths[path]["get"] = std::move(operation); };
@@ -182,9 +182,12 @@ J openApiDocument(const std::string& serverVersion) {
            concat(
                J::array(
                    {id, sectionFormat, queryParam("quality", "integer", "JPEG/WebP quality 1..100"),
-                    queryParam("space", "string",
-                               "geojson: plane (default; section u/v or chainage/elevation metres) or world "
-                               "(x, y, z in the model's CRS)"),
+                    queryParam(
+                        "space", "string",
+                        "geojson: world (default with a CRS: WGS 84 lon/lat, RFC 7946), projected (x, y, z in the "
+                        "model's CRS, with a crs member) or plane (section u/v or chainage/elevation metres; "
+                        "default without a CRS); dxf: plane (default: as drawn, hatched) or projected (3D "
+                        "polylines in the model's CRS)"),
                     queryParam("layout", "string",
                                "svg: print = a section sheet (axes, scale, ends, legend, title block) as section.pdf"),
                     queryParam("decorate", "boolean", "jpg/png/webp: 1 = the section sheet as an image"),

@@ -81,13 +81,22 @@ Result<int> parseQuality(const Params& params) {
     return 0;
 }
 
-Result<bool> parseWorldSpace(const Params& params) {
+Result<VectorFrame> parseVectorSpace(const Params& params, bool georeferenced) {
     const auto space = param(params, "space");
-    if (!space) return false;
-    if (*space != "plane" && *space != "world")
-        return makeError(ErrorCode::InvalidArgument,
-                         "parameter 'space': '" + std::string(*space) + "' is not 'plane' or 'world'");
-    return *space == "world";
+    if (!space) return georeferenced ? VectorFrame::LonLat : VectorFrame::Plane;
+    if (*space == "world") return VectorFrame::LonLat;
+    if (*space == "projected") return VectorFrame::Projected;
+    if (*space == "plane") return VectorFrame::Plane;
+    return makeError(ErrorCode::InvalidArgument,
+                     "parameter 'space': '" + std::string(*space) + "' is not 'world', 'projected' or 'plane'");
+}
+
+Result<VectorFrame> parseDxfSpace(const Params& params) {
+    const auto space = param(params, "space");
+    if (!space || *space == "plane") return VectorFrame::Plane;
+    if (*space == "projected") return VectorFrame::Projected;
+    return makeError(ErrorCode::InvalidArgument, "parameter 'space': '" + std::string(*space) +
+                                                     "' is not 'plane' or 'projected' (DXF has no lon/lat form)");
 }
 
 Result<TileAddress> parseTileAddress(std::string_view z, std::string_view x, std::string_view y) {

@@ -15,6 +15,7 @@
 
 #include "api/params.hpp"
 #include "model/result.hpp"
+#include "section/fill/vector_export.hpp"
 
 namespace geoslice::api {
 
@@ -36,9 +37,13 @@ bool isJsonMediaType(std::string_view mediaType);
 // `quality` (JPEG/WebP, 1..100); 0 when absent (the encoder's default).
 Result<int> parseQuality(const Params& params);
 
-// `space` of a vector section (GeoJSON/SVG): "plane" (default, plane u/v metres) or "world".
-// True for world coordinates.
-Result<bool> parseWorldSpace(const Params& params);
+// `space` of a GeoJSON section (section/fill/vector_export.hpp): "world" (WGS 84 lon/lat,
+// RFC 7946; the default for a model with a CRS), "projected" (the model's CRS) or "plane"
+// (section u/v metres; the default for a model without CRS). SVG ignores it.
+Result<VectorFrame> parseVectorSpace(const Params& params, bool georeferenced);
+// `space` of a DXF section: "plane" (default: the section as drawn, with hatches and labels)
+// or "projected" (3D polylines in the model's CRS); section/fill/dxf_export.hpp.
+Result<VectorFrame> parseDxfSpace(const Params& params);
 
 // A tile's address as it appears in its path: z in 0..30, x and y within +-2^40 (the
 // tile grid then says whether the tile exists). Error: NotFound.

@@ -1,8 +1,10 @@
 #include "api/tile_grid.hpp"
-#include "model/clock.hpp"
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+
+#include "model/clock.hpp"
 
 namespace geoslice::api {
 namespace {
@@ -72,6 +74,84 @@ nlohmann::ordered_json TileGrid::describe() const {
         {"latOfV", "lat = (v - origin.v) * exaggeration * 256 / size0"},
         {"bounds", {{(extent.v0 - extent.v1) * exaggeration * scale, 0.0}, {0.0, (extent.u1 - extent.u0) * scale}}}};
     return j;
+}
+
+namespace {
+
+// The picture frame of a section's tiles as a local engineering CRS (OGC TMS "crs").
+nlohmann::ordered_json pictureCrs(const TileGrid& g) {
+    char k[32];
+    std::snprintf(k, sizeof k, "%.9g", g.exaggeration);
+    return {
+        {"wkt", std::string("ENGCRS[\"geoslice section picture (v x ") + k +
+                    ")\",EDATUM[\"section plane\"],CS[Cartesian,2],AXIS[\"u\",east,ORDER[1],LENGTHUNIT[\"metre\",1]],"
+                    "AXIS[\"v\",north,ORDER[2],LENGTHUNIT[\"metre\",1]]]"}};
+}
+
+}  // namespace
+
+nlohmann::ordered_json tileJson(const TileGrid& g, const std::string& base, const std::string& title) {
+    nlohmann::ordered_json j;
+    j["tilejson"] = "3.0.0";
+    j["name"] = title;
+    j["scheme"] = "xyz";
+    j["tiles"] = {base + "/tiles/{z}/{x}/{y}.png"};
+    j["minzoom"] = 0;
+    j["maxzoom"] = g.maxZoom;
+    j["attribution"] = "geoslice section";
+    j["geoslice"] = g.describe();
+    return j;
+}
+
+nlohmann::ordered_json ogcTileset(const TileGrid& g, const std::string& base, const std::string& title) {
+    nlohmann::ordered_json links = nlohmann::ordered_json::array();
+    links.push_back({{"rel", "self"}, {"type", "application/json"}, {"href", base + "/tiles"}});
+    links.push_back({{"rel", "http://www.opengis.net/def/rel/ogc/1.0/tiling-scheme"},
+                     {"type", "application/json"},
+                     {"href", base + "/tilematrixset"}});
+    for (const char* f : {"png", "jpg", "webp"}) {
+        const std::string type = std::string("image/") + (std::string(f) == "jpg" ? "jpeg" : f);
+        links.push_back({{"rel", "item"},
+                         {"type", type},
+                         {"templated", true},
+                         {"href", base + "/tiles/{tileMatrix}/{tileCol}/{tileRow}." + f}});
+    }
+    nlohmann::ordered_json limits = nlohmann::ordered_json::array();
+    for (int z = 0; z <= g.maxZoom; ++z) {
+        const long long n = 1LL << z;
+        limits.push_back({{"tileMatrix", std::to_string(z)},
+                          {"minTileRow", 0},
+                          {"maxTileRow", n - 1},
+                          {"minTileCol", 0},
+                          {"maxTileCol", n - 1}});
+    }
+    return {{"title", title},
+            {"dataType", "map"},
+            {"crs", pictureCrs(g)},
+            {"tileMatrixSetURI", base + "/tilematrixset"},
+            {"tileMatrixSetLimits", std::move(limits)},
+            {"links", std::move(links)}};
+}
+
+nlohmann::ordered_json ogcTileMatrixSet(const TileGrid& g, const std::string& base) {
+    nlohmann::ordered_json matrices = nlohmann::ordered_json::array();
+    for (int z = 0; z <= g.maxZoom; ++z) {
+        const double cell = g.size0 / std::exp2(z) / g.tileSize;  // metres per pixel
+        const long long n = 1LL << z;
+        matrices.push_back({{"id", std::to_string(z)},
+                            // OGC's standardised rendering pixel of 0.28 mm
+                            {"scaleDenominator", cell / 0.28e-3},
+                            {"cellSize", cell},
+                            {"cornerOfOrigin", "topLeft"},
+                            {"pointOfOrigin", {g.extent.u0, g.extent.v1 * g.exaggeration}},
+                            {"tileWidth", g.tileSize},
+                            {"tileHeight", g.tileSize},
+                            {"matrixWidth", n},
+                            {"matrixHeight", n}});
+    }
+    return {{"id", "geoslice-section"},       {"title", "geoslice section picture grid"},
+            {"uri", base + "/tilematrixset"}, {"crs", pictureCrs(g)},
+            {"orderedAxes", {"u", "v"}},      {"tileMatrices", std::move(matrices)}};
 }
 
 Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def) {

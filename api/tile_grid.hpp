@@ -27,6 +27,20 @@ struct TileGrid {
     nlohmann::ordered_json describe() const;
 };
 Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def);
+
+// The same grid in the standard descriptions, so that a GIS adds a section by URL. `base` is
+// the absolute URL of the section ("http://host/v1/sections/<sid>"); `title` names it.
+//  - TileJSON 3.0.0 (github.com/mapbox/tilejson-spec): tiles, minzoom/maxzoom, scheme xyz,
+//    and a "geoslice" member with the grid; no "bounds" (the tiles are in the section's
+//    plane, not on the globe: clients use a simple, non-geographic CRS, as with Leaflet's
+//    L.CRS.Simple).
+//  - OGC API - Tiles (OGC 20-057) tileset metadata with a link to
+//  - an OGC Two Dimensional Tile Matrix Set (OGC 17-083r4) in a local engineering CRS: the
+//    section picture's frame (u east, v * exaggeration up, metres), origin top-left at
+//    (u0, v1 * k), matrix z of 2^z x 2^z tiles with square cells of size0 / 2^z / tileSize.
+nlohmann::ordered_json tileJson(const TileGrid& grid, const std::string& base, const std::string& title);
+nlohmann::ordered_json ogcTileset(const TileGrid& grid, const std::string& base, const std::string& title);
+nlohmann::ordered_json ogcTileMatrixSet(const TileGrid& grid, const std::string& base);
 Result<ViewImage> renderSectionTile(const CatalogModel& model, const SectionDef& def, const TileGrid& grid, int z,
                                     long long x, long long y, const std::atomic<bool>* cancel = nullptr);
 

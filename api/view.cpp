@@ -10,6 +10,7 @@
 #include "model/json_text.hpp"
 #include "print/pattern_cairo.hpp"
 #include "section/cut/contours.hpp"
+#include "section/fill/dxf_export.hpp"
 #include "section/fill/vector_export.hpp"
 
 namespace geoslice::api {
@@ -206,10 +207,11 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
     return v;
 }
 
-Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world,
-                                 const std::atomic<bool>* cancel) {
+Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, VectorFormat format,
+                                 VectorFrame frame, const std::atomic<bool>* cancel) {
     if (plan.view != ViewKind::Profile)
-        return makeError(ErrorCode::Unsupported, "vector output (GeoJSON, SVG) exists for profile views only");
+        return makeError(ErrorCode::Unsupported, "vector output (GeoJSON, SVG, DXF) exists for profile views only");
+    const bool svg = format == VectorFormat::Svg;
     auto mapping = profileMapping(model, plan);
     if (!mapping) return mapping.error();
     auto classes = blockClasses(model, plan.section);
@@ -230,22 +232,35 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
         if (!g.empty() && end != std::string::npos) svgText.insert(end, g);
         return svgText;
     };
-    auto addHoles = [&](nlohmann::ordered_json& doc, const VectorSource& source) {
+    auto addHoles = [&](nlohmann::ordered_json& doc, const GeoJsonSpace& space) {
         if (holes.value().empty()) return;
-        for (auto& f : holesGeoJson(model, holes.value(), world ? &source.toWorld : nullptr))
+        for (auto& f : holesGeoJson(model, holes.value(), space.threeD() ? &space.position : nullptr))
             doc["features"].push_back(std::move(f));
         if (auto legend = holeLegendJson(holes.value().style); !legend.is_null()) doc["holeLegend"] = std::move(legend);
     };
+    auto spaceOf = [&](const VectorSource& source) {
+        return geoJsonSpace(source, frame, model.model.crs, model.lonLat.get(), model.lonLatNote);
+    };
     auto emit = [&](const VectorSource& source) -> Result<std::string> {
         if (auto c = checkCancel(cancel); !c) return c.error();
+        if (format == VectorFormat::Dxf) {
+            DxfOptions o;
+            o.frame = frame == VectorFrame::Projected ? DxfFrame::Projected : DxfFrame::Plane;
+            o.labels = plan.labels.value_or(true);
+            return toDxf(*model.index, source, o);
+        }
         if (svg) {
             auto text = toSvg(*model.index, source, mapping.value().rect, plan.width, plan.height, ro, overlays);
             if (!text) return text;
             return withHoles(std::move(text.value()));
         }
-        nlohmann::ordered_json doc = toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane);
-        addHoles(doc, source);
-        return jsonText(doc);
+        auto space = spaceOf(source);
+        if (!space) return space.error();
+        auto doc = toGeoJson(*model.index, source, space.value());
+        if (!doc) return doc.error();
+        addHoles(doc.value(), space.value());
+        if (Status s = space.value().checkPositions(); !s) return s.error();
+        return jsonText(doc.value());
     };
     // The cells' exact pieces inside the clipping bodies (plane u/v or line s/z), drawn over the
     // bodies' own fills.
@@ -268,6 +283,9 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
         if (classes.value()) pieces = blockPieces(*model.model.blocks, *planar, &mapping.value().rect);
     }
     if (!classes.value()) return emit(source);
+    if (format == VectorFormat::Dxf)
+        return makeError(ErrorCode::Unsupported,
+                         "parameter 'colour': the DXF export draws the units, not block-model cells; leave colour out");
     const PropertyClasses& pc = *classes.value();
     const BlockModel& blocks = *model.model.blocks;
     if (!pieces) return makeError(pieces.error().code, "parameter 'colour': " + pieces.error().message);
@@ -277,12 +295,16 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
             blockPiecesSvg(blocks, pc, pieces.value(), mapping.value().rect, plan.width, plan.height);
         return emit(source);
     }
-    nlohmann::ordered_json doc = toGeoJson(*model.index, source, world ? VectorFrame::World : VectorFrame::Plane);
-    auto features = blockPiecesGeoJson(blocks, pc, pieces.value(), world ? &source.toWorld : nullptr);
-    for (auto& f : features) doc["features"].push_back(std::move(f));
-    doc["blockLegend"] = blockLegendJson(blocks, pc);
-    addHoles(doc, source);
-    return jsonText(doc);
+    auto space = spaceOf(source);
+    if (!space) return space.error();
+    auto doc = toGeoJson(*model.index, source, space.value());
+    if (!doc) return doc.error();
+    for (auto& f : blockPiecesGeoJson(blocks, pc, pieces.value(), space.value()))
+        doc.value()["features"].push_back(std::move(f));
+    doc.value()["blockLegend"] = blockLegendJson(blocks, pc);
+    addHoles(doc.value(), space.value());
+    if (Status s = space.value().checkPositions(); !s) return s.error();
+    return jsonText(doc.value());
 }
 
 }  // namespace geoslice::api

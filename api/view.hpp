@@ -91,10 +91,11 @@ Result<BlockCapTriangles> blockCapTriangles(const Model& model, const PropertyCl
 Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
                                 const std::atomic<bool>* cancel = nullptr);
 
-// A profile view's vector form: GeoJSON (coordinates in the section's 2D frame, or world
-// x, y, z when `world`) or SVG (the pixel frame of the same view, so it overlays the
-// image). Returns the document text.
-Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, bool svg, bool world,
-                                 const std::atomic<bool>* cancel = nullptr);
+// A profile view's vector form: GeoJSON (in `frame`: section/fill/vector_export.hpp), SVG
+// (the pixel frame of the same view, so it overlays the image) or DXF (Plane or Projected:
+// section/fill/dxf_export.hpp; no block cells, no drillholes). Returns the document text.
+enum class VectorFormat { GeoJson, Svg, Dxf };
+Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan, VectorFormat format,
+                                 VectorFrame frame, const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace geoslice::api

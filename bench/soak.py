@@ -177,7 +177,7 @@ def main():
             row["rss_mib"] = round(rss / 1024, 1)
             row["hwm_mib"] = round(hwm / 1024, 1)
             st, body = get(port, "/metrics")
-            for name in ("geoslice_queue_depth", "geoslice_cache_bytes", "geoslice_renders_overrun", "geoslice_renders_dropped"):
+            for name in ("geoslice_queue_depth", "geoslice_cache_bytes", "geoslice_render_overruns_total", "geoslice_renders_dropped_total"):
                 m = re.search(rf"^{name}(?:\{{[^}}]*\}})? (\S+)$", body.decode(), re.M)
                 if m:
                     row[name] = float(m.group(1))

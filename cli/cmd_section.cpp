@@ -41,6 +41,7 @@
 #include "section/blocks/block_section.hpp"
 #include "section/cut/contours.hpp"
 #include "section/cut/polyline.hpp"
+#include "section/fill/dxf_export.hpp"
 #include "section/fill/raster.hpp"
 #include "section/fill/vector_export.hpp"
 #include "section/index/section_index.hpp"
@@ -164,7 +165,7 @@ Status writeSheet(const std::string& path, const print::Sheet& sheet, double dpi
 
 void addSection(CLI::App& app, int& exitCode) {
     struct Opts {
-        std::string model, plane, line, size = "1024x1024", frame, geojson, geojsonFrame = "plane", svg;
+        std::string model, plane, line, size = "1024x1024", frame, geojson, geojsonFrame, svg, dxf, dxfFrame = "plane";
         std::string sheet, paper = "A3", orientation = "landscape", date;
         double scale = NAN, dpi = 150.0;
         ColourOptions colour;
@@ -203,8 +204,15 @@ void addSection(CLI::App& app, int& exitCode) {
                     "Output file, repeatable: .png/.jpg/.webp/.ppm = colour, .pgm = record ids (16-bit)");
     cmd->add_option("--geojson", o->geojson, "Write the polygons and traces as GeoJSON");
     cmd->add_option("--geojson-frame", o->geojsonFrame,
-                    "GeoJSON coordinates: plane ([u, v] metres, default) or world ([x, y, z] in the model's CRS)");
+                    "GeoJSON coordinates: world ([lon, lat, z] on WGS 84, RFC 7946; default with a CRS), projected "
+                    "([x, y, z] in the model's CRS) or plane ([u, v] metres; default without a CRS)");
     cmd->add_option("--svg", o->svg, "Write the polygons and traces as SVG (same frame and size as the image)");
+    cmd->add_option("--dxf", o->dxf,
+                    "Write the section as DXF for CAD (dxflib, R2000): a layer per unit, closed polylines, solid "
+                    "hatches and name labels");
+    cmd->add_option("--dxf-frame", o->dxfFrame,
+                    "DXF coordinates: plane (u, v metres, as drawn; default) or projected (3D polylines in the "
+                    "model's CRS, no hatches)");
     cmd->add_option("--print", o->sheet,
                     "Write a print-ready section sheet: .pdf, .svg (text as text), or .png/.jpg/.webp at --dpi; "
                     "axes, scale, ends, legend, title block (print/section_sheet.hpp)");
@@ -285,8 +293,11 @@ void addSection(CLI::App& app, int& exitCode) {
                                 "\": the extension must be .png, .jpg, .jpeg, .webp or .ppm (colour) or .pgm "
                                 "(record ids)",
                             2);
-        if (o->geojsonFrame != "plane" && o->geojsonFrame != "world")
-            return fail("--geojson-frame must be plane or world (got \"" + o->geojsonFrame + "\")", 2);
+        if (o->dxfFrame != "plane" && o->dxfFrame != "projected")
+            return fail("--dxf-frame must be plane or projected (got \"" + o->dxfFrame + "\")", 2);
+        if (!o->geojsonFrame.empty() && o->geojsonFrame != "plane" && o->geojsonFrame != "world" &&
+            o->geojsonFrame != "projected")
+            return fail("--geojson-frame must be world, projected or plane (got \"" + o->geojsonFrame + "\")", 2);
         if (o->threads < 1 || o->threads > 2) return fail("--threads must be 1 or 2", 2);
         if (Status s = checkExaggerationFactor("--exaggeration (--vx)", o->exaggeration); !s)
             return fail(s.error().message, 2);
@@ -471,15 +482,39 @@ void addSection(CLI::App& app, int& exitCode) {
             if (!s) return fail(s.error().message, 1);
         }
         if (!o->geojson.empty()) {
-            json g = toGeoJson(idx, source, o->geojsonFrame == "world" ? VectorFrame::World : VectorFrame::Plane);
+            const std::string& f = o->geojsonFrame;
+            const VectorFrame frame = f == "projected"                                      ? VectorFrame::Projected
+                                      : f == "plane" || (f.empty() && model->crs.isLocal()) ? VectorFrame::Plane
+                                                                                            : VectorFrame::LonLat;
+            const api::Wgs84Choice wgs84 =
+                frame == VectorFrame::LonLat ? api::chooseWgs84Transform(model->crs, idx.bounds) : api::Wgs84Choice{};
+            auto space = geoJsonSpace(source, frame, model->crs, wgs84.lonLat.get(), wgs84.lonLatNote);
+            if (!space) {
+                std::string m = space.error().message;
+                if (auto at = m.find("parameter 'space'"); at != std::string::npos)
+                    m.replace(at, 17, "--geojson-frame");
+                return fail(m, 2);
+            }
+            auto doc = toGeoJson(idx, source, space.value());
+            if (!doc) return fail(doc.error().message, 1);
+            json& g = doc.value();
             if (classes)
-                for (auto& f : blockPiecesGeoJson(*model->blocks, *classes, pieces,
-                                                  o->geojsonFrame == "world" ? &source.toWorld : nullptr))
-                    g["features"].push_back(std::move(f));
-            for (auto& f : api::holesGeoJson(holesModel, holes, o->geojsonFrame == "world" ? &source.toWorld : nullptr))
-                g["features"].push_back(std::move(f));
+                for (auto& feature : blockPiecesGeoJson(*model->blocks, *classes, pieces, space.value()))
+                    g["features"].push_back(std::move(feature));
+            for (auto& feature :
+                 api::holesGeoJson(holesModel, holes, space.value().threeD() ? &space.value().position : nullptr))
+                g["features"].push_back(std::move(feature));
+            if (Status s = space.value().checkPositions(); !s) return fail(s.error().message, 1);
             if (auto legend = api::holeLegendJson(holes.style); !legend.is_null()) g["holeLegend"] = std::move(legend);
             if (Status s = writeText(o->geojson, jsonText(g) + "\n"); !s) return fail(s.error().message, 1);
+        }
+        if (!o->dxf.empty()) {
+            DxfOptions dxfOptions;
+            dxfOptions.frame = o->dxfFrame == "projected" ? DxfFrame::Projected : DxfFrame::Plane;
+            dxfOptions.labels = !o->noLabels;
+            auto dxf = toDxf(idx, source, dxfOptions);
+            if (!dxf) return fail(dxf.error().message, 1);
+            if (Status s = writeText(o->dxf, dxf.value()); !s) return fail(s.error().message, 1);
         }
         if (!o->svg.empty()) {
             SvgOverlays overlays;

@@ -17,6 +17,8 @@ find_package(ZLIB REQUIRED)  # zlib1g-dev: gzip of JSON answers, zlib-compressed
 # libxxhash-dev: XXH64, the baked package's file checksums (pkg-config only on Debian 12).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
+# libdxflib-dev: the DXF writer of section/fill/dxf_export (pkg-config only).
+pkg_check_modules(DXFLIB REQUIRED IMPORTED_TARGET dxflib)
 
 # GeographicLib ships only a find-module on Debian.
 list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)

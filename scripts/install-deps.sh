@@ -24,6 +24,7 @@ build=(
   libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev libwebp-dev zlib1g-dev libzstd-dev
   libssl-dev                          # OpenSSL libcrypto: SHA-256 and constant-time compare of API keys
   libxxhash-dev                       # XXH64 checksums of the baked package's files
+  libdxflib-dev                       # dxflib: the DXF export of sections
   # geodesy: GeographicLib (CGCS2000), PROJ for every other CRS (library + its EPSG
   # database and grids in proj-data)
   libgeographiclib-dev libproj-dev proj-data
@@ -52,6 +53,8 @@ dev=(
   # web client tests (tests/web): the browser driven by playwright-core, CJK glyphs
   chromium fonts-wqy-microhei
   poppler-utils                       # pdftoppm/pdftotext open the print sheets' PDFs in tests
+  prometheus                          # promtool checks /metrics in the server tests (no daemon is started)
+  gdal-bin                            # ogrinfo/ogr2ogr read the GeoJSON sections back in the tests
 )
 # tests/web need Node.js with npm; one already there (e.g. NodeSource's, which bundles npm)
 # is kept, since Debian's npm package conflicts with it.
@@ -69,6 +72,7 @@ runtime=(
   libgssapi-krb5-2 libkrb5-3 libk5crypto3 libkrb5support0 libcom-err2 libkeyutils1
   libldap-2.5-0 libsasl2-2
   libjpeg62-turbo libpng16-16 libwebp7 libzstd1 libxxhash0   # codecs (libjpeg also for libtiff)
+  libdxflib3                          # DXF export
   # GL through glvnd: Mesa's EGL (device + surfaceless) and llvmpipe, OSMesa (dlopen)
   libegl1 libglvnd0 libegl-mesa0 libgl1-mesa-dri libosmesa6
   # print sheets: cairo and what it loads (pixman, fontconfig + FreeType, its X11/xcb

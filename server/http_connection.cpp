@@ -167,17 +167,23 @@ Response Connection::toBeast(HttpResponse&& res, unsigned version, bool keepAliv
     const unsigned s = unsigned(res.status);
     const bool noBody = s / 100 == 1 || s == 204 || s == 304;
     if (noBody) res.body.clear();
-    if (!noBody && compressibleType(contentType) && out.find(http::field::content_encoding) == out.end()) {
-        // Added to what the router varies on (Origin, Authorization), not in its place.
+    const bool encodable =
+        !noBody && compressibleType(contentType) && out.find(http::field::content_encoding) == out.end();
+    if (encodable || s == 304) {
+        // Added to what the router varies on (Origin, Authorization), not in its place. A 304
+        // carries the Vary its 200 would (RFC 9110 15.4.5): its ETag depends on Accept-Encoding.
         const auto vary = out.find(http::field::vary);
         out.set(http::field::vary,
                 vary == out.end() ? std::string("Accept-Encoding") : std::string(vary->value()) + ", Accept-Encoding");
-        if (gzip && res.body.size() >= 256) {
-            std::string z = gzipCompress(res.body);
-            if (!z.empty()) {
-                res.body = std::move(z);
-                out.set(http::field::content_encoding, "gzip");
-            }
+    }
+    if (encodable && willGzip(contentType, res.body.size(), gzip)) {
+        std::string z = gzipCompress(res.body);
+        if (!z.empty()) {
+            res.body = std::move(z);
+            out.set(http::field::content_encoding, "gzip");
+            // The gzip bytes get their own ETag (respond.cpp matches both on revalidation).
+            if (const auto etag = out.find(http::field::etag); etag != out.end())
+                out.set(http::field::etag, gzipEtag(etag->value()));
         }
     }
     out.body() = std::move(res.body);

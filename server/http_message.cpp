@@ -191,6 +191,15 @@ bool compressibleType(std::string_view type) {
     return type == "application/json" || type == "application/javascript" || type == "application/xml";
 }
 
+bool willGzip(std::string_view contentType, std::size_t bodyBytes, bool clientAcceptsGzip) {
+    return clientAcceptsGzip && bodyBytes >= kGzipMinBytes && compressibleType(contentType);
+}
+
+std::string gzipEtag(std::string_view etag) {
+    if (etag.size() < 2 || etag.back() != '"') return std::string(etag);
+    return std::string(etag.substr(0, etag.size() - 1)) + "-gzip\"";
+}
+
 std::string gzipCompress(std::string_view data) {
     z_stream z{};
     // windowBits 15 + 16: a gzip header and trailer instead of zlib's

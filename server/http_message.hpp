@@ -81,6 +81,16 @@ std::size_t findObsFold(std::string_view headerBlock);
 bool acceptsGzip(std::string_view acceptEncoding);
 // True for content types worth compressing (text, JSON, SVG, XML, JavaScript).
 bool compressibleType(std::string_view contentType);
+// Bodies under this many bytes are sent as they are (gzip would not save a packet).
+constexpr std::size_t kGzipMinBytes = 256;
+// Whether the transport gzips a body of this type and size for a client that accepts
+// gzip: the one rule that both the transport (which compresses) and the ETag choice
+// (respond.hpp: a distinct ETag per encoding) follow.
+bool willGzip(std::string_view contentType, std::size_t bodyBytes, bool clientAcceptsGzip);
+// The ETag of the gzip encoding of the representation tagged `etag` ("abc" -> "abc-gzip",
+// W/"abc" -> W/"abc-gzip"): a strong ETag names one sequence of bytes (RFC 9110 8.8.3), so
+// the gzip and identity bodies must not share one.
+std::string gzipEtag(std::string_view etag);
 // gzip (RFC 1952) of `data` at zlib's default level.
 std::string gzipCompress(std::string_view data);
 

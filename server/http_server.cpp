@@ -163,38 +163,27 @@ Result<int> SectionServer::start() {
     im.router = std::make_unique<Router>(st.metrics, cors.value(), st.keys, st.draining, st.inFlight);
     addAllRoutes(*im.router, st);
 
-    st.metrics.gauge("geoslice_queue_depth", "Render jobs waiting.", [&st] { return double(st.pool->queueDepth()); });
-    st.metrics.gauge("geoslice_renders_overrun", "Render jobs that ran past their deadline (total).",
-                     [&st] { return double(st.pool->stats().overruns); });
-    st.metrics.gauge("geoslice_renders_overrunning", "Render workers running past their deadline now.",
-                     [&st] { return double(st.pool->stats().overrunningNow); });
-    st.metrics.gauge("geoslice_renders_dropped", "Queued renders dropped: cancelled or past their deadline (total).",
-                     [&st] { return double(st.pool->stats().dropped); });
-    st.metrics.gauge("geoslice_render_memory_reserved_bytes", "Estimated memory of queued and running renders.",
-                     [&st] { return double(st.pool->stats().reservedBytes); });
-    st.metrics.gauge("geoslice_workers_busy", "Render workers busy.", [&st] { return double(st.pool->busyWorkers()); });
-    st.metrics.gauge("geoslice_requests_in_flight", "HTTP requests being handled.",
-                     [&st] { return double(st.inFlight.load()); });
-    st.metrics.gauge("geoslice_cache_bytes", "Bytes held by the image and ID-buffer caches.",
-                     [&st] { return double(st.cache->usedBytes()); });
-    st.metrics.gauge("geoslice_cache_entries", "Entries in the image and ID-buffer caches.",
-                     [&st] { return double(st.cache->entries()); });
-    st.metrics.gauge("geoslice_renders_coalesced", "Requests that shared another request's render (total).",
-                     [&st] { return double(st.cache->coalesced()); });
-    st.metrics.gauge("geoslice_models_loaded", "Models loaded.", [&st] { return double(st.catalog.size()); });
+    // Values read at scrape time (their families and help: server/metrics.cpp).
+    st.metrics.read("geoslice_queue_depth", [&st] { return double(st.pool->queueDepth()); });
+    st.metrics.read("geoslice_render_overruns_total", [&st] { return double(st.pool->stats().overruns); });
+    st.metrics.read("geoslice_renders_overrunning", [&st] { return double(st.pool->stats().overrunningNow); });
+    st.metrics.read("geoslice_renders_dropped_total", [&st] { return double(st.pool->stats().dropped); });
+    st.metrics.read("geoslice_render_memory_reserved_bytes", [&st] { return double(st.pool->stats().reservedBytes); });
+    st.metrics.read("geoslice_workers_busy", [&st] { return double(st.pool->busyWorkers()); });
+    st.metrics.read("geoslice_requests_in_flight", [&st] { return double(st.inFlight.load()); });
+    st.metrics.read("geoslice_cache_bytes", [&st] { return double(st.cache->usedBytes()); });
+    st.metrics.read("geoslice_cache_entries", [&st] { return double(st.cache->entries()); });
+    st.metrics.read("geoslice_renders_coalesced_total", [&st] { return double(st.cache->coalesced()); });
+    st.metrics.read("geoslice_models_loaded", [&st] { return double(st.catalog.size()); });
     auto raysIn = [&st](RayQueries::State s) {
         double n = 0;
         for (const auto& m : st.catalog.list()) n += m->rays->state() == s ? 1.0 : 0.0;
         return n;
     };
-    st.metrics.gauge("geoslice_ray_scenes_building",
-                     "Models whose ray scene (pixel queries without a cached image, perspective queries, boreholes) "
-                     "is still to be built.",
-                     [raysIn] { return raysIn(RayQueries::State::Building) + raysIn(RayQueries::State::NotStarted); });
-    st.metrics.gauge("geoslice_ray_scenes_ready", "Models whose ray scene is built.",
-                     [raysIn] { return raysIn(RayQueries::State::Ready); });
-    st.metrics.gauge("geoslice_ray_scenes_failed", "Models whose ray scene failed to build.",
-                     [raysIn] { return raysIn(RayQueries::State::Failed); });
+    st.metrics.read("geoslice_ray_scenes_building",
+                    [raysIn] { return raysIn(RayQueries::State::Building) + raysIn(RayQueries::State::NotStarted); });
+    st.metrics.read("geoslice_ray_scenes_ready", [raysIn] { return raysIn(RayQueries::State::Ready); });
+    st.metrics.read("geoslice_ray_scenes_failed", [raysIn] { return raysIn(RayQueries::State::Failed); });
 
     TransportConfig tc;
     tc.host = config_.host;
@@ -221,20 +210,14 @@ Result<int> SectionServer::start() {
     if (!port) return port.error();
     port_ = port.value();
     HttpTransport& http = *im.http;
-    st.metrics.gauge("geoslice_connections_open", "HTTP connections open.",
-                     [&http] { return double(http.stats().open); });
-    st.metrics.gauge("geoslice_connections_refused", "Connections answered 503 at the connection cap (total).",
-                     [&http] { return double(http.stats().rejected); });
-    st.metrics.gauge("geoslice_connections_evicted",
-                     "Connections waiting for a request closed to admit a new one at the cap (total).",
-                     [&http] { return double(http.stats().evicted); });
-    st.metrics.gauge("geoslice_connection_timeouts", "Connections closed by a header, body or send deadline (total).",
-                     [&http] {
-                         const auto s = http.stats();
-                         return double(s.headerTimeouts + s.bodyTimeouts + s.sendTimeouts);
-                     });
-    st.metrics.gauge("geoslice_requests_abandoned", "Requests whose client went away while being handled (total).",
-                     [&http] { return double(http.stats().cancelled); });
+    st.metrics.read("geoslice_connections_open", [&http] { return double(http.stats().open); });
+    st.metrics.read("geoslice_connections_refused_total", [&http] { return double(http.stats().rejected); });
+    st.metrics.read("geoslice_connections_evicted_total", [&http] { return double(http.stats().evicted); });
+    st.metrics.read("geoslice_connection_timeouts_total", [&http] {
+        const auto s = http.stats();
+        return double(s.headerTimeouts + s.bodyTimeouts + s.sendTimeouts);
+    });
+    st.metrics.read("geoslice_requests_abandoned_total", [&http] { return double(http.stats().cancelled); });
     http.start();
     im.loader = std::thread([&im] { im.loadModels(); });
     im.probeGl();

@@ -27,8 +27,8 @@ std::string image(const std::string& viewKey, const std::string& extension, int 
     return viewKey + "|" + extension + "|q=" + std::to_string(quality);
 }
 
-std::string vector(const api::CatalogModel& m, const api::ViewPlan& plan, bool svg, bool world) {
-    return m.version + "|" + plan.canonical() + (svg ? "|svg" : world ? "|geojson-world" : "|geojson");
+std::string vector(const api::CatalogModel& m, const api::ViewPlan& plan, const std::string& form) {
+    return m.version + "|" + plan.canonical() + "|" + form;
 }
 
 std::string sheet(const api::CatalogModel& m, const std::string& sheetCanonical, const std::string& extension,
@@ -142,7 +142,6 @@ Rendered RenderCache::render(const std::string& key, RenderFn render, std::size_
             if (ms > deadlineMs_) {
                 spdlog::warn("event=render_overrun key_hash={} ms={:.1f} deadline_ms={} cancelled={} gl_rebuilt={}",
                              api::hex64(api::fnv1a64(key)), ms, deadlineMs_, cancel.load(), gl && w.hasGl());
-                metrics_.count("geoslice_render_overruns_total", "");
                 if (gl) w.discardGl();  // a GL context that overran is rebuilt by the next GL job
             }
             if (memoryBytes >= kTrimAfterBytes) {
@@ -153,7 +152,6 @@ Rendered RenderCache::render(const std::string& key, RenderFn render, std::size_
             coalescer_.finish(key, id, std::make_shared<const Rendered>(std::move(r)));
         };
         job.drop = [this, key, id = ticket.id](const Error& e) {
-            metrics_.count("geoslice_renders_dropped_total", "");
             coalescer_.finish(key, id, std::make_shared<const Rendered>(e));
         };
         if (const workers::Admission a = pool_.submit(std::move(job)); a != workers::Admission::Queued) {
@@ -167,7 +165,7 @@ Rendered RenderCache::render(const std::string& key, RenderFn render, std::size_
     while (ticket.future.wait_for(std::chrono::milliseconds(10)) != std::future_status::ready) {
         if (clientGone.load(std::memory_order_relaxed)) {
             coalescer_.leave(key, ticket.id);
-            metrics_.count("geoslice_requests_abandoned_total", "");
+            metrics_.count("geoslice_render_waits_abandoned_total", "");
             return makeError(ErrorCode::DeadlineExceeded, "the client went away; its render was cancelled");
         }
         if (Clock::now() >= deadline) {

@@ -61,7 +61,8 @@ using RenderFn = std::function<Rendered(workers::WorkerState&, const std::atomic
 namespace cache_key {
 std::string view(const api::CatalogModel& m, const api::ViewPlan& plan);  // also the ID buffer's key
 std::string image(const std::string& viewKey, const std::string& extension, int quality);
-std::string vector(const api::CatalogModel& m, const api::ViewPlan& plan, bool svg, bool world);
+// `form`: "svg", "geojson-world", "dxf-plane", ...: the format and its coordinate space.
+std::string vector(const api::CatalogModel& m, const api::ViewPlan& plan, const std::string& form);
 std::string sheet(const api::CatalogModel& m, const std::string& sheetCanonical, const std::string& extension,
                   int quality);
 std::string tile(const api::CatalogModel& m, const api::SectionDef& def, int z, long long x, long long y,

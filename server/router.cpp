@@ -113,6 +113,7 @@ void Router::run(const Route& route, HttpRequest& req, HttpResponse& res) const 
             problem(res, 500, "internal error", req.path, "internal");
         }
     }
+    addValidators(req, res);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     metrics_.request(route.name, route.method, res.status, s);
     // The key's name, never the key.
@@ -160,6 +161,7 @@ std::string Router::allowedMethods(const std::string& path) const {
 }
 
 void Router::dispatch(HttpRequest& req, HttpResponse& res) const {
+    const auto t0 = std::chrono::steady_clock::now();
     const std::string origin = cors_.allowOrigin(req.get_header_value("Origin"));
     const Route* found = nullptr;
     if (auto s = checkRequestText(req); !s) {
@@ -197,6 +199,10 @@ void Router::dispatch(HttpRequest& req, HttpResponse& res) const {
             problem(res, 404, "no route for " + req.method + " " + req.path, req.path, "not_found");
         }
     }
+    // What no route answered (bad text, OPTIONS, 404, 405) is counted too, under one label.
+    if (!found)
+        metrics_.request("(unmatched)", req.method, res.status,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     res.set_header("X-Content-Type-Options", "nosniff");
     std::string vary;
     if (keys_.enabled() && found && found->access == RouteAccess::Key) {

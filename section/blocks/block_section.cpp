@@ -476,8 +476,7 @@ std::string blockPiecesSvg(const BlockModel& blocks, const PropertyClasses& clas
 }
 
 nlohmann::ordered_json blockPiecesGeoJson(const BlockModel& blocks, const PropertyClasses& classes,
-                                          const std::vector<BlockPiece>& pieces,
-                                          const std::function<glm::dvec3(const glm::dvec2&)>* toWorld) {
+                                          const std::vector<BlockPiece>& pieces, const GeoJsonSpace& space) {
     nlohmann::ordered_json features = nlohmann::ordered_json::array();
     const BlockProperty& prop = blocks.properties[std::size_t(classes.property)];
     for (const BlockPiece& piece : pieces) {
@@ -503,19 +502,7 @@ nlohmann::ordered_json blockPiecesGeoJson(const BlockModel& blocks, const Proper
         nlohmann::ordered_json coords = nlohmann::ordered_json::array();
         for (const auto& poly : polys) {
             nlohmann::ordered_json rings = nlohmann::ordered_json::array();
-            for (const Ring* r : poly) {
-                nlohmann::ordered_json ring = nlohmann::ordered_json::array();
-                for (std::size_t i = 0; i <= r->size(); ++i) {
-                    const glm::dvec2& p = (*r)[i % r->size()];
-                    if (toWorld) {
-                        const glm::dvec3 w = (*toWorld)(p);
-                        ring.push_back({w.x, w.y, w.z});
-                    } else {
-                        ring.push_back({p.x, p.y});
-                    }
-                }
-                rings.push_back(std::move(ring));
-            }
+            for (const Ring* r : poly) rings.push_back(geoJsonRing(*r, r == poly.front(), space));
             coords.push_back(std::move(rings));
         }
         const auto ijk = blocks.ijk(piece.cell);

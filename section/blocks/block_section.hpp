@@ -45,6 +45,7 @@
 #include "section/cut/contours.hpp"
 #include "section/cut/polyline.hpp"
 #include "section/fill/raster.hpp"
+#include "section/fill/vector_export.hpp"
 #include "section/index/section_index.hpp"
 
 namespace geoslice {
@@ -162,9 +163,8 @@ Result<std::vector<BlockPiece>> blockPieces(const BlockModel& blocks, const Poly
 std::string blockPiecesSvg(const BlockModel& blocks, const PropertyClasses& classes,
                            const std::vector<BlockPiece>& pieces, const FrameRect& rect, int width, int height);
 // GeoJSON features of the pieces (kind "block": cell [i, j, k], body part, record, area_m2,
-// every property's value, the class and its colour), rings in plane u/v or world x, y, z.
+// every property's value, the class and its colour), rings in `space` (vector_export.hpp).
 nlohmann::ordered_json blockPiecesGeoJson(const BlockModel& blocks, const PropertyClasses& classes,
-                                          const std::vector<BlockPiece>& pieces,
-                                          const std::function<glm::dvec3(const glm::dvec2&)>* toWorld);
+                                          const std::vector<BlockPiece>& pieces, const GeoJsonSpace& space);
 
 }  // namespace geoslice

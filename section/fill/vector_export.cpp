@@ -1,6 +1,7 @@
 #include "section/fill/vector_export.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -13,17 +14,10 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-json position(const VectorSource& src, VectorFrame frame, const glm::dvec2& p) {
-    if (frame == VectorFrame::Plane) return json::array({p.x, p.y});
-    const glm::dvec3 w = src.toWorld(p);
+json position(const GeoJsonSpace& space, const glm::dvec2& p) {
+    const glm::dvec3 w = space.position(p);
+    if (!space.threeD()) return json::array({w.x, w.y});
     return json::array({w.x, w.y, w.z});
-}
-
-json ringJson(const VectorSource& src, VectorFrame frame, const Ring& ring) {
-    json r = json::array();
-    for (const auto& p : ring) r.push_back(position(src, frame, p));
-    if (!ring.empty()) r.push_back(position(src, frame, ring.front()));  // RFC 7946: closed
-    return r;
 }
 
 json attributesOf(const Model& m, RecordId id) {
@@ -85,14 +79,100 @@ VectorSource vectorSource(const PolylineSection& section) {
     return s;
 }
 
-json toGeoJson(const SectionIndex& index, const VectorSource& src, VectorFrame frame) {
+Status GeoJsonSpace::checkPositions() const {
+    const std::size_t n = failures->load();
+    if (n == 0) return {};
+    return makeError(ErrorCode::Unsupported, "PROJ could not convert " + std::to_string(n) +
+                                                 " point(s) of the section to WGS 84; ask for space=projected");
+}
+
+Result<GeoJsonSpace> geoJsonSpace(const VectorSource& src, VectorFrame frame, const Crs& crs,
+                                  const CrsTransform* toLonLat, const std::string& lonLatNote) {
+    GeoJsonSpace space;
+    space.frame = frame;
+    const std::string crsId = crs.isLocal() ? std::string("local") : crs.id();
+    if (frame == VectorFrame::Plane) {
+        space.position = [](const glm::dvec2& p) { return glm::dvec3(p, 0.0); };
+        // An engineering CRS: GDAL/QGIS read [u, v] as metres on a local plane, not degrees.
+        space.crsMember = {{"type", "name"},
+                           {"properties",
+                            {{"name",
+                              "ENGCRS[\"geoslice section plane\",EDATUM[\"section plane\"],CS[Cartesian,2],"
+                              "AXIS[\"u\",east,ORDER[1],LENGTHUNIT[\"metre\",1]],"
+                              "AXIS[\"v\",north,ORDER[2],LENGTHUNIT[\"metre\",1]]]"}}}};
+        space.meta = {{"frame", "plane"}, {"axes", src.axes}, {"modelCrs", crsId}};
+        return space;
+    }
+    const auto toWorld = src.toWorld;
+    if (frame == VectorFrame::Projected) {
+        space.position = toWorld;
+        // GDAL reads the URN and WKT alike; a model without CRS gets a local engineering CRS.
+        const std::string name = crs.isLocal()
+                                     ? std::string(
+                                           "ENGCRS[\"geoslice model coordinates\",EDATUM[\"model origin\"],"
+                                           "CS[Cartesian,3],AXIS[\"x\",east,ORDER[1],LENGTHUNIT[\"metre\",1]],"
+                                           "AXIS[\"y\",north,ORDER[2],LENGTHUNIT[\"metre\",1]],"
+                                           "AXIS[\"z\",up,ORDER[3],LENGTHUNIT[\"metre\",1]]]")
+                                 : crs.epsg() ? "urn:ogc:def:crs:EPSG::" + std::to_string(crs.epsg())
+                                              : crs.id();
+        space.crsMember = {{"type", "name"}, {"properties", {{"name", name}}}};
+        space.meta = {{"frame", "projected"},
+                      {"axes", "easting, northing, elevation (metres) in the model's CRS"},
+                      {"modelCrs", crsId}};
+        return space;
+    }
+    if (crs.isLocal())
+        return makeError(ErrorCode::InvalidArgument,
+                         "parameter 'space': the model has no CRS, so there are no lon/lat coordinates; use "
+                         "space=projected (the model's own x, y, z) or space=plane");
+    if (!toLonLat)
+        return makeError(ErrorCode::Unsupported,
+                         "parameter 'space': " + lonLatNote + "; ask for space=projected (the model's CRS)");
+    const CrsTransform t = *toLonLat;
+    auto failures = space.failures;
+    space.position = [toWorld, t, failures](const glm::dvec2& p) {
+        Result<glm::dvec3> g = t.apply(toWorld(p));
+        if (g && std::isfinite(g.value().x) && std::isfinite(g.value().y)) return g.value();
+        failures->fetch_add(1);
+        return glm::dvec3(NAN);
+    };
+    space.meta = {{"frame", "world"},
+                  {"axes", "longitude, latitude (degrees, WGS 84, RFC 7946), elevation (metres, the model's)"},
+                  {"modelCrs", crsId},
+                  {"operation", t.operationName()}};
+    if (t.accuracyM() >= 0.0) space.meta["accuracyM"] = t.accuracyM();
+    if (!lonLatNote.empty()) space.meta["note"] = lonLatNote;
+    return space;
+}
+
+json geoJsonRing(const std::vector<glm::dvec2>& ring, bool exterior, const GeoJsonSpace& space) {
+    std::vector<glm::dvec3> pts;
+    pts.reserve(ring.size() + 1);
+    for (const auto& p : ring) pts.push_back(space.position(p));
+    double twiceArea = 0.0;  // shoelace in the written x/y: > 0 counter-clockwise
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const glm::dvec3& a = pts[i];
+        const glm::dvec3& b = pts[(i + 1) % pts.size()];
+        twiceArea += (a.x - b.x) * (a.y + b.y);
+    }
+    if ((twiceArea < 0.0) == exterior) std::reverse(pts.begin(), pts.end());
+    json r = json::array();
+    auto put = [&](const glm::dvec3& w) {
+        r.push_back(space.threeD() ? json::array({w.x, w.y, w.z}) : json::array({w.x, w.y}));
+    };
+    for (const auto& w : pts) put(w);
+    if (!pts.empty()) put(pts.front());  // closed
+    return r;
+}
+
+Result<json> toGeoJson(const SectionIndex& index, const VectorSource& src, const GeoJsonSpace& space) {
     const Model& m = *index.model;
     json features = json::array();
     for (const BodySection& b : *src.bodies) {
         json polys = json::array();
         for (const SectionPolygon& p : b.polygons) {
-            json rings = json::array({ringJson(src, frame, p.outer)});
-            for (const Ring& h : p.holes) rings.push_back(ringJson(src, frame, h));
+            json rings = json::array({geoJsonRing(p.outer, true, space)});
+            for (const Ring& h : p.holes) rings.push_back(geoJsonRing(h, false, space));
             polys.push_back(std::move(rings));
         }
         features.push_back({{"type", "Feature"},
@@ -107,8 +187,8 @@ json toGeoJson(const SectionIndex& index, const VectorSource& src, VectorFrame f
     }
     for (const SectionTrace& t : *src.traces) {
         json coords = json::array();
-        for (const auto& p : t.points) coords.push_back(position(src, frame, p));
-        if (t.closed && !t.points.empty()) coords.push_back(position(src, frame, t.points.front()));
+        for (const auto& p : t.points) coords.push_back(position(space, p));
+        if (t.closed && !t.points.empty()) coords.push_back(position(space, t.points.front()));
         const std::size_t surface = t.part - index.bodyCount;
         features.push_back({{"type", "Feature"},
                             {"geometry", {{"type", "LineString"}, {"coordinates", std::move(coords)}}},
@@ -120,16 +200,10 @@ json toGeoJson(const SectionIndex& index, const VectorSource& src, VectorFrame f
                               {"closed", t.closed},
                               {"attributes", attributesOf(m, t.record)}}}});
     }
-    json meta = {{"frame", frame == VectorFrame::Plane ? "plane" : "world"},
-                 {"axes", frame == VectorFrame::Plane
-                              ? src.axes
-                              : std::string("world x easting, y northing, z elevation, metres, in the model's CRS")},
-                 {"crs", m.crs.epsg() ? "EPSG:" + std::to_string(m.crs.epsg()) : std::string("local")}};
+    if (Status s = space.checkPositions(); !s) return s.error();
     json out = {{"type", "FeatureCollection"}};
-    if (frame == VectorFrame::World && m.crs.epsg())
-        out["crs"] = {{"type", "name"},
-                      {"properties", {{"name", "urn:ogc:def:crs:EPSG::" + std::to_string(m.crs.epsg())}}}};
-    out["geoslice"] = std::move(meta);
+    if (!space.crsMember.is_null()) out["crs"] = space.crsMember;
+    out["geoslice"] = space.meta;
     out["features"] = std::move(features);
     return out;
 }

@@ -24,8 +24,7 @@ constexpr std::size_t kMaxHoleIdBytes = 256;
 const DrillholeDatabase* drillholesOf(const api::CatalogModel& m, const HttpRequest& req, HttpResponse& res) {
     if (m.drillholes) return m.drillholes.get();
     if (!m.drillholeWarning.empty()) {
-        problem(res, 409, "model '" + m.id + "': " + m.drillholeWarning, req.path,
-                "drillholes_not_loaded");
+        problem(res, 409, "model '" + m.id + "': " + m.drillholeWarning, req.path, "drillholes_not_loaded");
         return nullptr;
     }
     problem(res, 404,

@@ -111,15 +111,21 @@ void addOpsRoutes(Router& router, ServerState& st) {
         "GET", "/healthz", "/healthz",
         [](const HttpRequest&, HttpResponse& res) {
             sendJson(res, Json{{"status", "ok"}, {"version", kVersion}});
+            res.set_header("Cache-Control", "no-store");  // a probe's answer is now or never
         },
         RouteAccess::Open);
     router.add(
-        "GET", "/readyz", "/readyz", [&st](const HttpRequest&, HttpResponse& res) { readyz(st, res); },
+        "GET", "/readyz", "/readyz",
+        [&st](const HttpRequest&, HttpResponse& res) {
+            readyz(st, res);
+            res.set_header("Cache-Control", "no-store");
+        },
         RouteAccess::Open);
     router.add(
         "GET", "/metrics", "/metrics",
         [&st](const HttpRequest&, HttpResponse& res) {
-            res.set_content(st.metrics.text(), "text/plain; version=0.0.4");
+            res.set_content(st.metrics.text(), Metrics::kContentType);
+            res.set_header("Cache-Control", "no-store");
         },
         RouteAccess::Open);
     router.add(

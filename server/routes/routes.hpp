@@ -37,7 +37,9 @@ void addDrillholeRoutes(Router& router, ServerState& state);
 void addTileRoutes(Router& router, ServerState& state);
 
 // section.{format} hands these on (section.cpp decides which one answers).
-void sectionVector(ServerState& state, const HttpRequest& req, HttpResponse& res, const api::CatalogModel& m, bool svg);
+// ext: geojson, svg or dxf.
+void sectionVector(ServerState& state, const HttpRequest& req, HttpResponse& res, const api::CatalogModel& m,
+                   const std::string& ext);
 void sectionSheet(ServerState& state, const HttpRequest& req, HttpResponse& res, const api::CatalogModel& m,
                   api::SheetFormat format, const std::string& ext);
 

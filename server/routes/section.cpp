@@ -1,6 +1,6 @@
 // GET /v1/models/{id}/section.{format}: a section image (jpg, png, webp), profile (CPU,
 // exact) or perspective (GL, on a render worker's context). The same path also serves the
-// vector section (geojson, svg: vectors.cpp) and print sheets (pdf, ?layout=print,
+// vector section (geojson, svg, dxf: vectors.cpp) and print sheets (pdf, ?layout=print,
 // ?decorate=1: print.cpp). A rendered view keeps its ID buffer for pixel queries.
 #include "api/request.hpp"
 #include "server/respond.hpp"
@@ -16,7 +16,7 @@ Result<std::optional<api::SheetFormat>> sheetFormat(const HttpRequest& req, cons
     const api::SheetFormat format = ext == "pdf"   ? api::SheetFormat::Pdf
                                     : ext == "svg" ? api::SheetFormat::Svg
                                                    : api::SheetFormat::Raster;
-    if (ext == "geojson") return std::optional<api::SheetFormat>();
+    if (ext == "geojson" || ext == "dxf") return std::optional<api::SheetFormat>();
     auto params = queryParams(req);
     if (!params) return params.error();
     auto wants = api::wantsSheet(params.value(), format);
@@ -33,7 +33,7 @@ void sectionImage(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     } else if (sheet.value()) {
         return sectionSheet(st, req, res, *m, *sheet.value(), ext);
     }
-    if (ext == "geojson" || ext == "svg") return sectionVector(st, req, res, *m, ext == "svg");
+    if (ext == "geojson" || ext == "svg" || ext == "dxf") return sectionVector(st, req, res, *m, ext);
     auto format = imageFormatFromName(ext);
     if (!format)
         return problem(

@@ -1,7 +1,9 @@
 // Stateless sections and their tiles: POST /v1/models/{id}/sections (a section definition
 // -> its id, grid and tile URL template), GET /v1/sections/{sid} (the definition back) and
 // GET /v1/sections/{sid}/tiles/{z}/{x}/{y}.{png,jpg,webp} (api/view.hpp's tile grid; CPU,
-// on a render worker). The section id carries the whole definition (api/plan.hpp).
+// on a render worker), and the same grid as TileJSON 3.0 (/tilejson.json) and OGC API - Tiles
+// (/tiles, /tilematrixset) for GIS clients. The section id carries the whole definition
+// (api/plan.hpp).
 #include <optional>
 
 #include "api/request.hpp"
@@ -35,6 +37,8 @@ void defineSection(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     j["model"] = m->id;
     j["definition"] = def.value().canonical();
     j["tiles"] = "/v1/sections/" + sid + "/tiles/{z}/{x}/{y}.png";
+    j["tilejson"] = "/v1/sections/" + sid + "/tilejson.json";
+    j["ogcTiles"] = "/v1/sections/" + sid + "/tiles";
     j["grid"] = grid.value().describe();
     res.set_header("Location", "/v1/sections/" + sid);
     sendJson(res, j, 201);
@@ -85,14 +89,43 @@ void describeSection(ServerState& st, const HttpRequest& req, HttpResponse& res)
                        {"grid", grid.value().describe()}});
 }
 
+// The absolute URL of a section for the standard descriptions: scheme from
+// X-Forwarded-Proto (https behind a TLS proxy), host from the Host header when it is a
+// plain host[:port] (the transport requires one on HTTP/1.1), else the loopback address.
+std::string sectionBase(const HttpRequest& req, const std::string& sid) {
+    std::string host = req.get_header_value("X-Forwarded-Host");
+    if (host.empty()) host = req.get_header_value("Host");
+    bool plain = !host.empty() && host.size() <= 255;
+    for (char c : host)
+        plain = plain && ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
+                          c == '-' || c == ':' || c == '[' || c == ']');
+    const std::string scheme = req.get_header_value("X-Forwarded-Proto") == "https" ? "https" : "http";
+    return scheme + "://" + (plain ? host : std::string("127.0.0.1")) + "/v1/sections/" + sid;
+}
+
+// GET /v1/sections/{sid}/tilejson.json, /tiles (OGC API - Tiles tileset) and
+// /tilematrixset (OGC TMS): api/tile_grid.hpp. Unknown query parameters are ignored.
+void describeTiles(ServerState& st, const HttpRequest& req, HttpResponse& res, const std::string& form) {
+    auto s = section(st, req, res);
+    if (!s) return;
+    auto grid = api::tileGrid(*s->first, s->second);
+    if (!grid) return problem(res, grid.error(), req.path);
+    const std::string sid = req.matches[1];
+    const std::string base = sectionBase(req, sid);
+    const std::string title = "geoslice section of " + s->first->id + ": " + s->second.canonical();
+    if (form == "tilejson") return sendJson(res, api::tileJson(grid.value(), base, title));
+    if (form == "tileset") return sendJson(res, api::ogcTileset(grid.value(), base, title));
+    sendJson(res, api::ogcTileMatrixSet(grid.value(), base));
+}
+
 void tile(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     auto format = imageFormatFromName(std::string(req.matches[5]));
     if (!format)
         return problem(res, 404, "unknown tile format '" + std::string(req.matches[5]) + "'", req.path, "not_found");
     auto address = api::parseTileAddress(req.matches[2], req.matches[3], req.matches[4]);
     if (!address) return problem(res, address.error(), req.path);
-    if (auto p = queryParams(req); !p || !api::checkKnownParams(p.value(), {}).ok())
-        return problem(res, 400, "tiles take no query parameters", req.path, "invalid_argument");
+    // Query parameters are ignored (cache busters such as ?v=1 that map clients add); the
+    // tile is named by its path alone, and so is its cache entry.
     auto s = section(st, req, res);
     if (!s) return;
     const auto& [m, def] = *s;
@@ -126,6 +159,12 @@ void addTileRoutes(Router& router, ServerState& st) {
                [&st](const HttpRequest& req, HttpResponse& res) { defineSection(st, req, res); });
     router.add("GET", "/v1/sections/{sid}", "/v1/sections/([A-Za-z0-9_-]+)",
                [&st](const HttpRequest& req, HttpResponse& res) { describeSection(st, req, res); });
+    router.add("GET", "/v1/sections/{sid}/tilejson.json", "/v1/sections/([A-Za-z0-9_-]+)/tilejson\\.json",
+               [&st](const HttpRequest& req, HttpResponse& res) { describeTiles(st, req, res, "tilejson"); });
+    router.add("GET", "/v1/sections/{sid}/tiles", "/v1/sections/([A-Za-z0-9_-]+)/tiles",
+               [&st](const HttpRequest& req, HttpResponse& res) { describeTiles(st, req, res, "tileset"); });
+    router.add("GET", "/v1/sections/{sid}/tilematrixset", "/v1/sections/([A-Za-z0-9_-]+)/tilematrixset",
+               [&st](const HttpRequest& req, HttpResponse& res) { describeTiles(st, req, res, "tms"); });
     router.add("GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
                "/v1/sections/([A-Za-z0-9_-]+)/tiles/(-?[0-9]+)/(-?[0-9]+)/(-?[0-9]+)\\.([A-Za-z0-9]+)",
                [&st](const HttpRequest& req, HttpResponse& res) { tile(st, req, res); });

@@ -1,5 +1,6 @@
-// section.geojson and section.svg (from section.cpp): the exact section as polygons, in
-// plane u/v metres or, with space=world, world coordinates. Computed on a render worker
+// section.geojson, section.svg and section.dxf (from section.cpp): the exact section as polygons, in
+// WGS 84 lon/lat (space=world, RFC 7946), the model's CRS (space=projected) or plane u/v metres
+// (space=plane). Computed on a render worker
 // (model-sized work), cached by model version + canonical plan + form.
 #include <chrono>
 
@@ -10,29 +11,39 @@
 
 namespace geoslice::server {
 
-void sectionVector(ServerState& st, const HttpRequest& req, HttpResponse& res, const api::CatalogModel& m, bool svg) {
+void sectionVector(ServerState& st, const HttpRequest& req, HttpResponse& res, const api::CatalogModel& m,
+                   const std::string& ext) {
+    const api::VectorFormat format = ext == "svg"   ? api::VectorFormat::Svg
+                                     : ext == "dxf" ? api::VectorFormat::Dxf
+                                                    : api::VectorFormat::GeoJson;
     auto params = queryParams(req);
     if (!params) return problem(res, params.error(), req.path);
     if (auto s = api::checkKnownParams(params.value(), withNames(api::viewParamNames(), {"space"})); !s)
         return problem(res, s.error(), req.path);
-    auto world = api::parseWorldSpace(params.value());
-    if (!world) return problem(res, world.error(), req.path);
+    auto frame = format == api::VectorFormat::Dxf ? api::parseDxfSpace(params.value())
+                                                  : api::parseVectorSpace(params.value(), !m.model.crs.isLocal());
+    if (!frame) return problem(res, frame.error(), req.path);
     auto plan = api::parseViewPlan(params.value(), m.id, m.model.crs);
     if (!plan) return problem(res, plan.error(), req.path);
     if (auto s = validateView(st, m, plan.value()); !s) return problem(res, s.error(), req.path);
-    const std::string key = cache_key::vector(m, plan.value(), svg, world.value());
+    static constexpr const char* kFrames[] = {"plane", "projected", "world"};
+    const std::string form =
+        format == api::VectorFormat::Svg ? std::string("svg") : ext + "-" + kFrames[int(frame.value())];
+    const std::string key = cache_key::vector(m, plan.value(), form);
     if (auto hit = st.cache->find(key)) return sendEncoded(req, res, *hit);
     auto mp = st.catalog.find(m.id);
     auto result = st.cache->render(
         key,
-        [&st, mp, plan = plan.value(), svg, world = world.value(), etag = RenderCache::etagOf(key)](
+        [&st, mp, plan = plan.value(), format, ext, frame = frame.value(), etag = RenderCache::etagOf(key)](
             workers::WorkerState&, const std::atomic<bool>& cancel) -> Rendered {
             const auto t0 = std::chrono::steady_clock::now();
-            auto text = api::renderVector(*mp, plan, svg, world, &cancel);
+            auto text = api::renderVector(*mp, plan, format, frame, &cancel);
             if (!text) return text.error();
-            st.metrics.render(svg ? "svg" : "geojson",
-                              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-            return documentEntry(std::move(text.value()), svg ? "image/svg+xml" : "application/geo+json", etag);
+            st.metrics.render(ext, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            const char* type = format == api::VectorFormat::Svg   ? "image/svg+xml"
+                               : format == api::VectorFormat::Dxf ? "image/vnd.dxf"
+                                                                  : "application/geo+json";
+            return documentEntry(std::move(text.value()), type, etag);
         },
         kVectorBytes, false, *req.cancelled);
     if (!result) return problem(res, result.error(), req.path);

@@ -62,7 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         (void)api::queryPixel(*model, p, p.width / 2, p.height / 2, &image.value());
     }
     (void)api::queryPixel(*model, p, 0, 0, nullptr);
-    (void)api::renderVector(*model, p, true, false);
+    (void)api::renderVector(*model, p, api::VectorFormat::Svg, VectorFrame::Plane);
     if (auto grid = api::tileGrid(*model, p.section)) {
         const int z = int(size % std::size_t(grid.value().maxZoom + 1));
         (void)api::renderSectionTile(*model, p.section, grid.value(), z, 0, 0);

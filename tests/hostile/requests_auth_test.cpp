@@ -102,6 +102,9 @@ const std::vector<Route> kRoutes = {
     {"POST sections", "POST", "/v1/models/{m}/sections", R"({"plane": "0,1,0,-50"})", 201},
     {"GET /v1/sections/{sid}", "GET", "/v1/sections/{sid}", "", 200},
     {"GET section tile", "GET", "/v1/sections/{sid}/tiles/0/0/0.png", "", 200},
+    {"GET TileJSON", "GET", "/v1/sections/{sid}/tilejson.json", "", 200},
+    {"GET OGC tileset", "GET", "/v1/sections/{sid}/tiles", "", 200},
+    {"GET OGC TileMatrixSet", "GET", "/v1/sections/{sid}/tilematrixset", "", 200},
 };
 
 std::string replaced(std::string s, const std::string& from, const std::string& to) {

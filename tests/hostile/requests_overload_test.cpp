@@ -115,7 +115,7 @@ TEST(HostileOverload, DeadlinesCancelRendersAndOverrunsAreCounted) {
     EXPECT_EQ(j["ready"], true);
     auto metrics = c.Get("/metrics");
     ASSERT_TRUE(metrics);
-    EXPECT_NE(metrics->body.find("geoslice_renders_overrun"), std::string::npos);
+    EXPECT_NE(metrics->body.find("geoslice_render_overruns_total"), std::string::npos);
 }
 
 TEST(HostileOverload, AdmissionByMemoryAnswers503WithRetryAfter) {

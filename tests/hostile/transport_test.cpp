@@ -497,7 +497,7 @@ TEST(Transport, SlowReaderBoundedBySendDeadline) {
     (void)send(reader.fd(), all.data(), all.size(), MSG_NOSIGNAL);
     const auto t0 = Clock::now();
     double timeouts = 0;
-    while (msSince(t0) < 8000 && (timeouts = metric(srv.port(), "geoslice_connection_timeouts")) < 1.0)
+    while (msSince(t0) < 8000 && (timeouts = metric(srv.port(), "geoslice_connection_timeouts_total")) < 1.0)
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
     std::printf("a client that reads nothing was cut off after %.0f ms (send deadline 1000 ms)\n", msSince(t0));
     EXPECT_GE(timeouts, 1.0);
@@ -520,7 +520,7 @@ TEST(Transport, ConnectionCapClosesTheLongestWaitingForANewClient) {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const auto [status, ms] = timedGet(srv.port(), "/healthz");
     EXPECT_EQ(status, 200);
-    const double evicted = metric(srv.port(), "geoslice_connections_evicted");
+    const double evicted = metric(srv.port(), "geoslice_connections_evicted_total");
     const double open = metric(srv.port(), "geoslice_connections_open");
     std::printf("cap 32, 40 slow headers: a new client answered in %.1f ms, %.0f evicted, %.0f open\n", ms, evicted,
                 open);

@@ -7,9 +7,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <fstream>
 #include <map>
 #include <random>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -22,6 +24,7 @@
 #include "model/crs/crs.hpp"
 #include "model/version.hpp"
 #include "server/http_server.hpp"
+#include "tests/common/run_command.hpp"
 #include "tests/common/tolerances.hpp"
 #include "tests/server/server_fixture.hpp"
 
@@ -129,22 +132,51 @@ TEST_F(Server, SectionImagesInEveryFormat) {
 }
 
 TEST_F(Server, VectorSectionsAsGeoJsonAndSvg) {
-    const json g = getJson("/v1/models/demo/section.geojson?" + kPlane + "&size=256x128");
+    const json g = getJson("/v1/models/demo/section.geojson?" + kPlane + "&size=256x128&space=plane");
     EXPECT_EQ(g["type"], "FeatureCollection");
     ASSERT_GT(g["features"].size(), 3u);
     double area = 0.0;
     for (const auto& f : g["features"])
         if (f["properties"]["kind"] == "body") area += f["properties"]["area_m2"].get<double>();
     EXPECT_GT(area, 1e6);
-    const json w = getJson("/v1/models/demo/section.geojson?" + kPlane + "&space=world");
+    const json w = getJson("/v1/models/demo/section.geojson?" + kPlane + "&space=projected");
     const auto& ring = w["features"][0]["geometry"]["coordinates"][0][0];
     EXPECT_NEAR(ring[0][1].get<double>(), 3388846.0, kContourOnPlaneM);  // world y of a point on the plane
+    EXPECT_EQ(w["crs"]["properties"]["name"], "urn:ogc:def:crs:EPSG::4523");
+    // The default is RFC 7946: WGS 84 lon/lat, no crs member; the same point through PROJ.
+    const json d = getJson("/v1/models/demo/section.geojson?" + kPlane);
+    EXPECT_FALSE(d.contains("crs"));
+    EXPECT_EQ(d["geoslice"]["frame"], "world");
+    const auto& lonlat = d["features"][0]["geometry"]["coordinates"][0][0][0];
+    const auto& projected = ring[0];
+    auto ll = convertPoint(Crs::fromEpsg(4523).value(), Crs::fromEpsg(4326).value(),
+                           {projected[0].get<double>(), projected[1].get<double>(), 0.0});
+    ASSERT_TRUE(ll.ok());
+    // The first exterior position may differ (rings are re-wound in lon/lat): compare any vertex.
+    bool found = false;
+    for (const auto& p : d["features"][0]["geometry"]["coordinates"][0][0])
+        found = found || (std::abs(p[0].get<double>() - ll.value().x) < 1e-9 &&
+                          std::abs(p[1].get<double>() - ll.value().y) < 1e-9);
+    EXPECT_TRUE(found) << lonlat.dump() << " vs " << ll.value().x << "," << ll.value().y;
     auto svg = get("/v1/models/demo/section.svg?" + kPlane + "&size=256x128");
     ASSERT_TRUE(svg);
     EXPECT_EQ(svg->status, 200);
     EXPECT_EQ(svg->get_header_value("Content-Type"), "image/svg+xml");
     EXPECT_NE(svg->body.find("<svg"), std::string::npos);
     expectProblem(get("/v1/models/demo/section.geojson?" + kPlane + "&space=mars"), 400, "space");
+    // DXF for CAD (dxflib; read back by ezdxf in tests/unit/section_cli_test.cpp).
+    auto dxf = get("/v1/models/demo/section.dxf?" + kPlane);
+    ASSERT_TRUE(dxf);
+    EXPECT_EQ(dxf->status, 200) << dxf->body;
+    EXPECT_EQ(dxf->get_header_value("Content-Type"), "image/vnd.dxf");
+    EXPECT_NE(dxf->body.find("AC1015"), std::string::npos);
+    EXPECT_NE(dxf->body.find("HATCH"), std::string::npos);
+    EXPECT_EQ(dxf->body.substr(dxf->body.size() - 4), "EOF\n");
+    auto dxf3 = get("/v1/models/demo/section.dxf?" + kPlane + "&space=projected");
+    ASSERT_TRUE(dxf3);
+    EXPECT_EQ(dxf3->status, 200) << dxf3->body;
+    EXPECT_NE(dxf3->body.find("AC1009"), std::string::npos);
+    expectProblem(get("/v1/models/demo/section.dxf?" + kPlane + "&space=world"), 400, "space");
 }
 
 // A polyline given in CGCS2000 lon/lat is the same section as the line in projected metres.
@@ -190,6 +222,52 @@ TEST_F(Server, EtagGives304) {
     ASSERT_TRUE(third);
     EXPECT_EQ(third->status, 200);
     EXPECT_EQ(third->body, first->body);
+}
+
+// RFC 9110 13: If-None-Match compares weakly; the gzip and identity bodies have distinct
+// ETags and each revalidates to a 304 that carries Vary; routes without a cached answer
+// (model list, OpenAPI, model summary) still have validators and a Cache-Control.
+TEST_F(Server, ConditionalGetsFollowRfc9110) {
+    const std::string png = "/v1/models/demo/section.png?" + kPlane + "&size=64x32";
+    auto first = get(png);
+    ASSERT_TRUE(first);
+    const std::string etag = first->get_header_value("ETag");
+    auto weak = client().Get(png.c_str(), httplib::Headers{{"If-None-Match", "W/" + etag}});
+    ASSERT_TRUE(weak);
+    EXPECT_EQ(weak->status, 304);
+    EXPECT_NE(weak->get_header_value("Vary").find("Accept-Encoding"), std::string::npos);
+
+    httplib::Client raw("127.0.0.1", server_->port());
+    raw.set_decompress(false);
+    const std::string gj = "/v1/models/demo/section.geojson?" + kPlane + "&size=64x32";
+    auto identity = raw.Get(gj.c_str(), httplib::Headers{{"Accept-Encoding", "identity"}});
+    auto gzipped = raw.Get(gj.c_str(), httplib::Headers{{"Accept-Encoding", "gzip"}});
+    ASSERT_TRUE(identity && gzipped);
+    ASSERT_EQ(gzipped->get_header_value("Content-Encoding"), "gzip");
+    const std::string idTag = identity->get_header_value("ETag"), gzTag = gzipped->get_header_value("ETag");
+    EXPECT_NE(idTag, gzTag);
+    EXPECT_EQ(gzTag, idTag.substr(0, idTag.size() - 1) + "-gzip\"");
+    auto again = raw.Get(gj.c_str(), httplib::Headers{{"Accept-Encoding", "gzip"}, {"If-None-Match", gzTag}});
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 304);
+    EXPECT_EQ(again->get_header_value("ETag"), gzTag);
+    EXPECT_NE(again->get_header_value("Vary").find("Accept-Encoding"), std::string::npos);
+
+    for (const std::string path : {"/v1/models", "/openapi.json", "/v1/models/demo"}) {
+        auto r = get(path);
+        ASSERT_TRUE(r) << path;
+        ASSERT_EQ(r->status, 200) << path;
+        const std::string tag = r->get_header_value("ETag");
+        EXPECT_FALSE(tag.empty()) << path;
+        EXPECT_FALSE(r->get_header_value("Cache-Control").empty()) << path;
+        auto cond = client().Get(path.c_str(), httplib::Headers{{"If-None-Match", tag}});
+        ASSERT_TRUE(cond) << path;
+        EXPECT_EQ(cond->status, 304) << path;
+        EXPECT_TRUE(cond->body.empty()) << path;
+    }
+    auto metrics = get("/metrics");
+    ASSERT_TRUE(metrics);
+    EXPECT_EQ(metrics->get_header_value("Cache-Control"), "no-store");
 }
 
 TEST_F(Server, QueryAnswersGeologyAndCoordinates) {
@@ -244,6 +322,35 @@ TEST_F(Server, TilesFromAStatelessSectionId) {
     expectProblem(get("/v1/sections/" + sid + "/tiles/-1/0/0.png"), 404, "");
     expectProblem(get("/v1/sections/AAAA/tiles/0/0/0.png"), 400, "section id");
     EXPECT_EQ(getJson("/v1/sections/" + sid)["model"], "demo");
+    // Cache busters that map clients add are ignored: the same tile, the same ETag.
+    auto plain = get("/v1/sections/" + sid + "/tiles/1/0/0.png");
+    auto busted = get("/v1/sections/" + sid + "/tiles/1/0/0.png?v=1&_=12345");
+    ASSERT_TRUE(plain && busted);
+    EXPECT_EQ(busted->status, 200);
+    EXPECT_EQ(busted->body, plain->body);
+    EXPECT_EQ(busted->get_header_value("ETag"), plain->get_header_value("ETag"));
+    // TileJSON 3.0 and OGC API - Tiles describe the same grid, with absolute URLs.
+    const json tj = getJson("/v1/sections/" + sid + "/tilejson.json");
+    EXPECT_EQ(tj["tilejson"], "3.0.0");
+    EXPECT_EQ(tj["maxzoom"], j["grid"]["maxZoom"]);
+    const std::string tiles = tj["tiles"][0];
+    EXPECT_EQ(tiles.rfind("http://127.0.0.1:", 0), 0u) << tiles;
+    EXPECT_NE(tiles.find("/v1/sections/" + sid + "/tiles/{z}/{x}/{y}.png"), std::string::npos) << tiles;
+    const json ts = getJson("/v1/sections/" + sid + "/tiles");
+    EXPECT_EQ(ts["dataType"], "map");
+    const json tms = getJson("/v1/sections/" + sid + "/tilematrixset");
+    ASSERT_EQ(tms["tileMatrices"].size(), j["grid"]["maxZoom"].get<std::size_t>() + 1);
+    const auto& m0 = tms["tileMatrices"][0];
+    EXPECT_EQ(m0["matrixWidth"], 1);
+    EXPECT_DOUBLE_EQ(m0["cellSize"].get<double>() * 256.0, j["grid"]["size0"].get<double>());
+    EXPECT_DOUBLE_EQ(m0["pointOfOrigin"][0].get<double>(), j["grid"]["origin"]["u"].get<double>());
+    EXPECT_DOUBLE_EQ(tms["tileMatrices"][2]["cellSize"].get<double>() * 4.0, m0["cellSize"].get<double>());
+    // Each tile of the OGC item template is the xyz tile of the same numbers.
+    bool item = false;
+    for (const auto& l : ts["links"])
+        item = item || (l["rel"] == "item" &&
+                        l["href"].get<std::string>().find("{tileMatrix}/{tileCol}/{tileRow}.png") != std::string::npos);
+    EXPECT_TRUE(item) << ts.dump();
 }
 
 TEST_F(Server, BadRequestsGiveProblemsThatNameTheInput) {
@@ -355,14 +462,44 @@ TEST_F(Server, CorsHeaders) {
 
 TEST_F(Server, MetricsInPrometheusFormat) {
     (void)get("/healthz");
+    (void)get("/no/such/route");
+    (void)get("/v1/models/demo/section.png?" + kPlane + "&size=64x32");
     auto r = get("/metrics");
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(r->get_header_value("Content-Type"), "text/plain; version=0.0.4; charset=utf-8");
     EXPECT_NE(r->body.find("geoslice_http_requests_total{route=\"/healthz\",method=\"GET\",status=\"200\"}"),
               std::string::npos);
+    // A request no route answered is counted too.
+    EXPECT_NE(r->body.find("geoslice_http_requests_total{route=\"(unmatched)\",method=\"GET\",status=\"404\"} "),
+              std::string::npos);
     EXPECT_NE(r->body.find("geoslice_http_request_duration_seconds_bucket{route=\"/healthz\""), std::string::npos);
-    EXPECT_NE(r->body.find("geoslice_queue_depth"), std::string::npos);
-    EXPECT_NE(r->body.find("geoslice_cache_bytes"), std::string::npos);
+    EXPECT_NE(r->body.find("\ngeoslice_queue_depth "), std::string::npos);
+    EXPECT_NE(r->body.find("\ngeoslice_cache_bytes "), std::string::npos);
+    // Counts from start, as counters: no counter without _total, no family twice.
+    EXPECT_NE(r->body.find("\ngeoslice_deadline_exceeded_total 0\n"), std::string::npos);
+    std::set<std::string> families;
+    std::istringstream lines(r->body);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("# TYPE ", 0) != 0) continue;
+        std::istringstream f(line.substr(7));
+        std::string name, type;
+        f >> name >> type;
+        EXPECT_TRUE(families.insert(name).second) << name << " exported twice";
+        if (type == "counter") {
+            EXPECT_TRUE(name.size() > 6 && name.substr(name.size() - 6) == "_total") << name;
+        }
+    }
+    EXPECT_GE(families.size(), 25u);
+    // Prometheus' own linter (Debian's prometheus package): no problem at all.
+    const auto file = freshTempDir("geoslice_metrics") / "metrics.txt";
+    {
+        std::ofstream out(file, std::ios::binary);
+        out << r->body;
+    }
+    const auto lint = test::runCommand("promtool check metrics < '" + file.string() + "' 2>&1");
+    EXPECT_EQ(lint.exitCode, 0) << lint.out;
+    EXPECT_EQ(lint.out, "") << lint.out;
 }
 
 // 64 clients at once, a mix of views: every answer equals the serial one.
@@ -486,9 +623,10 @@ TEST(ServerCoalescing, IdenticalRequestsShareOneRender) {
     httplib::Client cl("127.0.0.1", port.value());
     auto m = cl.Get("/metrics");
     ASSERT_TRUE(m);
-    const auto at = m->body.find("\ngeoslice_renders_coalesced ");
+    const std::string series = "\ngeoslice_renders_coalesced_total ";
+    const auto at = m->body.find(series);
     ASSERT_NE(at, std::string::npos);
-    const double coalesced = std::stod(m->body.substr(at + 28));
+    const double coalesced = std::stod(m->body.substr(at + series.size()));
     // 8 requests, one render of about 100 ms: the ones that arrive during it join it (the
     // rest, if any, are cache hits).
     EXPECT_GE(coalesced, 1.0);

@@ -42,6 +42,46 @@ void expectProblem(const httplib::Result& r, const std::string& parameter, const
     EXPECT_NE(detail.find(needle), std::string::npos) << detail;
 }
 
+// PDFs answer one byte range (RFC 9110 14): 206 with Content-Range and exactly those bytes,
+// a suffix range, 416 past the end, and the whole body when If-Range names another ETag.
+TEST_F(Sheets, PdfByteRanges) {
+    const std::string path = kBase + "pdf?" + kPlane + "&paper=A4&date=2026-11-24";
+    auto whole = get(path);
+    ASSERT_TRUE(whole);
+    ASSERT_EQ(whole->status, 200) << whole->body;
+    EXPECT_EQ(whole->get_header_value("Accept-Ranges"), "bytes");
+    const std::string& body = whole->body;
+    const std::string total = std::to_string(body.size());
+    const std::string etag = whole->get_header_value("ETag");
+    httplib::Client c("127.0.0.1", server_->port());
+    auto ranged = [&](const httplib::Headers& h) { return c.Get(path.c_str(), h); };
+    auto r = ranged({{"Range", "bytes=0-99"}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 206);
+    EXPECT_EQ(r->get_header_value("Content-Range"), "bytes 0-99/" + total);
+    EXPECT_EQ(r->body, body.substr(0, 100));
+    r = ranged({{"Range", "bytes=-10"}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 206);
+    EXPECT_EQ(r->body, body.substr(body.size() - 10));
+    r = ranged({{"Range", "bytes=100-"}, {"If-Range", etag}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 206);
+    EXPECT_EQ(r->body, body.substr(100));
+    r = ranged({{"Range", "bytes=" + total + "-"}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 416);
+    EXPECT_EQ(r->get_header_value("Content-Range"), "bytes */" + total);
+    r = ranged({{"Range", "bytes=0-99"}, {"If-Range", "\"someone-elses\""}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(r->body, body);
+    r = ranged({{"Range", "bytes=0-1,5-9"}});  // several ranges: the whole body, as RFC 9110 14.2 allows
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(r->body, body);
+}
+
 TEST_F(Sheets, PdfSvgAndDecoratedImages) {
     auto pdf = get(kBase + "pdf?" + kPlane + "&paper=A4&vx=2&date=2026-11-24");
     ASSERT_TRUE(pdf);

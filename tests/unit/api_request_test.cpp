@@ -67,11 +67,13 @@ TEST(ApiRequest, QualityAndSpace) {
     EXPECT_EQ(parseQuality({{"quality", "85"}}).value(), 85);
     expectError(parseQuality({{"quality", "0"}}), ErrorCode::OutOfRange, "quality");
     expectError(parseQuality({{"quality", "abc"}}), ErrorCode::InvalidArgument, "quality");
-    EXPECT_FALSE(parseWorldSpace({}).value());
-    EXPECT_FALSE(parseWorldSpace({{"space", "plane"}}).value());
-    EXPECT_TRUE(parseWorldSpace({{"space", "world"}}).value());
-    expectError(parseWorldSpace({{"space", "local"}}), ErrorCode::InvalidArgument,
-                "parameter 'space': 'local' is not 'plane' or 'world'");
+    EXPECT_EQ(parseVectorSpace({}, true).value(), VectorFrame::LonLat);  // RFC 7946 by default
+    EXPECT_EQ(parseVectorSpace({}, false).value(), VectorFrame::Plane);  // no CRS: no lon/lat
+    EXPECT_EQ(parseVectorSpace({{"space", "plane"}}, true).value(), VectorFrame::Plane);
+    EXPECT_EQ(parseVectorSpace({{"space", "world"}}, true).value(), VectorFrame::LonLat);
+    EXPECT_EQ(parseVectorSpace({{"space", "projected"}}, true).value(), VectorFrame::Projected);
+    expectError(parseVectorSpace({{"space", "local"}}, true), ErrorCode::InvalidArgument,
+                "parameter 'space': 'local' is not 'world', 'projected' or 'plane'");
 }
 
 TEST(ApiRequest, TileAddresses) {

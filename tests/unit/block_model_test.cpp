@@ -646,7 +646,7 @@ TEST(BlockModel, ColourParametersAndVectorPieces) {
     ASSERT_TRUE(plan.ok());
     EXPECT_NE(plan->canonical().find("&colour=grade&ramp=viridis&breaks=3,5"), std::string::npos);
     // GeoJSON: the pieces of the orebody's cells tile its section (50 x 40 m) exactly.
-    auto geo = api::renderVector(*cm.value(), plan.value(), false, false);
+    auto geo = api::renderVector(*cm.value(), plan.value(), api::VectorFormat::GeoJson, VectorFrame::Plane);
     ASSERT_TRUE(geo.ok()) << geo.error().message;
     const auto doc = nlohmann::json::parse(geo.value());
     double area = 0.0;
@@ -659,7 +659,7 @@ TEST(BlockModel, ColourParametersAndVectorPieces) {
     EXPECT_EQ(pieces, 6u * 5u);  // x in 20.5..70.5 meets 6 cells, y in 20.5..60.5 meets 5
     EXPECT_NEAR(area, 50.0 * 40.0, kAreaTolM2);
     EXPECT_EQ(doc["blockLegend"]["breaks"].size(), 2u);
-    auto svg = api::renderVector(*cm.value(), plan.value(), true, false);
+    auto svg = api::renderVector(*cm.value(), plan.value(), api::VectorFormat::Svg, VectorFrame::Plane);
     ASSERT_TRUE(svg.ok());
     EXPECT_NE(svg->find("data-cell=\"2,2,3\""), std::string::npos);
     // Errors name the parameter.
@@ -756,7 +756,7 @@ TEST(BlockModel, PolylineSectionPiecesAreExact) {
     auto plan = api::parseViewPlan({{"line", "10.3,30.2,45.7,47.1,83.9,33.3"}, {"colour", "grade"}, {"breaks", "3,5"}},
                                    "box", m.crs);
     ASSERT_TRUE(plan.ok()) << plan.error().message;
-    auto geo = api::renderVector(*cm.value(), plan.value(), false, true);
+    auto geo = api::renderVector(*cm.value(), plan.value(), api::VectorFormat::GeoJson, VectorFrame::Projected);
     ASSERT_TRUE(geo.ok()) << geo.error().message;
     const auto doc = nlohmann::json::parse(geo.value());
     double area = 0.0, oreArea = 0.0;
@@ -780,7 +780,7 @@ TEST(BlockModel, PolylineSectionPiecesAreExact) {
     EXPECT_EQ(features, pieces->size());
     EXPECT_NEAR(area, oreArea, kAreaTolM2);
     EXPECT_EQ(doc["blockLegend"]["breaks"].size(), 2u);
-    auto svg = api::renderVector(*cm.value(), plan.value(), true, false);
+    auto svg = api::renderVector(*cm.value(), plan.value(), api::VectorFormat::Svg, VectorFrame::Plane);
     ASSERT_TRUE(svg.ok()) << svg.error().message;
     EXPECT_NE(svg->find("data-cell=\""), std::string::npos);
 }

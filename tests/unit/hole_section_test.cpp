@@ -188,7 +188,7 @@ TEST(HoleSection, CurvedHoleStationsProjectOntoThePlane) {
     // Hole C's survey stations (nodes of its path, hence chord ends) within the window appear in
     // the GeoJSON at their perpendicular projection (x, z).
     const Fixture& f = fixture();
-    auto text = api::renderVector(*f.model, planOf({{"holes", "50"}}), false, false);
+    auto text = api::renderVector(*f.model, planOf({{"holes", "50"}}), api::VectorFormat::GeoJson, VectorFrame::Plane);
     ASSERT_TRUE(text);
     const auto doc = nlohmann::json::parse(text.value());
     const HolePath& path = db().find("C")->path;
@@ -222,7 +222,7 @@ TEST(HoleSection, CurvedHoleStationsProjectOntoThePlane) {
 TEST(HoleSection, SvgAndImageDrawTheOracleTrace) {
     const Fixture& f = fixture();
     const api::ViewPlan plan = planOf({{"holes", "20"}});
-    auto svg = api::renderVector(*f.model, plan, true, false);
+    auto svg = api::renderVector(*f.model, plan, api::VectorFormat::Svg, VectorFrame::Plane);
     ASSERT_TRUE(svg);
     const std::regex line(
         "<line x1=\"([-0-9.]+)\" y1=\"([-0-9.]+)\" x2=\"([-0-9.]+)\" "

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -81,7 +82,7 @@ TEST(SectionCli, LineVectorsImagesBoreholeAndReserves) {
                       gj = (dir / "s.geojson").string(), svg = (dir / "s.svg").string();
     CmdResult r =
         runGeoslice("section " + glb + " --line " + line + " --size 96x48 --out " + png + " --out " + jpg + " --out " +
-                    pgm + " --geojson " + gj + " --geojson-frame world --svg " + svg + " --areas");
+                    pgm + " --geojson " + gj + " --geojson-frame projected --svg " + svg + " --areas");
     ASSERT_EQ(r.exitCode, 0) << r.out;
     auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["frame"]["line"].size(), 3u);
@@ -184,5 +185,139 @@ TEST(SectionCli, PrintSheets) {
     r = withStderr("section " + glb + plane + " --print " + (dir / "s.doc").string());
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.out.find("--print"), std::string::npos) << r.out;
+    std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// GDAL's reading of a GeoJSON file: the layer SRS (WKT) and extent, from `ogrinfo -so -al`.
+struct GdalLayer {
+    std::string text;  // ogrinfo's whole report
+    double x0 = NAN, y0 = NAN, x1 = NAN, y1 = NAN;
+};
+
+GdalLayer gdalRead(const std::string& path) {
+    GdalLayer l;
+    l.text = geoslice::test::runCommand("ogrinfo -ro -so -al '" + path + "' 2>&1").out;
+    const auto at = l.text.find("Extent: (");
+    if (at != std::string::npos)
+        std::sscanf(l.text.c_str() + at, "Extent: (%lf, %lf) - (%lf, %lf)", &l.x0, &l.y0, &l.x1, &l.y1);
+    return l;
+}
+
+}  // namespace
+
+// GeoJSON as GIS tools read it (GDAL's ogrinfo and ogr2ogr to GeoPackage, the real client):
+// space world is WGS 84 lon/lat inside the model's lon/lat box, projected keeps the model's
+// EPSG code, plane is an engineering CRS (metres on a local plane, never degrees).
+TEST(SectionCli, GeoJsonAsGdalReadsIt) {
+    if (geoslice::test::runCommand("command -v ogrinfo ogr2ogr >/dev/null 2>&1").exitCode != 0)
+        GTEST_FAIL() << "ogrinfo/ogr2ogr not installed (gdal-bin, scripts/install-deps.sh)";
+    const auto dir = std::filesystem::temp_directory_path() / ("gs_section_gdal_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string glb = (dir / "m.glb").string();
+    ASSERT_EQ(runGeoslice("generate --triangles 8000 --crs EPSG:4523 --out " + glb).exitCode, 0);
+    const auto info = nlohmann::json::parse(runGeoslice("info --json " + glb).out);
+    const auto& ll = info["lonlat_bounds"];
+    const auto& b = info["bounds"];
+    const double zmid = 0.5 * (b["min"][2].get<double>() + b["max"][2].get<double>());
+    auto write = [&](const std::string& frame) {
+        const std::string out = (dir / (frame + ".geojson")).string();
+        CmdResult r =
+            runGeoslice("section " + glb + " --elevation " + std::to_string(zmid) + " --size 64x64 --geojson " + out +
+                        (frame.empty() ? "" : " --geojson-frame " + frame));
+        EXPECT_EQ(r.exitCode, 0) << frame;
+        return out;
+    };
+    // Default = world: WGS 84 degrees inside the model's lon/lat box.
+    for (const std::string frame : {"", "world"}) {
+        const GdalLayer l = gdalRead(write(frame));
+        EXPECT_NE(l.text.find("GEOGCRS[\"WGS 84\""), std::string::npos) << l.text;
+        EXPECT_GE(l.x0, ll["min"][0].get<double>() - 1e-6) << l.text;
+        EXPECT_LE(l.x1, ll["max"][0].get<double>() + 1e-6) << l.text;
+        EXPECT_GE(l.y0, ll["min"][1].get<double>() - 1e-6) << l.text;
+        EXPECT_LE(l.y1, ll["max"][1].get<double>() + 1e-6) << l.text;
+        EXPECT_GT(l.x1 - l.x0, 0.001) << l.text;  // a section across the model, in degrees
+    }
+    // Projected: EPSG:4523 as GDAL reads the crs member, kept by ogr2ogr in a GeoPackage.
+    const std::string projected = write("projected");
+    const GdalLayer p = gdalRead(projected);
+    EXPECT_NE(p.text.find("ID[\"EPSG\",4523]"), std::string::npos) << p.text;
+    EXPECT_GE(p.x0, b["min"][0].get<double>() - 1e-6);
+    EXPECT_LE(p.x1, b["max"][0].get<double>() + 1e-6);
+    EXPECT_GE(p.y0, b["min"][1].get<double>() - 1e-6);
+    EXPECT_LE(p.y1, b["max"][1].get<double>() + 1e-6);
+    const std::string gpkg = (dir / "p.gpkg").string();
+    ASSERT_EQ(geoslice::test::runCommand("ogr2ogr -f GPKG '" + gpkg + "' '" + projected + "' 2>&1").exitCode, 0);
+    const GdalLayer g = gdalRead(gpkg);
+    EXPECT_NE(g.text.find("ID[\"EPSG\",4523]"), std::string::npos) << g.text;
+    EXPECT_NEAR(g.x0, p.x0, 1e-6);
+    EXPECT_NEAR(g.y1, p.y1, 1e-6);
+    // Plane: an engineering CRS; not WGS 84, whatever the numbers.
+    const std::string plane = write("plane");
+    const GdalLayer e = gdalRead(plane);
+    EXPECT_NE(e.text.find("ENGCRS[\"geoslice section plane\""), std::string::npos) << e.text;
+    EXPECT_EQ(e.text.find("WGS 84"), std::string::npos) << e.text;
+    const std::string gpkg2 = (dir / "e.gpkg").string();
+    ASSERT_EQ(geoslice::test::runCommand("ogr2ogr -f GPKG '" + gpkg2 + "' '" + plane + "' 2>&1").exitCode, 0);
+    EXPECT_EQ(gdalRead(gpkg2).text.find("EPSG\",4326"), std::string::npos);
+    std::filesystem::remove_all(dir);
+}
+
+// DXF for CAD, read back by ezdxf (python3-ezdxf, the real client): R2000, no audit errors,
+// a layer per unit in its colour, each unit's hatched area equal to the exact section's
+// area from the GeoJSON, a name label per unit that fits; the projected form is 3D
+// polylines at the slice's elevation inside the model's extent.
+TEST(SectionCli, DxfReadBackByEzdxf) {
+    const std::string python = "/usr/bin/python3";  // Debian's, which has python3-ezdxf
+    if (geoslice::test::runCommand(python + " -c 'import ezdxf' 2>&1").exitCode != 0)
+        GTEST_FAIL() << "python3-ezdxf is not installed (scripts/install-deps.sh)";
+    const auto dir = std::filesystem::temp_directory_path() / ("gs_section_dxf_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string glb = (dir / "m.glb").string();
+    ASSERT_EQ(runGeoslice("generate --triangles 8000 --crs EPSG:4523 --out " + glb).exitCode, 0);
+    const auto info = nlohmann::json::parse(runGeoslice("info --json " + glb).out);
+    const auto& b = info["bounds"];
+    const double zmid = 0.5 * (b["min"][2].get<double>() + b["max"][2].get<double>());
+    const std::string dxf = (dir / "s.dxf").string(), gj = (dir / "s.geojson").string(),
+                      dxf3 = (dir / "s3.dxf").string();
+    const std::string common = "section " + glb + " --elevation " + std::to_string(zmid) + " --size 64x64";
+    ASSERT_EQ(runGeoslice(common + " --dxf " + dxf + " --geojson " + gj + " --geojson-frame plane").exitCode, 0);
+    ASSERT_EQ(runGeoslice(common + " --dxf " + dxf3 + " --dxf-frame projected").exitCode, 0);
+    EXPECT_EQ(runGeoslice(common + " --dxf " + dxf3 + " --dxf-frame world").exitCode, 2);
+    const std::string script = std::string(GEOSLICE_TEST_DATA_DIR) + "/../unit/dxf_readback.py";
+    CmdResult r = geoslice::test::runCommand(python + " " + script + " " + dxf);
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    const auto d = nlohmann::json::parse(r.out);
+    EXPECT_EQ(d["version"], "AC1015");
+    EXPECT_EQ(d["audit_errors"], 0);
+    std::ifstream gjIn(gj);
+    const auto g = nlohmann::json::parse(gjIn);
+    std::map<std::string, double> area;
+    for (const auto& f : g["features"])
+        if (f["properties"]["kind"] == "body")
+            area[f["properties"]["name"].get<std::string>()] += f["properties"]["area_m2"].get<double>();
+    ASSERT_GE(area.size(), 3u);
+    for (const auto& [name, a] : area) {
+        ASSERT_TRUE(d["hatch_area"].contains(name)) << name << " " << d.dump();
+        // Square metres: the same rings, summed by ezdxf's reading of the DXF's decimals.
+        EXPECT_NEAR(d["hatch_area"][name].get<double>(), a, 1e-6 * a + 1e-3) << name;
+        EXPECT_TRUE(d["layers"].contains(name)) << name;
+        EXPECT_FALSE(d["layers"][name].is_null()) << name;  // the unit's true colour
+        EXPECT_GE(d["polylines"][name].get<int>(), 1) << name;
+    }
+    EXPECT_GE(d["texts"].size(), 1u);
+    for (const auto& t : d["texts"]) EXPECT_EQ(t["text"], t["layer"]);
+    r = geoslice::test::runCommand(python + " " + script + " " + dxf3);
+    ASSERT_EQ(r.exitCode, 0) << r.out;
+    const auto d3 = nlohmann::json::parse(r.out);
+    EXPECT_EQ(d3["audit_errors"], 0);
+    EXPECT_TRUE(d3["hatch_area"].empty());
+    for (int k = 0; k < 2; ++k) {
+        EXPECT_GE(d3["bounds"]["min"][k].get<double>(), b["min"][k].get<double>() - 1e-6);
+        EXPECT_LE(d3["bounds"]["max"][k].get<double>(), b["max"][k].get<double>() + 1e-6);
+    }
+    EXPECT_NEAR(d3["bounds"]["min"][2].get<double>(), zmid, 1e-6);
+    EXPECT_NEAR(d3["bounds"]["max"][2].get<double>(), zmid, 1e-6);
     std::filesystem::remove_all(dir);
 }

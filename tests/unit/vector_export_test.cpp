@@ -42,6 +42,17 @@ Model boxLensFault() {
     return m;
 }
 
+// The GeoJSON of a section in `frame`; Projected names UTM zone 50N (the positions are the
+// model's own: the box is local, the CRS only a label here).
+nlohmann::json geoJson(const SectionIndex& idx, const VectorSource& src, VectorFrame frame) {
+    const Crs crs = frame == VectorFrame::Plane ? Crs::local() : Crs::fromEpsg(32650).value();  // a label only
+    auto space = geoJsonSpace(src, frame, crs, nullptr, "");
+    EXPECT_TRUE(space.ok()) << space.error().message;
+    auto doc = toGeoJson(idx, src, space.value());
+    EXPECT_TRUE(doc.ok()) << doc.error().message;
+    return nlohmann::json::parse(doc.value().dump());
+}
+
 // Shoelace area of a GeoJSON ring of 2D positions (first position repeated last).
 double ringAreaJson(const nlohmann::json& ring) {
     double a = 0.0;
@@ -58,7 +69,7 @@ TEST(VectorExport, GeoJsonPlaneAndWorld) {
     auto idx = indexFor(m);
     auto s = computeSection(*idx, horizontalPlane(25.0));
     ASSERT_TRUE(s.ok());
-    const auto plane = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::Plane).dump());
+    const auto plane = geoJson(*idx, vectorSource(s.value()), VectorFrame::Plane);
     EXPECT_EQ(plane["type"], "FeatureCollection");
     ASSERT_EQ(plane["features"].size(), 3u);  // host, lens, fault trace
     double hostArea = 0.0;
@@ -91,8 +102,11 @@ TEST(VectorExport, GeoJsonPlaneAndWorld) {
     }
     EXPECT_NEAR(hostArea, 10000.0 - 400.0, kLargeAreaTolM2);
     // World frame: 3D positions at z = 25 inside the box.
-    const auto world = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::World).dump());
-    EXPECT_EQ(world["geoslice"]["frame"], "world");
+    const auto world = geoJson(*idx, vectorSource(s.value()), VectorFrame::Projected);
+    EXPECT_EQ(world["geoslice"]["frame"], "projected");
+    EXPECT_EQ(world["crs"]["properties"]["name"], "urn:ogc:def:crs:EPSG::32650");
+    // The plane frame names an engineering CRS, so that no GIS reads u/v as degrees.
+    EXPECT_EQ(plane["crs"]["properties"]["name"].get<std::string>().rfind("ENGCRS[", 0), 0u);
     for (const auto& f : world["features"]) {
         if (f["properties"]["kind"] != "body") continue;
         for (const auto& poly : f["geometry"]["coordinates"])
@@ -129,7 +143,7 @@ TEST(VectorExport, PolylineSectionInWorldCoordinates) {
     auto idx = indexFor(m);
     auto s = computePolylineSection(*idx, {{-10, 50}, {50, 50}, {50, 150}});
     ASSERT_TRUE(s.ok());
-    const auto j = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::World).dump());
+    const auto j = geoJson(*idx, vectorSource(s.value()), VectorFrame::Projected);
     std::size_t bodies = 0;
     for (const auto& f : j["features"]) {
         if (f["properties"]["kind"] != "body") continue;
@@ -143,9 +157,70 @@ TEST(VectorExport, PolylineSectionInWorldCoordinates) {
                 }
     }
     EXPECT_EQ(bodies, 2u);
-    const auto plane = nlohmann::json::parse(toGeoJson(*idx, vectorSource(s.value()), VectorFrame::Plane).dump());
+    const auto plane = geoJson(*idx, vectorSource(s.value()), VectorFrame::Plane);
     for (const auto& f : plane["features"])
         if (f["properties"]["record"] == 2) {
             EXPECT_NEAR(f["properties"]["area_m2"].get<double>(), 200.0, kAreaTolM2);
         }
+}
+
+// WGS 84 lon/lat (RFC 7946): a 100 m box placed in UTM zone 50N converts through PROJ to the
+// positions an independent per-point conversion gives, rings keep the right-hand rule in
+// lon/lat, there is no "crs" member, and frames that cannot be are refused by name.
+TEST(VectorExport, GeoJsonLonLatFollowsRfc7946) {
+    Model m = boxLensFault();
+    auto idx = indexFor(m);
+    auto s = computeSection(*idx, horizontalPlane(25.0));
+    ASSERT_TRUE(s.ok());
+    VectorSource src = vectorSource(s.value());
+    const auto local = src.toWorld;
+    const glm::dvec3 shift{500000.0, 3400000.0, 0.0};  // UTM 50N: lon 117, lat ~30.7
+    src.toWorld = [local, shift](const glm::dvec2& p) { return local(p) + shift; };
+    const Crs utm = Crs::fromEpsg(32650).value(), wgs84 = Crs::fromEpsg(4326).value();
+    auto t = CrsTransform::forArea(utm, wgs84, {116.9, 30.6, 117.1, 30.8});
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    auto space = geoJsonSpace(src, VectorFrame::LonLat, utm, &t.value(), "");
+    ASSERT_TRUE(space.ok()) << space.error().message;
+    auto doc = toGeoJson(*idx, src, space.value());
+    ASSERT_TRUE(doc.ok()) << doc.error().message;
+    const auto j = nlohmann::json::parse(doc.value().dump());
+    EXPECT_FALSE(j.contains("crs"));
+    EXPECT_EQ(j["geoslice"]["frame"], "world");
+    EXPECT_EQ(j["geoslice"]["modelCrs"], "EPSG:32650");
+    std::size_t positions = 0;
+    for (const auto& f : j["features"]) {
+        if (f["properties"]["kind"] != "body") continue;
+        for (const auto& poly : f["geometry"]["coordinates"])
+            for (std::size_t r = 0; r < poly.size(); ++r) {
+                EXPECT_EQ(ringAreaJson(poly[r]) > 0, r == 0);  // right-hand rule in lon/lat
+                for (const auto& p : poly[r]) {
+                    ASSERT_EQ(p.size(), 3u);
+                    const double lon = p[0].get<double>(), lat = p[1].get<double>();
+                    EXPECT_GT(lon, 116.99);
+                    EXPECT_LT(lon, 117.01);
+                    EXPECT_GT(lat, 30.7);
+                    EXPECT_LT(lat, 30.8);
+                    EXPECT_NEAR(p[2].get<double>(), 25.0, kElevationTolM);
+                    // Back to UTM with a separate conversion: inside the shifted box.
+                    auto back = convertPoint(wgs84, utm, {lon, lat, 0.0});
+                    ASSERT_TRUE(back.ok());
+                    EXPECT_GT(back.value().x, shift.x - 1e-3);
+                    EXPECT_LT(back.value().x, shift.x + 100.0 + 1e-3);
+                    EXPECT_GT(back.value().y, shift.y - 1e-3);
+                    EXPECT_LT(back.value().y, shift.y + 100.0 + 1e-3);
+                    ++positions;
+                }
+            }
+    }
+    EXPECT_GT(positions, 8u);
+    // A model without CRS has neither lon/lat nor projected coordinates; no operation: refused.
+    auto none = geoJsonSpace(src, VectorFrame::LonLat, Crs::local(), nullptr, "");
+    ASSERT_FALSE(none.ok());
+    EXPECT_NE(none.error().message.find("space=plane"), std::string::npos) << none.error().message;
+    auto own = geoJsonSpace(src, VectorFrame::Projected, Crs::local(), nullptr, "");
+    ASSERT_TRUE(own.ok());  // the model's own x, y, z, named as a local engineering CRS
+    EXPECT_EQ(own.value().crsMember["properties"]["name"].get<std::string>().rfind("ENGCRS[", 0), 0u);
+    auto noOp = geoJsonSpace(src, VectorFrame::LonLat, utm, nullptr, "no WGS 84 coordinates: ballpark only");
+    ASSERT_FALSE(noOp.ok());
+    EXPECT_NE(noOp.error().message.find("ballpark only"), std::string::npos);
 }
