@@ -1,5 +1,6 @@
 #include "api/openapi.hpp"
 
+#include <map>
 #include <string>
 
 #include "view/view_limits.hpp"
@@ -85,8 +86,144 @@ J imageResponse() {
              {"content", {{"image/jpeg", J::object()}, {"image/png", J::object()}, {"image/webp", J::object()}}}};
 }
 
-J jsonResponse(const char* description) {
-    return J{{"description", description}, {"content", {{"application/json", J::object()}}}};
+// A JSON answer described by components/schemas/<schema>.
+J jsonResponse(const char* description, const char* schema) {
+    return J{
+        {"description", description},
+        {"content", {{"application/json", {{"schema", {{"$ref", std::string("#/components/schemas/") + schema}}}}}}}};
+}
+
+// JSON Schema helpers for the answers' schemas (OpenAPI 3.0's subset).
+const J kNum = {{"type", "number"}}, kInt = {{"type", "integer"}}, kStr = {{"type", "string"}},
+        kBool = {{"type", "boolean"}}, kObj = {{"type", "object"}};
+J arrayOf(J items) { return J{{"type", "array"}, {"items", std::move(items)}}; }
+J nullable(J s) {
+    s["nullable"] = true;
+    return s;
+}
+J ref(const char* name) { return J{{"$ref", std::string("#/components/schemas/") + name}}; }
+// An object with these properties, all required unless listed in `optional`; more allowed.
+J object(J properties, std::initializer_list<const char*> optional = {}) {
+    J required = J::array();
+    for (const auto& [k, v] : properties.items()) {
+        bool opt = false;
+        for (const char* o : optional) opt = opt || k == o;
+        if (!opt) required.push_back(k);
+    }
+    J o = {{"type", "object"}, {"properties", std::move(properties)}};
+    if (!required.empty()) o["required"] = std::move(required);
+    return o;
+}
+
+// The schemas of the JSON answers (checked against real answers by tests/web/openapi_test.mjs).
+J answerSchemas() {
+    const J xyz = J{{"type", "array"}, {"items", kNum}, {"minItems", 3}, {"maxItems", 3}};
+    const J bounds = object({{"min", xyz}, {"max", xyz}});
+    J s;
+    s["Health"] = object({{"status", kStr}, {"version", kStr}});
+    s["Readiness"] =
+        object({{"ready", kBool}, {"models", kObj}, {"workers", kInt}, {"renders", kObj}}, {"workers", "renders"});
+    s["Crs"] =
+        object({{"id", kStr}, {"name", kStr}, {"axes", arrayOf(kStr)}, {"units", kStr}}, {"name", "axes", "units"});
+    s["ModelSummary"] = object({{"id", kStr},
+                                {"version", kStr},
+                                {"name", kStr},
+                                {"crs", ref("Crs")},
+                                {"bounds", bounds},
+                                {"lonlatBounds", kObj},
+                                {"triangles", kInt},
+                                {"bodies", kInt},
+                                {"surfaces", kInt},
+                                {"legend", arrayOf(ref("LegendEntry"))}},
+                               {"lonlatBounds", "legend", "name"});
+    s["LegendEntry"] = object({{"id", kInt}, {"name", kStr}, {"colour", kStr}}, {});
+    s["ModelList"] = object({{"models", arrayOf(ref("ModelSummary"))}, {"loading", kBool}}, {"loading"});
+    s["QueryAnswer"] = object({{"model", kStr},
+                               {"version", kStr},
+                               {"pixel", object({{"x", kInt}, {"y", kInt}}, {})},
+                               {"hit", kBool},
+                               {"record", nullable(kObj)},
+                               {"body", nullable(kStr)},
+                               {"world", ref("WorldPoint")}},
+                              {"record", "body", "world"});
+    s["QueryBatch"] = object({{"results", arrayOf(ref("QueryAnswer"))}});
+    s["Borehole"] = object(
+        {{"model", kStr},
+         {"version", kStr},
+         {"origin", xyz},
+         {"direction", xyz},
+         {"intervals",
+          arrayOf(object(
+              {{"from_m", kNum}, {"to_m", kNum}, {"body", kStr}, {"record", kInt}, {"attributes", nullable(kObj)}},
+              {"attributes"}))}},
+        {"version"});
+    s["Reserves"] = object({{"model", kStr},
+                            {"plane", nullable(arrayOf(kNum))},
+                            {"bodies", arrayOf(object({{"body", kStr},
+                                                       {"record", kInt},
+                                                       {"gross_volume_m3", kNum},
+                                                       {"net_volume_m3", kNum},
+                                                       {"tonnage_t", nullable(kNum)}},
+                                                      {"tonnage_t"}))}},
+                           {"plane"});
+    s["DrillholeCheck"] = object({{"model", kStr},
+                                  {"table", kStr},
+                                  {"column", kStr},
+                                  {"summary", object({{"holes", kInt},
+                                                      {"holes_traced", kInt},
+                                                      {"logged_m", kNum},
+                                                      {"agreed_m", kNum},
+                                                      {"share", nullable(kNum)}},
+                                                     {})},
+                                  {"codes", arrayOf(kObj)},
+                                  {"holes", arrayOf(kObj)}});
+    s["DrillholeLog"] = object(
+        {{"hole", kStr}, {"version", kStr}, {"collar", xyz}, {"model", object({{"intervals", arrayOf(kObj)}}, {})}},
+        {"version"});
+    const J grid = object({{"tileSize", kInt},
+                           {"minZoom", kInt},
+                           {"maxZoom", kInt},
+                           {"size0", kNum},
+                           {"exaggeration", kNum},
+                           {"origin", object({{"u", kNum}, {"v", kNum}})},
+                           {"extent", object({{"u0", kNum}, {"u1", kNum}, {"v0", kNum}, {"v1", kNum}})}},
+                          {});
+    s["TileGrid"] = grid;
+    s["SectionDefinition"] = object({{"sid", kStr},
+                                     {"model", kStr},
+                                     {"definition", kStr},
+                                     {"grid", ref("TileGrid")},
+                                     {"tiles", kStr},
+                                     {"tilejson", kStr},
+                                     {"ogcTiles", kStr}},
+                                    {"tiles", "tilejson", "ogcTiles"});
+    s["TileJson"] = object({{"tilejson", kStr},
+                            {"tiles", J{{"type", "array"}, {"items", kStr}, {"minItems", 1}}},
+                            {"minzoom", kInt},
+                            {"maxzoom", kInt},
+                            {"scheme", kStr},
+                            {"name", kStr}},
+                           {"name", "scheme"});
+    s["OgcTileset"] = object({{"dataType", kStr},
+                              {"crs", kObj},
+                              {"tileMatrixSetURI", kStr},
+                              {"links", arrayOf(object({{"rel", kStr}, {"href", kStr}}, {}))}},
+                             {"tileMatrixSetURI"});
+    s["TileMatrixSet"] = object({{"id", kStr},
+                                 {"crs", kObj},
+                                 {"tileMatrices", arrayOf(object({{"id", kStr},
+                                                                  {"scaleDenominator", kNum},
+                                                                  {"cellSize", kNum},
+                                                                  {"pointOfOrigin", arrayOf(kNum)},
+                                                                  {"tileWidth", kInt},
+                                                                  {"tileHeight", kInt},
+                                                                  {"matrixWidth", kInt},
+                                                                  {"matrixHeight", kInt}}))}});
+    s["FeatureCollection"] =
+        object({{"type", J{{"type", "string"}, {"enum", {"FeatureCollection"}}}},
+                {"features", arrayOf(object({{"type", kStr}, {"geometry", kObj}, {"properties", kObj}}))}});
+    s["OpenApiDocument"] = object({{"openapi", kStr}, {"info", kObj}, {"paths", kObj}});
+    return s;
 }
 
 J errors() {
@@ -131,6 +268,9 @@ const std::vector<RouteSpec>& apiRoutes() {
         {"POST", "/v1/models/{id}/sections"},
         {"GET", "/v1/sections/{sid}"},
         {"GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}"},
+        {"GET", "/v1/sections/{sid}/tilejson.json"},
+        {"GET", "/v1/sections/{sid}/tiles"},
+        {"GET", "/v1/sections/{sid}/tilematrixset"},
     };
     return routes;
 }
@@ -145,8 +285,9 @@ J openApiDocument(const std::string& serverVersion) {
                   J{{"type", "string"}, {"enum", {"jpg", "png", "webp", "geojson", "svg", "dxf", "pdf"}}});
     const J sid = pathParam("sid", "stateless section id from POST /v1/models/{id}/sections");
     J sectionResponse = imageResponse();
-    for (const char* type : {"application/geo+json", "image/svg+xml", "image/vnd.dxf", "application/pdf"})
+    for (const char* type : {"image/svg+xml", "image/vnd.dxf", "application/pdf"})
         sectionResponse["content"][type] = J::object();
+    sectionResponse["content"]["application/geo+json"] = {{"schema", ref("FeatureCollection")}};
     J paths = J::object();
     auto get = [&](const std::string& path, J operation) { paths[path]["get"] = std::move(operation); };
     auto post = [&](const std::string& path, J operation) { paths[path]["post"] = std::move(operation); };
@@ -159,7 +300,7 @@ J openApiDocument(const std::string& serverVersion) {
            J::array({pathParam("asset", "asset path, e.g. app.js or leaflet/leaflet.css")}),
            J{{"description", "the asset; ETag, Cache-Control"},
              {"content", {{"text/javascript", J::object()}, {"text/css", J::object()}, {"image/png", J::object()}}}}));
-    get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok")));
+    get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok", "Health")));
     get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found); `rays` gives each "
                       "model's ray scene (pending, building, ready, failed), which queries without a cached image, "
                       "perspective queries and boreholes wait for up to their deadline (504 past it); "
@@ -167,14 +308,14 @@ J openApiDocument(const std::string& serverVersion) {
                       "reason) and models.warnings (id, warning: e.g. a failed bake, the model served from memory) "
                       "are reported, not a reason to be unready. While the server has API keys, models.failed, "
                       "models.skipped, models.warnings and rays are counts and name no model",
-                      J::array(), jsonResponse("ready; 503 while loading")));
+                      J::array(), jsonResponse("ready; 503 while loading", "Readiness")));
     get("/metrics", op("Prometheus text format: requests and latency per route, queue depth, cache hits, render times",
                        J::array(), J{{"description", "metrics"}, {"content", {{"text/plain", J::object()}}}}));
-    get("/openapi.json", op("this document", J::array(), jsonResponse("OpenAPI 3 document")));
+    get("/openapi.json", op("this document", J::array(), jsonResponse("OpenAPI 3 document", "OpenApiDocument")));
     get("/v1/models", op("the loaded models with bounds, CRS, bodies and legend (with API keys: the models the "
                          "request's key may read)",
-                         J::array(), jsonResponse("models")));
-    get("/v1/models/{id}", op("one model", J::array({id}), jsonResponse("the model")));
+                         J::array(), jsonResponse("models", "ModelList")));
+    get("/v1/models/{id}", op("one model", J::array({id}), jsonResponse("the model", "ModelSummary")));
     get("/v1/models/{id}/legend.png", op("the legend as an image: one swatch per body with its name", J::array({id}),
                                          J{{"description", "PNG"}, {"content", {{"image/png", J::object()}}}}));
     get("/v1/models/{id}/section.{format}",
@@ -210,7 +351,7 @@ J openApiDocument(const std::string& serverVersion) {
            concat(J::array({id, queryParam("px", "integer", "pixel column, 0 = left", true),
                             queryParam("py", "integer", "pixel row, 0 = top", true)}),
                   viewParams()),
-           jsonResponse("the answer")));
+           jsonResponse("the answer", "QueryAnswer")));
     post("/v1/models/{id}/query",
          J{{"summary",
             "batch pixel query: {\"view\": {<view parameters as strings>}, \"pixels\": [[px, py], ...]} "
@@ -218,14 +359,15 @@ J openApiDocument(const std::string& serverVersion) {
            {"parameters", J::array({id})},
            {"requestBody", {{"content", {{"application/json", J::object()}}}}},
            {"responses", errors()}});
-    paths["/v1/models/{id}/query"]["post"]["responses"]["200"] = jsonResponse("{\"results\": [answer, ...]}");
+    paths["/v1/models/{id}/query"]["post"]["responses"]["200"] =
+        jsonResponse("{\"results\": [answer, ...]}", "QueryBatch");
     get("/v1/models/{id}/borehole",
         op("a virtual borehole at a map point: intervals (from/to metres below the collar, elevations, record, "
            "attributes) and the faults and surfaces crossed",
            J::array({id, queryParam("x", "number", "easting, world m"), queryParam("y", "number", "northing, world m"),
                      queryParam("lon", "number", "or longitude, degrees on the model CRS's own datum"),
                      queryParam("lat", "number", "and latitude, degrees on the model CRS's own datum")}),
-           jsonResponse("the borehole")));
+           jsonResponse("the borehole", "Borehole")));
     {
         const char* what =
             "reserves: gross and net (nested bodies subtracted) volume m^3, density, tonnage t, grade and metal of "
@@ -247,7 +389,7 @@ J openApiDocument(const std::string& serverVersion) {
                                "the grade property of the table (default: the first not "
                                "named density)")}),
                J{{"description", "the reserves; ETag and Cache-Control set"},
-                 {"content", {{"application/json", J::object()}, {"text/csv", J::object()}}}}));
+                 {"content", {{"application/json", {{"schema", ref("Reserves")}}}, {"text/csv", J::object()}}}}));
         get("/v1/models/{id}/reserves.csv",
             op(what, J::array({id, plane}),
                J{{"description",
@@ -265,7 +407,7 @@ J openApiDocument(const std::string& serverVersion) {
         get("/v1/models/{id}/drillholes/check",
             op(what, J::array({id, queryParam("format", "string", "json (default) or csv (as check.csv)"), rows}),
                J{{"description", "the check; ETag and Cache-Control set"},
-                 {"content", {{"application/json", J::object()}, {"text/csv", J::object()}}}}));
+                 {"content", {{"application/json", {{"schema", ref("DrillholeCheck")}}}, {"text/csv", J::object()}}}}));
         get("/v1/models/{id}/drillholes/check.csv",
             op(what, J::array({id, rows}),
                J{{"description",
@@ -277,7 +419,7 @@ J openApiDocument(const std::string& serverVersion) {
                "intervals with their columns (code intervals with the unit they name), and the model's units along "
                "the same hole. 404 names an unknown hole.",
                J::array({id, pathParam("hole", "hole id, percent-encoded (%2F for /), at most 256 bytes")}),
-               jsonResponse("the log")));
+               jsonResponse("the log", "DrillholeLog")));
     }
     post("/v1/models/{id}/sections",
          J{{"summary",
@@ -287,8 +429,10 @@ J openApiDocument(const std::string& serverVersion) {
            {"parameters", J::array({id})},
            {"requestBody", {{"content", {{"application/json", J::object()}}}}},
            {"responses", errors()}});
-    paths["/v1/models/{id}/sections"]["post"]["responses"]["201"] = jsonResponse("{sid, tiles, grid}");
-    get("/v1/sections/{sid}", op("a section's definition and tile grid", J::array({sid}), jsonResponse("grid")));
+    paths["/v1/models/{id}/sections"]["post"]["responses"]["201"] =
+        jsonResponse("{sid, tiles, grid}", "SectionDefinition");
+    get("/v1/sections/{sid}",
+        op("a section's definition and tile grid", J::array({sid}), jsonResponse("grid", "SectionDefinition")));
     get("/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
         op("one 256x256 tile. Grid: zoom 0 is one tile covering size0 metres along u (size0/k along v) from the "
            "section extent's top-left corner (u0, v1); zoom z has 2^z x 2^z tiles; tile (z,x,y) covers "
@@ -299,6 +443,88 @@ J openApiDocument(const std::string& serverVersion) {
                      pathParam("x", "column", J{{"type", "integer"}}),
                      pathParam("y", "row (0 = top)", J{{"type", "integer"}}), format}),
            imageResponse()));
+    get("/v1/sections/{sid}/tilejson.json",
+        op("the section's tiles as a TileJSON 3.0.0 layer (tiles, minzoom, maxzoom, scheme xyz; the grid under "
+           "'geoslice'; no bounds: the tiles are in the section's plane, not on the globe)",
+           J::array({sid}), jsonResponse("TileJSON", "TileJson")));
+    get("/v1/sections/{sid}/tiles",
+        op("OGC API - Tiles tileset metadata of the section (dataType map, item link template "
+           "{tileMatrix}/{tileCol}/{tileRow}, tiling-scheme link)",
+           J::array({sid}), jsonResponse("tileset", "OgcTileset")));
+    get("/v1/sections/{sid}/tilematrixset",
+        op("the section's OGC two-dimensional TileMatrixSet: a local engineering CRS (u, v times the grid's "
+           "exaggeration, metres), matrix z of 2^z x 2^z tiles of 256 cells",
+           J::array({sid}), jsonResponse("TileMatrixSet", "TileMatrixSet")));
+
+    // Operation ids for generated clients, and what every operation may answer besides 200.
+    static const std::map<std::string, std::string> kOperationIds = {
+        {"get /", "getWebClient"},
+        {"get /web/{asset}", "getWebAsset"},
+        {"get /healthz", "getHealth"},
+        {"get /readyz", "getReadiness"},
+        {"get /metrics", "getMetrics"},
+        {"get /openapi.json", "getOpenApi"},
+        {"get /v1/models", "listModels"},
+        {"get /v1/models/{id}", "getModel"},
+        {"get /v1/models/{id}/legend.png", "getLegendImage"},
+        {"get /v1/models/{id}/section.{format}", "getSection"},
+        {"get /v1/models/{id}/query", "queryPixel"},
+        {"post /v1/models/{id}/query", "queryPixels"},
+        {"get /v1/models/{id}/borehole", "getVirtualBorehole"},
+        {"get /v1/models/{id}/reserves", "getReserves"},
+        {"get /v1/models/{id}/reserves.csv", "getReservesCsv"},
+        {"get /v1/models/{id}/drillholes/check", "checkDrillholes"},
+        {"get /v1/models/{id}/drillholes/check.csv", "checkDrillholesCsv"},
+        {"get /v1/models/{id}/drillholes/{hole}/log", "getDrillholeLog"},
+        {"post /v1/models/{id}/sections", "defineSection"},
+        {"get /v1/sections/{sid}", "getSectionDefinition"},
+        {"get /v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}", "getSectionTile"},
+        {"get /v1/sections/{sid}/tilejson.json", "getSectionTileJson"},
+        {"get /v1/sections/{sid}/tiles", "getSectionTileset"},
+        {"get /v1/sections/{sid}/tilematrixset", "getSectionTileMatrixSet"},
+    };
+    for (auto& [path, ops] : paths.items())
+        for (auto& [method, operation] : ops.items()) {
+            const auto named = kOperationIds.find(method + " " + path);
+            if (named != kOperationIds.end()) operation["operationId"] = named->second;
+            J& r = operation["responses"];
+            r["500"] = problem("a bug: the detail says what failed (logged)");
+            if (method == "get") {
+                r["304"] = J{{"description", "If-None-Match names the current ETag (weak comparison)"}};
+                r["405"] = problem("a known path with another method; Allow lists the methods");
+            } else {
+                r["413"] = problem("the body is larger than the server's --max-body");
+                r["415"] = problem("the body is not application/json");
+            }
+            if (path.rfind("/v1/", 0) == 0) {
+                r["422"] = problem(
+                    "a valid request geoslice does not serve (tiles of a polyline section, vectors of a perspective "
+                    "view, a colouring the model cannot draw, WGS 84 where PROJ has no operation)");
+                r["504"] = problem("the render passed the server's deadline");
+            }
+        }
+    paths["/v1/models/{id}/section.{format}"]["get"]["responses"]["206"] =
+        J{{"description", "PDF only: the byte range asked for (Range: bytes=a-b), with Content-Range"},
+          {"content", {{"application/pdf", J::object()}}}};
+    paths["/v1/models/{id}/section.{format}"]["get"]["responses"]["416"] =
+        problem("PDF only: the Range starts past the end of the document");
+    paths["/v1/models/{id}/drillholes/check"]["get"]["responses"]["409"] =
+        problem("the model's drillhole sidecar did not load");
+    paths["/v1/models/{id}/drillholes/check.csv"]["get"]["responses"]["409"] =
+        problem("the model's drillhole sidecar did not load");
+
+    // Every success content has a schema: the JSON answers their own (above), text a string,
+    // everything else bytes.
+    for (auto& [path, ops] : paths.items())
+        for (auto& [method, operation] : ops.items())
+            for (auto& [status, response] : operation["responses"].items()) {
+                if (status.empty() || status[0] != '2' || !response.contains("content")) continue;
+                for (auto& [type, media] : response["content"].items()) {
+                    if (media.contains("schema")) continue;
+                    const bool text = type.rfind("text/", 0) == 0 || type == "image/svg+xml" || type == "image/vnd.dxf";
+                    media["schema"] = text ? kStr : J{{"type", "string"}, {"format", "binary"}};
+                }
+            }
 
     // API keys (geoslice serve --keys, api/access_keys.hpp): every /v1 route takes one when
     // the server has keys (none: open); the web client, health, metrics and this document
@@ -318,8 +544,11 @@ J openApiDocument(const std::string& serverVersion) {
         }
     J doc;
     doc["openapi"] = "3.0.3";
+    // Relative: the API is served from wherever this document was fetched.
+    doc["servers"] = J::array({J{{"url", "/"}, {"description", "this server"}}});
     doc["info"] = {{"title", "geoslice"},
                    {"version", serverVersion},
+                   {"license", {{"name", "MIT"}, {"url", "https://opensource.org/license/mit"}}},
                    {"description",
                     "Sections of 3D geological models: images, tiles and pixel queries with geodetic coordinates. "
                     "World coordinates: x easting, y northing, z elevation, metres, in the model's CRS."}};
@@ -356,6 +585,8 @@ J openApiDocument(const std::string& serverVersion) {
           {"wgs84Note", str},
           {"projectedNote",
            {{"type", "string"}, {"description", "local models: no projected or geodetic coordinates"}}}}}};
+    const J answers = answerSchemas();  // named: items() of a temporary would dangle
+    for (const auto& [name, schema] : answers.items()) doc["components"]["schemas"][name] = schema;
     doc["components"]["securitySchemes"] = {
         {"bearer",
          {{"type", "http"},

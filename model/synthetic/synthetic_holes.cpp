@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,16 @@ SyntheticHoleSources syntheticHoleSources(const Model& model, const std::functio
     s.survey = DrillholeTableSource{"survey", "survey.csv", survey, {}, {}, DipConvention::NegativeDown};
     s.intervals.push_back({"lith", "lith.csv", lith, {}, {}, DipConvention::NegativeDown});
     s.intervals.push_back({"assay", "assay.csv", assay, {}, {{"SiO2_pct", "%"}}, DipConvention::NegativeDown});
+    // The logged codes are age symbols (J2s, T3x, ORE), as a mine's logs are: map each to its
+    // unit, as a real project's sidecar "units" does, so that the model can be checked
+    // against the holes (api/drillhole_check.hpp).
+    DrillholeUnitMap units;
+    units.table = "lith";
+    units.column = "code";
+    std::map<std::string, std::string> byCode;
+    for (const auto& [id, r] : model.attributes.records()) byCode.emplace(codeOf(&r), r.name);
+    units.map.assign(byCode.begin(), byCode.end());
+    s.units = std::move(units);
     return out;
 }
 

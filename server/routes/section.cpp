@@ -42,7 +42,10 @@ void sectionImage(ServerState& st, const HttpRequest& req, HttpResponse& res) {
             req.path, "not_found");
     auto params = queryParams(req);
     if (!params) return problem(res, params.error(), req.path);
-    if (auto s = api::checkKnownParams(params.value(), withNames(api::viewParamNames(), {"quality"})); !s)
+    // decorate=0 / layout=plain (validated by sheetFormat) ask for the plain image.
+    if (auto s =
+            api::checkKnownParams(params.value(), withNames(api::viewParamNames(), {"quality", "decorate", "layout"}));
+        !s)
         return problem(res, s.error(), req.path);
     auto plan = api::parseViewPlan(params.value(), m->id, m->model.crs);
     if (!plan) return problem(res, plan.error(), req.path);

@@ -18,8 +18,11 @@ void sectionVector(ServerState& st, const HttpRequest& req, HttpResponse& res, c
                                                     : api::VectorFormat::GeoJson;
     auto params = queryParams(req);
     if (!params) return problem(res, params.error(), req.path);
-    if (auto s = api::checkKnownParams(params.value(), withNames(api::viewParamNames(), {"space"})); !s)
-        return problem(res, s.error(), req.path);
+    // SVG: decorate=0 / layout=plain (validated by section.cpp's sheetFormat) ask for the plain SVG.
+    const auto known = format == api::VectorFormat::Svg
+                           ? withNames(api::viewParamNames(), {"space", "decorate", "layout"})
+                           : withNames(api::viewParamNames(), {"space"});
+    if (auto s = api::checkKnownParams(params.value(), known); !s) return problem(res, s.error(), req.path);
     auto frame = format == api::VectorFormat::Dxf ? api::parseDxfSpace(params.value())
                                                   : api::parseVectorSpace(params.value(), !m.model.crs.isLocal());
     if (!frame) return problem(res, frame.error(), req.path);

@@ -270,6 +270,18 @@ TEST_F(Server, ConditionalGetsFollowRfc9110) {
     EXPECT_EQ(metrics->get_header_value("Cache-Control"), "no-store");
 }
 
+// The demo's holes log age codes (J2s, T3x, ORE) mapped to the model's units, as a real
+// project's sidecar does: the model agrees with its own holes.
+TEST_F(Server, DemoModelAgreesWithItsHoles) {
+    const json j = getJson("/v1/models/demo/drillholes/check");
+    const json& s = j["summary"];
+    EXPECT_EQ(s["holes_traced"], s["holes"]);
+    EXPECT_GT(s["logged_m"].get<double>(), 10000.0) << s.dump();
+    EXPECT_GT(s["share"].get<double>(), 0.95) << s.dump();
+    EXPECT_GT(s["contacts_found"].get<int>(), 0) << s.dump();
+    for (const auto& c : j["codes"]) EXPECT_TRUE(c["in_model"].get<bool>()) << c.dump();
+}
+
 TEST_F(Server, QueryAnswersGeologyAndCoordinates) {
     const json j = getJson("/v1/models/demo/query?" + kPlane + "&size=512x256&px=256&py=128");
     EXPECT_EQ(j["hit"], true) << j.dump();
@@ -420,6 +432,17 @@ TEST_F(Server, OpenApiListsExactlyTheRoutes) {
     std::set<std::pair<std::string, std::string>> routes;
     for (const auto& r : api::apiRoutes()) routes.emplace(r.method, r.path);
     EXPECT_EQ(documented, routes);
+    // What a client generator needs: a unique operationId per operation, a server, and the
+    // statuses the server sends.
+    EXPECT_EQ(doc["servers"][0]["url"], "/");
+    std::set<std::string> ids;
+    for (const auto& [path, ops] : doc["paths"].items())
+        for (const auto& [method, op] : ops.items()) {
+            ASSERT_TRUE(op.contains("operationId")) << method << " " << path;
+            EXPECT_TRUE(ids.insert(op["operationId"].get<std::string>()).second) << op["operationId"];
+            EXPECT_TRUE(op["responses"].contains("500")) << path;
+            EXPECT_TRUE(op["responses"].contains(method == "get" ? "304" : "415")) << path;
+        }
     // Every listed route is served: a concrete request never falls through to "no route".
     auto c = client();
     for (const auto& r : api::apiRoutes()) {

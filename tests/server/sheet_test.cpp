@@ -82,6 +82,26 @@ TEST_F(Sheets, PdfByteRanges) {
     EXPECT_EQ(r->body, body);
 }
 
+// decorate and layout are booleans/choices as documented: their "off" values give the plain
+// image or SVG, not an "unknown parameter" 400.
+TEST_F(Sheets, UndecoratedIsThePlainAnswer) {
+    auto plain = get(kBase + "png?" + kPlane + "&size=64x32");
+    ASSERT_TRUE(plain);
+    ASSERT_EQ(plain->status, 200);
+    for (const char* off : {"decorate=0", "decorate=false"}) {
+        auto r = get(kBase + "png?" + kPlane + "&size=64x32&" + off);
+        ASSERT_TRUE(r);
+        EXPECT_EQ(r->status, 200) << off << " " << r->body;
+        EXPECT_EQ(r->body, plain->body) << off;
+    }
+    auto svg = get(kBase + "svg?" + kPlane + "&size=64x32&layout=plain&decorate=0");
+    ASSERT_TRUE(svg);
+    EXPECT_EQ(svg->status, 200) << svg->body;
+    auto geo = get(kBase + "geojson?" + kPlane + "&decorate=1");
+    ASSERT_TRUE(geo);
+    EXPECT_EQ(geo->status, 400);  // GeoJSON has no decorated form
+}
+
 TEST_F(Sheets, PdfSvgAndDecoratedImages) {
     auto pdf = get(kBase + "pdf?" + kPlane + "&paper=A4&vx=2&date=2026-11-24");
     ASSERT_TRUE(pdf);
