@@ -30,6 +30,8 @@ export async function loadModel(id, restore = null) {
   clearAnswer();
   clearBorehole();
   setSection(null);
+  // The old model's plan tiles go with it (else they stay drawn under the new plan).
+  if (S.plan?.layer) planMap.removeLayer(S.plan.layer);
   S.plan = null;
   const [min, max] = [m.bounds.min, m.bounds.max];
   for (const f of ['planZ', 'sliceZ']) {
@@ -57,16 +59,17 @@ export async function loadPlan() {
     setStatus(`${t('planElevation')}: ${$('planZ').min}..${$('planZ').max}`, true);
     return;
   }
-  const gen = S.gen;
+  const gen = S.gen, ask = (S.planAsk = (S.planAsk || 0) + 1);
   let s;
   try {
     s = await request(api('/sections'), { method: 'POST', headers: { 'Content-Type': 'application/json' },
                                             body: JSON.stringify({ elevation: z }) });
   } catch (e) {
-    setStatus(t('failedCut', e.message), true);
+    if (gen === S.gen && ask === S.planAsk) setStatus(t('failedCut', e.message), true);
     return;
   }
-  if (gen !== S.gen) return;
+  // Another model, or a later elevation asked for meanwhile: this answer is stale.
+  if (gen !== S.gen || ask !== S.planAsk) return;
   if (S.plan?.layer) planMap.removeLayer(S.plan.layer);
   const g = s.grid, maxNative = usefulZoom(g);
   const layer = new RetryTiles((z, x, y) => s.tiles.replace('{z}', z).replace('{x}', x).replace('{y}', y),

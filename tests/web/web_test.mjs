@@ -471,6 +471,13 @@ const tests = {
     await page.waitForFunction((s) => window.geoslice.S.plan && window.geoslice.S.plan.sid !== s, planBefore, { timeout: 15000 });
     const s2 = await state(page, () => ({ section: window.geoslice.S.section, answer: window.geoslice.S.answer, model: window.geoslice.S.model.id, points: window.geoslice.S.points.length }));
     check(s2.section === null && s2.answer === null && s2.model === 'mine-b' && s2.points === 0, `after switch: ${JSON.stringify(s2)}`);
+    // Exactly one plan layer: the old model's tiles are gone, also after quick switching.
+    const planLayers = () => page.evaluate(() => document.querySelectorAll('#planMap .leaflet-tile-pane > .leaflet-layer').length);
+    check(await planLayers() === 1, `one plan layer after a switch, not ${await planLayers()}`);
+    for (const id of ['mine-a', 'mine-b', 'mine-a', 'mine-b']) await page.locator('#model').selectOption(id);
+    await page.waitForFunction(() => window.geoslice.S.plan && window.geoslice.S.model.id === 'mine-b', null, { timeout: 15000 });
+    await page.waitForTimeout(1500);  // any stale answer of the quick switches has arrived by now
+    check(await planLayers() === 1, `one plan layer after quick switches, not ${await planLayers()}`);
     await page.locator('#tab-section').click();
     check(await page.locator('#noSection').isVisible(), 'the section view says there is none');
     await shot(page, 'model-switched');
