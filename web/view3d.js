@@ -15,7 +15,7 @@ export function init3d(restore) {
   S.three = { centre, radius, az: cam[0], el: cam[1], dist: cam[2], fov: 40 };
   $('plAz').value = p3[0];
   $('plDip').value = p3[1];
-  $('plOffset').value = p3[2];
+  setOffset(Number(p3[2]));
   S.shown3d = S.shownProfile = null;
   $('img3d').removeAttribute('src');
   $('profileImg').removeAttribute('src');
@@ -201,16 +201,36 @@ export function setup3d() {
     if (d) setAz(Number($('plAz').value) + d);
     return !!d;
   });
-  for (const id of ['plAz', 'plDip', 'plOffset']) $(id).addEventListener('input', () => render3dSoon());
+  // A turned or tilted plane may reach less far: the offset is clamped again. A typed offset
+  // is clamped when the field is left (clamping while typing would eat a leading '-').
+  for (const id of ['plAz', 'plDip'])
+    $(id).addEventListener('input', () => { setOffset(Number($('plOffset').value)); render3dSoon(); });
+  $('plOffset').addEventListener('input', () => render3dSoon());
+  $('plOffset').addEventListener('change', () => { setOffset(Number($('plOffset').value)); render3dSoon(); });
   $('resetCam').onclick = () => { init3d({ p3: [Number($('plAz').value), Number($('plDip').value), Number($('plOffset').value)] }); render3d(false); };
   $('profileImg').addEventListener('click', (e) => queryProfile(e));
   new ResizeObserver(() => { if (S.view === '3d') render3dSoon(); }).observe($('view3d'));
 }
-function setOffset(v) {
-  const el = $('plOffset');
-  el.value = Math.round(Math.max(Number(el.min), Math.min(Number(el.max), v)));
+// How far the plane may move from the model's centre along its normal and still cut the
+// model: the bounding box's support distance in that direction, less 1% so that a sliver
+// stays in view. A drag or a typed offset past it stops there (the server would answer 400).
+export function offsetLimit() {
+  const { min, max } = S.model.bounds;
+  const az = Number($('plAz').value) || 0, dip = Math.min(90, Math.max(0, Number($('plDip').value) || 0));
+  const n = V.planeFrom(az, dip, S.three.centre).n;
+  const h = 0.5 * (Math.abs(n[0]) * (max[0] - min[0]) + Math.abs(n[1]) * (max[1] - min[1]) + Math.abs(n[2]) * (max[2] - min[2]));
+  return Math.floor(0.99 * h);
 }
-function setAz(v) { $('plAz').value = Math.round(((v % 360) + 360) % 360); }
+function setOffset(v) {
+  const el = $('plOffset'), lim = offsetLimit();
+  el.min = -lim;
+  el.max = lim;
+  el.value = Math.round(Math.max(-lim, Math.min(lim, Number.isFinite(v) ? v : 0)));
+}
+function setAz(v) {
+  $('plAz').value = Math.round(((v % 360) + 360) % 360);
+  setOffset(Number($('plOffset').value));  // a turned plane may reach less far
+}
 function render3dSoon() {
   clearTimeout(S.r3timer);
   drawHandles();

@@ -376,6 +376,34 @@ const tests = {
     const plane = await state(page, () => `plane=${window.geoslice.S.shown3d.profile.split('plane=')[1].split('&')[0]}`);
     check(shown.includes(plane), 'the 3D image and the profile show the same plane');
     await shot(page, 'phone-3d-dragged');
+    // A long thumb drag can never take the plane off the model: the offset stops at the
+    // model's extent along the normal, the last frame is drawn, no error, the handles stay.
+    {
+      const hm = await box(page, '#moveHandle');
+      const [sx, sy] = [hm.x + hm.width / 2, hm.y + hm.height / 2];
+      await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x: sx, y: sy }] });
+      for (let i = 1; i <= 30; ++i) {
+        await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: sx + 25 * i, y: sy + 12 * i }] });
+        await page.waitForTimeout(30);
+      }
+      await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+      await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+      await settle(page);
+      const after = await page.evaluate(() => {
+        const S = window.geoslice.S, { min, max } = S.model.bounds;
+        const off = Number(document.getElementById('plOffset').value);
+        const az = (Number(document.getElementById('plAz').value) * Math.PI) / 180, dip = (Number(document.getElementById('plDip').value) * Math.PI) / 180;
+        const n = [-Math.cos(az) * Math.sin(dip), Math.sin(az) * Math.sin(dip), Math.cos(dip)];
+        const support = 0.5 * (Math.abs(n[0]) * (max[0] - min[0]) + Math.abs(n[1]) * (max[1] - min[1]) + Math.abs(n[2]) * (max[2] - min[2]));
+        return { off, support, status: document.getElementById('status').textContent, error: document.getElementById('status').className === 'error',
+                 shownOff: S.shown3d.profile };
+      });
+      check(Math.abs(after.off) < after.support, `the plane stays in the model: offset ${after.off}, extent ${after.support.toFixed(0)}`);
+      check(Math.abs(after.off) > 0.9 * after.support, `a long drag reaches the model's edge: ${after.off} of ${after.support.toFixed(0)}`);
+      check(!after.error, `no error after the long drag: ${after.status}`);
+      check(!(await page.locator('#rotateHandle').isHidden()), 'the rotate handle stays');
+      await shot(page, 'phone-3d-dragged-to-edge');
+    }
     // Rotate with the keyboard.
     await page.locator('#rotateHandle').focus();
     await page.keyboard.press('ArrowRight');
