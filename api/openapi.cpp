@@ -275,50 +275,64 @@ const std::vector<RouteSpec>& apiRoutes() {
     return routes;
 }
 
-J openApiDocument(const std::string& serverVersion) {
-    const J id = pathParam("id", "model id: [A-Za-z0-9][A-Za-z0-9._-]{0,63}");
-    const J format = pathParam("format", "image format", J{{"type", "string"}, {"enum", {"jpg", "png", "webp"}}});
+namespace {
+
+// The parameters shared by several operations.
+J idParam() { return pathParam("id", "model id: [A-Za-z0-9][A-Za-z0-9._-]{0,63}"); }
+J sidParam() { return pathParam("sid", "stateless section id from POST /v1/models/{id}/sections"); }
+J tileFormatParam() {
+    return pathParam("format", "image format", J{{"type", "string"}, {"enum", {"jpg", "png", "webp"}}});
+}
+void get(J& paths, const std::string& path, J operation) { paths[path]["get"] = std::move(operation); }
+void post(J& paths, const std::string& path, J operation) { paths[path]["post"] = std::move(operation); }
+
+// The operator's routes and the web client.
+void addOpsPaths(J& paths) {
+    get(paths, "/",
+        op("the thin web client: plan map, sections as tiles, 3D view with a draggable plane, pixel queries, boreholes",
+           J::array(), J{{"description", "HTML"}, {"content", {{"text/html", J::object()}}}}));
+    get(paths, "/web/{asset}",
+        op("the web client's scripts, styles and images (Leaflet from Debian's libjs-leaflet)",
+           J::array({pathParam("asset", "asset path, e.g. app.js or leaflet/leaflet.css")}),
+           J{{"description", "the asset; ETag, Cache-Control"},
+             {"content", {{"text/javascript", J::object()}, {"text/css", J::object()}, {"image/png", J::object()}}}}));
+    get(paths, "/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok", "Health")));
+    get(paths, "/readyz",
+        op("readiness: models loaded (and, for perspective views, a GL device found); `rays` gives each "
+           "model's ray scene (pending, building, ready, failed), which queries without a cached image, "
+           "perspective queries and boreholes wait for up to their deadline (504 past it); "
+           "models.failed (id, error), models.skipped (models-directory entries not loaded: entry, "
+           "reason) and models.warnings (id, warning: e.g. a failed bake, the model served from memory) "
+           "are reported, not a reason to be unready. While the server has API keys, models.failed, "
+           "models.skipped, models.warnings and rays are counts and name no model",
+           J::array(), jsonResponse("ready; 503 while loading", "Readiness")));
+    get(paths, "/metrics",
+        op("Prometheus text format: requests and latency per route, queue depth, cache hits, render times", J::array(),
+           J{{"description", "metrics"}, {"content", {{"text/plain", J::object()}}}}));
+    get(paths, "/openapi.json", op("this document", J::array(), jsonResponse("OpenAPI 3 document", "OpenApiDocument")));
+}
+
+// Models, section images and vectors, queries, boreholes.
+void addModelPaths(J& paths) {
+    const J id = idParam();
     const J sectionFormat =
         pathParam("format",
                   "image format, or vector: geojson (polygons and traces with attributes and areas), svg or dxf "
                   "(CAD: a layer per unit, polylines, hatches, labels), or pdf (a print-ready section sheet)",
                   J{{"type", "string"}, {"enum", {"jpg", "png", "webp", "geojson", "svg", "dxf", "pdf"}}});
-    const J sid = pathParam("sid", "stateless section id from POST /v1/models/{id}/sections");
     J sectionResponse = imageResponse();
     for (const char* type : {"image/svg+xml", "image/vnd.dxf", "application/pdf"})
         sectionResponse["content"][type] = J::object();
     sectionResponse["content"]["application/geo+json"] = {{"schema", ref("FeatureCollection")}};
-    J paths = J::object();
-    auto get = [&](const std::string& path, J operation) { paths[path]["get"] = std::move(operation); };
-    auto post = [&](const std::string& path, J operation) { paths[path]["post"] = std::move(operation); };
-
-    get("/",
-        op("the thin web client: plan map, sections as tiles, 3D view with a draggable plane, pixel queries, boreholes",
-           J::array(), J{{"description", "HTML"}, {"content", {{"text/html", J::object()}}}}));
-    get("/web/{asset}",
-        op("the web client's scripts, styles and images (Leaflet from Debian's libjs-leaflet)",
-           J::array({pathParam("asset", "asset path, e.g. app.js or leaflet/leaflet.css")}),
-           J{{"description", "the asset; ETag, Cache-Control"},
-             {"content", {{"text/javascript", J::object()}, {"text/css", J::object()}, {"image/png", J::object()}}}}));
-    get("/healthz", op("liveness: the process answers", J::array(), jsonResponse("ok", "Health")));
-    get("/readyz", op("readiness: models loaded (and, for perspective views, a GL device found); `rays` gives each "
-                      "model's ray scene (pending, building, ready, failed), which queries without a cached image, "
-                      "perspective queries and boreholes wait for up to their deadline (504 past it); "
-                      "models.failed (id, error), models.skipped (models-directory entries not loaded: entry, "
-                      "reason) and models.warnings (id, warning: e.g. a failed bake, the model served from memory) "
-                      "are reported, not a reason to be unready. While the server has API keys, models.failed, "
-                      "models.skipped, models.warnings and rays are counts and name no model",
-                      J::array(), jsonResponse("ready; 503 while loading", "Readiness")));
-    get("/metrics", op("Prometheus text format: requests and latency per route, queue depth, cache hits, render times",
-                       J::array(), J{{"description", "metrics"}, {"content", {{"text/plain", J::object()}}}}));
-    get("/openapi.json", op("this document", J::array(), jsonResponse("OpenAPI 3 document", "OpenApiDocument")));
-    get("/v1/models", op("the loaded models with bounds, CRS, bodies and legend (with API keys: the models the "
-                         "request's key may read)",
-                         J::array(), jsonResponse("models", "ModelList")));
-    get("/v1/models/{id}", op("one model", J::array({id}), jsonResponse("the model", "ModelSummary")));
-    get("/v1/models/{id}/legend.png", op("the legend as an image: one swatch per body with its name", J::array({id}),
-                                         J{{"description", "PNG"}, {"content", {{"image/png", J::object()}}}}));
-    get("/v1/models/{id}/section.{format}",
+    get(paths, "/v1/models",
+        op("the loaded models with bounds, CRS, bodies and legend (with API keys: the models the "
+           "request's key may read)",
+           J::array(), jsonResponse("models", "ModelList")));
+    get(paths, "/v1/models/{id}", op("one model", J::array({id}), jsonResponse("the model", "ModelSummary")));
+    get(paths, "/v1/models/{id}/legend.png",
+        op("the legend as an image: one swatch per body with its name", J::array({id}),
+           J{{"description", "PNG"}, {"content", {{"image/png", J::object()}}}}));
+    get(paths, "/v1/models/{id}/section.{format}",
         op("a section image: profile views from the exact CPU engine; perspective views from the GL renderer",
            concat(
                J::array(
@@ -341,7 +355,7 @@ J openApiDocument(const std::string& serverVersion) {
                     queryParam("date", "string", "sheets: the title block's date YYYY-MM-DD (default today, UTC)")}),
                viewParams()),
            sectionResponse));
-    get("/v1/models/{id}/query",
+    get(paths, "/v1/models/{id}/query",
         op("what lies under one pixel of the view given by the same parameters: record and "
            "attributes, the world point, "
            "the distance along the section, and the point's coordinates (schema WorldPoint): "
@@ -352,7 +366,7 @@ J openApiDocument(const std::string& serverVersion) {
                             queryParam("py", "integer", "pixel row, 0 = top", true)}),
                   viewParams()),
            jsonResponse("the answer", "QueryAnswer")));
-    post("/v1/models/{id}/query",
+    post(paths, "/v1/models/{id}/query",
          J{{"summary",
             "batch pixel query: {\"view\": {<view parameters as strings>}, \"pixels\": [[px, py], ...]} "
             "(at most 5000 pixels, 8 MiB of answer)"},
@@ -361,13 +375,18 @@ J openApiDocument(const std::string& serverVersion) {
            {"responses", errors()}});
     paths["/v1/models/{id}/query"]["post"]["responses"]["200"] =
         jsonResponse("{\"results\": [answer, ...]}", "QueryBatch");
-    get("/v1/models/{id}/borehole",
+    get(paths, "/v1/models/{id}/borehole",
         op("a virtual borehole at a map point: intervals (from/to metres below the collar, elevations, record, "
            "attributes) and the faults and surfaces crossed",
            J::array({id, queryParam("x", "number", "easting, world m"), queryParam("y", "number", "northing, world m"),
                      queryParam("lon", "number", "or longitude, degrees on the model CRS's own datum"),
                      queryParam("lat", "number", "and latitude, degrees on the model CRS's own datum")}),
            jsonResponse("the borehole", "Borehole")));
+}
+
+// Reserves and the model checked against its drillholes.
+void addReservesAndDrillholePaths(J& paths) {
+    const J id = idParam();
     {
         const char* what =
             "reserves: gross and net (nested bodies subtracted) volume m^3, density, tonnage t, grade and metal of "
@@ -377,7 +396,7 @@ J openApiDocument(const std::string& serverVersion) {
         const J plane = queryParam("plane", "string",
                                    "a,b,c,d: count only the kept side a*x+b*y+c*z+d >= 0 (world m); default: the "
                                    "whole model");
-        get("/v1/models/{id}/reserves",
+        get(paths, "/v1/models/{id}/reserves",
             op(what,
                J::array(
                    {id, plane, queryParam("format", "string", "json (default) or csv (the same as reserves.csv)"),
@@ -390,7 +409,7 @@ J openApiDocument(const std::string& serverVersion) {
                                "named density)")}),
                J{{"description", "the reserves; ETag and Cache-Control set"},
                  {"content", {{"application/json", {{"schema", ref("Reserves")}}}, {"text/csv", J::object()}}}}));
-        get("/v1/models/{id}/reserves.csv",
+        get(paths, "/v1/models/{id}/reserves.csv",
             op(what, J::array({id, plane}),
                J{{"description",
                   "CSV with a header row: one row per body, then a '(total)' row; empty cells where JSON has null"},
@@ -404,24 +423,29 @@ J openApiDocument(const std::string& serverVersion) {
             "none); the codes and their units; warnings. The same document as `geoslice holes check --json` "
             "(api/drillhole_check.hpp). 404: the model has no drillholes; 409: its sidecar did not load.";
         const J rows = queryParam("rows", "string", "CSV only: units (default, rows per hole and unit) or contacts");
-        get("/v1/models/{id}/drillholes/check",
+        get(paths, "/v1/models/{id}/drillholes/check",
             op(what, J::array({id, queryParam("format", "string", "json (default) or csv (as check.csv)"), rows}),
                J{{"description", "the check; ETag and Cache-Control set"},
                  {"content", {{"application/json", {{"schema", ref("DrillholeCheck")}}}, {"text/csv", J::object()}}}}));
-        get("/v1/models/{id}/drillholes/check.csv",
+        get(paths, "/v1/models/{id}/drillholes/check.csv",
             op(what, J::array({id, rows}),
                J{{"description",
                   "CSV with a header row: hole,unit,in_model,logged_m,agreed_m,share (hole * = all holes), or with "
                   "rows=contacts hole,depth_m,code_above,code_below,unit_above,unit_below,model_depth_m,distance_m"},
                  {"content", {{"text/csv", J::object()}}}}));
-        get("/v1/models/{id}/drillholes/{hole}/log",
+        get(paths, "/v1/models/{id}/drillholes/{hole}/log",
             op("one drillhole's strip log: collar, survey stations, desurveyed path, every interval table's "
                "intervals with their columns (code intervals with the unit they name), and the model's units along "
                "the same hole. 404 names an unknown hole.",
                J::array({id, pathParam("hole", "hole id, percent-encoded (%2F for /), at most 256 bytes")}),
                jsonResponse("the log", "DrillholeLog")));
     }
-    post("/v1/models/{id}/sections",
+}
+
+// Stateless sections, their tiles and the tiles' standard descriptions.
+void addSectionPaths(J& paths) {
+    const J id = idParam(), sid = sidParam(), format = tileFormatParam();
+    post(paths, "/v1/models/{id}/sections",
          J{{"summary",
             "define a section for tiles: {\"plane\": \"a,b,c,d\" | \"elevation\": z, \"vx\": k, \"bg\": c}. "
             "Returns a stateless section id (the canonical definition, base64url) that any replica can "
@@ -431,9 +455,9 @@ J openApiDocument(const std::string& serverVersion) {
            {"responses", errors()}});
     paths["/v1/models/{id}/sections"]["post"]["responses"]["201"] =
         jsonResponse("{sid, tiles, grid}", "SectionDefinition");
-    get("/v1/sections/{sid}",
+    get(paths, "/v1/sections/{sid}",
         op("a section's definition and tile grid", J::array({sid}), jsonResponse("grid", "SectionDefinition")));
-    get("/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
+    get(paths, "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}",
         op("one 256x256 tile. Grid: zoom 0 is one tile covering size0 metres along u (size0/k along v) from the "
            "section extent's top-left corner (u0, v1); zoom z has 2^z x 2^z tiles; tile (z,x,y) covers "
            "u in [u0+x*s, u0+(x+1)*s], v in [v1-(y+1)*s/k, v1-y*s/k], s = size0/2^z, k = the grid's "
@@ -443,19 +467,23 @@ J openApiDocument(const std::string& serverVersion) {
                      pathParam("x", "column", J{{"type", "integer"}}),
                      pathParam("y", "row (0 = top)", J{{"type", "integer"}}), format}),
            imageResponse()));
-    get("/v1/sections/{sid}/tilejson.json",
+    get(paths, "/v1/sections/{sid}/tilejson.json",
         op("the section's tiles as a TileJSON 3.0.0 layer (tiles, minzoom, maxzoom, scheme xyz; the grid under "
            "'geoslice'; no bounds: the tiles are in the section's plane, not on the globe)",
            J::array({sid}), jsonResponse("TileJSON", "TileJson")));
-    get("/v1/sections/{sid}/tiles",
+    get(paths, "/v1/sections/{sid}/tiles",
         op("OGC API - Tiles tileset metadata of the section (dataType map, item link template "
            "{tileMatrix}/{tileCol}/{tileRow}, tiling-scheme link)",
            J::array({sid}), jsonResponse("tileset", "OgcTileset")));
-    get("/v1/sections/{sid}/tilematrixset",
+    get(paths, "/v1/sections/{sid}/tilematrixset",
         op("the section's OGC two-dimensional TileMatrixSet: a local engineering CRS (u, v times the grid's "
            "exaggeration, metres), matrix z of 2^z x 2^z tiles of 256 cells",
            J::array({sid}), jsonResponse("TileMatrixSet", "TileMatrixSet")));
+}
 
+// What every operation has besides its own success answer: an operationId, the statuses the
+// server may send, a schema for every content, and the API keys it takes.
+void completeOperations(J& paths) {
     // Operation ids for generated clients, and what every operation may answer besides 200.
     static const std::map<std::string, std::string> kOperationIds = {
         {"get /", "getWebClient"},
@@ -542,6 +570,17 @@ J openApiDocument(const std::string& serverVersion) {
             operation["responses"]["403"] =
                 problem("the API key may not read this model (whether or not the model exists)");
         }
+}
+
+}  // namespace
+
+J openApiDocument(const std::string& serverVersion) {
+    J paths = J::object();
+    addOpsPaths(paths);
+    addModelPaths(paths);
+    addReservesAndDrillholePaths(paths);
+    addSectionPaths(paths);
+    completeOperations(paths);
     J doc;
     doc["openapi"] = "3.0.3";
     // Relative: the API is served from wherever this document was fetched.
@@ -602,6 +641,7 @@ J openApiDocument(const std::string& serverVersion) {
                                                  {"detail", {{"type", "string"}}},
                                                  {"instance", {{"type", "string"}}},
                                                  {"code", {{"type", "string"}}}}}};
+
     return doc;
 }
 
