@@ -53,9 +53,42 @@ export async function request(url, opts = {}, as = 'json') {
 }
 export const api = (path) => `/v1/models/${encodeURIComponent(S.model.id)}${path}`;
 
+// Whether a failed request's cause is the server being away (no answer, 502-504: retried
+// when it is back) rather than the request itself (4xx: a verdict, not retried).
+export const serverAway = (e) => !e || e.status === 0 || e.status === 502 || e.status === 503 || e.status === 504;
+// The message for a failed action: "rejected" only for a verdict on the request; a server
+// that did not answer is said so, with "retrying".
+export function failure(what, e) {
+  if (e && e.status === 0) return t('unreachable', what);
+  if (serverAway(e)) return t('serverAway', what, e.message);
+  return t('rejected', what, e.message);
+}
+// Runs `run` once the server answers /healthz again (polled every 2 s while it does not);
+// the callbacks registered for one outage run together, the latest per key.
+const whenBack = new Map();
+let polling = false;
+export function whenServerBack(key, run) {
+  whenBack.set(key, run);
+  if (polling) return;
+  polling = true;
+  const poll = async () => {
+    let ok = false;
+    try { ok = (await fetch('/healthz', { cache: 'no-store' })).ok; } catch (_) { ok = false; }
+    if (!ok) { setTimeout(poll, 2000); return; }
+    polling = false;
+    const runs = [...whenBack.values()];
+    whenBack.clear();
+    for (const r of runs) r();
+  };
+  setTimeout(poll, 1000);
+}
+
 export function setStatus(text, isError = false, action = null) {
   const s = $('status');
+  // A new error does not take away the Retry of the one before it.
+  const kept = isError && !action ? s.querySelector('button') : null;
   s.textContent = text || '';
+  if (kept) s.append(' ', kept);
   s.className = isError ? 'error' : '';
   if (action) {
     const b = document.createElement('button');

@@ -2,7 +2,7 @@
 // tile grid (api/view.hpp TileGrid) and long-press.
 import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S } from './state.js?v=__GS_BUILD__';
-import { busy, setStatus, withKey } from './api.js?v=__GS_BUILD__';
+import { busy, setStatus, withKey, whenServerBack } from './api.js?v=__GS_BUILD__';
 
 // ---- tiles with retry ------------------------------------------------------------------
 // Tiles are fetched (not <img src>) so that a 503 is seen and retried with back-off
@@ -52,6 +52,8 @@ export const RetryTiles = L.GridLayer.extend({
             img.className = 'tile-failed';
             done(new Error(`tile ${key}: ${e.status}`), img);
             tileStatus(layer);
+            // A server that was away: the striped tiles are fetched again once it is back.
+            if (retryable) whenServerBack('tiles', retryTiles);
           }
         })
         .finally(() => busy(-1));
@@ -69,8 +71,8 @@ function tileStatus(layer) {
   else if (/tile/.test($('status').textContent)) setStatus('');
 }
 function retryTiles() {
-  for (const l of [S.section?.layer, S.plan?.layer]) if (l) { l.failed.clear(); l.redraw(); }
-  setStatus('');
+  for (const l of [S.section?.layer, S.plan?.layer]) if (l?.failed.size) { l.failed.clear(); l.redraw(); }
+  if (/tile/.test($('status').textContent)) setStatus('');
 }
 
 // ---- grids (api/view.hpp TileGrid) -------------------------------------------------------

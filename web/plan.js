@@ -3,7 +3,7 @@
 import * as V from './views.js?v=__GS_BUILD__';
 import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S, permalinkSoon } from './state.js?v=__GS_BUILD__';
-import { request, api, setStatus } from './api.js?v=__GS_BUILD__';
+import { request, api, setStatus, failure, serverAway, whenServerBack } from './api.js?v=__GS_BUILD__';
 import { RetryTiles, lngOf, latOf, uOf, vOf, usefulZoom, gridBounds, planMap } from './map.js?v=__GS_BUILD__';
 import { drawPlanOverlay } from './overlay.js?v=__GS_BUILD__';
 import { setSection } from './section.js?v=__GS_BUILD__';
@@ -65,7 +65,9 @@ export async function loadPlan() {
     s = await request(api('/sections'), { method: 'POST', headers: { 'Content-Type': 'application/json' },
                                             body: JSON.stringify({ elevation: z }) });
   } catch (e) {
-    if (gen === S.gen && ask === S.planAsk) setStatus(t('failedCut', e.message), true);
+    if (gen !== S.gen || ask !== S.planAsk) return;
+    setStatus(failure(t('planWhat'), e), true);
+    if (serverAway(e)) whenServerBack('plan', () => { if (gen === S.gen && ask === S.planAsk) loadPlan(); });
     return;
   }
   // Another model, or a later elevation asked for meanwhile: this answer is stale.

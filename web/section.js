@@ -3,7 +3,7 @@
 import * as V from './views.js?v=__GS_BUILD__';
 import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S, mark, markPainted, permalinkSoon } from './state.js?v=__GS_BUILD__';
-import { request, api, setStatus, hasApiKey } from './api.js?v=__GS_BUILD__';
+import { request, api, setStatus, hasApiKey, failure, serverAway, whenServerBack } from './api.js?v=__GS_BUILD__';
 import { RetryTiles, tileFrame, usefulZoom, gridBounds, sectionMap } from './map.js?v=__GS_BUILD__';
 import { drawSectionOverlay } from './overlay.js?v=__GS_BUILD__';
 import { drawPlanLine, modeAzimuth } from './plan.js?v=__GS_BUILD__';
@@ -51,7 +51,10 @@ export async function openSection(def, view = null) {
   try {
     sec = await defineSection(def);
   } catch (e) {
-    if (gen === S.gen) setStatus(t('failedCut', e.message), true);
+    if (gen !== S.gen) return false;
+    setStatus(failure(t('cutWhat'), e), true);
+    // The server was away, not the cut wrong: cut again as soon as it answers.
+    if (serverAway(e)) whenServerBack('cut', () => { if (gen === S.gen) openSection(def, view); });
     return false;
   }
   if (gen !== S.gen) return false;

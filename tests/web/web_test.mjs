@@ -445,6 +445,19 @@ const tests = {
     after = await state(page, () => ({ def: window.geoslice.S.section.def, gen: window.geoslice.S.gen }));
     check(JSON.stringify(after) === JSON.stringify(before), 'an invalid vx changed the section');
     await page.locator('#vx').fill('2');
+    // A server that is away (every request to it fails: the connection refused) is not a
+    // rejection: the page says it cannot reach the server, and cuts again by itself when
+    // the server answers; nothing stays striped or in error.
+    await page.route('**/*', (r) => (r.request().url().startsWith(page.url().split('/#')[0].split('?')[0].replace(/\/$/, '')) && !/\/web\//.test(r.request().url()) ? r.abort('connectionrefused') : r.continue()));
+    await page.evaluate(() => window.geoslice.setPoints([[window.geoslice.S.model.bounds.min[0] + 300, window.geoslice.S.model.bounds.min[1] + 300], [window.geoslice.S.model.bounds.max[0] - 300, window.geoslice.S.model.bounds.max[1] - 200]]));
+    await page.locator('#cut').click();
+    await page.waitForFunction(() => /cannot reach the server/.test(document.getElementById('status').textContent), null, { timeout: 10000 });
+    check(!/rejected/.test(await page.locator('#status').textContent()), `a server away is not a rejection: ${await page.locator('#status').textContent()}`);
+    await shot(page, 'error-server-away');
+    await page.unroute('**/*');
+    await page.waitForFunction((d) => JSON.stringify(window.geoslice.S.section.def) !== d, JSON.stringify(before.def), { timeout: 20000 });
+    await page.waitForFunction(() => document.getElementById('status').className !== 'error' && document.querySelectorAll('img.tile-failed').length === 0, null, { timeout: 20000 });
+    check(!/cannot reach/.test(await page.locator('#status').textContent()), 'the error went when the server came back');
     // Input ranges come from the model's bounds.
     const b = await bounds(page);
     check(Number(await page.locator('#sliceZ').getAttribute('min')) === Math.floor(b.min[2]), 'slice min from bounds');
