@@ -4,7 +4,7 @@ import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S } from './state.js?v=__GS_BUILD__';
 import { request, api } from './api.js?v=__GS_BUILD__';
 import { svgEl } from './overlay.js?v=__GS_BUILD__';
-import { showSheet } from './ui.js?v=__GS_BUILD__';
+import { showSheet, revealSheet } from './ui.js?v=__GS_BUILD__';
 
 // ---- boreholes -------------------------------------------------------------------------
 export function clearBorehole(message = null) {
@@ -31,6 +31,7 @@ export async function borehole(x, y) {
   if (gen !== S.gen) return;
   S.bh = j;
   renderBorehole(j, x, y);
+  revealSheet();
 }
 function renderBorehole(j, x, y) {
   const box = $('bh');

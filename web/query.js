@@ -4,7 +4,7 @@ import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S, markPainted } from './state.js?v=__GS_BUILD__';
 import { request, api } from './api.js?v=__GS_BUILD__';
 import { gridPixel } from './map.js?v=__GS_BUILD__';
-import { showSheet } from './ui.js?v=__GS_BUILD__';
+import { showSheet, revealSheet } from './ui.js?v=__GS_BUILD__';
 
 // ---- queries ---------------------------------------------------------------------------
 let marker = null;
@@ -39,6 +39,7 @@ export async function runQuery(url, where, show) {
   if (id !== S.queryId || gen !== S.gen) return;  // a newer question or another picture
   show?.();
   renderAnswer(j, where);
+  revealSheet();
   markPainted('answer', t0, { record: j.record?.id ?? null });
 }
 export function queryMap(where, map, sec, latlng) {

@@ -17,6 +17,7 @@ export function showView(v) {
   if (v === 'plan') { planMap.invalidateSize(); drawPlanOverlay(); }
   if (v === 'section') { sectionMap.invalidateSize(); drawSectionOverlay(); }
   if (v === '3d') { drawHandles(); render3d(false); }
+  $('side').scrollTop = 0;  // a view's own controls first
   permalinkSoon();
 }
 export function showSheet(name) {
@@ -25,6 +26,14 @@ export function showSheet(name) {
     $(`st-${n}`).tabIndex = n === name ? 0 : -1;
     $(`sp-${n}`).hidden = n !== name;
   }
+  revealSheet();
+}
+// Brings the answer sheet into sight in the side panel (on a phone it sits below the tools):
+// an answer, a borehole or their errors are never left below the fold.
+export function revealSheet() {
+  const side = $('side'), sheet = $('sheet');
+  const dy = sheet.getBoundingClientRect().top - side.getBoundingClientRect().top - 4;
+  if (Math.abs(dy) > 8) side.scrollTop += dy;  // the sheet's top at the panel's top
 }
 export function tabKeys(container, names, show) {
   container.addEventListener('keydown', (e) => {

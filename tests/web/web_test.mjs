@@ -213,6 +213,48 @@ const tests = {
     await page.context().close();
   },
 
+  // On phones nothing a user waits for lands below the fold: Cut before any scrolling, the
+  // answer of a tap, an error in the status line, and the 3D plane's fields.
+  async results_in_view_on_phones() {
+    const inView = (page, sel) => page.evaluate((sel) => {
+      const el = document.querySelector(sel);
+      if (!el || !el.checkVisibility?.()) return `${sel} not shown`;
+      const r = el.getBoundingClientRect();
+      return r.top >= 0 && r.left >= 0 && r.top + Math.min(r.height, 40) <= innerHeight && r.right <= innerWidth + 1 ? '' :
+        `${sel} at ${r.left | 0},${r.top | 0} ${r.width | 0}x${r.height | 0} outside ${innerWidth}x${innerHeight}`;
+    }, sel);
+    for (const [name, dev] of [['390x844', PHONE], ['360x740', PHONE_SMALL], ['844x390', PHONE_LANDSCAPE]]) {
+      const page = await newPage(dev, { locale: 'en-GB' });
+      await open(page);
+      let bad = await inView(page, '#cut');
+      check(!bad, `${name}: Cut in sight: ${bad}`);
+      await cutLine(page, [[0.15, 0.3], [0.85, 0.6]]);
+      const m = await box(page, '#sectionMap');
+      await tap(page, m.x + m.width * 0.5, m.y + m.height * 0.6);
+      await page.waitForFunction(() => window.geoslice.S.answer, null, { timeout: 10000 });
+      bad = await inView(page, '#answer h2');
+      check(!bad, `${name}: the answer in sight: ${bad}`);
+      bad = await inView(page, '#answer dl');  // its details too, not only the heading
+      check(!bad, `${name}: the answer's details in sight: ${bad}`);
+      await shot(page, `results-${name}-answer`);
+      // A cut the server refuses: the reason in sight.
+      await page.evaluate(() => {
+        const b = window.geoslice.S.model.bounds, pts = [];
+        for (let i = 0; i < 257; ++i) pts.push([b.min[0] + (i / 256) * (b.max[0] - b.min[0]), 0.5 * (b.min[1] + b.max[1])]);
+        window.geoslice.setPoints(pts);
+      });
+      await page.locator('#tab-plan').click();
+      await page.locator('#cut').click();
+      await page.waitForFunction(() => /rejected/.test(document.getElementById('status').textContent), null, { timeout: 10000 });
+      bad = await inView(page, '#status');
+      check(!bad, `${name}: the error in sight: ${bad}`);
+      await page.locator('#tab-3d').click();
+      bad = await inView(page, '#plAz');
+      check(!bad, `${name}: the 3D plane's fields in sight: ${bad}`);
+      await page.context().close();
+    }
+  },
+
   async line_cut_query_colours_borehole() {
     const page = await newPage(PHONE);
     await open(page);
