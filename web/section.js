@@ -128,13 +128,16 @@ export function sectionLabel(sec) {
 }
 export function updateExports() {
   const sec = S.section;
-  for (const id of ['expPng', 'expSvg', 'expGeojson', 'expPdf']) {
+  for (const id of ['expPng', 'expSvg', 'expGeojson', 'expDxf', 'expPdf']) {
     const a = $(id);
     if (!sec) { a.removeAttribute('href'); a.setAttribute('aria-disabled', 'true'); continue; }
     a.removeAttribute('aria-disabled');
-    const ext = { expPng: 'png', expSvg: 'svg', expGeojson: 'geojson', expPdf: 'pdf' }[id];
-    // A PDF is a print sheet: its paper sizes it (A3 landscape by default), so no size.
-    const extra = ext === 'geojson' ? '&space=world' : ext === 'pdf' ? '' : '&size=2048x1024';
+    const ext = { expPng: 'png', expSvg: 'svg', expGeojson: 'geojson', expDxf: 'dxf', expPdf: 'pdf' }[id];
+    // A PDF is a print sheet: its paper sizes it (A3 landscape by default), so no size. The
+    // PNG is the same sheet as an image (axes, scale, legend, title block) where the server
+    // makes sheets; DXF is the section as drawn (plane metres) for CAD.
+    const extra = { geojson: '&space=world', pdf: '', dxf: '', png: S.pdf ? '&decorate=1&dpi=150' : '&size=2048x1024',
+                    svg: '&size=2048x1024' }[ext];
     a.href = api(`/section.${ext}?${sec.q}${extra}`);
     a.download = `${S.model.id}-section.${ext}`;
     // A link cannot send the API key: with one, the file is fetched and saved from here.

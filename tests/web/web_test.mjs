@@ -366,6 +366,18 @@ const tests = {
     check(svg.startsWith('<?xml') || svg.startsWith('<svg'), 'SVG export is SVG');
     const gj = await page.evaluate((u) => fetch(u).then((r) => r.json()), await page.locator('#expGeojson').getAttribute('href'));
     check(gj.type === 'FeatureCollection' && gj.features.length > 0, 'GeoJSON export');
+    // PNG export is the print sheet as an image (axes, legend, title: decorate=1), not the bare
+    // picture; DXF is the section for CAD.
+    const pngHref = await page.locator('#expPng').getAttribute('href');
+    check(/decorate=1/.test(pngHref), `PNG export is the decorated sheet: ${pngHref}`);
+    const png = await page.evaluate((u) => fetch(u).then(async (r) => {
+      const b = new DataView(await r.arrayBuffer());
+      return [r.status, r.headers.get('content-type'), b.getUint32(16), b.getUint32(20)];
+    }), pngHref);
+    check(png[0] === 200 && png[1] === 'image/png' && png[2] > 2000 && png[2] > png[3], `PNG export: ${png}`);
+    const dxf = await page.evaluate((u) => fetch(u).then(async (r) => [r.status, (await r.text()).includes('AC1015')]),
+                                    await page.locator('#expDxf').getAttribute('href'));
+    check(dxf[0] === 200 && dxf[1], `DXF export: ${dxf}`);
     // The server offers section.pdf (a print sheet): the PDF link is shown and answers a PDF.
     check(!(await page.locator('#expPdf').isHidden()), 'PDF export shown');
     const pdf = await page.evaluate((u) => fetch(u).then(async (r) => [r.status, r.headers.get('content-type'),
