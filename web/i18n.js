@@ -18,6 +18,9 @@ const STRINGS = {
     view3d: '3D view of the model cut by the plane; drag to orbit, pinch or wheel to zoom, tap to query',
     profile: 'Profile of the plane', profileAlt: 'Section along the current plane; tap to query',
     answer: 'Answer', legend: 'Legend', borehole: 'Borehole', copy: 'Copy', copied: 'Copied',
+    f_id: 'Record id', f_name: 'Name', f_kind: 'Kind', f_lithology: 'Lithology', f_age: 'Age', f_era: 'Era',
+    f_colour: 'Colour', f_colour_source: 'Colour from', f_name_source: 'Name from', f_density: 'Density (t/m³)',
+    f_grade: 'Grade', f_grade_unit: 'Grade unit',
     tapHint: 'Tap a section, the plan or the 3D view to ask what lies there.',
     noGeology: 'No geology at this point', unit: 'Unit', body: 'Body', world: 'World point', crs: 'CRS',
     easting: 'Easting', northing: 'Northing', zone: 'Zone', lon: 'Longitude', lat: 'Latitude', elevation: 'Elevation',
@@ -53,6 +56,13 @@ const STRINGS = {
     view3d: '被剖切面切开的模型三维视图；拖动旋转，双指或滚轮缩放，点击查询',
     profile: '剖切面剖面图', profileAlt: '当前剖切面的剖面；点击查询',
     answer: '查询结果', legend: '图例', borehole: '钻孔', copy: '复制', copied: '已复制',
+    f_id: '记录编号', f_name: '名称', f_kind: '类型', f_lithology: '岩性', f_age: '时代', f_era: '代',
+    f_colour: '颜色', f_colour_source: '颜色来源', f_name_source: '名称来源', f_density: '密度（t/m³）',
+    f_grade: '品位', f_grade_unit: '品位单位',
+    v_stratum: '地层', v_orebody: '矿体', v_fault: '断层', v_intrusion: '侵入体', v_dyke: '岩脉', v_vein: '矿脉',
+    v_unit: '单元', v_surface: '界面', v_generator: '生成器', v_sidecar: '属性文件', v_palette: '调色板',
+    v_model: '模型文件', v_file: '模型文件', v_ray: '射线求交', 'v_id-buffer': '编号缓冲区',
+    v_Paleozoic: '古生代', v_Mesozoic: '中生代', v_Cenozoic: '新生代', v_Precambrian: '前寒武纪',
     tapHint: '点击剖面、平面图或三维视图，查询该处地质。',
     noGeology: '此处无地质体', unit: '地层单元', body: '地质体', world: '世界坐标', crs: '坐标系',
     easting: '东坐标', northing: '北坐标', zone: '带号', lon: '经度', lat: '纬度', elevation: '高程',
@@ -103,6 +113,16 @@ export function setLanguage(l, save = false) {
 }
 export const language = () => lang;
 
+// An attribute's label (the record's field names: id, kind, lithology, ...); a field this
+// page does not know (a model's own attribute) keeps its name, which is data, not UI.
+export function fieldName(k) {
+  return STRINGS[lang][`f_${k}`] ?? STRINGS.en[`f_${k}`] ?? k;
+}
+// A value from a closed vocabulary (kind, era, where a colour or an answer came from) in
+// the page's language; any other value as it is.
+export function fieldValue(v) {
+  return typeof v === 'string' ? STRINGS[lang][`v_${v}`] ?? v : v;
+}
 export function t(key, ...args) {
   const s = STRINGS[lang][key] ?? STRINGS.en[key] ?? key;
   return typeof s === 'function' ? s(...args) : s;

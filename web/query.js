@@ -1,6 +1,6 @@
 // geoslice web client: pixel queries and the answer sheet.
 import * as V from './views.js?v=__GS_BUILD__';
-import { t } from './i18n.js?v=__GS_BUILD__';
+import { t, fieldName, fieldValue } from './i18n.js?v=__GS_BUILD__';
 import { $, S, markPainted } from './state.js?v=__GS_BUILD__';
 import { request, api } from './api.js?v=__GS_BUILD__';
 import { gridPixel } from './map.js?v=__GS_BUILD__';
@@ -73,7 +73,8 @@ export function renderAnswer(j, where) {
     dd.textContent = v;
     dl.append(dt, dd);
   };
-  if (j.hit && r) for (const [k, v] of Object.entries(r)) row(k, typeof v === 'object' ? JSON.stringify(v) : String(v));
+  if (j.hit && r)
+    for (const [k, v] of Object.entries(r)) row(fieldName(k), typeof v === 'object' ? JSON.stringify(v) : String(fieldValue(v)));
   row(t('body'), j.body);
   const w = j.world || {};
   if (Number.isFinite(w.x)) row(t('world'), `${V.fmt(w.x)}, ${V.fmt(w.y)}, ${V.fmt(w.z)}`);
@@ -93,7 +94,7 @@ export function renderAnswer(j, where) {
     row(t('distance'), `${V.fmt(S.section.kind === 'line' ? j.section.distanceAlong : j.section.u - S.section.distance0)} m`);
   } else if (where === '3d' && Number.isFinite(along)) row(t('distanceEye'), `${V.fmt(along)} m`);
   else if (where === 'profile' && Number.isFinite(along)) row(t('distance'), `${V.fmt(along)} m`);
-  row(t('source'), j.source);
+  row(t('source'), fieldValue(j.source));
   box.append(dl);
   $('copyAnswer').hidden = false;
 }

@@ -286,7 +286,7 @@ const tests = {
       if (agree === 1) {
         check(await page.locator('#sectionMap .qmark').count() === 1, 'marker at the queried point');
         const text = await page.locator('#answer').textContent();
-        for (const s of ['Easting', 'Northing', 'Longitude', 'Latitude', 'Elevation', 'Distance along section', 'lithology']) check(text.includes(s), `answer lacks ${s}`);
+        for (const s of ['Easting', 'Northing', 'Longitude', 'Latitude', 'Elevation', 'Distance along section', 'Lithology']) check(text.includes(s), `answer lacks ${s}`);
         check(await page.locator('#answer').getAttribute('aria-live') === 'polite', 'answer is announced');
         check(await page.locator('#legend li.hit').count() === 1, 'legend entry highlighted');
         check(await page.locator('#legendMini li.hit').count() === 1, 'on-screen legend entry highlighted');
@@ -589,6 +589,19 @@ const tests = {
     check(await page.evaluate(() => document.documentElement.lang) === 'zh-CN', 'html lang zh-CN');
     await cutLine(page, [[0.2, 0.3], [0.8, 0.7]]);
     await shot(page, 'desktop-zh-section');
+    // An answer in Chinese: every label is Chinese (a model's own attribute names aside, none
+    // here), and the record's kind and era are translated.
+    const sm = await box(page, '#sectionMap');
+    await tap(page, sm.x + sm.width * 0.5, sm.y + sm.height * 0.6);
+    await page.waitForFunction(() => window.geoslice.S.answer?.json.hit, null, { timeout: 10000 });
+    const zh = await page.evaluate(() => ({
+      labels: [...document.querySelectorAll('#answer dt')].map((e) => e.textContent),
+      values: Object.fromEntries([...document.querySelectorAll('#answer dt')].map((e) => [e.textContent, e.nextElementSibling.textContent])),
+    }));
+    const english = zh.labels.filter((l) => !/[\u4e00-\u9fff]/.test(l));
+    check(english.length === 0, `English labels left in Chinese mode: ${english.join(', ')}`);
+    check(/[\u4e00-\u9fff]/.test(zh.values['类型'] || ''), `kind translated: ${zh.values['类型']}`);
+    await shot(page, 'desktop-zh-answer');
     await page.locator('#lang').click();
     check((await page.locator('#tab-plan').textContent()) === 'Plan', 'switched to English');
     await page.waitForTimeout(300);
