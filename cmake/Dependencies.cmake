@@ -19,6 +19,8 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 # libdxflib-dev: the DXF writer of section/fill/dxf_export (pkg-config only).
 pkg_check_modules(DXFLIB REQUIRED IMPORTED_TARGET dxflib)
+# libtinyobjloader-dev: the .mtl materials of OBJ models (model/io/obj).
+pkg_check_modules(TINYOBJLOADER REQUIRED IMPORTED_TARGET tinyobjloader)
 
 # GeographicLib ships only a find-module on Debian.
 list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)

@@ -25,6 +25,7 @@ build=(
   libssl-dev                          # OpenSSL libcrypto: SHA-256 and constant-time compare of API keys
   libxxhash-dev                       # XXH64 checksums of the baked package's files
   libdxflib-dev                       # dxflib: the DXF export of sections
+  libtinyobjloader-dev                # tinyobjloader: OBJ .mtl materials
   # geodesy: GeographicLib (CGCS2000), PROJ for every other CRS (library + its EPSG
   # database and grids in proj-data)
   libgeographiclib-dev libproj-dev proj-data
@@ -73,6 +74,7 @@ runtime=(
   libldap-2.5-0 libsasl2-2
   libjpeg62-turbo libpng16-16 libwebp7 libzstd1 libxxhash0   # codecs (libjpeg also for libtiff)
   libdxflib3                          # DXF export
+  libtinyobjloader2rc10               # OBJ .mtl materials
   # GL through glvnd: Mesa's EGL (device + surfaceless) and llvmpipe, OSMesa (dlopen)
   libegl1 libglvnd0 libegl-mesa0 libgl1-mesa-dri libosmesa6
   # print sheets: cairo and what it loads (pixman, fontconfig + FreeType, its X11/xcb

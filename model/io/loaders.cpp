@@ -334,7 +334,7 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options) {
     } else if (ext == ".vtu" || std::string_view(data).substr(0, 512).find("<VTKFile") != std::string_view::npos) {
         model = parseVtu(data, path, options.vtu);
     } else if (ext == ".obj") {
-        model = parseObj(data, path);
+        model = parseObj(data, path, baseDir);
     } else if (ext == ".xml" || ext == ".geo3dml" || ext == ".gml") {
         model = parseGeo3dml(data, path, baseDir);
     } else if (ext == ".ply" || starts("ply\n") || starts("ply\r\n")) {

@@ -46,7 +46,8 @@ Result<Model> loadModel(const std::string& path, const LoadOptions& options = {}
 // From bytes in memory; `source` names the input in error messages (fuzzers use these).
 Result<Model> parseGltf(const std::uint8_t* data, std::size_t size, const std::string& source,
                         const std::string& baseDir = "");
-Result<Model> parseObj(std::string_view text, const std::string& source);
+// baseDir: the folder of the OBJ, where its mtllib files are read ("": materials not read).
+Result<Model> parseObj(std::string_view text, const std::string& source, const std::string& baseDir = "");
 // GOCAD TSurf: the first object must be a TSurf (later objects of any type are read too).
 Result<Model> parseTsurf(std::string_view text, const std::string& source);
 // Any GOCAD ASCII input: TSurf, Model3d, TSolid, LightTSolid, Voxet, SGrid, PLine and

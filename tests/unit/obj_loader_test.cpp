@@ -267,3 +267,47 @@ TEST(ObjLoader, SidecarRowsThatMatchNoPartAreListed) {
 
 }  // namespace
 }  // namespace geoslice
+
+namespace geoslice {
+namespace {
+
+// Materials as another program writes them: VTK's vtkOBJExporter (tests/data/obj): each
+// group takes its material's Kd, with the source named; a sidecar still wins; an .mtl that
+// is missing or named with a folder is a note, and the model still loads.
+TEST(ObjLoader, MaterialColoursFromTheMtlFile) {
+    const std::string dir = std::string(GEOSLICE_TEST_DATA_DIR) + "/obj";
+    auto r = loadModel(dir + "/two_cubes.obj");
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->bodies.size(), 2u);
+    for (const Part& p : r->bodies) {
+        const AttributeRecord* rec = r->attributes.find(p.record);
+        ASSERT_NE(rec, nullptr);
+        // Kd 0.8 0.2 0.1 and 0.1 0.3 0.9 x 255; 1 unit for the .mtl's decimals read as float.
+        const Rgba8 want = p.name == "grp1" ? Rgba8{204, 51, 26, 255} : Rgba8{26, 77, 230, 255};
+        EXPECT_NEAR(rec->colour.r, want.r, 1) << p.name;
+        EXPECT_NEAR(rec->colour.g, want.g, 1) << p.name;
+        EXPECT_NEAR(rec->colour.b, want.b, 1) << p.name;
+        EXPECT_EQ(rec->colour.a, 255) << p.name;
+        EXPECT_NE(rec->colourSource.find("OBJ material"), std::string::npos) << rec->colourSource;
+        EXPECT_NE(rec->colourSource.find("two_cubes.mtl"), std::string::npos) << rec->colourSource;
+    }
+    EXPECT_EQ(r->notes.count("obj_materials"), 0u);
+
+    // The same OBJ text where its .mtl is not found, or named through a folder: grey
+    // palette colours, a note, no error.
+    std::ifstream in(dir + "/two_cubes.obj");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    auto missing = parseObj(text, "x.obj", "/nonexistent-folder");
+    ASSERT_TRUE(missing.ok());
+    EXPECT_NE(missing->notes.at("obj_materials").find("cannot open"), std::string::npos);
+    const std::string escaped =
+        std::string(text).replace(text.find("mtllib two_cubes.mtl"), 20, "mtllib ../etc/passwd");
+    auto up = parseObj(escaped, "x.obj", dir);
+    ASSERT_TRUE(up.ok());
+    EXPECT_NE(up->notes.at("obj_materials").find("not followed"), std::string::npos);
+    for (const Part& p : up->bodies)
+        EXPECT_TRUE(up->attributes.find(p.record)->colourSource.find("OBJ") == std::string::npos);
+}
+
+}  // namespace
+}  // namespace geoslice

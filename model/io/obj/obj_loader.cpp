@@ -17,8 +17,13 @@
 //    objects is one part); faces under an `o` with no group (or after an empty `g`) go into
 //    the part named after the object; a name seen again appends to its earlier part (OBJ
 //    groups can be reopened);
-//  - texture coordinates, normals, materials, smoothing groups, lines, points and
-//    free-form geometry are ignored; unknown keywords are skipped if the line is text.
+//  - `mtllib` and `usemtl`: a part takes the diffuse colour (Kd) of the material most of its
+//    faces use, from the .mtl files named by `mtllib` beside the OBJ (read with tinyobjloader,
+//    Debian's libtinyobjloader; a file name with a folder part or '..' is not followed, and a
+//    missing or unreadable .mtl is a model note, not an error). Opacity (d/Tr) is not used:
+//    writers disagree on Tr (VTK writes Tr 1 for opaque). A sidecar colour still wins.
+//  - texture coordinates, normals, smoothing groups, lines, points and free-form geometry are
+//    ignored; unknown keywords are skipped if the line is text.
 // Vertices are global to the file; each part gets its own compacted vertex array (in
 // first-use order), and finishLoadedModel() classifies closed parts as bodies.
 #include <algorithm>
@@ -27,6 +32,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
@@ -34,6 +40,8 @@
 #include <string_view>
 #include <system_error>
 #include <vector>
+
+#include <tiny_obj_loader.h>
 
 #include "model/io/loaders.hpp"
 #include "model/text_scan.hpp"
@@ -48,12 +56,53 @@ using namespace geoslice::text;
 
 struct PartBuild {
     std::string name;
-    std::vector<std::uint32_t> corners;  // global vertex indices, 3 per triangle
+    std::vector<std::uint32_t> corners;               // global vertex indices, 3 per triangle
+    std::map<std::string, std::size_t> faceMaterial;  // usemtl name -> faces
 };
+
+// A material of an .mtl file: its diffuse colour and the file it came from.
+struct ObjMaterial {
+    Rgba8 colour;
+    std::string file;
+};
+
+// The materials of the .mtl files `names` (as `mtllib` gives them) in `baseDir`, read with
+// tinyobjloader; what could not be read is said in `note`.
+std::map<std::string, ObjMaterial> readMaterialLibraries(const std::vector<std::string>& names,
+                                                         const std::string& baseDir, std::string& note) {
+    std::map<std::string, ObjMaterial> out;
+    for (const std::string& name : names) {
+        const std::filesystem::path rel(name);
+        if (rel.has_parent_path() || rel.is_absolute() || name == ".." || name == ".") {
+            note += (note.empty() ? "" : "; ") + ("mtllib '" + name + "' names a folder: not followed");
+            continue;
+        }
+        const std::filesystem::path path = std::filesystem::path(baseDir) / rel;
+        std::ifstream in(path, std::ios::binary);
+        if (!in) {
+            note += (note.empty() ? "" : "; ") + ("mtllib '" + name + "': cannot open " + path.string());
+            continue;
+        }
+        std::map<std::string, int> index;
+        std::vector<tinyobj::material_t> materials;
+        std::string warning, error;
+        tinyobj::LoadMtl(&index, &materials, &in, &warning, &error);
+        for (const auto& [material, i] : index) {
+            if (i < 0 || std::size_t(i) >= materials.size()) continue;
+            const auto& d = materials[std::size_t(i)].diffuse;
+            auto byte = [](double v) {
+                return std::uint8_t(std::lround(std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0) * 255.0));
+            };
+            out.try_emplace(material, ObjMaterial{Rgba8{byte(d[0]), byte(d[1]), byte(d[2]), 255}, name});
+        }
+    }
+    return out;
+}
 
 class ObjParser {
 public:
-    ObjParser(std::string_view text, const std::string& source) : text_(text), source_(source) {}
+    ObjParser(std::string_view text, const std::string& source, const std::string& baseDir)
+        : text_(text), source_(source), baseDir_(baseDir) {}
     Result<Model> run();
 
 private:
@@ -69,6 +118,9 @@ private:
 
     std::string_view text_;
     const std::string& source_;
+    const std::string& baseDir_;  // where mtllib files are looked for; "" = not read
+    std::string material_;        // the usemtl in force
+    std::vector<std::string> materialLibraries_;
     std::size_t pos_ = 0;
     std::size_t lineNo_ = 0;  // 1-based number of the current line (the first of a continued line)
     std::size_t nextLineNo_ = 0;
@@ -118,10 +170,10 @@ Result<Model> ObjParser::run() {
 
     // Keywords we read past without using (attributes, free-form geometry, display).
     static constexpr std::string_view kIgnored[] = {
-        "vt",         "vn",        "vp",    "l",     "p",      "s",     "usemtl",   "mtllib",   "cstype",
-        "deg",        "bmat",      "step",  "curv",  "curv2",  "surf",  "parm",     "trim",     "hole",
-        "scrv",       "sp",        "end",   "con",   "mg",     "bevel", "c_interp", "d_interp", "lod",
-        "shadow_obj", "trace_obj", "ctech", "stech", "maplib", "usemap"};
+        "vt",   "vn",         "vp",        "l",     "p",     "s",      "cstype",   "deg",
+        "bmat", "step",       "curv",      "curv2", "surf",  "parm",   "trim",     "hole",
+        "scrv", "sp",         "end",       "con",   "mg",    "bevel",  "c_interp", "d_interp",
+        "lod",  "shadow_obj", "trace_obj", "ctech", "stech", "maplib", "usemap"};
 
     std::string_view line;
     while (nextLine(line)) {
@@ -135,6 +187,11 @@ Result<Model> ObjParser::run() {
             if (Status s = readVertex(tokens); !s) return s.error();
         } else if (keyword == "f" || keyword == "fo") {  // "fo" is the obsolete spelling of "f"
             if (Status s = readFace(tokens); !s) return s.error();
+        } else if (keyword == "usemtl") {
+            material_ = toUtf8(trim(t.substr(keyword.size())));
+        } else if (keyword == "mtllib") {
+            std::string_view file;
+            while (tokens.next(file)) materialLibraries_.push_back(toUtf8(file));
         } else if (keyword == "o" || keyword == "g") {
             // The whole rest of the line is the name (names may hold spaces and '#').
             std::string name = toUtf8(trim(t.substr(keyword.size())));
@@ -157,6 +214,11 @@ Result<Model> ObjParser::run() {
     Model model;
     model.source = source_;
     model.name = stem_;
+    std::string mtlNote;
+    const std::map<std::string, ObjMaterial> materials =
+        baseDir_.empty() || materialLibraries_.empty() ? std::map<std::string, ObjMaterial>()
+                                                       : readMaterialLibraries(materialLibraries_, baseDir_, mtlNote);
+    if (!mtlNote.empty()) model.notes["obj_materials"] = mtlNote;
     // Compact each part's vertices: stamp[v] says which part last took global vertex v.
     std::vector<std::uint32_t> stamp(positions_.size(), kUnset), local(positions_.size(), 0);
     for (std::size_t p = 0; p < parts_.size(); ++p) {
@@ -179,6 +241,14 @@ Result<Model> ObjParser::run() {
         // look-up by name costs O(records) per part: quadratic for files with many groups.
         AttributeRecord rec;
         rec.name = part.name;
+        // The colour of the material most of the part's faces use.
+        const auto most = std::max_element(b.faceMaterial.begin(), b.faceMaterial.end(),
+                                           [](const auto& x, const auto& y) { return x.second < y.second; });
+        if (most != b.faceMaterial.end())
+            if (const auto m = materials.find(most->first); m != materials.end()) {
+                rec.colour = m->second.colour;
+                rec.colourSource = "file (OBJ material '" + m->first + "' Kd in " + m->second.file + ")";
+            }
         part.record = model.attributes.add(std::move(rec));
         model.bodies.push_back(std::move(part));
     }
@@ -247,7 +317,7 @@ std::size_t ObjParser::currentPart() {
     // The group names the part; then the object; then the file (see the rules at the top).
     std::string name = !group_.empty() ? group_ : !object_.empty() ? object_ : stem_;
     auto [it, inserted] = partByName_.try_emplace(name, parts_.size());
-    if (inserted) parts_.push_back(PartBuild{std::move(name), {}});
+    if (inserted) parts_.push_back(PartBuild{std::move(name), {}, {}});
     part_ = it->second;
     return part_;
 }
@@ -261,7 +331,9 @@ Status ObjParser::readFace(Tokens& tokens) {
         face_.push_back(v);
     }
     if (face_.size() < 3) return fail("a face needs at least 3 vertices, found " + std::to_string(face_.size()));
-    std::vector<std::uint32_t>& corners = parts_[currentPart()].corners;
+    PartBuild& part = parts_[currentPart()];
+    if (!material_.empty()) ++part.faceMaterial[material_];
+    std::vector<std::uint32_t>& corners = part.corners;
     for (std::size_t i = 1; i + 1 < face_.size(); ++i) {
         corners.push_back(face_[0]);
         corners.push_back(face_[i]);
@@ -272,8 +344,8 @@ Status ObjParser::readFace(Tokens& tokens) {
 
 }  // namespace
 
-Result<Model> parseObj(std::string_view text, const std::string& source) {
-    ObjParser parser(text, source);
+Result<Model> parseObj(std::string_view text, const std::string& source, const std::string& baseDir) {
+    ObjParser parser(text, source, baseDir);
     return parser.run();
 }
 
