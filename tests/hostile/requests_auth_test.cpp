@@ -93,6 +93,7 @@ const std::vector<Route> kRoutes = {
     {"GET section.svg", "GET", "/v1/models/{m}/section.svg?" + kPlane, "", 200},
     {"GET section.geojson", "GET", "/v1/models/{m}/section.geojson?" + kPlane, "", 200},
     {"GET section.pdf", "GET", "/v1/models/{m}/section.pdf?" + kPlane, "", 200},
+    {"GET section.dxf", "GET", "/v1/models/{m}/section.dxf?" + kPlane, "", 200},
     {"GET query", "GET", "/v1/models/{m}/query?" + kPlane + "&size=64x32&px=32&py=16", "", 200},
     {"POST query", "POST", "/v1/models/{m}/query",
      R"({"view": {"plane": "0,1,0,-50", "size": "64x32"}, "pixels": [[32, 16], [1, 1]]})", 200},
