@@ -88,6 +88,8 @@ export function setStatus(text, isError = false, action = null) {
   // A new error does not take away the Retry of the one before it.
   const kept = isError && !action ? s.querySelector('button') : null;
   s.textContent = text || '';
+  // A loading message is marked, so that what follows the load clears it and nothing else.
+  if (text && !isError && /…$/.test(text)) s.dataset.loading = '1'; else delete s.dataset.loading;
   if (kept) s.append(' ', kept);
   s.className = isError ? 'error' : '';
   if (action) {

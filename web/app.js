@@ -76,6 +76,12 @@ async function main() {
   setup3d();
   setMode('line');
 
+  // Until a model's plan is in, say what is loading and offer nothing that needs it (on a
+  // slow network the first answers take seconds).
+  // (index.html starts in this state, so that it shows before any script has run.)
+  $('model').disabled = true;
+  $('model').replaceChildren(new Option(t('loading'), ''));
+  setStatus(t('loadingModels'));
   let list;
   try {
     list = await request('/v1/models');
@@ -83,6 +89,8 @@ async function main() {
     setStatus(t('failedModel', e.message), true);
     return;
   }
+  $('model').replaceChildren();
+  $('model').disabled = false;
   request('/openapi.json').then((o) => {
     const f = o.paths?.['/v1/models/{id}/section.{format}']?.get?.parameters?.find((p) => p.name === 'format');
     S.pdf = !!f?.schema?.enum?.includes('pdf');

@@ -13,12 +13,15 @@ import { init3d } from './view3d.js?v=__GS_BUILD__';
 
 // ---- model -----------------------------------------------------------------------------
 export async function loadModel(id, restore = null) {
+  setCutReady(false);
+  setStatus(t('loadingModel', id));
   let m;
   try {
     m = await request(`/v1/models/${encodeURIComponent(id)}`);
   } catch (e) {
     setStatus(t('failedModel', e.message), true);
     if (S.model) $('model').value = S.model.id;
+    setCutReady(!!S.plan);  // the model on show stays usable
     return false;
   }
   // A new model: everything that belonged to the old one goes.
@@ -47,10 +50,15 @@ export async function loadModel(id, restore = null) {
   renderLegend();
   S.three = null;
   init3d(restore);
-  setStatus('');
-  await loadPlan();
+  await loadPlan();  // clears the loading message once the plan is in
   drawPlanLine();
   return true;
+}
+
+// Cut, Undo and Clear act on the plan: off until one is shown.
+function setCutReady(ready) {
+  for (const id of ['undo', 'clear']) $(id).disabled = !ready;
+  if (ready) updateDrawHint(); else $('cut').disabled = true;  // Cut also needs its points
 }
 
 export async function loadPlan() {
@@ -79,6 +87,8 @@ export async function loadPlan() {
   S.plan = { z, sid: s.sid, grid: g, layer, maxNative, definition: s.definition };
   planMap.setMaxZoom(maxNative);
   layer.addTo(planMap);
+  setCutReady(true);
+  if ($('status').dataset.loading) setStatus('');
   if (!S.planFitted) { planMap.fitBounds(gridBounds(g), { padding: [8, 8] }); S.planFitted = true; }
   drawPlanOverlay();
   permalinkSoon();
@@ -156,7 +166,8 @@ export function updateDrawHint() {
   else if (S.mode === 'slice') h.textContent = t('hintSlice');
   else if (S.mode === 'query') h.textContent = t('tapHint');
   else h.textContent = t('hintPoint') + (S.through ? ` (${t('through', V.fmt(S.through[0], 0), V.fmt(S.through[1], 0))})` : '');
-  $('cut').disabled = (S.mode === 'line' && S.points.length < 2) || (['ns', 'ew', 'az'].includes(S.mode) && !S.through);
+  $('cut').disabled = !S.plan || (S.mode === 'line' && S.points.length < 2) ||
+                      (['ns', 'ew', 'az'].includes(S.mode) && !S.through);
 }
 export function planClick(e) {
   if (!S.plan) return;

@@ -255,6 +255,27 @@ const tests = {
     }
   },
 
+  // On a slow network (2 s per API request) the page says what it is loading at once and
+  // offers no Cut until there is a plan to cut; then the message goes and Cut is offered.
+  async slow_network_says_it_is_loading() {
+    const page = await newPage(PHONE, { locale: 'en-GB' });
+    await page.route('**/v1/**', async (r) => { await new Promise((res) => setTimeout(res, 2000)); await r.continue(); });
+    const t0 = Date.now();
+    await page.goto(`${origin}/`, { waitUntil: 'commit' });
+    await page.waitForFunction(() => /Loading/.test(document.getElementById('status')?.textContent || ''), null, { timeout: 3000, polling: 20 });
+    const early = Date.now() - t0;
+    check(await page.locator('#cut').isDisabled(), 'Cut is off while nothing is loaded');
+    check(await page.locator('#model').isDisabled(), 'the model list is off while it loads');
+    await shot(page, 'slow-network-loading');
+    await page.waitForSelector('body[data-ready="1"]', { timeout: 30000 });
+    check(!(await page.locator('#clear').isDisabled()), 'the line tools are offered once the plan is in');
+    await page.locator('[data-mode="slice"]').click();
+    check(!(await page.locator('#cut').isDisabled()), 'Cut is offered once the plan is in (a slice needs no points)');
+    check(!/Loading/.test(await page.locator('#status').textContent()), 'the loading message goes');
+    console.log(`slow network: a loading message ${early} ms after navigation, ready after ${Date.now() - t0} ms`);
+    await page.context().close();
+  },
+
   async line_cut_query_colours_borehole() {
     const page = await newPage(PHONE);
     await open(page);
