@@ -53,6 +53,18 @@ async function settle(page, ms = 15000) {
   await page.waitForFunction(() => document.getElementById('busy').hidden, null, { timeout: ms });
   await page.waitForTimeout(50);
 }
+// A one-finger touch drag through CDP from `from`, `steps` moves of `step` px, `pause` ms
+// apart; then waits for the 3D view's full frame.
+async function touchDrag(page, cdp, from, step, steps, pause) {
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x: from[0], y: from[1] }] });
+  for (let i = 1; i <= steps; ++i) {
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: from[0] + step[0] * i, y: from[1] + step[1] * i }] });
+    await page.waitForTimeout(pause);
+  }
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+  await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+  await settle(page);
+}
 const shot = (page, name) => page.screenshot({ path: path.join(outDir, `${name}.png`) });
 const state = (page, fn) => page.evaluate(fn);
 
@@ -420,14 +432,7 @@ const tests = {
     const cx = h.x + h.width / 2, cy = h.y + h.height / 2;
     // Drag with touch (CDP), 8 steps.
     const cdp = await page.context().newCDPSession(page);
-    await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x: cx, y: cy }] });
-    for (let i = 1; i <= 8; ++i) {
-      await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: cx + 8 * i, y: cy + 4 * i }] });
-      await page.waitForTimeout(60);
-    }
-    await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
-    await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
-    await settle(page);
+    await touchDrag(page, cdp, [cx, cy], [8, 4], 8, 60);
     const off1 = Number(await page.locator('#plOffset').inputValue());
     check(off1 !== off0, `dragging the move handle moved the plane (${off0} -> ${off1})`);
     // Pinch (two touch points moving apart) zooms the camera in.
@@ -455,15 +460,7 @@ const tests = {
     // model's extent along the normal, the last frame is drawn, no error, the handles stay.
     {
       const hm = await box(page, '#moveHandle');
-      const [sx, sy] = [hm.x + hm.width / 2, hm.y + hm.height / 2];
-      await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x: sx, y: sy }] });
-      for (let i = 1; i <= 30; ++i) {
-        await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: [{ x: sx + 25 * i, y: sy + 12 * i }] });
-        await page.waitForTimeout(30);
-      }
-      await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
-      await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
-      await settle(page);
+      await touchDrag(page, cdp, [hm.x + hm.width / 2, hm.y + hm.height / 2], [25, 12], 30, 30);
       const after = await page.evaluate(() => {
         const S = window.geoslice.S, { min, max } = S.model.bounds;
         const off = Number(document.getElementById('plOffset').value);
