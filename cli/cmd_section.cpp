@@ -25,6 +25,7 @@
 #include "api/catalog.hpp"
 #include "api/holes.hpp"
 #include "api/params.hpp"
+#include "api/request.hpp"
 #include "api/view.hpp"
 #include "cli/commands.hpp"
 #include "image/image_encode.hpp"
@@ -295,8 +296,10 @@ void addSection(CLI::App& app, int& exitCode) {
                             2);
         if (o->dxfFrame != "plane" && o->dxfFrame != "projected")
             return fail("--dxf-frame must be plane or projected (got \"" + o->dxfFrame + "\")", 2);
-        if (!o->geojsonFrame.empty() && o->geojsonFrame != "plane" && o->geojsonFrame != "world" &&
-            o->geojsonFrame != "projected")
+        // --geojson-frame is the server's `space` (api::parseVectorSpace: the same words and default).
+        api::Params frameParam;
+        if (!o->geojsonFrame.empty()) frameParam.emplace("space", o->geojsonFrame);
+        if (!api::parseVectorSpace(frameParam, true))
             return fail("--geojson-frame must be world, projected or plane (got \"" + o->geojsonFrame + "\")", 2);
         if (o->threads < 1 || o->threads > 2) return fail("--threads must be 1 or 2", 2);
         if (Status s = checkExaggerationFactor("--exaggeration (--vx)", o->exaggeration); !s)
@@ -482,10 +485,7 @@ void addSection(CLI::App& app, int& exitCode) {
             if (!s) return fail(s.error().message, 1);
         }
         if (!o->geojson.empty()) {
-            const std::string& f = o->geojsonFrame;
-            const VectorFrame frame = f == "projected"                                      ? VectorFrame::Projected
-                                      : f == "plane" || (f.empty() && model->crs.isLocal()) ? VectorFrame::Plane
-                                                                                            : VectorFrame::LonLat;
+            const VectorFrame frame = api::parseVectorSpace(frameParam, !model->crs.isLocal()).value();
             const api::Wgs84Choice wgs84 =
                 frame == VectorFrame::LonLat ? api::chooseWgs84Transform(model->crs, idx.bounds) : api::Wgs84Choice{};
             auto space = geoJsonSpace(source, frame, model->crs, wgs84.lonLat.get(), wgs84.lonLatNote);

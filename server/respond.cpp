@@ -102,24 +102,18 @@ std::string_view opaqueTag(std::string_view tag) {  // weak comparison: W/ ignor
     return tag;
 }
 
-std::string_view trimmedView(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-    return s;
-}
-
 // One "bytes=first-last" range of a body of `size` bytes (RFC 9110 14.1.2): [first, last],
 // nullopt for a form this server ignores (several ranges, another unit: the whole body is
 // sent, as 14.2 allows), or {size, 0} when unsatisfiable.
 std::optional<std::pair<std::size_t, std::size_t>> byteRange(std::string_view range, std::size_t size) {
-    range = trimmedView(range);
+    range = text::trim(range);
     if (range.rfind("bytes=", 0) != 0) return std::nullopt;
     range.remove_prefix(6);
     if (range.find(',') != std::string_view::npos) return std::nullopt;
     const auto dash = range.find('-');
     if (dash == std::string_view::npos) return std::nullopt;
     auto number = [](std::string_view d, std::size_t& v) {
-        d = trimmedView(d);
+        d = text::trim(d);
         if (d.empty() || d.size() > 18) return false;
         v = 0;
         for (char c : d) {
@@ -132,12 +126,12 @@ std::optional<std::pair<std::size_t, std::size_t>> byteRange(std::string_view ra
     const bool hasFirst = number(range.substr(0, dash), first);
     const bool hasLast = number(range.substr(dash + 1), last);
     if (!hasFirst) {  // suffix: the last `last` bytes
-        if (!hasLast || !trimmedView(range.substr(0, dash)).empty()) return std::nullopt;
+        if (!hasLast || !text::trim(range.substr(0, dash)).empty()) return std::nullopt;
         if (last == 0 || size == 0) return std::make_pair(size, std::size_t(0));
         return std::make_pair(size - std::min(last, size), size - 1);
     }
     if (!hasLast) {
-        if (!trimmedView(range.substr(dash + 1)).empty()) return std::nullopt;
+        if (!text::trim(range.substr(dash + 1)).empty()) return std::nullopt;
         last = size ? size - 1 : 0;
     }
     if (first >= size) return std::make_pair(size, std::size_t(0));
@@ -148,13 +142,13 @@ std::optional<std::pair<std::size_t, std::size_t>> byteRange(std::string_view ra
 }  // namespace
 
 std::optional<std::string> matchingEtag(std::string_view ifNoneMatch, const std::string& etag) {
-    ifNoneMatch = trimmedView(ifNoneMatch);
+    ifNoneMatch = text::trim(ifNoneMatch);
     if (ifNoneMatch.empty()) return std::nullopt;
     if (ifNoneMatch == "*") return etag;
     const std::string gz = gzipEtag(etag);
     while (!ifNoneMatch.empty()) {
         const auto comma = ifNoneMatch.find(',');
-        const std::string_view tag = trimmedView(ifNoneMatch.substr(0, comma));
+        const std::string_view tag = text::trim(ifNoneMatch.substr(0, comma));
         ifNoneMatch = comma == std::string_view::npos ? std::string_view() : ifNoneMatch.substr(comma + 1);
         if (opaqueTag(tag) == opaqueTag(etag)) return etag;
         if (opaqueTag(tag) == opaqueTag(gz)) return gz;

@@ -53,6 +53,16 @@ async function settle(page, ms = 15000) {
   await page.waitForFunction(() => document.getElementById('busy').hidden, null, { timeout: ms });
   await page.waitForTimeout(50);
 }
+// A cut the real server refuses (a line of 257 vertices; it takes at most 256), asked for from the plan.
+async function cutRefused(page) {
+  await page.evaluate(() => {
+    const b = window.geoslice.S.model.bounds, pts = [];
+    for (let i = 0; i < 257; ++i) pts.push([b.min[0] + (i / 256) * (b.max[0] - b.min[0]), 0.5 * (b.min[1] + b.max[1])]);
+    window.geoslice.setPoints(pts);
+  });
+  await page.locator('#tab-plan').click();
+  await page.locator('#cut').click();
+}
 // A one-finger touch drag through CDP from `from`, `steps` moves of `step` px, `pause` ms
 // apart; then waits for the 3D view's full frame.
 async function touchDrag(page, cdp, from, step, steps, pause) {
@@ -250,13 +260,7 @@ const tests = {
       check(!bad, `${name}: the answer's details in sight: ${bad}`);
       await shot(page, `results-${name}-answer`);
       // A cut the server refuses: the reason in sight.
-      await page.evaluate(() => {
-        const b = window.geoslice.S.model.bounds, pts = [];
-        for (let i = 0; i < 257; ++i) pts.push([b.min[0] + (i / 256) * (b.max[0] - b.min[0]), 0.5 * (b.min[1] + b.max[1])]);
-        window.geoslice.setPoints(pts);
-      });
-      await page.locator('#tab-plan').click();
-      await page.locator('#cut').click();
+      await cutRefused(page);
       await page.waitForFunction(() => /rejected/.test(document.getElementById('status').textContent), null, { timeout: 10000 });
       bad = await inView(page, '#status');
       check(!bad, `${name}: the error in sight: ${bad}`);
@@ -497,13 +501,7 @@ const tests = {
     await cutLine(page, [[0.2, 0.4], [0.8, 0.6]]);
     const before = await state(page, () => ({ def: window.geoslice.S.section.def, gen: window.geoslice.S.gen }));
     // A cut the real server rejects (257 vertices; at most 256): nothing changes.
-    await page.evaluate(() => {
-      const b = window.geoslice.S.model.bounds, pts = [];
-      for (let i = 0; i < 257; ++i) pts.push([b.min[0] + (i / 256) * (b.max[0] - b.min[0]), 0.5 * (b.min[1] + b.max[1])]);
-      window.geoslice.setPoints(pts);
-    });
-    await page.locator('#tab-plan').click();
-    await page.locator('#cut').click();
+    await cutRefused(page);
     await page.waitForFunction(() => /Cut rejected/.test(document.getElementById('status').textContent), null, { timeout: 10000 });
     let after = await state(page, () => ({ def: window.geoslice.S.section.def, gen: window.geoslice.S.gen }));
     check(JSON.stringify(after) === JSON.stringify(before), 'a rejected cut changed the section');
