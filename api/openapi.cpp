@@ -204,6 +204,17 @@ J answerSchemas() {
                             {"scheme", kStr},
                             {"name", kStr}},
                            {"name", "scheme"});
+    s["Tileset3d"] = object({{"asset", object({{"version", kStr}, {"generator", kStr}}, {"generator"})},
+                             {"geometricError", kNum},
+                             {"root", object({{"transform", arrayOf(kNum)},
+                                              {"boundingVolume", kObj},
+                                              {"geometricError", kNum},
+                                              {"refine", kStr},
+                                              {"content", kObj},
+                                              {"children", arrayOf(kObj)}},
+                                             {"content", "children"})},
+                             {"extras", kObj}},
+                            {"extras"});
     s["OgcTileset"] = object({{"dataType", kStr},
                               {"crs", kObj},
                               {"tileMatrixSetURI", kStr},
@@ -271,6 +282,8 @@ const std::vector<RouteSpec>& apiRoutes() {
         {"GET", "/v1/sections/{sid}/tilejson.json"},
         {"GET", "/v1/sections/{sid}/tiles"},
         {"GET", "/v1/sections/{sid}/tilematrixset"},
+        {"GET", "/v1/models/{id}/3dtiles/tileset.json"},
+        {"GET", "/v1/models/{id}/3dtiles/tiles/{n}.glb"},
     };
     return routes;
 }
@@ -329,6 +342,18 @@ void addModelPaths(J& paths) {
            "request's key may read)",
            J::array(), jsonResponse("models", "ModelList")));
     get(paths, "/v1/models/{id}", op("one model", J::array({id}), jsonResponse("the model", "ModelSummary")));
+    get(paths, "/v1/models/{id}/3dtiles/tileset.json",
+        op("the model as an OGC 3D Tiles 1.1 tileset (CesiumJS: Cesium3DTileset.fromUrl): a root transform from "
+           "east-north-up metres at the model's centre to WGS 84 Earth-fixed coordinates, every vertex placed "
+           "through PROJ; levels of detail with geometric errors in metres; content URIs tiles/{n}.glb relative "
+           "to it. 422 for a model that is not on the globe (no CRS, or no WGS 84 transformation)",
+           J::array({id}), jsonResponse("the tileset", "Tileset3d")));
+    get(paths, "/v1/models/{id}/3dtiles/tiles/{n}.glb",
+        op("one tile of the 3D Tiles tileset: glTF 2.0 binary, a primitive per part with normals and a material "
+           "in its unit's colour, EXT_mesh_features (a feature id per vertex) and EXT_structural_metadata (every "
+           "attribute of the unit and its colour)",
+           J::array({id, pathParam("n", "tile number, as tileset.json names it", J{{"type", "integer"}})}),
+           J{{"description", "glTF 2.0 binary"}, {"content", {{"model/gltf-binary", J::object()}}}}));
     get(paths, "/v1/models/{id}/legend.png",
         op("the legend as an image: one swatch per body with its name", J::array({id}),
            J{{"description", "PNG"}, {"content", {{"image/png", J::object()}}}}));
@@ -510,6 +535,8 @@ void completeOperations(J& paths) {
         {"get /v1/sections/{sid}/tilejson.json", "getSectionTileJson"},
         {"get /v1/sections/{sid}/tiles", "getSectionTileset"},
         {"get /v1/sections/{sid}/tilematrixset", "getSectionTileMatrixSet"},
+        {"get /v1/models/{id}/3dtiles/tileset.json", "getModelTileset3d"},
+        {"get /v1/models/{id}/3dtiles/tiles/{n}.glb", "getModelTile3d"},
     };
     for (auto& [path, ops] : paths.items())
         for (auto& [method, operation] : ops.items()) {

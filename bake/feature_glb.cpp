@@ -2,9 +2,12 @@
 // the package's mesh plus EXT_mesh_features (a feature-ID texture) and EXT_structural_metadata
 // (one property-table row per record). encodeMesh (package_mesh.cpp) calls the pieces below.
 #include <algorithm>
+#include <cctype>
 #include <cstring>
+#include <functional>
 #include <optional>
 
+#include "bake/feature_table.hpp"
 #include "bake/package_internal.hpp"
 #include "image/image_encode.hpp"
 
@@ -43,13 +46,9 @@ Result<std::vector<std::uint8_t>> encodeFeaturePng(const BakedModel& baked, cons
 }  // namespace
 
 std::vector<RecordId> featureRows(const AttributeTable& table, const BakedModel& baked) {
-    std::vector<RecordId> rows;
-    for (const auto& [id, rec] : table.records()) rows.push_back(id);
-    for (const BakedPart& part : baked.parts)
-        if (part.record != kNoRecord) rows.push_back(part.record);
-    std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-    return rows;
+    std::vector<RecordId> records;
+    for (const BakedPart& part : baked.parts) records.push_back(part.record);
+    return bake::featureRows(table, records);
 }
 
 json featureIdsExtension(std::size_t rowCount) {
@@ -61,49 +60,10 @@ json featureIdsExtension(std::size_t rowCount) {
 }
 
 Status addFeatureTables(GlbBuilder& glb, const BakedModel& baked, const AttributeTable& table, FeatureExport& fx) {
-    const std::vector<RecordId>& rows = fx.rows;
-    auto png = encodeFeaturePng(baked, rows);
+    auto png = encodeFeaturePng(baked, fx.rows);
     if (!png) return png.error();
     fx.imageView = glb.addView(png->data(), png->size(), 0);
-    // EXT_structural_metadata property table: one row per record; strings as UTF-8 values
-    // plus UINT32 offsets, numbers as FLOAT64 with -1 for "not given". 8-byte aligned views.
-    json schemaProps = {{"id", {{"type", "SCALAR"}, {"componentType", "UINT32"}, {"required", true}}}};
-    json tableProps = json::object();
-    std::vector<std::uint32_t> ids(rows.begin(), rows.end());
-    tableProps["id"] = {{"values", glb.addView(ids.data(), ids.size() * 4, 0, 8)}};
-    using Getter = std::string (*)(const AttributeRecord&);
-    const std::pair<const char*, Getter> strings[] = {
-        {"name", [](const AttributeRecord& r) { return r.name; }},
-        {"kind", [](const AttributeRecord& r) { return r.kind; }},
-        {"lithology", [](const AttributeRecord& r) { return r.lithology; }},
-        {"age", [](const AttributeRecord& r) { return r.age; }},
-        {"era", [](const AttributeRecord& r) { return r.era; }},
-        {"gradeUnit", [](const AttributeRecord& r) { return r.gradeUnit; }}};
-    for (const auto& [key, get] : strings) {
-        std::string values;
-        std::vector<std::uint32_t> offsets{0};
-        for (RecordId id : rows) {
-            if (const AttributeRecord* r = table.find(id)) values += get(*r);
-            offsets.push_back(static_cast<std::uint32_t>(values.size()));
-        }
-        schemaProps[key] = {{"type", "STRING"}};
-        const std::size_t vv = glb.addView(values.data(), values.size(), 0, 8);
-        const std::size_t ov = glb.addView(offsets.data(), offsets.size() * 4, 0, 8);
-        tableProps[key] = {{"values", vv}, {"stringOffsets", ov}, {"stringOffsetType", "UINT32"}};
-    }
-    for (const char* key : {"density", "grade"}) {
-        std::vector<double> v;
-        for (RecordId id : rows) {
-            const AttributeRecord* r = table.find(id);
-            const std::optional<double> x = r ? (std::strcmp(key, "density") ? r->grade : r->density) : std::nullopt;
-            v.push_back(x ? *x : -1.0);
-        }
-        schemaProps[key] = {{"type", "SCALAR"}, {"componentType", "FLOAT64"}, {"noData", -1.0}};
-        tableProps[key] = {{"values", glb.addView(v.data(), v.size() * 8, 0, 8)}};
-    }
-    fx.metadata = {
-        {"schema", {{"id", "geoslice"}, {"classes", {{"geology", {{"properties", schemaProps}}}}}}},
-        {"propertyTables", json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
+    fx.metadata = addPropertyTable(glb, fx.rows, table);
     return {};
 }
 
@@ -122,6 +82,87 @@ Status writeFeatureGlb(const Model& model, const BakedModel& baked, const std::s
     auto glb = package_detail::encodeMesh(model, baked, true, true);
     if (!glb) return glb.error();
     return package_detail::writeFile(std::filesystem::path(path), glb->data(), glb->size());
+}
+
+std::vector<RecordId> featureRows(const AttributeTable& table, std::span<const RecordId> partRecords) {
+    std::vector<RecordId> rows;
+    for (const auto& [id, rec] : table.records()) rows.push_back(id);
+    for (RecordId r : partRecords)
+        if (r != kNoRecord) rows.push_back(r);
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    return rows;
+}
+
+namespace {
+
+bool isMetadataIdentifier(std::string_view s) {
+    if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
+    return std::all_of(s.begin(), s.end(), [](char c) { return c == '_' || std::isalnum(static_cast<unsigned char>(c)); });
+}
+
+}  // namespace
+
+nlohmann::ordered_json addPropertyTable(GlbBuilder& glb, const std::vector<RecordId>& rows,
+                                        const AttributeTable& table) {
+    using json = nlohmann::ordered_json;
+    // Strings as UTF-8 values plus UINT32 offsets, numbers as FLOAT64 with -1 for "not
+    // given"; 8-byte aligned views.
+    json schemaProps = {{"id", {{"type", "SCALAR"}, {"componentType", "UINT32"}, {"required", true}}}};
+    json tableProps = json::object();
+    std::vector<std::uint32_t> ids(rows.begin(), rows.end());
+    tableProps["id"] = {{"values", glb.addView(ids.data(), ids.size() * 4, 0, 8)}};
+    auto addStrings = [&](const std::string& key, const std::function<std::string(const AttributeRecord&)>& get) {
+        std::string values;
+        std::vector<std::uint32_t> offsets{0};
+        for (RecordId id : rows) {
+            if (const AttributeRecord* r = table.find(id)) values += get(*r);
+            offsets.push_back(static_cast<std::uint32_t>(values.size()));
+        }
+        schemaProps[key] = {{"type", "STRING"}};
+        const std::size_t vv = glb.addView(values.data(), values.size(), 0, 8);
+        const std::size_t ov = glb.addView(offsets.data(), offsets.size() * 4, 0, 8);
+        tableProps[key] = {{"values", vv}, {"stringOffsets", ov}, {"stringOffsetType", "UINT32"}};
+    };
+    addStrings("name", [](const AttributeRecord& r) { return r.name; });
+    addStrings("kind", [](const AttributeRecord& r) { return r.kind; });
+    addStrings("lithology", [](const AttributeRecord& r) { return r.lithology; });
+    addStrings("age", [](const AttributeRecord& r) { return r.age; });
+    addStrings("era", [](const AttributeRecord& r) { return r.era; });
+    addStrings("gradeUnit", [](const AttributeRecord& r) { return r.gradeUnit; });
+    addStrings("colour", [](const AttributeRecord& r) { return formatColour(r.colour); });
+    for (const char* key : {"density", "grade"}) {
+        std::vector<double> v;
+        for (RecordId id : rows) {
+            const AttributeRecord* r = table.find(id);
+            const std::optional<double> x = r ? (std::strcmp(key, "density") ? r->grade : r->density) : std::nullopt;
+            v.push_back(x ? *x : -1.0);
+        }
+        schemaProps[key] = {{"type", "SCALAR"}, {"componentType", "FLOAT64"}, {"noData", -1.0}};
+        tableProps[key] = {{"values", glb.addView(v.data(), v.size() * 8, 0, 8)}};
+    }
+    // The free-form fields, in order of first appearance.
+    std::vector<std::string> extraKeys;
+    for (RecordId id : rows)
+        if (const AttributeRecord* r = table.find(id); r && r->extra.is_object())
+            for (const auto& [k, v] : r->extra.items())
+                if (std::find(extraKeys.begin(), extraKeys.end(), k) == extraKeys.end()) extraKeys.push_back(k);
+    for (const std::string& key : extraKeys) {
+        std::string name = key;
+        if (!isMetadataIdentifier(name)) {
+            for (char& c : name)
+                if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+            name = "_" + name;
+        }
+        if (schemaProps.contains(name)) continue;
+        addStrings(name, [&key](const AttributeRecord& r) {
+            if (!r.extra.is_object() || !r.extra.contains(key)) return std::string();
+            const auto& v = r.extra[key];
+            return v.is_string() ? v.get<std::string>() : v.dump();
+        });
+    }
+    return {{"schema", {{"id", "geoslice"}, {"classes", {{"geology", {{"properties", schemaProps}}}}}}},
+            {"propertyTables", json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
 }
 
 }  // namespace geoslice::bake

@@ -42,6 +42,10 @@ std::string tile(const api::CatalogModel& m, const api::SectionDef& def, int z, 
            std::to_string(y) + "|" + extension;
 }
 
+std::string tiles3d(const api::CatalogModel& m, const std::string& what) {
+    return "3dtiles|" + m.id + "|" + m.version + "|" + what;
+}
+
 std::string legend(const api::CatalogModel& m, const api::SectionDef& def, const PropertyClasses* classes) {
     std::string key = "legend|" + m.id + "|" + m.version;
     if (def.colour) {

@@ -70,6 +70,8 @@ std::string tile(const api::CatalogModel& m, const api::SectionDef& def, int z, 
 std::string legend(const api::CatalogModel& m, const api::SectionDef& def, const PropertyClasses* classes);
 std::string reserves(const api::CatalogModel& m, const std::string& requestCanonical);
 std::string queryBatch(const api::CatalogModel& m, const api::ViewPlan& plan, const std::string& pixelsJson);
+// 3D Tiles: `what` is "tileset.json" or a tile's file name ("12.glb").
+std::string tiles3d(const api::CatalogModel& m, const std::string& what);
 }  // namespace cache_key
 
 // Shares one computation among identical concurrent requests. `T` is the result type

@@ -8,6 +8,8 @@
 #pragma once
 
 #include <atomic>
+#include <future>
+#include <map>
 #include <memory>
 #include <mutex>
 
@@ -17,6 +19,7 @@
 #include "api/catalog.hpp"
 #include "server/config.hpp"
 #include "server/metrics.hpp"
+#include "renderer/tiles3d/tileset3d.hpp"
 #include "server/render_cache.hpp"
 #include "workers/gl_status.hpp"
 #include "workers/render_pool.hpp"
@@ -47,6 +50,15 @@ struct ServerState {
     // (api::scanModelsDir), and {id, warning} of models served with a warning (a failed bake).
     nlohmann::ordered_json skipped = nlohmann::ordered_json::array();
     nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
+    // 3D Tiles hierarchies (server/routes/tiles3d.cpp), built on a render worker at a model's
+    // first 3D Tiles request and kept for that model version (one per model id: a new version
+    // replaces the old). Guarded by tiles3dMutex; waiters share the one build.
+    struct Tiles3dEntry {
+        std::string version;
+        std::shared_future<Result<std::shared_ptr<const Tileset3d>>> built;
+    };
+    std::mutex tiles3dMutex;
+    std::map<std::string, Tiles3dEntry> tiles3d;
 };
 
 }  // namespace geoslice::server

@@ -12,6 +12,7 @@
 //   borehole.cpp   GET /v1/models/{id}/borehole
 //   reserves.cpp   GET /v1/models/{id}/reserves[.csv]
 //   tiles.cpp      POST /v1/models/{id}/sections, GET /v1/sections/{sid}[/tiles/{z}/{x}/{y}.{fmt}]
+//   tiles3d.cpp    GET /v1/models/{id}/3dtiles/tileset.json, .../3dtiles/tiles/{n}.glb   3D Tiles 1.1
 //
 // Threads: handlers run on transport handler threads and never render: renders go to the
 // render workers through ServerState::cache.
@@ -35,6 +36,7 @@ void addBoreholeRoutes(Router& router, ServerState& state);
 void addReservesRoutes(Router& router, ServerState& state);
 void addDrillholeRoutes(Router& router, ServerState& state);
 void addTileRoutes(Router& router, ServerState& state);
+void addTiles3dRoutes(Router& router, ServerState& state);
 
 // section.{format} hands these on (section.cpp decides which one answers).
 // ext: geojson, svg or dxf.
@@ -54,6 +56,7 @@ inline void addAllRoutes(Router& router, ServerState& state) {
     addReservesRoutes(router, state);
     addDrillholeRoutes(router, state);
     addTileRoutes(router, state);
+    addTiles3dRoutes(router, state);
 }
 
 }  // namespace geoslice::server

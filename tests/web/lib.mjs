@@ -35,17 +35,21 @@ async function freePort() {
 }
 
 // Two small generated models (different seeds and places) in a temporary directory, so
-// that switching models can be tested; or the built-in demo when `demo` is set. `keys`:
-// text of an API keys file (api/access_keys.hpp) the server is started with.
-export async function startServer(binary, { demo = false, log = null, keys = null } = {}) {
+// that switching models can be tested; or the built-in demo when `demo` is set; or `models`:
+// [{ name, triangles, seed }] generated in EPSG:4523. `keys`: text of an API keys file
+// (api/access_keys.hpp) the server is started with.
+export async function startServer(binary, { demo = false, log = null, keys = null, models = null } = {}) {
   const args = ['serve', '--host', '127.0.0.1', '--workers', '2', '--log-level', 'warn'];
   let dir = null;
   if (demo) args.push('--demo-triangles', '200000');
   else {
     dir = fs.mkdtempSync(path.join(os.tmpdir(), 'geoslice-web-'));
-    execFileSync(binary, ['generate', '--triangles', '60000', '--seed', '1', '--crs', 'EPSG:4523', '--out', path.join(dir, 'mine-a.glb')]);
-    execFileSync(binary, ['generate', '--triangles', '30000', '--seed', '7', '--crs', 'EPSG:4523', '--at', '105.3,30.9',
-                          '--out', path.join(dir, 'mine-b.glb')]);
+    const list = models || [{ name: 'mine-a', triangles: 60000, seed: 1 },
+      { name: 'mine-b', triangles: 30000, seed: 7, at: '105.3,30.9' }];
+    for (const m of list) {
+      execFileSync(binary, ['generate', '--triangles', String(m.triangles), '--seed', String(m.seed), '--crs', 'EPSG:4523',
+        ...(m.at ? ['--at', m.at] : []), '--out', path.join(dir, `${m.name}.glb`)]);
+    }
     args.push('--models', dir);
   }
   if (keys) {
@@ -73,9 +77,11 @@ export async function startServer(binary, { demo = false, log = null, keys = nul
   };
 }
 
-export async function launch() {
+// `webgl`: WebGL through SwiftShader (software), for CesiumJS.
+export async function launch({ webgl = false } = {}) {
   if (!fs.existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} is missing: apt-get install chromium (scripts/install-deps.sh)`);
-  return chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
+  const args = webgl ? [...CHROMIUM_ARGS, '--use-angle=swiftshader', '--enable-unsafe-swiftshader'] : CHROMIUM_ARGS;
+  return chromium.launch({ executablePath: CHROMIUM, args });
 }
 
 export const loadAverage = () => os.loadavg().map((x) => +x.toFixed(2));

@@ -69,13 +69,19 @@ void GlbBuilder::addPart(const std::string& name, PartKind kind, RecordId record
 }
 
 GlbBuilder::json& GlbBuilder::finishDocument(const Model& model, const AttributeTable& attributes) {
-    while (bin_.size() % 4) bin_.push_back(0);
+    finishDocument(model.name.empty() ? "model" : model.name, sceneExtras(model, attributes));
     const glm::dvec3 o = worldToGltf(model.origin);
-    nodes_[0] = {
+    doc_["nodes"][0] = {
         {"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}, {"children", children_}};
+    doc_["scenes"][0]["name"] = model.name;
+    return doc_;
+}
+
+GlbBuilder::json& GlbBuilder::finishDocument(const std::string& rootName, json extras) {
+    while (bin_.size() % 4) bin_.push_back(0);
+    nodes_[0] = {{"name", rootName}, {"children", children_}};
     doc_["scene"] = 0;
-    doc_["scenes"] = {
-        {{"name", model.name}, {"nodes", {0}}, {"extras", {{"geoslice", sceneExtras(model, attributes)}}}}};
+    doc_["scenes"] = {{{"name", rootName}, {"nodes", {0}}, {"extras", {{"geoslice", std::move(extras)}}}}};
     doc_["nodes"] = nodes_;
     doc_["meshes"] = meshes_;
     doc_["accessors"] = accessors_;

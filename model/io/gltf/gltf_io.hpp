@@ -75,6 +75,9 @@ public:
     // record}.
     void addPart(const std::string& name, PartKind kind, RecordId record, json primitive);
     json& finishDocument(const Model& model, const AttributeTable& attributes);
+    // The same for content in a frame of its own (3D Tiles): the root node `rootName` has no
+    // translation and the scene's extras.geoslice is `sceneExtras`.
+    json& finishDocument(const std::string& rootName, json sceneExtras);
     // The GLB of the document (finishDocument first); OutOfRange naming `what` past 4 GiB.
     Result<std::vector<std::uint8_t>> pack(const std::string& what) const;
 
