@@ -20,5 +20,6 @@ void addBake(CLI::App& app, int& exitCode);
 void addServe(CLI::App& app, int& exitCode);
 void addQuery(CLI::App& app, int& exitCode);
 void addHoles(CLI::App& app, int& exitCode);
+void addTiles3d(CLI::App& app, int& exitCode);
 
 }  // namespace geoslice::cli

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
     geoslice::cli::addServe(app, exitCode);
     geoslice::cli::addQuery(app, exitCode);
     geoslice::cli::addHoles(app, exitCode);
+    geoslice::cli::addTiles3d(app, exitCode);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

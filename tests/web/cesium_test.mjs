@@ -10,11 +10,12 @@
 //    of where PROJ puts the corner, horizontally), and scene.pickPosition 1 m inside, taken
 //    back through cs2cs, must be within 1 m of the point asked for (vertically too: its height
 //    is the top the server's virtual borehole gives there).
-//  - units: 50 pixels of an oblique view where scene.pick returns a feature; the feature's
+//  - units: 50 pixels of an oblique view (at full detail) where scene.pick returns a feature; the feature's
 //    `id` property must be the record the server's virtual borehole (an exact ray query)
-//    gives at the picked point moved 0.3 m into the surface along the view ray. A pixel whose
-//    answer changes between 0.1 and 1.5 m into the surface lies at a contact, where the depth
-//    buffer's precision decides, and is replaced by another (how many is printed).
+//    gives at the picked point moved 3 m into the surface along the view ray (the depth
+//    buffer at this range places a pick to about a metre). A pixel whose answer changes
+//    between 1.5 and 6 m into the surface lies near a contact, where that precision decides,
+//    and is replaced by another (how many is printed).
 //  - colours: at each of those pixels the rendered colour is nearest, in chromaticity, to
 //    the legend colour of the unit picked there, for at least 90 % of them (lighting shades
 //    a colour but keeps its hue; antialiased edges mix two).
@@ -50,25 +51,32 @@ const api = async (p) => {
   if (!r.ok) throw new Error(`${p}: ${r.status} ${await r.text()}`);
   return r.json();
 };
-// The unit at a world point: the record of the borehole interval holding z, or null.
+// The server's virtual borehole at (x, y): intervals [from_m, to_m] along `direction` from
+// `origin` (straight down), each with its record; as [top z, bottom z, record].
+async function boreholeAt(x, y) {
+  const r = await fetch(`${server.url}/v1/models/mine/borehole?x=${x}&y=${y}`);
+  if (r.status === 400) return null;  // outside the model's map extent
+  if (!r.ok) throw new Error(`borehole ${x} ${y}: ${r.status} ${await r.text()}`);
+  const b = await r.json();
+  const v = (p) => (Array.isArray(p) ? p : [p.x, p.y, p.z]);
+  const o = v(b.origin), d = v(b.direction);
+  return (b.intervals || []).map((iv) => [o[2] + d[2] * iv.from_m, o[2] + d[2] * iv.to_m, iv.record]);
+}
+// The unit at a world point: the record of the interval holding z, or null.
 async function unitAt([x, y, z]) {
-  const b = await api(`/v1/models/mine/borehole?x=${x}&y=${y}`);
-  for (const iv of b.intervals || []) {
-    const top = Math.max(iv.top_z ?? iv.topElevation ?? iv.from_z, iv.bottom_z ?? iv.bottomElevation ?? iv.to_z);
-    const bottom = Math.min(iv.top_z ?? iv.topElevation ?? iv.from_z, iv.bottom_z ?? iv.bottomElevation ?? iv.to_z);
-    if (z <= top && z >= bottom) return iv.record;
-  }
+  const ivs = await boreholeAt(x, y);
+  if (ivs == null) return 'outside';
+  for (const [za, zb, record] of ivs)
+    if (z <= Math.max(za, zb) && z >= Math.min(za, zb)) return record;
   return null;
 }
 async function topAt(x, y) {
-  const b = await api(`/v1/models/mine/borehole?x=${x}&y=${y}`);
-  const iv = (b.intervals || [])[0];
-  if (!iv) return null;
-  return Math.max(iv.top_z ?? iv.topElevation ?? iv.from_z, iv.bottom_z ?? iv.bottomElevation ?? iv.to_z);
+  const ivs = await boreholeAt(x, y);
+  return ivs && ivs.length ? Math.max(ivs[0][0], ivs[0][1]) : null;
 }
 
 const model = await api('/v1/models/mine');
-const legend = new Map(model.legend.map((e) => [e.record, e.colour]));
+const legend = new Map(model.legend.filter((e) => e.id != null).map((e) => [e.id, e.colour]));
 
 // Cesium's files and the page from here; /v1 proxied to geoslice: one origin.
 const page0 = `<!doctype html><html><head><meta charset="utf-8">
@@ -200,19 +208,28 @@ for (const [cx, cy, sx, sy] of corners) {
 await page.evaluate(() => {
   const C = window.Cesium;
   const bs = window.tileset.boundingSphere;
-  window.viewer.camera.viewBoundingSphere(bs, new C.HeadingPitchRange(C.Math.toRadians(30), C.Math.toRadians(-35), bs.radius * 2.2));
+  window.viewer.camera.viewBoundingSphere(bs, new C.HeadingPitchRange(C.Math.toRadians(30), C.Math.toRadians(-35), bs.radius * 1.7));
+  // Full detail for the picks: a coarser level lies off the exact surfaces by up to its
+  // geometricError (that is what levels of detail are), which would move picked points
+  // across contacts. The levels themselves are checked in tests/unit/tiles3d_test.cpp.
+  window.tileset.maximumScreenSpaceError = 0;
 });
 if (!await page.evaluate(() => window.settle())) fail('overview: tiles did not load');
 await page.screenshot({ path: path.join(out, 'cesium-overview.png') });
-const shot = await page.evaluate(() => {
-  const gl = window.viewer.scene.context._gl;
-  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-  const px = new Uint8Array(w * h * 4);
-  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
-  return { w, h, px: Array.from(px) };
+const shot = await page.evaluate(async () => {
+  // The canvas as drawn (preserveDrawingBuffer), through a 2D canvas.
+  const img = new Image();
+  img.src = window.viewer.canvas.toDataURL('image/png');
+  await img.decode();
+  const c2 = document.createElement('canvas');
+  c2.width = img.width;
+  c2.height = img.height;
+  const g = c2.getContext('2d');
+  g.drawImage(img, 0, 0);
+  return { w: img.width, h: img.height, px: Array.from(g.getImageData(0, 0, img.width, img.height).data) };
 });
-const rgbAt = (x, y) => {  // window coordinates (top-left origin) -> the drawing buffer (bottom-left)
-  const i = ((shot.h - 1 - Math.round(y)) * shot.w + Math.round(x)) * 4;
+const rgbAt = (x, y) => {  // window coordinates, top-left origin like the image rows
+  const i = (Math.round(y) * shot.w + Math.round(x)) * 4;
   return [shot.px[i], shot.px[i + 1], shot.px[i + 2]];
 };
 const hex = (s) => [1, 3, 5].map((i) => parseInt(s.slice(i, i + 2), 16));
@@ -228,10 +245,11 @@ for (let gy = 0; gy < 24 && matched < 50; ++gy) {
     const dir = p.pos.map((v, i) => v - p.eye[i]);
     const len = Math.hypot(...dir);
     const along = (d) => p.pos.map((v, i) => v + dir[i] / len * d);
-    const [a, b, c] = toGk([along(0.1), along(0.3), along(1.5)]);
+    const [a, b, c] = toGk([along(1.5), along(3), along(6)]);
     const [ua, ub, uc] = [await unitAt(a), await unitAt(b), await unitAt(c)];
-    if (ua !== ub || ub !== uc) { ++ambiguous; continue; }
+    if (ua !== ub || ub !== uc || ub === 'outside') { ++ambiguous; continue; }
     if (ub !== p.id) mismatches.push({ pixel: [x, y], cesium: p.id, server: ub, at: b });
+    if (p.colour !== legend.get(p.id)) fail(`feature ${p.id}: colour property ${p.colour}, legend ${legend.get(p.id)}`);
     else ++matched;
     const rendered = chroma(rgbAt(x, y));
     let best = null, bestD = Infinity;
@@ -241,6 +259,7 @@ for (let gy = 0; gy < 24 && matched < 50; ++gy) {
       if (d < bestD) { bestD = d; best = rec; }
     }
     if (best === p.id) ++colourOk;
+    else if (process.env.CESIUM_DEBUG) console.log('colour', x, y, rgbAt(x, y), p.id, legend.get(p.id), best);
   }
 }
 if (matched < 50) fail(`only ${matched} of 50 pixels matched the server (${mismatches.length} mismatches, ${ambiguous} at contacts, ${tried} picked)`);
