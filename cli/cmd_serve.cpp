@@ -23,7 +23,7 @@ struct ServeArgs {
     std::string configFile, host, models, bakeDir, gl, lod, cors, keysFile, logLevel;
     int port = -1, deadlineMs = -1, shutdownGraceMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
-    long long memoryBudgetMiB = -1, maxModelMiB = -1;
+    long long memoryBudgetMiB = -1, maxModelMiB = -1, tiles3dTriangles = -1;
     bool readyzPaths = false, noBake = false, bakeOnly = false;
     long long maxConnections = -1, headerTimeoutMs = -1, bodyTimeoutMs = -1, keepAliveMs = -1, keepAliveRequests = -1,
               sendTimeoutMs = -1;
@@ -108,6 +108,7 @@ int runServe(const ServeArgs& a) {
     if (a.readyzPaths) config.readyzPaths = true;
     if (a.noBake) config.noBake = true;
     if (a.maxModelMiB > 0) config.maxModelMiB = std::size_t(a.maxModelMiB);
+    if (a.tiles3dTriangles > 0) config.tiles3dTriangles = std::size_t(a.tiles3dTriangles);
     if (a.demoTriangles > 0) config.demoTriangles = std::size_t(a.demoTriangles);
     if (a.maxBody > 0) config.maxBodyBytes = std::size_t(a.maxBody);
     if (auto s = server::checkConfig(config); !s) {
@@ -181,6 +182,9 @@ void addServe(CLI::App& app, int& exitCode) {
                     "Largest model file read, MiB (default 1024): a larger one is skipped, named in /readyz");
     cmd->add_flag("--readyz-paths", a->readyzPaths,
                   "Show absolute file paths in /readyz model errors (default: names only)");
+    cmd->add_option("--3dtiles-triangles", a->tiles3dTriangles,
+                    "About this many triangles per leaf tile of /3dtiles/ (default 16384)")
+        ->check(CLI::Range(256LL, 1LL << 24));
     cmd->add_option("--deadline-ms", a->deadlineMs, "Per-request render deadline, ms (default 10000)");
     cmd->add_option(
         "--shutdown-grace-ms", a->shutdownGraceMs,

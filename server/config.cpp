@@ -81,6 +81,8 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.noBake, 0, 1);
     else if (key == "maxModelMiB")
         return number(c.maxModelMiB, 1, 1 << 20);
+    else if (key == "tiles3dTriangles")
+        return number(c.tiles3dTriangles, 256, 1 << 24);
     else if (key == "bakeDir")
         c.bakeDir = value;
     else if (key == "lod")
@@ -143,6 +145,7 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_READYZ_PATHS", "readyzPaths"},
         {"GEOSLICE_NO_BAKE", "noBake"},
         {"GEOSLICE_MAX_MODEL_MIB", "maxModelMiB"},
+        {"GEOSLICE_3DTILES_TRIANGLES", "tiles3dTriangles"},
         {"GEOSLICE_DEMO_TRIANGLES", "demoTriangles"},
         {"GEOSLICE_LOG_LEVEL", "logLevel"},
     };

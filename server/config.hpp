@@ -51,6 +51,8 @@
 //                                                                             1..1048576: a file is read whole and
 //                                                                             parsed in memory; a larger one is
 //                                                                             skipped from its size, named in /readyz)
+//   tiles3dTriangles   GEOSLICE_3DTILES_TRIANGLES     --3dtiles-triangles     16384 (about this many triangles per leaf
+//                                                                             tile of /3dtiles/, 256..16777216)
 // clang-format on
 #pragma once
 
@@ -95,6 +97,7 @@ struct ServerConfig {
     bool noBake = false;                 // never bake: serve baked packages only (api::loadCatalogModel mayBake)
     // Largest model file read (MiB): model/io/loaders.hpp kDefaultMaxModelBytes, probeModelFile.
     std::size_t maxModelMiB = 1024;
+    std::size_t tiles3dTriangles = 16384;  // renderer/tiles3d/tileset3d.hpp Tiles3dOptions::trianglesPerTile
 };
 
 // Applies a JSON object's known keys (unknown keys are an error naming them).

@@ -37,7 +37,10 @@ Built tilesetOf(ServerState& st, const api::CatalogModel& m) {
     if (builder) {
         const auto t0 = std::chrono::steady_clock::now();
         std::shared_ptr<const CrsTransform> toWgs84 = m.lonLat;
-        Built result = Tileset3d::build(m.model, [&toWgs84](const glm::dvec3& w) { return toWgs84->apply(w); });
+        Tiles3dOptions options;
+        options.trianglesPerTile = st.config.tiles3dTriangles;
+        Built result =
+            Tileset3d::build(m.model, [&toWgs84](const glm::dvec3& w) { return toWgs84->apply(w); }, options);
         st.metrics.render("3dtiles", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         mine.set_value(std::move(result));
     }

@@ -45,7 +45,9 @@ function cs2cs(from, to, rows) {
 const toEcef = (pts) => cs2cs('EPSG:4523', 'EPSG:4978', pts.map(([x, y, z]) => [y, x, z]));
 const toGk = (pts) => cs2cs('EPSG:4978', 'EPSG:4523', pts).map(([n, e, z]) => [e, n, z]);
 
-const server = await startServer(binary, { models: [{ name: 'mine', triangles: 20000, seed: 3 }] });
+// Leaf tiles of about 2,048 triangles: a tree of several levels for a model SwiftShader draws quickly.
+const server = await startServer(binary, { models: [{ name: 'mine', triangles: 20000, seed: 3 }],
+  extraArgs: ['--3dtiles-triangles', '2048'] });
 const api = async (p) => {
   const r = await fetch(server.url + p);
   if (!r.ok) throw new Error(`${p}: ${r.status} ${await r.text()}`);
@@ -76,6 +78,24 @@ async function topAt(x, y) {
 }
 
 const model = await api('/v1/models/mine');
+
+// 0. Every tile passes Khronos' glTF validator (0 errors, 0 warnings; EXT_mesh_features and
+// EXT_structural_metadata are reported as extensions it does not check).
+const validator = require('gltf-validator');
+const tilesetDoc = await api('/v1/models/mine/3dtiles/tileset.json');
+const uris = [];
+(function walk(t, depth) {
+  if (t.content) uris.push(t.content.uri);
+  for (const c of t.children || []) walk(c, depth + 1);
+})(tilesetDoc.root, 0);
+if (uris.length < 5) fail(`the tileset has ${uris.length} tiles with content; expected a tree`);
+for (const uri of uris) {
+  const r = await fetch(`${server.url}/v1/models/mine/3dtiles/${uri}`);
+  if (r.headers.get('content-type') !== 'model/gltf-binary') fail(`${uri}: content type ${r.headers.get('content-type')}`);
+  const report = await validator.validateBytes(new Uint8Array(await r.arrayBuffer()), { maxIssues: 20 });
+  if (report.issues.numErrors || report.issues.numWarnings)
+    fail(`${uri}: glTF validator: ${JSON.stringify(report.issues.messages.filter((m) => m.severity < 2).slice(0, 3))}`);
+}
 const legend = new Map(model.legend.filter((e) => e.id != null).map((e) => [e.id, e.colour]));
 
 // Cesium's files and the page from here; /v1 proxied to geoslice: one origin.
@@ -268,7 +288,7 @@ const colourShare = colourOk / Math.max(1, matched + mismatches.length);
 if (colourShare < 0.9) fail(`rendered colours: only ${(colourShare * 100).toFixed(0)} % nearest the picked unit's legend colour`);
 if (foreign.length) fail(`the page requested other origins: ${foreign.slice(0, 5).join(', ')}`);
 console.log(JSON.stringify({
-  pixelsMatched: matched, mismatches: mismatches.length, atContacts: ambiguous, colourAgreement: +colourShare.toFixed(3),
+  tiles: uris.length, pixelsMatched: matched, mismatches: mismatches.length, atContacts: ambiguous, colourAgreement: +colourShare.toFixed(3),
   foreignRequests: foreign.length, firstLoadMs: loadMs, totalMs: Date.now() - t0, load: loadAverage(),
   cesium: require('cesium/package.json').version,
 }));

@@ -36,10 +36,10 @@ async function freePort() {
 
 // Two small generated models (different seeds and places) in a temporary directory, so
 // that switching models can be tested; or the built-in demo when `demo` is set; or `models`:
-// [{ name, triangles, seed }] generated in EPSG:4523. `keys`: text of an API keys file
+// [{ name, triangles, seed }] generated in EPSG:4523; `extraArgs` go to `serve`. `keys`: text of an API keys file
 // (api/access_keys.hpp) the server is started with.
-export async function startServer(binary, { demo = false, log = null, keys = null, models = null } = {}) {
-  const args = ['serve', '--host', '127.0.0.1', '--workers', '2', '--log-level', 'warn'];
+export async function startServer(binary, { demo = false, log = null, keys = null, models = null, extraArgs = [] } = {}) {
+  const args = ['serve', '--host', '127.0.0.1', '--workers', '2', '--log-level', 'warn', ...extraArgs];
   let dir = null;
   if (demo) args.push('--demo-triangles', '200000');
   else {
