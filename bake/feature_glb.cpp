@@ -10,6 +10,7 @@
 #include "bake/feature_table.hpp"
 #include "bake/package_internal.hpp"
 #include "image/image_encode.hpp"
+#include "model/json_text.hpp"
 
 namespace geoslice::bake {
 namespace package_detail {
@@ -98,7 +99,8 @@ namespace {
 
 bool isMetadataIdentifier(std::string_view s) {
     if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
-    return std::all_of(s.begin(), s.end(), [](char c) { return c == '_' || std::isalnum(static_cast<unsigned char>(c)); });
+    return std::all_of(s.begin(), s.end(),
+                       [](char c) { return c == '_' || std::isalnum(static_cast<unsigned char>(c)); });
 }
 
 }  // namespace
@@ -158,11 +160,12 @@ nlohmann::ordered_json addPropertyTable(GlbBuilder& glb, const std::vector<Recor
         addStrings(name, [&key](const AttributeRecord& r) {
             if (!r.extra.is_object() || !r.extra.contains(key)) return std::string();
             const auto& v = r.extra[key];
-            return v.is_string() ? v.get<std::string>() : v.dump();
+            return v.is_string() ? v.get<std::string>() : jsonText(v);
         });
     }
-    return {{"schema", {{"id", "geoslice"}, {"classes", {{"geology", {{"properties", schemaProps}}}}}}},
-            {"propertyTables", json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
+    return {
+        {"schema", {{"id", "geoslice"}, {"classes", {{"geology", {{"properties", schemaProps}}}}}}},
+        {"propertyTables", json::array({{{"class", "geology"}, {"count", rows.size()}, {"properties", tableProps}}})}};
 }
 
 }  // namespace geoslice::bake

@@ -21,7 +21,8 @@ void addTiles3d(CLI::App& app, int& exitCode) {
         LoadOptions load;
     };
     auto o = std::make_shared<Opts>();
-    CLI::App* cmd = app.add_subcommand("tiles3d", "Write the model as a 3D Tiles 1.1 tileset (tileset.json + glTF tiles)");
+    CLI::App* cmd =
+        app.add_subcommand("tiles3d", "Write the model as a 3D Tiles 1.1 tileset (tileset.json + glTF tiles)");
     cmd->add_option("MODEL", o->model, "Model file")->required();
     addLoadOptions(cmd, o->load);
     cmd->add_option("--out", o->out, "Directory to write (created; tileset.json and tiles/ inside)")->required();
@@ -41,7 +42,8 @@ void addTiles3d(CLI::App& app, int& exitCode) {
         if (!w.lonLatNote.empty()) std::fprintf(stderr, "geoslice tiles3d: note: %s\n", w.lonLatNote.c_str());
         Tiles3dOptions options;
         options.trianglesPerTile = o->perTile;
-        auto ts = Tileset3d::build(model.value(), [&w](const glm::dvec3& p) { return w.lonLat->apply(p); }, options);
+        auto ts = Tileset3d::build(
+            model.value(), [&w](const glm::dvec3& p) { return w.lonLat->apply(p); }, options);
         if (!ts) return fail(ts.error().message, 1);
         std::error_code ec;
         const std::filesystem::path dir(o->out);

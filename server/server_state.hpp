@@ -17,9 +17,9 @@
 
 #include "api/access_keys.hpp"
 #include "api/catalog.hpp"
+#include "renderer/tiles3d/tileset3d.hpp"
 #include "server/config.hpp"
 #include "server/metrics.hpp"
-#include "renderer/tiles3d/tileset3d.hpp"
 #include "server/render_cache.hpp"
 #include "workers/gl_status.hpp"
 #include "workers/render_pool.hpp"

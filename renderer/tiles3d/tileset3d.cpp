@@ -21,10 +21,10 @@ struct Tileset3d::PartData {
     std::string name;
     PartKind kind = PartKind::Body;
     RecordId record = kNoRecord;
-    std::uint32_t row = 0;           // property-table row of `record`
-    std::vector<glm::vec3> enu;      // vertices, east-north-up metres about the centre
+    std::uint32_t row = 0;       // property-table row of `record`
+    std::vector<glm::vec3> enu;  // vertices, east-north-up metres about the centre
     std::vector<std::uint32_t> sorted, lodIndices;
-    GpuModel::DrawPart draw;         // clusters and groups (renderer/lod/cluster_build.hpp)
+    GpuModel::DrawPart draw;  // clusters and groups (renderer/lod/cluster_build.hpp)
 };
 
 Tileset3d::Tileset3d() = default;
@@ -288,9 +288,9 @@ json Tileset3d::tilesetJson(const std::string& contentPrefix, const std::string&
 
 Result<std::vector<std::uint8_t>> Tileset3d::tileGlb(std::size_t n) const {
     if (n >= tiles_.size())
-        return makeError(ErrorCode::OutOfRange,
-                         "3D Tiles: tile " + std::to_string(n) + " does not exist (the tileset has " +
-                             std::to_string(tiles_.size()) + ")");
+        return makeError(ErrorCode::OutOfRange, "3D Tiles: tile " + std::to_string(n) +
+                                                    " does not exist (the tileset has " +
+                                                    std::to_string(tiles_.size()) + ")");
     const Tile& tile = tiles_[n];
     GlbBuilder glb(kGeneratorName);
     glb.doc()["extensionsUsed"] = {"EXT_mesh_features", "EXT_structural_metadata"};
@@ -319,37 +319,39 @@ Result<std::vector<std::uint8_t>> Tileset3d::tileGlb(std::size_t n) const {
         if (pos.empty()) continue;
         const std::size_t count = pos.size() / 3;
         const std::size_t position = glb.addPositions(pos.data(), count);
-        const std::size_t normal = glb.addAccessor({{"bufferView", glb.addView(nrm.data(), nrm.size() * 4, kGltfArrayBuffer)},
-                                                    {"componentType", kGltfFloat},
-                                                    {"count", count},
-                                                    {"type", "VEC3"}});
-        const std::size_t feature = glb.addAccessor({{"bufferView", glb.addView(fid.data(), fid.size() * 4, kGltfArrayBuffer)},
-                                                     {"componentType", kGltfFloat},
-                                                     {"count", count},
-                                                     {"type", "SCALAR"}});
+        const std::size_t normal =
+            glb.addAccessor({{"bufferView", glb.addView(nrm.data(), nrm.size() * 4, kGltfArrayBuffer)},
+                             {"componentType", kGltfFloat},
+                             {"count", count},
+                             {"type", "VEC3"}});
+        const std::size_t feature =
+            glb.addAccessor({{"bufferView", glb.addView(fid.data(), fid.size() * 4, kGltfArrayBuffer)},
+                             {"componentType", kGltfFloat},
+                             {"count", count},
+                             {"type", "SCALAR"}});
         auto [it, fresh] = materialOf.try_emplace(pd.record, materials.size());
         if (fresh) {
             const AttributeRecord* rec = attributes_.find(pd.record);
             const Rgba8 col = rec ? rec->colour : Rgba8{};
-            json mat = {{"name", rec && !rec->name.empty() ? rec->name : pd.name},
-                        {"pbrMetallicRoughness",
-                         {{"baseColorFactor", {srgbToLinear(col.r), srgbToLinear(col.g), srgbToLinear(col.b), col.a / 255.0}},
-                          {"metallicFactor", 0.0},
-                          {"roughnessFactor", 0.9}}},
-                        {"doubleSided", true}};
+            json mat = {
+                {"name", rec && !rec->name.empty() ? rec->name : pd.name},
+                {"pbrMetallicRoughness",
+                 {{"baseColorFactor", {srgbToLinear(col.r), srgbToLinear(col.g), srgbToLinear(col.b), col.a / 255.0}},
+                  {"metallicFactor", 0.0},
+                  {"roughnessFactor", 0.9}}},
+                {"doubleSided", true}};
             if (col.a < 255) mat["alphaMode"] = "BLEND";
             materials.push_back(std::move(mat));
         }
-        json prim = {{"attributes", {{"POSITION", position}, {"NORMAL", normal}, {"_FEATURE_ID_0", feature}}},
-                     {"mode", kGltfTriangles},
-                     {"material", it->second},
-                     {"extensions",
-                      {{"EXT_mesh_features",
-                        {{"featureIds",
-                          json::array({{{"featureCount", 1},
-                                        {"attribute", 0},
-                                        {"propertyTable", 0},
-                                        {"label", "record"}}})}}}}}};
+        json prim = {
+            {"attributes", {{"POSITION", position}, {"NORMAL", normal}, {"_FEATURE_ID_0", feature}}},
+            {"mode", kGltfTriangles},
+            {"material", it->second},
+            {"extensions",
+             {{"EXT_mesh_features",
+               {{"featureIds",
+                 json::array(
+                     {{{"featureCount", 1}, {"attribute", 0}, {"propertyTable", 0}, {"label", "record"}}})}}}}}};
         glb.addPart(pd.name, pd.kind, pd.record, std::move(prim));
     }
     json metadata = bake::addPropertyTable(glb, rows_, attributes_);

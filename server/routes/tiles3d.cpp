@@ -39,8 +39,8 @@ Built tilesetOf(ServerState& st, const api::CatalogModel& m) {
         std::shared_ptr<const CrsTransform> toWgs84 = m.lonLat;
         Tiles3dOptions options;
         options.trianglesPerTile = st.config.tiles3dTriangles;
-        Built result =
-            Tileset3d::build(m.model, [&toWgs84](const glm::dvec3& w) { return toWgs84->apply(w); }, options);
+        Built result = Tileset3d::build(
+            m.model, [&toWgs84](const glm::dvec3& w) { return toWgs84->apply(w); }, options);
         st.metrics.render("3dtiles", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         mine.set_value(std::move(result));
     }
@@ -76,8 +76,7 @@ void tileset(ServerState& st, const HttpRequest& req, HttpResponse& res) {
         [&st, m, etag = RenderCache::etagOf(key)](workers::WorkerState&, const std::atomic<bool>&) -> Rendered {
             auto ts = tilesetOf(st, *m);
             if (!ts) return ts.error();
-            return documentEntry(jsonText(ts.value()->tilesetJson("tiles/", kGeneratorName)), "application/json",
-                                 etag);
+            return documentEntry(jsonText(ts.value()->tilesetJson("tiles/", kGeneratorName)), "application/json", etag);
         },
         std::max(kVectorBytes, m->model.triangleCount() * 96), false, *req.cancelled);
     if (!result) return problem(res, result.error(), req.path);

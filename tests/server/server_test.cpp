@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <random>
@@ -457,6 +458,7 @@ TEST_F(Server, OpenApiListsExactlyTheRoutes) {
         sub("{x}", "0");
         sub("{y}", "0");
         sub("{asset}", "app.js");
+        sub("{n}", "0");
         auto res = r.method == "GET" ? c.Get(path.c_str()) : c.Post(path.c_str(), "{}", "application/json");
         ASSERT_TRUE(res) << path;
         EXPECT_EQ(res->body.find("no route for"), std::string::npos) << r.method << " " << path;
@@ -784,6 +786,35 @@ TEST(ServerGl, PerspectiveViewThroughAWorkerContext) {
                 a.size(), hits);
     EXPECT_GT(hits, 100u);
     EXPECT_GE(double(agree) / double(a.size()), 0.99) << agree << " of " << a.size();
+}
+
+// 3D Tiles of the demo (renderer/tiles3d/tileset3d.hpp; placement and content are checked in
+// tests/unit/tiles3d_test.cpp and in CesiumJS by tests/web/cesium_test.mjs): the tileset, its
+// tiles by the URIs it names, validators and 304s, a tile that does not exist.
+TEST_F(Server, ModelAs3dTiles) {
+    const json ts = getJson("/v1/models/demo/3dtiles/tileset.json");
+    EXPECT_EQ(ts["asset"]["version"], "1.1");
+    ASSERT_EQ(ts["root"]["transform"].size(), 16u);
+    EXPECT_EQ(ts["root"]["refine"], "REPLACE");
+    // The translation is Earth-fixed: about 6,370 km from the centre of the Earth.
+    const double r = std::hypot(ts["root"]["transform"][12].get<double>(), ts["root"]["transform"][13].get<double>(),
+                                ts["root"]["transform"][14].get<double>());
+    EXPECT_NEAR(r, 6.37e6, 2e4);
+    const std::string uri = ts["root"]["content"]["uri"];
+    auto tile = client().Get(("/v1/models/demo/3dtiles/" + uri).c_str());
+    ASSERT_TRUE(tile);
+    EXPECT_EQ(tile->status, 200);
+    EXPECT_EQ(tile->get_header_value("Content-Type"), "model/gltf-binary");
+    ASSERT_GE(tile->body.size(), 12u);
+    EXPECT_EQ(tile->body.substr(0, 4), "glTF");
+    const std::string etag = tile->get_header_value("ETag");
+    ASSERT_FALSE(etag.empty());
+    auto again =
+        client().Get(("/v1/models/demo/3dtiles/" + uri + "?v=1").c_str(), httplib::Headers{{"If-None-Match", etag}});
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 304);
+    expectProblem(client().Get("/v1/models/demo/3dtiles/tiles/999999.glb"), 404, "tiles, no 999999");
+    expectProblem(client().Get("/v1/models/nope/3dtiles/tileset.json"), 404, "nope");
 }
 
 }  // namespace

@@ -82,7 +82,8 @@ Model synthetic(std::size_t triangles) {
 std::shared_ptr<const Tileset3d> build(const Model& model, const Tiles3dOptions& options = {}) {
     const api::Wgs84Choice w = api::chooseWgs84Transform(model.crs, model.bounds());
     EXPECT_TRUE(w.lonLat) << w.lonLatNote;
-    auto ts = Tileset3d::build(model, [&](const glm::dvec3& p) { return w.lonLat->apply(p); }, options);
+    auto ts = Tileset3d::build(
+        model, [&](const glm::dvec3& p) { return w.lonLat->apply(p); }, options);
     EXPECT_TRUE(ts) << ts.error().message;
     return ts.value();
 }
@@ -119,7 +120,7 @@ TEST(Tiles3d, EveryTileVertexIsAModelVertexWherePROJPutsIt) {
         const Glb g = parseGlb(bytes.value());
         for (const json& mesh : g.doc["meshes"]) {
             const auto pos = g.accessor<float>(mesh["primitives"][0]["attributes"]["POSITION"], 3);
-            for (std::size_t i = 0; i < pos.size(); i += 3 * 7) {  // every 7th vertex
+            for (std::size_t i = 0; i < pos.size(); i += 3 * 7) {               // every 7th vertex
                 const glm::dvec3 enu(pos[i], -double(pos[i + 2]), pos[i + 1]);  // glTF y-up -> ENU
                 const glm::dvec4 ecef = m * glm::dvec4(enu, 1.0);
                 PJ_COORD c = proj_coord(ecef.x, ecef.y, ecef.z, 0);
@@ -249,7 +250,8 @@ TEST(Tiles3d, TilesCarryNormalsColoursAndFeatureMetadata) {
         EXPECT_EQ(fx["propertyTable"], 0);
         const AttributeRecord* rec = model.attributes.find(record);
         ASSERT_NE(rec, nullptr);
-        const json& colour = g.doc["materials"][prim["material"].get<std::size_t>()]["pbrMetallicRoughness"]["baseColorFactor"];
+        const json& colour =
+            g.doc["materials"][prim["material"].get<std::size_t>()]["pbrMetallicRoughness"]["baseColorFactor"];
         const auto lin = [](int c) {
             const double v = c / 255.0;
             return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
