@@ -1,11 +1,13 @@
 // bench_http: the HTTP section server end to end over loopback, with its own keep-alive
 // client threads (cpp-httplib), plus the work a query costs inside the server.
 //
-//   bench_http [--sizes L1,L4] [--seconds 3] [--connections 4] [--gl none|auto]
+//   bench_http [--sizes L1,L4] [--seconds 3] [--connections 4] [--gl none|auto|egl-device|egl-surfaceless|osmesa]
 //
 // Per model size it starts a real SectionServer on 127.0.0.1 (models from a temporary
 // directory holding the generated model), then measures, each for `seconds`:
 //   section_jpeg_1024   GET section.jpg 1024x1024, a new plane every request (nothing cached)
+//   perspective_jpeg_1024  (with --gl other than none) the same as a perspective view: the
+//                       GL renderer on the render workers, a new plane every request
 //   tile_cold           GET 256x256 tiles never asked before (render + encode)
 //   tile_cached         GET the same 64 tiles again (LRU hits)
 //   query_uncached      GET query of views never rendered (exact ray at the pixel)
@@ -124,7 +126,8 @@ int main(int argc, char** argv) {
             gl = argv[i + 1];
         else {
             std::fprintf(stderr,
-                         "usage: bench_http [--sizes L1,L4] [--seconds 3] [--connections 4] [--gl none|auto]\n");
+                         "usage: bench_http [--sizes L1,L4] [--seconds 3] [--connections 4] "
+                         "[--gl none|auto|egl-device|egl-surfaceless|osmesa]\n");
             return 2;
         }
     }
@@ -187,6 +190,15 @@ int main(int argc, char** argv) {
         r["section_jpeg_1024"] = load(port.value(), 2, seconds, [&](std::size_t i) {
                                      return "/v1/models/mine/section.jpg?" + planeAt(i) + "&size=1024x1024";
                                  }).json();
+
+        if (gl != "none") {
+            const std::string warm = "/v1/models/mine/section.jpg?" + planeAt(99998) + "&view=perspective&size=1024x1024";
+            (void)load(port.value(), 1, 60.0, [&](std::size_t) { return warm; }, 1);
+            r["perspective_jpeg_1024"] = load(port.value(), 2, seconds, [&](std::size_t i) {
+                                             return "/v1/models/mine/section.jpg?" + planeAt(i) +
+                                                    "&view=perspective&size=1024x1024";
+                                         }).json();
+        }
 
         // Tiles of one section at zoom 6 (64 x 64 grid): cold = each tile once, cached = 64 again.
         httplib::Client cl("127.0.0.1", port.value());

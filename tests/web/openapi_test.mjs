@@ -108,6 +108,8 @@ try {
     ['GET', `/v1/models/demo/section.svg?${P}&layout=print&date=2026-12-02`],
     ['GET', `/v1/models/demo/section.png?${P}&size=64x32&decorate=0`],
     ['GET', `/v1/models/demo/section.jpg?${P}&size=64x32&view=perspective`, null, null],
+    ['GET', '/v1/models/demo/3dtiles/tileset.json', null, 200], ['GET', '/v1/models/demo/3dtiles/tiles/0.glb', null, 200],
+    ['GET', '/v1/models/demo/3dtiles/tiles/999999.glb', null, 404],
   ];
   for (const fmt of ['png', 'jpg', 'webp', 'geojson', 'svg', 'dxf']) {
     requests.push(['GET', `/v1/models/demo/section.${fmt}?${P}&size=128x64`]);
