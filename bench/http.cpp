@@ -27,6 +27,7 @@
 #include <vector>
 
 #include <httplib.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
@@ -131,6 +132,8 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
+    // The server's log goes to stderr: stdout is the JSON document.
+    spdlog::set_default_logger(spdlog::stderr_color_mt("bench_http"));
     spdlog::set_level(spdlog::level::warn);
     Json out;
     out["benchmark"] = "http";

@@ -48,6 +48,7 @@ const toGk = (pts) => cs2cs('EPSG:4978', 'EPSG:4523', pts).map(([n, e, z]) => [e
 // Leaf tiles of about 2,048 triangles: a tree of several levels for a model SwiftShader draws quickly.
 const server = await startServer(binary, { models: [{ name: 'mine', triangles: 20000, seed: 3 }],
   extraArgs: ['--3dtiles-triangles', '2048'] });
+process.on('exit', () => { try { server.proc.kill('SIGKILL'); } catch (_) { /* gone */ } });
 const api = async (p) => {
   const r = await fetch(server.url + p);
   if (!r.ok) throw new Error(`${p}: ${r.status} ${await r.text()}`);
