@@ -211,6 +211,69 @@ const tests = {
     }
   },
 
+  // Labels over labels (issue 27 item 6): "Easting (m)" under "105.020°E", the scale bar over
+  // "Distance (m)", the zoom buttons over 30.600°N, end A pinned beside B once scrolled away,
+  // and a translucent band over the model's western part. On a desktop and a phone, on the
+  // plan at three zooms and on a section before and after end A scrolls away: no label's box
+  // meets another's or a map control's, no overlay rectangle covers 5 % of the map, and an
+  // end out of view is named at the edge it lies beyond.
+  async overlay_labels_never_overlap() {
+    const clashes = (page, svgId, mapId) => page.evaluate(([svgId, mapId]) => {
+      const svg = document.getElementById(svgId), host = svg.getBoundingClientRect();
+      const boxes = [];
+      for (const el of svg.querySelectorAll(':scope > text, :scope > g')) {
+        const b = el.getBBox();
+        if (b.width && b.height) boxes.push({ what: el.textContent.trim(), x: b.x, y: b.y, w: b.width, h: b.height });
+      }
+      for (const c of document.querySelectorAll(`#${mapId} .leaflet-control`)) {
+        const r = c.getBoundingClientRect();
+        if (r.width && r.height) boxes.push({ what: `control ${c.className.split(' ').pop()}`, x: r.left - host.left, y: r.top - host.top, w: r.width, h: r.height });
+      }
+      const bad = [];
+      for (let i = 0; i < boxes.length; ++i)
+        for (let j = i + 1; j < boxes.length; ++j) {
+          const a = boxes[i], b = boxes[j];
+          if (a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h) bad.push(`'${a.what}' meets '${b.what}'`);
+        }
+      const bands = [...svg.querySelectorAll('rect')].filter((r) => { const b = r.getBBox(); return b.width * b.height > 0.05 * host.width * host.height; });
+      return { bad, bands: bands.length, labels: boxes.length, ends: [...svg.querySelectorAll('text[data-end]')].map((e) => e.textContent) };
+    }, [svgId, mapId]);
+    for (const [name, dev] of [['desktop', DESKTOP], ['phone', PHONE]]) {
+      const page = await newPage(dev, { locale: 'en-GB' });
+      await open(page);
+      for (const dz of [0, 1, 2]) {
+        if (dz) {
+          await page.evaluate(() => { const m = window.geoslice.maps().planMap; m.setZoom(m.getZoom() + 1, { animate: false }); });
+          await settle(page);
+        }
+        const r = await clashes(page, 'planOverlay', 'planMap');
+        check(r.labels > 5, `${name} plan +${dz}: only ${r.labels} labels`);
+        check(r.bad.length === 0, `${name} plan +${dz}: ${r.bad.join('; ')}`);
+        check(r.bands === 0, `${name} plan +${dz}: ${r.bands} overlay rectangles cover over 5 % of the map`);
+      }
+      await open(page);  // the plan as it starts, so that the cut's taps land on the model
+      await cutLine(page, [[0.15, 0.5], [0.85, 0.5]]);
+      let r = await clashes(page, 'sectionOverlay', 'sectionMap');
+      check(r.bad.length === 0, `${name} section: ${r.bad.join('; ')}`);
+      check(r.bands === 0, `${name} section: ${r.bands} overlay rectangles cover over 5 % of the map`);
+      check(r.ends.includes('A') && r.ends.includes('B'), `${name} section: ends ${r.ends}`);
+      // Zoom in on end B so that A scrolls away to the left.
+      await page.evaluate(() => {
+        const { sectionMap } = window.geoslice.maps();
+        sectionMap.setZoom(sectionMap.getZoom() + 2, { animate: false });
+        sectionMap.panBy([sectionMap.getSize().x * 1.5, 0], { animate: false });
+      });
+      await settle(page);
+      r = await clashes(page, 'sectionOverlay', 'sectionMap');
+      await shot(page, `${name}-section-end-away`);
+      check(r.bad.length === 0, `${name} section, A away: ${r.bad.join('; ')}`);
+      check(!r.ends.includes('A'), `${name} section, A away: still labelled in place (${r.ends})`);
+      check(r.ends.some((e) => e.includes('A') && /[‹›]/.test(e)) || r.ends.length < 2, `${name} section, A away: ${r.ends}`);
+      check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
+      await page.context().close();
+    }
+  },
+
   async accessibility_axe() {
     const page = await newPage(PHONE);
     await open(page);
@@ -705,7 +768,10 @@ const tests = {
   },
 };
 
+// GEOSLICE_WEB_ONLY=name,name runs only those tests (while working on one).
+const only = (process.env.GEOSLICE_WEB_ONLY || '').split(',').filter(Boolean);
 for (const [name, fn] of Object.entries(tests)) {
+  if (only.length && !only.includes(name)) continue;
   if (filter && !name.includes(filter)) continue;
   const t0 = Date.now();
   try {
