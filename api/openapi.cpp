@@ -542,6 +542,14 @@ void completeOperations(J& paths) {
         for (auto& [method, operation] : ops.items()) {
             const auto named = kOperationIds.find(method + " " + path);
             if (named != kOperationIds.end()) operation["operationId"] = named->second;
+            if (path.rfind("/v1/models/{id}", 0) == 0 || path.rfind("/v1/sections/{sid}", 0) == 0) {
+                if (!operation.contains("parameters")) operation["parameters"] = J::array();
+                operation["parameters"].push_back(queryParam(
+                    "version", "string",
+                    "the model's content version (`version` of GET /v1/models/{id}): the answer never changes and "
+                    "is cacheable for a year (immutable); another version than the one served is a 404 "
+                    "(model_version); without it answers are cacheable for 60 s"));
+            }
             J& r = operation["responses"];
             r["500"] = problem("a bug: the detail says what failed (logged)");
             if (method == "get") {

@@ -121,7 +121,8 @@ Status checkKnownParams(const Params& params, const std::vector<std::string_view
     std::string unknown;
     int count = 0;
     for (const auto& [name, value] : params) {
-        if (std::find(known.begin(), known.end(), std::string_view(name)) != known.end()) continue;
+        if (name == kVersionParam || std::find(known.begin(), known.end(), std::string_view(name)) != known.end())
+            continue;
         if (count++ < 8) unknown += (unknown.empty() ? "" : ", ") + api::quoted(name);
     }
     if (count == 0) return {};

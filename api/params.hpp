@@ -40,8 +40,10 @@ Result<Rgba8> parseBackground(std::string_view name, std::string_view text);
 Result<bool> parseBool(std::string_view name, std::string_view text);
 
 // InvalidArgument naming every parameter of `params` that is not in `known`, so that a
-// misspelt parameter is an error instead of silently ignored.
+// misspelt parameter is an error instead of silently ignored. `version` (the model content version
+// a URL names, kVersionParam) is known everywhere: server/routes/common.hpp checks it.
 Status checkKnownParams(const Params& params, const std::vector<std::string_view>& known);
+constexpr std::string_view kVersionParam = "version";
 
 // Shortest text that reads back to the same double (std::to_chars); -0 prints as 0.
 std::string formatNumber(double value);

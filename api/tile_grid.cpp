@@ -90,12 +90,13 @@ nlohmann::ordered_json pictureCrs(const TileGrid& g) {
 
 }  // namespace
 
-nlohmann::ordered_json tileJson(const TileGrid& g, const std::string& base, const std::string& title) {
+nlohmann::ordered_json tileJson(const TileGrid& g, const std::string& base, const std::string& title,
+                                const std::string& query) {
     nlohmann::ordered_json j;
     j["tilejson"] = "3.0.0";
     j["name"] = title;
     j["scheme"] = "xyz";
-    j["tiles"] = {base + "/tiles/{z}/{x}/{y}.png"};
+    j["tiles"] = {base + "/tiles/{z}/{x}/{y}.png" + query};
     j["minzoom"] = 0;
     j["maxzoom"] = g.maxZoom;
     j["attribution"] = "geoslice section";
@@ -103,18 +104,19 @@ nlohmann::ordered_json tileJson(const TileGrid& g, const std::string& base, cons
     return j;
 }
 
-nlohmann::ordered_json ogcTileset(const TileGrid& g, const std::string& base, const std::string& title) {
+nlohmann::ordered_json ogcTileset(const TileGrid& g, const std::string& base, const std::string& title,
+                                  const std::string& query) {
     nlohmann::ordered_json links = nlohmann::ordered_json::array();
-    links.push_back({{"rel", "self"}, {"type", "application/json"}, {"href", base + "/tiles"}});
+    links.push_back({{"rel", "self"}, {"type", "application/json"}, {"href", base + "/tiles" + query}});
     links.push_back({{"rel", "http://www.opengis.net/def/rel/ogc/1.0/tiling-scheme"},
                      {"type", "application/json"},
-                     {"href", base + "/tilematrixset"}});
+                     {"href", base + "/tilematrixset" + query}});
     for (const char* f : {"png", "jpg", "webp"}) {
         const std::string type = std::string("image/") + (std::string(f) == "jpg" ? "jpeg" : f);
         links.push_back({{"rel", "item"},
                          {"type", type},
                          {"templated", true},
-                         {"href", base + "/tiles/{tileMatrix}/{tileCol}/{tileRow}." + f}});
+                         {"href", base + "/tiles/{tileMatrix}/{tileCol}/{tileRow}." + f + query}});
     }
     nlohmann::ordered_json limits = nlohmann::ordered_json::array();
     for (int z = 0; z <= g.maxZoom; ++z) {

@@ -195,12 +195,14 @@ int main(int argc, char** argv) {
                                  }).json();
 
         if (gl != "none") {
-            const std::string warm = "/v1/models/mine/section.jpg?" + planeAt(99998) + "&view=perspective&size=1024x1024";
-            (void)load(port.value(), 1, 60.0, [&](std::size_t) { return warm; }, 1);
-            r["perspective_jpeg_1024"] = load(port.value(), 2, seconds, [&](std::size_t i) {
-                                             return "/v1/models/mine/section.jpg?" + planeAt(i) +
-                                                    "&view=perspective&size=1024x1024";
-                                         }).json();
+            const std::string warm =
+                "/v1/models/mine/section.jpg?" + planeAt(99998) + "&view=perspective&size=1024x1024";
+            (void)load(
+                port.value(), 1, 60.0, [&](std::size_t) { return warm; }, 1);
+            r["perspective_jpeg_1024"] =
+                load(port.value(), 2, seconds, [&](std::size_t i) {
+                    return "/v1/models/mine/section.jpg?" + planeAt(i) + "&view=perspective&size=1024x1024";
+                }).json();
         }
 
         // Tiles of one section at zoom 6 (64 x 64 grid): cold = each tile once, cached = 64 again.

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "api/params.hpp"
 #include "api/request.hpp"
 #include "model/json_text.hpp"
 #include "model/text_scan.hpp"
@@ -160,11 +161,20 @@ bool etagMatches(std::string_view ifNoneMatch, const std::string& etag) {
     return matchingEtag(ifNoneMatch, etag).has_value();
 }
 
+// A rendered answer's freshness: a URL pinned to the model's version (`version=`, checked against
+// the model before any answer: server/routes/common.hpp versionPinHolds) never changes, so
+// caches keep it a year; an unpinned one may change at the next re-bake, so shared caches
+// keep it a minute and then revalidate with its ETag.
+static std::string renderedCacheControl(const HttpRequest& req) {
+    return req.params.count(std::string(api::kVersionParam)) ? "public, max-age=31536000, immutable"
+                                                             : "public, max-age=60";
+}
+
 bool answerNotModified(const HttpRequest& req, HttpResponse& res, const std::string& etag) {
     const auto held = matchingEtag(req.get_header_value("If-None-Match"), etag);
     if (!held) return false;
     res.set_header("ETag", *held);
-    res.set_header("Cache-Control", "public, max-age=86400");
+    res.set_header("Cache-Control", renderedCacheControl(req));
     res.status = 304;
     return true;
 }
@@ -172,7 +182,7 @@ bool answerNotModified(const HttpRequest& req, HttpResponse& res, const std::str
 void sendEncoded(const HttpRequest& req, HttpResponse& res, const Encoded& e) {
     if (answerNotModified(req, res, e.etag)) return;
     res.set_header("ETag", e.etag);
-    res.set_header("Cache-Control", "public, max-age=86400");
+    res.set_header("Cache-Control", renderedCacheControl(req));
     res.status = 200;
     if (e.contentType == "application/pdf") {
         res.set_header("Accept-Ranges", "bytes");

@@ -51,7 +51,12 @@ export async function request(url, opts = {}, as = 'json') {
     return as === 'json' ? await r.json() : await r.blob();
   } finally { busy(-1); }
 }
-export const api = (path) => `/v1/models/${encodeURIComponent(S.model.id)}${path}`;
+// Every model URL is pinned to the model's content version (version=, from /v1/models): caches may
+// keep its answer for ever, and a re-baked model makes new URLs instead of stale pictures.
+export const api = (path) => {
+  const url = `/v1/models/${encodeURIComponent(S.model.id)}${path}`;
+  return S.model.version ? `${url}${url.includes('?') ? '&' : '?'}version=${encodeURIComponent(S.model.version)}` : url;
+};
 
 // Whether a failed request's cause is the server being away (no answer, 502-504: retried
 // when it is back) rather than the request itself (4xx: a verdict, not retried).

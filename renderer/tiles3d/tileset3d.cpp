@@ -248,7 +248,8 @@ Result<std::shared_ptr<const Tileset3d>> Tileset3d::build(const Model& model, co
     return std::shared_ptr<const Tileset3d>(std::move(ts));
 }
 
-json Tileset3d::tilesetJson(const std::string& contentPrefix, const std::string& generator) const {
+json Tileset3d::tilesetJson(const std::string& contentPrefix, const std::string& generator,
+                            const std::string& contentQuery) const {
     std::function<json(std::uint32_t)> tileJson = [&](std::uint32_t n) {
         const Tile& t = tiles_[n];
         const glm::dvec3 mid = (t.boxMin + t.boxMax) * 0.5;
@@ -257,7 +258,7 @@ json Tileset3d::tilesetJson(const std::string& contentPrefix, const std::string&
         json j = json::object();
         j["boundingVolume"] = {{"box", {mid.x, mid.y, mid.z, half.x, 0.0, 0.0, 0.0, half.y, 0.0, 0.0, 0.0, half.z}}};
         j["geometricError"] = t.geometricError;
-        if (!t.pieces.empty()) j["content"] = {{"uri", contentPrefix + std::to_string(n) + ".glb"}};
+        if (!t.pieces.empty()) j["content"] = {{"uri", contentPrefix + std::to_string(n) + ".glb" + contentQuery}};
         if (!t.children.empty()) {
             json kids = json::array();
             for (std::uint32_t ch : t.children) kids.push_back(tileJson(ch));

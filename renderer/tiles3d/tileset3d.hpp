@@ -70,8 +70,9 @@ public:
                                                           const std::atomic<bool>* cancel = nullptr);
 
     // tileset.json: asset 1.1, the root transform, one tile per octree node; content URIs are
-    // `<contentPrefix><n>.glb` relative to the tileset (n = 0 .. tileCount() - 1).
-    nlohmann::ordered_json tilesetJson(const std::string& contentPrefix, const std::string& generator) const;
+    // `<contentPrefix><n>.glb<contentQuery>` relative to the tileset (n = 0 .. tileCount() - 1).
+    nlohmann::ordered_json tilesetJson(const std::string& contentPrefix, const std::string& generator,
+                                       const std::string& contentQuery = "") const;
     std::size_t tileCount() const { return tiles_.size(); }
     // The GLB of tile n (n < tileCount(), else OutOfRange).
     Result<std::vector<std::uint8_t>> tileGlb(std::size_t n) const;

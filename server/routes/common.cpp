@@ -38,9 +38,26 @@ std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const Htt
         } else {
             problem(res, 404, "no model '" + id + "'", instance, "not_found");
         }
+        return nullptr;
     }
+    if (!versionPinHolds(req, *m, res)) return nullptr;
     return m;
 }
+
+bool versionPinHolds(const HttpRequest& req, const api::CatalogModel& m, HttpResponse& res) {
+    const auto range = req.params.equal_range(std::string(api::kVersionParam));
+    for (auto it = range.first; it != range.second; ++it)
+        if (it->second != m.version) {
+            problem(res, 404,
+                    "model '" + m.id + "' is at version " + m.version + " here; this URL names version '" +
+                        it->second.substr(0, 40) + "' (re-read GET /v1/models/" + m.id + " for the current URLs)",
+                    req.path, "model_version");
+            return false;
+        }
+    return true;
+}
+
+std::string versionQuery(const api::CatalogModel& m) { return "?" + std::string(api::kVersionParam) + "=" + m.version; }
 
 Result<api::Params> queryParams(const HttpRequest& req) { return api::paramsFromQuery(req.params); }
 

@@ -41,6 +41,16 @@ inline std::size_t renderBytes(int width, int height, bool gl) {
 std::shared_ptr<const api::CatalogModel> findModel(ServerState& state, const HttpRequest& req, const std::string& id,
                                                    HttpResponse& res);
 
+// The content version a URL may name (`version=`, CatalogModel::version: the package checksum, so a
+// re-bake makes new URLs). Absent: true (the answer is cacheable for a short while,
+// sendEncoded). The served version: true (the answer never changes: cacheable for a year,
+// immutable). Another: answers 404 naming both versions (code model_version) and returns
+// false, so that an old URL never gets a new picture and a new one never an old picture (a
+// replica still on the old version during a roll-out says so instead of answering).
+bool versionPinHolds(const HttpRequest& req, const api::CatalogModel& m, HttpResponse& res);
+// The query suffix that pins a URL to the model's version: "?version=<version>".
+std::string versionQuery(const api::CatalogModel& m);
+
 // True when the request may read model `id`: keys off, or its key's scope names `id`.
 bool mayRead(const ServerState& state, const HttpRequest& req, std::string_view id);
 // The 403 answer for a model the request's key may not read.

@@ -36,9 +36,12 @@ void defineSection(ServerState& st, const HttpRequest& req, HttpResponse& res) {
     j["sid"] = sid;
     j["model"] = m->id;
     j["definition"] = def.value().canonical();
-    j["tiles"] = "/v1/sections/" + sid + "/tiles/{z}/{x}/{y}.png";
-    j["tilejson"] = "/v1/sections/" + sid + "/tilejson.json";
-    j["ogcTiles"] = "/v1/sections/" + sid + "/tiles";
+    // URLs pinned to the model's version: a re-bake makes new ones (versionPinHolds).
+    const std::string v = versionQuery(*m);
+    j["version"] = m->version;
+    j["tiles"] = "/v1/sections/" + sid + "/tiles/{z}/{x}/{y}.png" + v;
+    j["tilejson"] = "/v1/sections/" + sid + "/tilejson.json" + v;
+    j["ogcTiles"] = "/v1/sections/" + sid + "/tiles" + v;
     j["grid"] = grid.value().describe();
     res.set_header("Location", "/v1/sections/" + sid);
     sendJson(res, j, 201);
@@ -73,6 +76,7 @@ std::optional<std::pair<std::shared_ptr<const api::CatalogModel>, api::SectionDe
                 req.path);
         return std::nullopt;
     }
+    if (!versionPinHolds(req, *m, res)) return std::nullopt;
     return std::make_pair(m, def.value());
 }
 
@@ -113,8 +117,9 @@ void describeTiles(ServerState& st, const HttpRequest& req, HttpResponse& res, c
     const std::string sid = req.matches[1];
     const std::string base = sectionBase(req, sid);
     const std::string title = "geoslice section of " + s->first->id + ": " + s->second.canonical();
-    if (form == "tilejson") return sendJson(res, api::tileJson(grid.value(), base, title));
-    if (form == "tileset") return sendJson(res, api::ogcTileset(grid.value(), base, title));
+    const std::string v = versionQuery(*s->first);
+    if (form == "tilejson") return sendJson(res, api::tileJson(grid.value(), base, title, v));
+    if (form == "tileset") return sendJson(res, api::ogcTileset(grid.value(), base, title, v));
     sendJson(res, api::ogcTileMatrixSet(grid.value(), base));
 }
 

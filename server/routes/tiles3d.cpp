@@ -76,7 +76,9 @@ void tileset(ServerState& st, const HttpRequest& req, HttpResponse& res) {
         [&st, m, etag = RenderCache::etagOf(key)](workers::WorkerState&, const std::atomic<bool>&) -> Rendered {
             auto ts = tilesetOf(st, *m);
             if (!ts) return ts.error();
-            return documentEntry(jsonText(ts.value()->tilesetJson("tiles/", kGeneratorName)), "application/json", etag);
+            // Tile URIs pinned to the model's version: a re-bake makes new ones.
+            return documentEntry(jsonText(ts.value()->tilesetJson("tiles/", kGeneratorName, versionQuery(*m))),
+                                 "application/json", etag);
         },
         std::max(kVectorBytes, m->model.triangleCount() * 96), false, *req.cancelled);
     if (!result) return problem(res, result.error(), req.path);

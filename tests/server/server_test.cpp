@@ -810,11 +810,56 @@ TEST_F(Server, ModelAs3dTiles) {
     const std::string etag = tile->get_header_value("ETag");
     ASSERT_FALSE(etag.empty());
     auto again =
-        client().Get(("/v1/models/demo/3dtiles/" + uri + "?v=1").c_str(), httplib::Headers{{"If-None-Match", etag}});
+        client().Get(("/v1/models/demo/3dtiles/" + uri + "&v=1").c_str(), httplib::Headers{{"If-None-Match", etag}});
     ASSERT_TRUE(again);
     EXPECT_EQ(again->status, 304);
     expectProblem(client().Get("/v1/models/demo/3dtiles/tiles/999999.glb"), 404, "tiles, no 999999");
     expectProblem(client().Get("/v1/models/nope/3dtiles/tileset.json"), 404, "nope");
+}
+
+// URLs pinned to the model's content version (server/routes/common.hpp versionPinHolds): the
+// served version is immutable for a year, another version is a 404 naming both, no version a
+// minute; the section templates, TileJSON and 3D Tiles carry the pin.
+TEST_F(Server, VersionedUrlsAreImmutableAndStaleOnesAnswer404) {
+    const json model = getJson("/v1/models/demo");
+    const std::string version = model["version"];
+    ASSERT_EQ(version.size(), 16u);
+    const std::string png = "/v1/models/demo/section.png?" + kPlane + "&size=64x32";
+    auto plain = client().Get(png.c_str());
+    ASSERT_TRUE(plain);
+    EXPECT_EQ(plain->status, 200);
+    EXPECT_EQ(plain->get_header_value("Cache-Control"), "public, max-age=60");
+    auto pinned = client().Get((png + "&version=" + version).c_str());
+    ASSERT_TRUE(pinned);
+    EXPECT_EQ(pinned->status, 200);
+    EXPECT_EQ(pinned->get_header_value("Cache-Control"), "public, max-age=31536000, immutable");
+    EXPECT_EQ(pinned->body, plain->body);
+    auto again = client().Get((png + "&version=" + version).c_str(),
+                              httplib::Headers{{"If-None-Match", pinned->get_header_value("ETag")}});
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 304);
+    EXPECT_EQ(again->get_header_value("Cache-Control"), "public, max-age=31536000, immutable");
+    expectProblem(client().Get((png + "&version=0123456789abcdef").c_str()), 404, "is at version " + version);
+    expectProblem(client().Get(("/v1/models/demo/query?" + kPlane + "&size=64x32&px=1&py=1&version=old").c_str()), 404,
+                  "names version 'old'");
+    // Section templates and their standard descriptions are pinned.
+    auto def = client().Post("/v1/models/demo/sections", "{\"plane\": \"0,1,0,-3388846\"}", "application/json");
+    ASSERT_TRUE(def);
+    ASSERT_EQ(def->status, 201);
+    const json d = json::parse(def->body);
+    EXPECT_EQ(d["version"], version);
+    const std::string tiles = d["tiles"];
+    EXPECT_NE(tiles.find("?version=" + version), std::string::npos) << tiles;
+    const std::string sid = d["sid"];
+    auto tile = client().Get(("/v1/sections/" + sid + "/tiles/0/0/0.png?version=" + version).c_str());
+    ASSERT_TRUE(tile);
+    EXPECT_EQ(tile->status, 200);
+    EXPECT_EQ(tile->get_header_value("Cache-Control"), "public, max-age=31536000, immutable");
+    expectProblem(client().Get(("/v1/sections/" + sid + "/tiles/0/0/0.png?version=0000").c_str()), 404, "version");
+    const json tj = getJson("/v1/sections/" + sid + "/tilejson.json?version=" + version);
+    EXPECT_NE(tj["tiles"][0].get<std::string>().find("?version=" + version), std::string::npos);
+    const json ts = getJson("/v1/models/demo/3dtiles/tileset.json?version=" + version);
+    EXPECT_NE(ts["root"]["content"]["uri"].get<std::string>().find("?version=" + version), std::string::npos);
 }
 
 }  // namespace
