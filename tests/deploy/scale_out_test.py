@@ -247,6 +247,72 @@ class KeysThroughNginx(unittest.TestCase):
             self.assertNotIn(self.KEY, f.read(), "the replica logs no key")
 
 
+class RebakeBehindNginx(unittest.TestCase):
+    """A model changes under a replica behind nginx's cache (deploy/nginx/geoslice.conf): the
+    replica re-bakes it on restart, GET /v1/models/{id} names the new version, and a URL
+    pinned to it (version=) gets the new picture at once, through the cache; a URL pinned to
+    the old version still names the old picture (cached for a year, immutable), never a new
+    one; the replica answers a stale pin with 404; an unpinned URL is cached a minute only."""
+
+    def generate(self, seed):
+        import subprocess
+        subprocess.run([BINARY, "generate", "--triangles", "20000", "--seed", str(seed), "--crs", "EPSG:4523",
+                        "--out", os.path.join(self.models, "mine.glb")], check=True, capture_output=True)
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="geoslice-rebake-")
+        self.models = os.path.join(self.dir, "models")
+        os.makedirs(self.models)
+        self.generate(1)
+        self.args = ["--workers", "1", "--models", self.models, "--bake-dir", os.path.join(self.dir, "bake")]
+        self.replica = Replica(BINARY, free_port(), self.dir, self.args).start()
+        self.lb = Balancer(free_port(), self.dir, NGINX)
+        self.replica.wait_ready()
+        self.lb.configure([self.replica.port])
+        self.lb.start()
+
+    def tearDown(self):
+        try:
+            self.lb.stop()
+        finally:
+            self.replica.kill(signal.SIGTERM)
+            shutil.rmtree(self.dir, ignore_errors=True)
+
+    def version(self):
+        status, _, body = http_get(self.lb.port, "/v1/models/mine")
+        self.assertEqual(status, 200, body[:200])
+        return json.loads(body)["version"]
+
+    def test_a_rebaked_model_gets_new_urls_and_never_a_stale_picture(self):
+        m = json.loads(http_get(self.lb.port, "/v1/models/mine")[2])
+        y = 0.5 * (m["bounds"]["min"][1] + m["bounds"]["max"][1])
+        image = f"/v1/models/mine/section.png?plane=0,1,0,{-y:.3f}&size=256x128"
+        v1 = self.version()
+        status, h, old = http_get(self.lb.port, f"{image}&version={v1}")
+        self.assertEqual(status, 200, old[:200])
+        self.assertEqual(h["cache-control"], "public, max-age=31536000, immutable")
+        self.assertEqual(http_get(self.lb.port, f"{image}&version={v1}")[1].get("x-cache-status"), "HIT")
+        status, h, plain = http_get(self.lb.port, image)
+        self.assertEqual((status, h["cache-control"]), (200, "public, max-age=60"))
+        # The model changes; the replica restarts and re-bakes it.
+        self.replica.kill(signal.SIGTERM)
+        self.generate(2)
+        self.replica = Replica(BINARY, self.replica.port, self.dir, self.args).start()
+        self.replica.wait_ready()
+        v2 = self.version()
+        self.assertNotEqual(v1, v2, "a changed model has a new version")
+        status, h, new = http_get(self.lb.port, f"{image}&version={v2}")
+        self.assertEqual(status, 200, new[:200])
+        self.assertNotEqual(h.get("x-cache-status"), "HIT", "a new version is a new URL: never in the cache")
+        self.assertNotEqual(new, old, "the re-baked model draws another picture")
+        # The old pin names the old picture: from the cache, or 404 from the replica; never new.
+        status, h, again = http_get(self.lb.port, f"{image}&version={v1}")
+        self.assertTrue((status == 200 and again == old) or status == 404, (status, h))
+        status, _, body = http_get(self.replica.port, f"{image}&version={v1}")
+        self.assertEqual(status, 404)
+        self.assertIn(b"model_version", body)
+
+
 class ScaleOut(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
