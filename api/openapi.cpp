@@ -122,7 +122,8 @@ J answerSchemas() {
     J s;
     s["Health"] = object({{"status", kStr}, {"version", kStr}});
     s["Readiness"] =
-        object({{"ready", kBool}, {"models", kObj}, {"workers", kInt}, {"renders", kObj}}, {"workers", "renders"});
+        object({{"ready", kBool}, {"models", kObj}, {"workers", kInt}, {"renders", kObj}, {"memory", kObj}},
+               {"workers", "renders", "memory"});
     s["Crs"] =
         object({{"id", kStr}, {"name", kStr}, {"axes", arrayOf(kStr)}, {"units", kStr}}, {"name", "axes", "units"});
     s["ModelSummary"] = object({{"id", kStr},

@@ -11,6 +11,7 @@
 
 #include "api/catalog.hpp"
 #include "cli/commands.hpp"
+#include "server/container_memory.hpp"
 #include "server/http_server.hpp"
 
 namespace geoslice::cli {
@@ -111,6 +112,9 @@ int runServe(const ServeArgs& a) {
     if (a.tiles3dTriangles > 0) config.tiles3dTriangles = std::size_t(a.tiles3dTriangles);
     if (a.demoTriangles > 0) config.demoTriangles = std::size_t(a.demoTriangles);
     if (a.maxBody > 0) config.maxBodyBytes = std::size_t(a.maxBody);
+    // Inside a container (or unit) with a memory limit, the render budget and the cache left at
+    // their defaults shrink to their shares of it (server/container_memory.hpp).
+    if (auto limit = server::containerMemoryLimit()) server::fitToContainer(config, *limit);
     if (auto s = server::checkConfig(config); !s) {
         std::fprintf(stderr, "geoslice serve: %s\n", s.error().message.c_str());
         return 2;

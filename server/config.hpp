@@ -41,7 +41,9 @@
 //   logLevel           GEOSLICE_LOG_LEVEL             --log-level             info
 //   memoryBudgetMiB    GEOSLICE_MEMORY_BUDGET_MIB     --memory-budget-mib     4096 (estimated memory of queued and
 //                                                                             running renders; beyond it 503 +
-//                                                                             Retry-After; 0 = no limit)
+//                                                                             Retry-After; 0 = no limit); in a
+//                                                                             cgroup with a memory limit, half of it
+//                                                                             when left at 4096 (cacheMiB: an eighth)
 //   readyzPaths        GEOSLICE_READYZ_PATHS          --readyz-paths          0 (1: /readyz shows absolute file
 //                                                                             paths in model errors)
 //   noBake             GEOSLICE_NO_BAKE               --no-bake               0 (1: never bake; a model without a
@@ -98,6 +100,10 @@ struct ServerConfig {
     // Largest model file read (MiB): model/io/loaders.hpp kDefaultMaxModelBytes, probeModelFile.
     std::size_t maxModelMiB = 1024;
     std::size_t tiles3dTriangles = 16384;  // renderer/tiles3d/tileset3d.hpp Tiles3dOptions::trianglesPerTile
+    // The container's memory limit (server/container_memory.hpp), when one was found: the
+    // render budget and the cache were fitted to it where left at their defaults. /readyz.
+    std::size_t containerMemoryMiB = 0;
+    std::string containerMemorySource;
 };
 
 // Applies a JSON object's known keys (unknown keys are an error naming them).

@@ -100,7 +100,13 @@ void readyz(ServerState& st, HttpResponse& res) {
            {"rays", std::move(rays)},
            {"gl", {{"enabled", st.glEnabled}, {"ready", gl.ready}, {"device", gl.device}}},
            {"workers", st.pool->workers()},
-           {"renders", std::move(renders)}};
+           {"renders", std::move(renders)},
+           // The memory the server plans with: the container's limit when one was found
+           // (server/container_memory.hpp), the render budget and the answer cache.
+           {"memory",
+            {{"containerLimitMiB", st.config.containerMemoryMiB ? Json(st.config.containerMemoryMiB) : Json(nullptr)},
+             {"renderBudgetMiB", st.config.memoryBudgetMiB},
+             {"cacheMiB", st.config.cacheMiB}}}};
     sendJson(res, j, modelsReady && glOk && workersOk ? 200 : 503);
 }
 
