@@ -25,6 +25,12 @@ else
   echo "SKIP: no writable cgroup memory controller"
   exit 77
 fi
+# A process must be able to join it (a nested container may refuse).
+if ! (echo "$BASHPID" > "$cg/cgroup.procs") 2>/dev/null; then
+  rmdir "$cg" 2>/dev/null
+  echo "SKIP: cannot move a process into $cg"
+  exit 77
+fi
 tmp=$(mktemp -d)
 pid=""
 cleanup() {
