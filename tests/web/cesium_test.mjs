@@ -165,14 +165,17 @@ await page.evaluate(async () => {
   viewer.scene.primitives.add(tileset);
   window.viewer = viewer;
   window.tileset = tileset;
+  // Frames until every tile the view needs is loaded and stays so over three frames (a frame
+  // may ask for more tiles), at most a minute.
   window.settle = async () => {
-    for (let i = 0; i < 600; ++i) {
-      viewer.scene.requestRender();
+    let stable = 0;
+    for (let i = 0; i < 600 && stable < 3; ++i) {
+      viewer.scene.render();
       await new Promise((r) => setTimeout(r, 100));
-      if (tileset.tilesLoaded) break;
+      stable = tileset.tilesLoaded ? stable + 1 : 0;
     }
-    for (let i = 0; i < 3; ++i) { viewer.scene.render(); await new Promise((r) => requestAnimationFrame(r)); }
-    return tileset.tilesLoaded;
+    viewer.scene.render();
+    return stable >= 3;
   };
   // Look straight down from `h` metres above an Earth-fixed point, north up.
   window.lookDown = (xyz, h) => {
