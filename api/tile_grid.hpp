@@ -38,7 +38,7 @@ Result<TileGrid> tileGrid(const CatalogModel& model, const SectionDef& def);
 //  - an OGC Two Dimensional Tile Matrix Set (OGC 17-083r4) in a local engineering CRS: the
 //    section picture's frame (u east, v * exaggeration up, metres), origin top-left at
 //    (u0, v1 * k), matrix z of 2^z x 2^z tiles with square cells of size0 / 2^z / tileSize.
-// `query`: appended to every URL they give (the model-version pin, "?v=...").
+// `query`: appended to every URL they give (the model-version pin, "?version=...").
 nlohmann::ordered_json tileJson(const TileGrid& grid, const std::string& base, const std::string& title,
                                 const std::string& query = "");
 nlohmann::ordered_json ogcTileset(const TileGrid& grid, const std::string& base, const std::string& title,

@@ -13,14 +13,10 @@ export function svgEl(tag, attrs, text) {
   if (text != null) e.textContent = text;
   return e;
 }
-// Labels by priority (data-p, 0 first): the scale bar and section ends, then axis titles,
-// then tick values, then graticule values. declutter() keeps a label only where it meets no
-// label kept before it and no map control (zoom buttons, attribution), so nothing is ever
-// drawn over anything else; what it drops is the least important.
-function labelled(el, p) {
-  el.dataset.p = p;
-  return el;
-}
+// Labels by priority (attribute data-p, 0 first): the scale bar and section ends, then axis
+// titles, then tick values, then graticule values. declutter() keeps a label only where it
+// meets no label kept before it and no map control (zoom buttons, attribution), so nothing is
+// ever drawn over anything else; what it drops is the least important.
 function declutter(svg, map) {
   const host = svg.getBoundingClientRect();
   const kept = [];
@@ -40,7 +36,7 @@ function scaleBar(svg, map, g, w, h) {
   const mPerPx = g.size0 / 256 / 2 ** map.getZoom();
   const m = V.niceStep(mPerPx * 80), px = m / mPerPx;
   const x0 = 72, y0 = h - 48;
-  const bar = labelled(svgEl('g', { id: 'scaleBar' }), 0);
+  const bar = svgEl('g', { id: 'scaleBar', 'data-p': 0 });
   bar.append(svgEl('rect', { x: x0 - 4, y: y0 - 16, width: px + 8, height: 24, class: 'axisbg' }));
   bar.append(svgEl('path', { d: `M${x0},${y0 - 4}v6h${px}v-6`, stroke: '#000', 'stroke-width': 2, fill: 'none' }));
   bar.append(svgEl('text', { x: x0 + px / 2, y: y0 - 6, 'text-anchor': 'middle', id: 'scaleText' },
@@ -59,7 +55,7 @@ function axes(svg, map, g, w, h, leftLabel, bottomLabel, bottomValue) {
     const y = map.latLngToContainerPoint([latOf(g, v), 0]).y;
     if (y < 12 || y > h - 24) continue;
     svg.append(svgEl('line', { x1: aw - 6, x2: aw, y1: y, y2: y, stroke: '#000' }));
-    svg.append(labelled(svgEl('text', { x: aw - 7, y: y + 4, 'text-anchor': 'end' }, Math.round(v)), 2));
+    svg.append(svgEl('text', { x: aw - 7, y: y + 4, 'text-anchor': 'end', 'data-p': 2 }, Math.round(v)));
   }
   const left = map.containerPointToLatLng([0, 0]), right = map.containerPointToLatLng([w, 0]);
   const uL = uOf(g, left.lng), uR = uOf(g, right.lng);
@@ -67,10 +63,10 @@ function axes(svg, map, g, w, h, leftLabel, bottomLabel, bottomValue) {
     const x = map.latLngToContainerPoint([0, lngOf(g, u - bottomValue(uL) + uL)]).x;
     if (x < aw + 30 || x > w - 30) continue;
     svg.append(svgEl('line', { x1: x, x2: x, y1: h - 20, y2: h - 14, stroke: '#000' }));
-    svg.append(labelled(svgEl('text', { x, y: h - 5, 'text-anchor': 'middle' }, Math.round(u)), 2));
+    svg.append(svgEl('text', { x, y: h - 5, 'text-anchor': 'middle', 'data-p': 2 }, Math.round(u)));
   }
-  svg.append(labelled(svgEl('text', { x: aw + 4, y: 14, class: 'axis-label' }, leftLabel), 1));
-  svg.append(labelled(svgEl('text', { x: aw + 4, y: h - 24, class: 'axis-label' }, bottomLabel), 1));
+  svg.append(svgEl('text', { x: aw + 4, y: 14, class: 'axis-label', 'data-p': 1 }, leftLabel));
+  svg.append(svgEl('text', { x: aw + 4, y: h - 24, class: 'axis-label', 'data-p': 1 }, bottomLabel));
 }
 export function drawSectionOverlay() {
   const svg = $('sectionOverlay');
@@ -82,7 +78,7 @@ export function drawSectionOverlay() {
   axes(svg, map, g, w, h, horizontal ? t('northAxis') : t('elevAxis'), horizontal ? t('eastAxis') : t('distAxis'),
        horizontal ? (u) => u : (u) => u - sec.distance0);
   scaleBar(svg, map, g, w, h);
-  if (!horizontal) svg.append(labelled(svgEl('text', { x: w - 8, y: 14, 'text-anchor': 'end', id: 'vxLabel' }, t('vxShown', g.exaggeration)), 1));
+  if (!horizontal) svg.append(svgEl('text', { x: w - 8, y: 14, 'text-anchor': 'end', id: 'vxLabel', 'data-p': 1 }, t('vxShown', g.exaggeration)));
   const vTop = g.extent.v1;
   // An end in view is labelled above it; one scrolled away is named at the edge it lies
   // beyond, with an arrow, after those in view (so it never hides one that is there).
@@ -92,9 +88,8 @@ export function drawSectionOverlay() {
     const inView = p.x >= 0 && p.x <= w;
     const x = Math.max(70, Math.min(w - 16, p.x));
     const text = inView ? end.label : p.x < 0 ? `‹ ${end.label}` : `${end.label} ›`;
-    const el = svgEl('text', { x, y: 36, 'text-anchor': inView ? 'middle' : p.x < 0 ? 'start' : 'end', class: 'end' }, text);
-    el.dataset.end = end.label;
-    svg.append(labelled(el, inView ? 0 : 0.5));
+    svg.append(svgEl('text', { x, y: 36, 'text-anchor': inView ? 'middle' : p.x < 0 ? 'start' : 'end', class: 'end',
+                              'data-end': end.label, 'data-p': inView ? 0 : 0.5 }, text));
   }
   declutter(svg, map);
 }
@@ -130,14 +125,14 @@ export function drawPlanOverlay() {
       const a = toPx(lon, ll0[1] - d), b = toPx(lon, ll1[1] + d);
       svg.append(svgEl('line', { x1: a.x, y1: a.y, x2: b.x, y2: b.y, class: 'grat' }));
       const lp = toPx(lon, ll1[1]);
-      svg.append(labelled(svgEl('text', { x: lp.x + 3, y: h - 26, fill: '#0b62c4' }, `${lon.toFixed(3)}°E`), 3));
+      svg.append(svgEl('text', { x: lp.x + 3, y: h - 26, fill: '#0b62c4', 'data-p': 3 }, `${lon.toFixed(3)}°E`));
     }
     for (let lat = Math.ceil(ll0[1] / d) * d; lat <= ll1[1]; lat += d) {
       const a = toPx(ll0[0] - d, lat), b = toPx(ll1[0] + d, lat);
       svg.append(svgEl('line', { x1: a.x, y1: a.y, x2: b.x, y2: b.y, class: 'grat' }));
-      svg.append(labelled(svgEl('text', { x: w - 4, y: toPx(ll1[0], lat).y - 3, 'text-anchor': 'end' }, `${lat.toFixed(3)}°N`), 3));
+      svg.append(svgEl('text', { x: w - 4, y: toPx(ll1[0], lat).y - 3, 'text-anchor': 'end', 'data-p': 3 }, `${lat.toFixed(3)}°N`));
     }
   }
-  svg.append(labelled(svgEl('text', { x: w - 12, y: 36, 'text-anchor': 'end', class: 'end' }, '↑N'), 1));
+  svg.append(svgEl('text', { x: w - 12, y: 36, 'text-anchor': 'end', class: 'end', 'data-p': 1 }, '↑N'));
   declutter(svg, map);
 }

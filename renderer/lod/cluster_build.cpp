@@ -113,12 +113,10 @@ double buildClusters(const CellGrid& grid, const std::vector<glm::vec3>& local,
         std::vector<std::int32_t> cover(d.clusters.size(), -1);  // finest group so far
         for (std::uint32_t side = 2; side <= 8; side *= 2) {
             auto blockOf = [&](std::uint32_t cell) {
-                const std::uint32_t x = cell % std::uint32_t(grid.dims.x),
-                                    y = cell / std::uint32_t(grid.dims.x) % std::uint32_t(grid.dims.y),
-                                    z = cell / std::uint32_t(grid.dims.x) / std::uint32_t(grid.dims.y);
+                const glm::uvec3 c(grid.coordsOf(cell));
                 const std::uint32_t bx = (std::uint32_t(grid.dims.x) + side - 1) / side,
                                     by = (std::uint32_t(grid.dims.y) + side - 1) / side;
-                return ((z / side) * by + y / side) * bx + x / side;
+                return ((c.z / side) * by + c.y / side) * bx + c.x / side;
             };
             std::vector<std::pair<std::uint32_t, std::uint32_t>> byBlock;
             for (std::uint32_t i = 0; i < d.clusters.size(); ++i) byBlock.emplace_back(blockOf(d.clusters[i].cell), i);

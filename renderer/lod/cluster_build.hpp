@@ -34,7 +34,13 @@ struct CellGrid {
     std::uint32_t cellOf(const glm::dvec3& p) const {
         glm::ivec3 c;
         for (int k = 0; k < 3; ++k) c[k] = std::clamp(int(std::floor((p[k] - min[k]) / cellSize[k])), 0, dims[k] - 1);
-        return std::uint32_t((c.z * dims.y + c.y) * dims.x + c.x);
+        return indexOf(c);
+    }
+    // A cell's number from its grid coordinates (x fastest, then y, then z), and back.
+    std::uint32_t indexOf(const glm::ivec3& c) const { return std::uint32_t((c.z * dims.y + c.y) * dims.x + c.x); }
+    glm::ivec3 coordsOf(std::uint32_t cell) const {
+        return {int(cell % std::uint32_t(dims.x)), int(cell / std::uint32_t(dims.x) % std::uint32_t(dims.y)),
+                int(cell / std::uint32_t(dims.x) / std::uint32_t(dims.y))};
     }
 };
 

@@ -21,8 +21,9 @@ struct Tileset3d::PartData {
     std::string name;
     PartKind kind = PartKind::Body;
     RecordId record = kNoRecord;
-    std::uint32_t row = 0;       // property-table row of `record`
-    std::vector<glm::vec3> enu;  // vertices, east-north-up metres about the centre
+    std::uint32_t row = 0;                                // property-table row of `record`
+    std::vector<glm::vec3> enu;                           // vertices, east-north-up metres about the centre
+    const std::vector<std::uint32_t>* indices = nullptr;  // the model part's triangles (build only)
     std::vector<std::uint32_t> sorted, lodIndices;
     GpuModel::DrawPart draw;  // clusters and groups (renderer/lod/cluster_build.hpp)
 };
@@ -41,11 +42,6 @@ struct Rep {
     float error = 0.0f;
     int group = -1;  // index into DrawPart::groups, or -1 for a cluster level
 };
-
-glm::ivec3 cellCoords(const CellGrid& g, std::uint32_t cell) {
-    return {int(cell % std::uint32_t(g.dims.x)), int(cell / std::uint32_t(g.dims.x) % std::uint32_t(g.dims.y)),
-            int(cell / std::uint32_t(g.dims.x) / std::uint32_t(g.dims.y))};
-}
 
 float srgbToLinear(std::uint8_t c) {
     const double v = c / 255.0;
@@ -93,6 +89,7 @@ Result<std::shared_ptr<const Tileset3d>> Tileset3d::build(const Model& model, co
             pd.name = part.name;
             pd.kind = part.kind;
             pd.record = part.record;
+            pd.indices = &part.mesh.indices;
             pd.enu.resize(part.mesh.positions.size());
             for (std::size_t v = 0; v < part.mesh.positions.size(); ++v) {
                 if ((v & 4095) == 0 && cancelled())
@@ -123,19 +120,12 @@ Result<std::shared_ptr<const Tileset3d>> Tileset3d::build(const Model& model, co
     std::vector<Aabb> cellBounds(grid.count());
     std::vector<std::uint32_t> remap;
     std::vector<RecordId> records;
-    for (const PartData& pd : ts->parts_) records.push_back(pd.record);
-    {
-        // Parts in the order collected above (bodies, then surfaces, those with triangles).
-        std::size_t pi = 0;
-        for (const std::vector<Part>* list : {&model.bodies, &model.surfaces})
-            for (const Part& part : *list) {
-                if (part.mesh.indices.size() < 3) continue;
-                if (cancelled()) return makeError(ErrorCode::DeadlineExceeded, "3D Tiles: cancelled");
-                PartData& pd = ts->parts_[pi++];
-                pd.draw.firstIndex = 0;
-                buildClusters(grid, pd.enu, part.mesh.indices, true, std::clamp(options.lodLevels, 1, 8), pd.draw,
-                              pd.sorted, pd.lodIndices, cellBounds, remap);
-            }
+    for (PartData& pd : ts->parts_) {
+        if (cancelled()) return makeError(ErrorCode::DeadlineExceeded, "3D Tiles: cancelled");
+        buildClusters(grid, pd.enu, *pd.indices, true, std::clamp(options.lodLevels, 1, 8), pd.draw, pd.sorted,
+                      pd.lodIndices, cellBounds, remap);
+        pd.indices = nullptr;  // the model is the caller's: not kept
+        records.push_back(pd.record);
     }
     ts->rows_ = bake::featureRows(ts->attributes_, records);
     for (PartData& pd : ts->parts_)
@@ -155,7 +145,7 @@ Result<std::shared_ptr<const Tileset3d>> Tileset3d::build(const Model& model, co
         for (std::uint32_t g = 0; g < d.groups.size(); ++g) {
             glm::ivec3 lo(1 << 30), hi(-1);
             for (std::uint32_t mb : d.groups[g].members) {
-                const glm::ivec3 cc = cellCoords(grid, d.clusters[mb].cell);
+                const glm::ivec3 cc = grid.coordsOf(d.clusters[mb].cell);
                 lo = glm::min(lo, cc);
                 hi = glm::max(hi, cc);
                 groupsOf[pi][mb].push_back(g);  // ascending: finer first
@@ -196,8 +186,7 @@ Result<std::shared_ptr<const Tileset3d>> Tileset3d::build(const Model& model, co
         for (int z = lo.z; z <= hi.z; ++z)
             for (int y = lo.y; y <= hi.y; ++y)
                 for (int x = lo.x; x <= hi.x; ++x) {
-                    const std::uint32_t cell = std::uint32_t((z * grid.dims.y + y) * grid.dims.x + x);
-                    for (const ClusterRef& ref : inCell[cell]) {
+                    for (const ClusterRef& ref : inCell[grid.indexOf({x, y, z})]) {
                         const std::vector<Rep> reps = repsOf(ref.part, ref.cluster);
                         const Rep* pick = &reps[0];
                         for (const Rep& r : reps) {
@@ -228,7 +217,7 @@ Result<std::shared_ptr<const Tileset3d>> Tileset3d::build(const Model& model, co
                         for (int z = clo.z; z <= chi.z && !any; ++z)
                             for (int y = clo.y; y <= chi.y && !any; ++y)
                                 for (int x = clo.x; x <= chi.x && !any; ++x)
-                                    any = !inCell[std::size_t((z * grid.dims.y + y) * grid.dims.x + x)].empty();
+                                    any = !inCell[grid.indexOf({x, y, z})].empty();
                         if (any) tile.children.push_back(makeTile(h - 1, child));
                     }
             for (std::uint32_t ch : tile.children) {

@@ -2,9 +2,12 @@
 // GET /v1/models/{id}/3dtiles/tileset.json and /v1/models/{id}/3dtiles/tiles/{n}.glb (the URIs
 // tileset.json names, relative to it). The hierarchy is built once per model version on a
 // render worker, at the first request (ServerState::tiles3d); tileset.json and every tile are
-// encoded on a render worker and cached like images. Query parameters are ignored (cache
-// busters). A model without a WGS 84 placement (local, or a datum PROJ cannot place) gets 422.
+// encoded on a render worker and cached like images. Query parameters other than the version
+// pin (`version=`, server/routes/common.hpp) are ignored (cache busters). A model without a
+// WGS 84 placement (local, or a datum PROJ cannot place) gets 422.
 #include <chrono>
+#include <functional>
+#include <utility>
 
 #include "model/json_text.hpp"
 #include "model/version.hpp"
@@ -66,47 +69,48 @@ std::shared_ptr<const api::CatalogModel> placedModel(ServerState& st, const Http
     return m;
 }
 
-void tileset(ServerState& st, const HttpRequest& req, HttpResponse& res) {
+// One document of the model's tileset (`what`: "tileset.json" or "<n>.glb"), made by
+// `produce` from the built tileset on a render worker and cached like an image.
+using Document = std::pair<std::string, const char*>;  // body, content type
+using Produce = std::function<Result<Document>(const api::CatalogModel&, const Tileset3d&)>;
+void answer(ServerState& st, const HttpRequest& req, HttpResponse& res, const std::string& what, Produce produce) {
     auto m = placedModel(st, req, res);
     if (!m) return;
-    const std::string key = cache_key::tiles3d(*m, "tileset.json");
+    const std::string key = cache_key::tiles3d(*m, what);
     if (auto hit = st.cache->find(key, "3dtiles")) return sendEncoded(req, res, *hit);
     auto result = st.cache->render(
         key,
-        [&st, m, etag = RenderCache::etagOf(key)](workers::WorkerState&, const std::atomic<bool>&) -> Rendered {
+        [&st, m, produce = std::move(produce), etag = RenderCache::etagOf(key)](workers::WorkerState&,
+                                                                                const std::atomic<bool>&) -> Rendered {
             auto ts = tilesetOf(st, *m);
             if (!ts) return ts.error();
-            // Tile URIs pinned to the model's version: a re-bake makes new ones.
-            return documentEntry(jsonText(ts.value()->tilesetJson("tiles/", kGeneratorName, versionQuery(*m))),
-                                 "application/json", etag);
+            auto doc = produce(*m, *ts.value());
+            if (!doc) return doc.error();
+            return documentEntry(std::move(doc->first), doc->second, etag);
         },
         std::max(kVectorBytes, m->model.triangleCount() * 96), false, *req.cancelled);
     if (!result) return problem(res, result.error(), req.path);
     sendEncoded(req, res, *result.value());
 }
 
+void tileset(ServerState& st, const HttpRequest& req, HttpResponse& res) {
+    answer(st, req, res, "tileset.json", [](const api::CatalogModel& m, const Tileset3d& ts) -> Result<Document> {
+        // Tile URIs pinned to the model's version: a re-bake makes new ones.
+        return Document{jsonText(ts.tilesetJson("tiles/", kGeneratorName, versionQuery(m))), "application/json"};
+    });
+}
+
 void tile(ServerState& st, const HttpRequest& req, HttpResponse& res) {
-    auto m = placedModel(st, req, res);
-    if (!m) return;
-    const std::string& n = req.matches[2];
-    const std::string key = cache_key::tiles3d(*m, n + ".glb");
-    if (auto hit = st.cache->find(key, "3dtiles")) return sendEncoded(req, res, *hit);
-    auto result = st.cache->render(
-        key,
-        [&st, m, n, etag = RenderCache::etagOf(key)](workers::WorkerState&, const std::atomic<bool>&) -> Rendered {
-            auto ts = tilesetOf(st, *m);
-            if (!ts) return ts.error();
-            const std::size_t index = std::stoul(n);  // the route allows 1-9 digits
-            if (index >= ts.value()->tileCount())
-                return makeError(ErrorCode::NotFound, "3D Tiles: the tileset of '" + m->id + "' has " +
-                                                          std::to_string(ts.value()->tileCount()) + " tiles, no " + n);
-            auto glb = ts.value()->tileGlb(index);
-            if (!glb) return glb.error();
-            return documentEntry(std::string(glb->begin(), glb->end()), "model/gltf-binary", etag);
-        },
-        std::max(kVectorBytes, m->model.triangleCount() * 96), false, *req.cancelled);
-    if (!result) return problem(res, result.error(), req.path);
-    sendEncoded(req, res, *result.value());
+    const std::string n = req.matches[2];
+    answer(st, req, res, n + ".glb", [n](const api::CatalogModel& m, const Tileset3d& ts) -> Result<Document> {
+        const std::size_t index = std::stoul(n);  // the route allows 1-9 digits
+        if (index >= ts.tileCount())
+            return makeError(ErrorCode::NotFound, "3D Tiles: the tileset of '" + m.id + "' has " +
+                                                      std::to_string(ts.tileCount()) + " tiles, no " + n);
+        auto glb = ts.tileGlb(index);
+        if (!glb) return glb.error();
+        return Document{std::string(glb->begin(), glb->end()), "model/gltf-binary"};
+    });
 }
 
 }  // namespace

@@ -69,19 +69,21 @@ void GlbBuilder::addPart(const std::string& name, PartKind kind, RecordId record
 }
 
 GlbBuilder::json& GlbBuilder::finishDocument(const Model& model, const AttributeTable& attributes) {
-    finishDocument(model.name.empty() ? "model" : model.name, sceneExtras(model, attributes));
     const glm::dvec3 o = worldToGltf(model.origin);
-    doc_["nodes"][0] = {
-        {"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}, {"children", children_}};
-    doc_["scenes"][0]["name"] = model.name;
-    return doc_;
+    return finish({{"name", model.name.empty() ? "model" : model.name}, {"translation", {o.x, o.y, o.z}}}, model.name,
+                  sceneExtras(model, attributes));
 }
 
 GlbBuilder::json& GlbBuilder::finishDocument(const std::string& rootName, json extras) {
+    return finish({{"name", rootName}}, rootName, std::move(extras));
+}
+
+GlbBuilder::json& GlbBuilder::finish(json root, const std::string& sceneName, json extras) {
     while (bin_.size() % 4) bin_.push_back(0);
-    nodes_[0] = {{"name", rootName}, {"children", children_}};
+    root["children"] = children_;
+    nodes_[0] = std::move(root);
     doc_["scene"] = 0;
-    doc_["scenes"] = {{{"name", rootName}, {"nodes", {0}}, {"extras", {{"geoslice", std::move(extras)}}}}};
+    doc_["scenes"] = {{{"name", sceneName}, {"nodes", {0}}, {"extras", {{"geoslice", std::move(extras)}}}}};
     doc_["nodes"] = nodes_;
     doc_["meshes"] = meshes_;
     doc_["accessors"] = accessors_;

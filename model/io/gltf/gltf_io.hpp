@@ -82,6 +82,8 @@ public:
     Result<std::vector<std::uint8_t>> pack(const std::string& what) const;
 
 private:
+    // Both finishDocument()s: `root` (name, maybe translation) gets the parts as children.
+    json& finish(json root, const std::string& sceneName, json extras);
     std::vector<std::uint8_t> bin_;
     json doc_, accessors_ = json::array(), views_ = json::array(), meshes_ = json::array(),
                nodes_ = json::array({json::object()}), children_ = json::array();
