@@ -1,6 +1,7 @@
 // geoslice serve [--port N] [--models DIR] [--config FILE] [--gl ...]: the HTTP section
 // server. Settings: defaults < config file < GEOSLICE_* environment < flags
 // (server/config.hpp). SIGINT/SIGTERM shut it down gracefully.
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -24,7 +25,7 @@ struct ServeArgs {
     std::string configFile, host, models, bakeDir, gl, lod, cors, keysFile, logLevel;
     int port = -1, deadlineMs = -1, shutdownGraceMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
-    long long memoryBudgetMiB = -1, maxModelMiB = -1, tiles3dTriangles = -1;
+    long long memoryBudgetMiB = -1, maxModelMiB = -1, tiles3dTriangles = -1, modelsPollMs = -1;
     bool readyzPaths = false, noBake = false, bakeOnly = false;
     long long maxConnections = -1, headerTimeoutMs = -1, bodyTimeoutMs = -1, keepAliveMs = -1, keepAliveRequests = -1,
               sendTimeoutMs = -1;
@@ -109,6 +110,7 @@ int runServe(const ServeArgs& a) {
     if (a.readyzPaths) config.readyzPaths = true;
     if (a.noBake) config.noBake = true;
     if (a.maxModelMiB > 0) config.maxModelMiB = std::size_t(a.maxModelMiB);
+    if (a.modelsPollMs >= 0) config.modelsPollMs = int(std::min(a.modelsPollMs, 3600001LL));
     if (a.tiles3dTriangles > 0) config.tiles3dTriangles = std::size_t(a.tiles3dTriangles);
     if (a.demoTriangles > 0) config.demoTriangles = std::size_t(a.demoTriangles);
     if (a.maxBody > 0) config.maxBodyBytes = std::size_t(a.maxBody);
@@ -184,6 +186,9 @@ void addServe(CLI::App& app, int& exitCode) {
         "Estimated memory of renders under way, MiB; beyond it 503 + Retry-After (default 4096; 0 = no limit)");
     cmd->add_option("--max-model-mib", a->maxModelMiB,
                     "Largest model file read, MiB (default 1024): a larger one is skipped, named in /readyz");
+    cmd->add_option("--models-poll-ms", a->modelsPollMs,
+                    "Scan --models again this often, ms (default 2000; 0 = only at start): new or changed models "
+                    "load, a replica started before its packages were baked becomes ready when they appear");
     cmd->add_flag("--readyz-paths", a->readyzPaths,
                   "Show absolute file paths in /readyz model errors (default: names only)");
     cmd->add_option("--3dtiles-triangles", a->tiles3dTriangles,

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Throughput and cache hit ratio of 1, 2 and 3 geoslice replicas behind nginx on
-127.0.0.1, measured with wrk (prints JSON; not part of the test suite).
+127.0.0.1, measured with wrk, and the fleet's hit ratio with 3 and 5 replicas by
+balancing method (prints JSON; not part of the test suite).
 
     python3 deploy/bench_scale_out.py [--binary build/cli/geoslice] [--seconds 5] [--connections 8]
+                                      [--only throughput|fleet]
 
 Workloads, each through nginx for --seconds:
   new_sections  every request a section JPEG (256x128) at a plane no one asked for: all
@@ -11,7 +13,18 @@ Workloads, each through nginx for --seconds:
   mixed         80 % tiles drawn from 400 tile URLs, 20 % new sections (cold cache at start):
                 the hit ratio a tile viewer sees.
 Then, with 3 replicas, one replica is killed (SIGKILL) a third into a new_sections run:
-non-2xx answers and socket errors are reported. Replicas and wrk share this machine's
+non-2xx answers and socket errors are reported.
+
+Fleet (nginx's own cache off, so what is measured is the replicas' caches, as behind a
+Kubernetes Service or several cache-tier pods): 256 tiles of a new section, each asked 32
+times in a shuffled order by 4 keep-alive clients (8,192 requests; one render per tile
+would be a hit ratio of 1 - 1/32 = 0.969). fleet hit ratio = 1 - renders / requests, the
+renders summed over the replicas' geoslice_render_duration_seconds_count{kind="tile"}.
+With 3 and 5 replicas, round robin against consistent hashing; then with hashing a
+replica killed (SIGKILL) a third into the run, and one added a third into another run:
+failed requests are counted. Views: 32 section images, each followed by 16 pixel queries of
+that view; the replicas' ID-buffer cache hits say how many queries found the view's ID
+buffer on the replica they reached. Replicas and wrk share this machine's
 cores: on a 2-core machine the figures are ratios under shared load, not capacity.
 """
 import argparse
@@ -85,15 +98,156 @@ def cache_stats(lines):
     return {"cacheable": len(cached), "hits": hits, "hit_ratio": round(hits / len(cached), 3) if cached else None}
 
 
+def metric_sum(text, name, label=""):
+    """Sum of a Prometheus sample family's values in `text` whose labels contain `label`."""
+    total = 0.0
+    for ln in text.splitlines():
+        if ln.startswith(name) and (ln[len(name)] in " {") and label in ln:
+            total += float(ln.rsplit(" ", 1)[1])
+    return total
+
+
+def fleet_counts(replicas):
+    """{port: (tile renders, ID-buffer hits, ID-buffer misses)} from each live replica."""
+    out = {}
+    for r in replicas:
+        if r.proc.poll() is None:
+            m = r.metrics()
+            out[r.port] = (metric_sum(m, "geoslice_render_duration_seconds_count", 'kind="tile"'),
+                           metric_sum(m, "geoslice_cache_total", 'cache="ids",result="hit"'),
+                           metric_sum(m, "geoslice_cache_total", 'cache="ids",result="miss"'))
+    return out
+
+
+def drive(port, paths, threads=4, at_third=None):
+    """GETs every path once from `threads` keep-alive clients; calls at_third() (in its own
+    thread) when a third of them are answered. Returns [status or error text]."""
+    import http.client
+
+    results, lock, it = [], threading.Lock(), iter(paths)
+    third, fired = len(paths) // 3, threading.Event()
+
+    def client():
+        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+        while True:
+            with lock:
+                path = next(it, None)
+            if path is None:
+                break
+            try:
+                conn.request("GET", path)
+                r = conn.getresponse()
+                r.read()
+                out = r.status
+            except Exception as e:  # a lost request: counted, never retried here
+                out = f"{type(e).__name__}: {e}"
+                conn.close()
+            with lock:
+                results.append(out)
+                fire = at_third is not None and len(results) >= third and not fired.is_set()
+                if fire:
+                    fired.set()
+            if fire:
+                threading.Thread(target=at_third).start()
+        conn.close()
+
+    ts = [threading.Thread(target=client) for _ in range(threads)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    return results
+
+
+def fleet_runs(binary, nginx, work, workers):
+    """The fleet workloads (see the module's doc); returns their results."""
+    import random
+
+    from scale_out import Fleet
+
+    runs = []
+    plane_n = 0
+    for n, balance, event in ((3, "round-robin", None), (3, "hash", None), (5, "round-robin", None),
+                              (5, "hash", None), (5, "hash", "kill"), (5, "hash", "add")):
+        lb = Balancer(free_port(), work, nginx, balance=balance, cache=False)
+        lb.configure([])
+        lb.start()
+        args = ["--workers", str(workers), "--http-threads", "32", "--log-level", "warn", "--cache-mib", "1024"]
+        fleet = Fleet(binary, free_port() + 100, work, args, lb)
+        try:
+            fleet.add(n)
+            plane_n += 1
+            _, _, body = http_get(lb.port, "/v1/models/demo/sections", method="POST",
+                                  body=json.dumps({"plane": f"0,1,0,-{3388846 + 3 * plane_n}"}),
+                                  headers={"Content-Type": "application/json"})
+            sid = json.loads(body)["sid"]
+            tiles = [f"/v1/sections/{sid}/tiles/5/{k % 32}/{k // 32}.png" for k in range(256)]
+            paths = tiles * 32
+            random.Random(plane_n).shuffle(paths)
+            before = fleet_counts(fleet.replicas)
+            gone = {}
+
+            def kill():
+                victim = fleet.in_list[1]
+                gone.update(fleet_counts([victim]))  # its renders so far (read just before it dies)
+                victim.kill(signal.SIGKILL)
+
+            def add():
+                fleet.add(1)
+
+            load0 = os.getloadavg()[0]
+            t0 = time.monotonic()
+            results = drive(lb.port, paths, at_third={"kill": kill, "add": add}.get(event))
+            seconds = time.monotonic() - t0
+            after = fleet_counts(fleet.replicas)
+            after.update(gone)
+            renders = sum(after[p][0] - before.get(p, (0, 0, 0))[0] for p in after)
+            failed = [x for x in results if x != 200]
+            run = {"replicas": n, "balance": balance, "event": event, "requests": len(results),
+                   "distinct_tiles": len(tiles), "tile_renders": int(renders),
+                   "fleet_hit_ratio": round(1 - renders / len(results), 4), "ideal": round(1 - 1 / 32, 4),
+                   "failed": len(failed), "failed_examples": failed[:3], "seconds": round(seconds, 2),
+                   "load": load0}
+            if event is None:
+                # Views: a section image, then 16 pixel queries of that view.
+                before = fleet_counts(fleet.replicas)
+                vpaths = []
+                for v in range(32):
+                    view = f"plane=0,1,0,-{3387100 + 97 * v + plane_n}&size=256x128"
+                    vpaths.append(f"/v1/models/demo/section.png?{view}")
+                    vpaths += [f"/v1/models/demo/query?{view}&px={(7 * q) % 256}&py={(11 * q) % 128}"
+                               for q in range(16)]
+                qfailed = [x for x in drive(lb.port, vpaths, threads=1) if x != 200]
+                after = fleet_counts(fleet.replicas)
+                hits = sum(after[p][1] - before[p][1] for p in after)
+                misses = sum(after[p][2] - before[p][2] for p in after)
+                run.update({"queries": 32 * 16, "queries_on_a_cached_id_buffer": int(hits),
+                            "queries_without": int(misses), "query_failed": len(qfailed)})
+            runs.append(run)
+            print(json.dumps(run), file=sys.stderr, flush=True)
+        finally:
+            lb.stop()
+            fleet.stop()
+    return runs
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--binary", default=os.path.join(REPO, "build", "cli", "geoslice"))
     ap.add_argument("--seconds", type=int, default=5)
     ap.add_argument("--connections", type=int, default=8)
     ap.add_argument("--workers", type=int, default=1, help="render workers per replica")
+    ap.add_argument("--only", choices=("throughput", "fleet"), help="one part only")
     a = ap.parse_args()
     nginx = shutil.which("nginx") or "/usr/sbin/nginx"
     work = tempfile.mkdtemp(prefix="geoslice-bench-")
+    if a.only == "fleet":
+        result = {"machine": {"cores": os.cpu_count(), "load_before": os.getloadavg()},
+                  "fleet": fleet_runs(os.path.abspath(a.binary), nginx, work, a.workers)}
+        result["machine"]["load_after"] = os.getloadavg()
+        shutil.rmtree(work, ignore_errors=True)
+        print(json.dumps(result, indent=1))
+        return
     args = ["--workers", str(a.workers), "--http-threads", "32", "--log-level", "warn"]
     replicas = [Replica(os.path.abspath(a.binary), free_port(), work, args).start() for _ in range(3)]
     lb = Balancer(free_port(), work, nginx)
@@ -139,6 +293,8 @@ def main():
         run["answered_5xx"] = sum(bool(re.search(r'HTTP/1\.1" 5\d\d ', ln)) for ln in lines)
         result["runs"].append(run)
         print(json.dumps(run), file=sys.stderr, flush=True)
+        if a.only != "throughput":
+            result["fleet"] = fleet_runs(os.path.abspath(a.binary), nginx, work, a.workers)
         result["machine"]["load_after"] = os.getloadavg()
     finally:
         lb.stop()

@@ -5,10 +5,12 @@
 
 starts N `geoslice serve` processes on 127.0.0.1:PORT+1..PORT+N, adds each one to the
 nginx upstream list once its /readyz answers 200 (as Kubernetes adds ready endpoints),
-and runs nginx on 127.0.0.1:PORT with deploy/nginx/geoslice.conf (round robin, passive
-health checks, retries, a cache for images and tiles). Ctrl-C stops everything. State
-(nginx prefix, cache, logs, replica logs) goes to build/scale-out/ (--dir).
-tests/deploy/scale_out_test.py drives the same classes.
+and runs nginx on 127.0.0.1:PORT with deploy/nginx/geoslice.conf (consistent hashing by
+URL, passive health checks, retries, a cache for images and tiles). A replica that dies is
+taken out of the list, started again, and put back once ready (as a Deployment does).
+Ctrl-C stops everything. State (nginx prefix, cache, logs, replica logs) goes to
+build/scale-out/ (--dir). tests/deploy/scale_out_test.py and deploy/bench_scale_out.py
+drive the same classes.
 """
 import argparse
 import http.client
@@ -86,10 +88,15 @@ class Replica:
 
 
 class Balancer:
-    """nginx on 127.0.0.1:port with deploy/nginx/geoslice.conf, prefix DIR/nginx."""
+    """nginx on 127.0.0.1:port with deploy/nginx/geoslice.conf, prefix DIR/nginx.
+    balance: "hash" (the file as shipped: consistent hashing on the routing key) or
+    "round-robin" (its `hash` line dropped, for comparison); cache False drops nginx's own
+    proxy_cache, so every request reaches a replica (to measure the replicas' caches)."""
 
-    def __init__(self, port, run_dir, nginx="nginx"):
-        self.port, self.nginx = port, nginx
+    def __init__(self, port, run_dir, nginx="nginx", balance="hash", cache=True):
+        if balance not in ("hash", "round-robin"):
+            raise ValueError(f"balance '{balance}' is not hash or round-robin")
+        self.port, self.nginx, self.balance, self.cache = port, nginx, balance, cache
         self.prefix = os.path.join(run_dir, "nginx")
         self.proc = None
 
@@ -113,6 +120,10 @@ class Balancer:
         shutil.copy(os.path.join(HERE, "nginx", "nginx-local.conf"), os.path.join(self.prefix, "nginx.conf"))
         with open(os.path.join(HERE, "nginx", "geoslice.conf")) as f:
             conf = f.read().replace("listen 127.0.0.1:8000;", f"listen 127.0.0.1:{self.port};")
+        if self.balance == "round-robin":
+            conf = "\n".join(ln for ln in conf.split("\n") if "# geoslice-balance:" not in ln)
+        if not self.cache:
+            conf = conf.replace("proxy_cache geoslice;", "proxy_cache off;")
         with open(os.path.join(self.prefix, "geoslice.conf"), "w") as f:
             f.write(conf)
         lines = [f"server 127.0.0.1:{p} max_fails=1 fail_timeout={fail_timeout_s}s;\n" for p in upstream_ports]
@@ -172,12 +183,72 @@ def upstream_tries(log_line):
     return list(zip([a.strip() for a in m.group(1).split(",")], [s.strip() for s in m.group(2).split(",")]))
 
 
+class Fleet:
+    """Replicas behind a Balancer, kept as a Deployment keeps them: a replica that dies is
+    taken out of the upstream list, started again on its port, and put back once ready.
+    add() and remove() change the fleet's size (the list is reloaded gracefully)."""
+
+    def __init__(self, binary, first_port, run_dir, serve_args, balancer):
+        self.binary, self.run_dir, self.serve_args, self.lb = binary, run_dir, list(serve_args), balancer
+        self.next_port = first_port
+        self.replicas, self.in_list = [], []
+        self.restarts = 0
+
+    def _reload(self):
+        self.lb.reload([r.port for r in self.in_list])
+
+    def add(self, n=1, timeout=120.0, log=None):
+        """Starts n more replicas at once and puts each in the list as it becomes ready;
+        returns them."""
+        new = [Replica(self.binary, self.next_port + i, self.run_dir, self.serve_args).start() for i in range(n)]
+        self.next_port += n
+        self.replicas += new
+        t0 = time.monotonic()
+        for r in new:
+            r.wait_ready(timeout)
+            self.in_list.append(r)
+            self._reload()
+            if log:
+                log(f"scale_out: replica 127.0.0.1:{r.port} ready after {time.monotonic() - t0:.1f} s, in the upstream")
+        return new
+
+    def remove(self, r, sig=signal.SIGTERM):
+        """Takes r out of the list first (nginx sends it nothing new), then stops it."""
+        if r in self.in_list:
+            self.in_list.remove(r)
+            self._reload()
+        r.kill(sig)
+        self.replicas.remove(r)
+
+    def supervise_once(self, log=print):
+        """Restarts replicas that died; returns how many."""
+        dead = [r for r in self.replicas if r.proc.poll() is not None]
+        for r in dead:
+            code = r.proc.returncode
+            if r in self.in_list:
+                self.in_list.remove(r)
+                self._reload()
+            r.start()
+            r.wait_ready()
+            self.in_list.append(r)
+            self._reload()
+            self.restarts += 1
+            log(f"scale_out: replica 127.0.0.1:{r.port} exited with {code}; started again, back in the upstream")
+        return len(dead)
+
+    def stop(self):
+        for r in self.replicas:
+            r.kill(signal.SIGTERM)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--replicas", type=int, default=3)
     ap.add_argument("--port", type=int, default=8000, help="nginx port; replicas use PORT+1..PORT+N")
     ap.add_argument("--binary", default=os.path.join(REPO, "build", "cli", "geoslice"))
     ap.add_argument("--dir", default=os.path.join(REPO, "build", "scale-out"))
+    ap.add_argument("--balance", choices=("hash", "round-robin"), default="hash",
+                    help="hash: consistent hashing by URL, one render per tile across the fleet (default)")
     ap.add_argument("serve_args", nargs="*", help="after --: extra `geoslice serve` arguments")
     a = ap.parse_args()
 
@@ -188,26 +259,21 @@ def main():
     if shutil.which("nginx") is None and not os.path.exists("/usr/sbin/nginx"):
         sys.exit("scale_out: nginx is not installed (apt-get install nginx-light)")
     os.makedirs(a.dir, exist_ok=True)
-    replicas = [Replica(a.binary, a.port + 1 + i, a.dir, a.serve_args).start() for i in range(a.replicas)]
-    lb = Balancer(a.port, a.dir, shutil.which("nginx") or "/usr/sbin/nginx")
+    lb = Balancer(a.port, a.dir, shutil.which("nginx") or "/usr/sbin/nginx", balance=a.balance)
     lb.configure([])
     lb.start()
-    print(f"scale_out: nginx on http://127.0.0.1:{a.port}/ (logs in {a.dir}); Ctrl-C stops", flush=True)
+    fleet = Fleet(a.binary, a.port + 1, a.dir, a.serve_args, lb)
+    print(f"scale_out: nginx on http://127.0.0.1:{a.port}/ ({a.balance}; logs in {a.dir}); Ctrl-C stops", flush=True)
     try:
-        ready = []
-        for r in replicas:
-            s = r.wait_ready()
-            ready.append(r.port)
-            lb.reload(ready)
-            print(f"scale_out: replica 127.0.0.1:{r.port} ready after {s:.1f} s, in the upstream", flush=True)
+        fleet.add(a.replicas, log=lambda m: print(m, flush=True))
         while True:
-            signal.pause()
+            time.sleep(1)
+            fleet.supervise_once(lambda m: print(m, flush=True))
     except KeyboardInterrupt:
         pass
     finally:
         lb.stop()
-        for r in replicas:
-            r.kill(signal.SIGTERM)
+        fleet.stop()
 
 
 if __name__ == "__main__":

@@ -11,11 +11,15 @@
 #     pixel query and a borehole equal the binary's answers byte for byte, ETags included;
 #   - `healthcheck run` is healthy on that port;
 #   - SIGTERM during a ~4 s render: the render is answered in full, the container exits 0.
-# Usage: bash deploy/test-image.sh [IMAGE]   (default geoslice:latest; binary: $GEOSLICE_BINARY
-# or build/cli/geoslice). Prints timings; exit 0 = all passed.
+#   - the OCI archive build-image.sh wrote (build/geoslice-VERSION.oci.tar) holds this image
+#     (same config digest, tag and version label).
+# Usage: bash deploy/test-image.sh [IMAGE]   (default localhost/geoslice:VERSION; binary:
+# $GEOSLICE_BINARY or build/cli/geoslice, built first when missing). Prints timings; exit 0 =
+# all passed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-image=${1:-geoslice:latest}
+version=$(sed -n 's/^project(geoslice VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
+image=${1:-localhost/geoslice:$version}
 binary=${GEOSLICE_BINARY:-${GEOSLICE_BUILD_DIR:-build}/cli/geoslice}
 source deploy/engine.sh
 engine_init
@@ -28,7 +32,15 @@ fail() {
     echo "test-image: FAIL: $*" >&2
     exit 1
 }
-[ -x "$binary" ] || fail "no binary at $binary (build it first: cmake --build build --target geoslice)"
+if [ ! -x "$binary" ]; then
+    # A clone with only the image (or nothing built yet): the binary to compare against.
+    bdir=${GEOSLICE_BUILD_DIR:-build}
+    echo "test-image: no binary at $binary: building it in $bdir"
+    [ -f "$bdir/CMakeCache.txt" ] || cmake -S . -B "$bdir" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake --build "$bdir" --target geoslice >/dev/null
+    binary=$bdir/cli/geoslice
+    [ -x "$binary" ] || fail "no binary at $binary after building it"
+fi
 # An image from another revision (podman's storage is kept between CI runs) or from a tree
 # with uncommitted edits is rebuilt: it must hold the code the binary was built from.
 source deploy/revision.sh
@@ -77,6 +89,26 @@ inside=$(ctr run --rm "${ctr_run_args[@]}" "${health_args[@]}" --entrypoint sh "
 [ -z "$inside" ] || fail "runtime image has build tools, headers or unresolved libraries: $inside"
 size=$(ctr image inspect --format '{{.Size}}' "$image")
 echo "test-image: $image $((size / 1000000)) MB, user $user, labels and HEALTHCHECK present, no compiler"
+label=$(ctr image inspect --format '{{index .Config.Labels "org.opencontainers.image.version"}}' "$image")
+[ "$label" = "$version" ] || fail "image version label '$label' is not the project's $version"
+archive=build/geoslice-$version.oci.tar
+if [ "$image" = "localhost/geoslice:$version" ] && [ -f "$archive" ]; then
+    id=$(ctr image inspect --format '{{.Id}}' "$image")
+    python3 - "$archive" "$id" "$image" <<'PY' || fail "$archive does not hold $image"
+import json, sys, tarfile
+archive, image_id, ref = sys.argv[1:]
+with tarfile.open(archive) as t:
+    def blob(digest):
+        return json.load(t.extractfile("blobs/" + digest.replace(":", "/")))
+    index = json.load(t.extractfile("index.json"))
+    (m,) = index["manifests"]
+    name = m.get("annotations", {}).get("org.opencontainers.image.ref.name", "")
+    config = blob(m["digest"])["config"]["digest"]
+    assert config.split(":")[1] == image_id.split(":")[-1], f"config {config} is not image {image_id}"
+    assert name in (ref, ref.split(":")[-1]), f"ref.name {name!r} is not {ref}"
+    print(f"test-image: {archive}: OCI archive of {ref} (config {config[:19]}..., ref.name {name!r})")
+PY
+fi
 
 # ---- the binary and the container side by side --------------------------------------
 p_host=$(free_port)

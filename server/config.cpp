@@ -79,6 +79,8 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.readyzPaths, 0, 1);
     else if (key == "noBake")
         return number(c.noBake, 0, 1);
+    else if (key == "modelsPollMs")
+        return number(c.modelsPollMs, 0, 3600000);
     else if (key == "maxModelMiB")
         return number(c.maxModelMiB, 1, 1 << 20);
     else if (key == "tiles3dTriangles")
@@ -145,6 +147,7 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_READYZ_PATHS", "readyzPaths"},
         {"GEOSLICE_NO_BAKE", "noBake"},
         {"GEOSLICE_MAX_MODEL_MIB", "maxModelMiB"},
+        {"GEOSLICE_MODELS_POLL_MS", "modelsPollMs"},
         {"GEOSLICE_3DTILES_TRIANGLES", "tiles3dTriangles"},
         {"GEOSLICE_DEMO_TRIANGLES", "demoTriangles"},
         {"GEOSLICE_LOG_LEVEL", "logLevel"},
@@ -172,6 +175,9 @@ Status checkConfig(const ServerConfig& c) {
     if (c.shutdownGraceMs < 0 || c.shutdownGraceMs > 3600000)
         return makeError(ErrorCode::InvalidArgument,
                          "shutdownGraceMs " + std::to_string(c.shutdownGraceMs) + " is outside 0..3600000 ms");
+    if (c.modelsPollMs < 0 || c.modelsPollMs > 3600000)
+        return makeError(ErrorCode::InvalidArgument,
+                         "modelsPollMs " + std::to_string(c.modelsPollMs) + " is outside 0..3600000 ms");
     if (c.lod != "off" && c.lod != "auto")
         return makeError(ErrorCode::InvalidArgument, "lod '" + c.lod + "' is not off or auto");
     if (c.logLevel != "trace" && c.logLevel != "debug" && c.logLevel != "info" && c.logLevel != "warn" &&

@@ -49,6 +49,10 @@
 //   noBake             GEOSLICE_NO_BAKE               --no-bake               0 (1: never bake; a model without a
 //                                                                             current baked package is refused and
 //                                                                             named in /readyz: read-only volumes)
+//   modelsPollMs       GEOSLICE_MODELS_POLL_MS        --models-poll-ms        2000 (the models directory is scanned
+//                                                                             again this often: new or changed models
+//                                                                             load, a new version replaces the old
+//                                                                             once its ray scene is built; 0 = never)
 //   maxModelMiB        GEOSLICE_MAX_MODEL_MIB         --max-model-mib         1024 (largest model file read, MiB,
 //                                                                             1..1048576: a file is read whole and
 //                                                                             parsed in memory; a larger one is
@@ -97,6 +101,7 @@ struct ServerConfig {
     std::size_t memoryBudgetMiB = 4096;  // render admission by estimated memory; 0 = off
     bool readyzPaths = false;            // /readyz shows file-system paths (else only file names)
     bool noBake = false;                 // never bake: serve baked packages only (api::loadCatalogModel mayBake)
+    int modelsPollMs = 2000;             // scan the models directory again this often (0 = only at start)
     // Largest model file read (MiB): model/io/loaders.hpp kDefaultMaxModelBytes, probeModelFile.
     std::size_t maxModelMiB = 1024;
     std::size_t tiles3dTriangles = 16384;  // renderer/tiles3d/tileset3d.hpp Tiles3dOptions::trianglesPerTile

@@ -4,10 +4,18 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
+#include <map>
 #include <mutex>
+#include <string>
+#include <vector>
 
+#include <sys/stat.h>
+
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "bake/package.hpp"
 #include "server/http_transport.hpp"
 #include "server/respond.hpp"
 #include "server/router.hpp"
@@ -36,6 +44,135 @@ struct SectionServer::Impl {
     Impl(ServerConfig c, api::AccessKeys keys) : state(std::move(c), std::move(keys)) {}
 
     // ---- life cycle ----------------------------------------------------------------
+    // The models directory entries tried so far (loader thread only): id -> the entry's
+    // signature when it was last loaded or refused (entrySignature), so an unchanged entry
+    // is not tried again and a changed one is.
+    std::map<std::string, std::string> tried;
+    std::vector<std::string> skippedBefore;  // entries reported skipped by the last scan
+
+    // What changes when a model entry is rewritten: the file's (or a package's manifest's,
+    // written last) size, inode and mtime, and with a bake dir its package's manifest there
+    // (--no-bake replicas wait for the bake Job to write it). Empty parts for what is missing.
+    std::string entrySignature(const std::string& id, const std::string& path) const {
+        namespace fs = std::filesystem;
+        auto sig = [](fs::path p) {
+            std::error_code ec;
+            if (fs::is_directory(p, ec)) p /= bake::kManifestFile;
+            struct stat s {};
+            if (::stat(p.c_str(), &s) != 0) return std::string("-");
+            return fmt::format("{}:{}:{}.{}", s.st_size, s.st_ino, s.st_mtim.tv_sec, s.st_mtim.tv_nsec);
+        };
+        const std::string& bakeDir = state.config.bakeDir;
+        return sig(path) + "|" + (bakeDir.empty() ? "" : sig(fs::path(bakeDir) / id));
+    }
+
+    // Replaces the {id, KEY} entries of `list` (failed or warnings) for `id` by `entry`
+    // (none when null). Caller holds failedMutex.
+    static void replaceEntry(Json& list, const Json& id, Json entry) {
+        Json kept = Json::array();
+        for (auto& e : list)
+            if (e["id"] != id) kept.push_back(std::move(e));
+        if (!entry.is_null()) kept.push_back(std::move(entry));
+        list = std::move(kept);
+    }
+
+    // Loads one model entry and publishes it (a new version replaces the one served).
+    // `waitRays`: the model is published only once its ray scene is built (or failed), so a
+    // replica that is ready answers every route fast; the first pass publishes at once and
+    // /readyz waits for the scenes instead. Returns false when the model did not load.
+    bool loadEntry(const std::string& id, const std::string& path, bool waitRays) {
+        ServerState& st = state;
+        const ServerConfig& config = st.config;
+        const std::uint64_t maxFileBytes = std::uint64_t(config.maxModelMiB) << 20;
+        auto m = api::loadCatalogModel(id, path, config.bakeDir, !config.noBake,
+                                       waitRays ? api::RayBuild::Now : api::RayBuild::Deferred, maxFileBytes);
+        if (!m) {
+            spdlog::error("event=model_failed id={} path=\"{}\" error=\"{}\"", id, path, m.error().message);
+            std::lock_guard lock(st.failedMutex);
+            replaceEntry(st.failed, id, Json{{"id", id}, {"error", m.error().message}});
+            return false;
+        }
+        const auto& model = m.value();
+        if (waitRays) (void)model->rays->wait(RayQueries::Clock::time_point::max(), &st.draining);
+        const auto before = st.catalog.find(id);
+        spdlog::info("event={} id={} triangles={} ms={:.0f} version={}{}", before ? "model_reloaded" : "model_loaded",
+                     id, model->model.triangleCount(), model->loadMs, model->version,
+                     before ? " was=" + before->version : std::string());
+        {
+            std::lock_guard lock(st.failedMutex);
+            replaceEntry(st.failed, id, nullptr);
+            replaceEntry(st.warnings, id, nullptr);
+            if (!model->loadWarning.empty()) {
+                spdlog::warn("event=model_load_warning id={} warning=\"{}\"", id, model->loadWarning);
+                st.warnings.push_back({{"id", id}, {"warning", model->loadWarning}});
+            }
+            if (!model->bakeWarning.empty()) {
+                spdlog::warn("event=bake_failed id={} warning=\"{}\"", id, model->bakeWarning);
+                st.warnings.push_back({{"id", id}, {"warning", model->bakeWarning}});
+            }
+        }
+        if (!model->rebakedFrom.empty())
+            spdlog::warn("event=package_rebaked id={} moved_aside=\"{}\"", id, model->rebakedFrom);
+        for (const std::string& old : model->deletedCorruptCopies)
+            spdlog::info("event=corrupt_copy_deleted id={} path=\"{}\" kept={}", id, old, api::kCorruptCopiesKept);
+        const auto& notes = model->model.notes;
+        if (auto w = notes.find("crs_warning"); w != notes.end())
+            spdlog::warn("event=model_crs_warning id={} warning=\"{}\"", id, w->second);
+        st.catalog.add(model);
+        // First pass: every model's ray scene builds on a thread of its own as it is served
+        // (queries that need one wait for it; /readyz is 503 until all are built).
+        model->rays->start();
+        return true;
+    }
+
+    // One scan of the models directory: entries that are new or changed since they were last
+    // tried are loaded. Returns false when the directory could not be read or a model failed.
+    bool scanModels(bool firstPass) {
+        ServerState& st = state;
+        const ServerConfig& config = st.config;
+        auto files = api::scanModelsDir(config.modelsDir, std::uint64_t(config.maxModelMiB) << 20);
+        if (!files) {
+            // Logged when it starts or changes, not at every poll; "" holds it in `tried`.
+            if (auto it = tried.find(""); it == tried.end() || it->second != files.error().message) {
+                tried[""] = files.error().message;
+                spdlog::error("event=models_dir_failed error=\"{}\"", files.error().message);
+            }
+            std::lock_guard lock(st.failedMutex);
+            replaceEntry(st.failed, nullptr, Json{{"id", nullptr}, {"error", files.error().message}});
+            return false;
+        }
+        if (tried.erase("")) {
+            std::lock_guard lock(st.failedMutex);
+            replaceEntry(st.failed, nullptr, nullptr);
+        }
+        // Entries that are not loaded (a FIFO, a dangling symlink, a file too large...): named
+        // in the log (once) and /readyz, never a reason to block or to stay unready.
+        std::vector<std::string> names;
+        Json skipped = Json::array();
+        for (const api::SkippedEntry& e : files.value().skipped) {
+            names.push_back(e.entry + ": " + e.reason);
+            if (std::find(skippedBefore.begin(), skippedBefore.end(), names.back()) == skippedBefore.end())
+                spdlog::warn("event=models_dir_entry_skipped entry=\"{}\" reason=\"{}\"", e.entry, e.reason);
+            skipped.push_back({{"entry", e.entry}, {"reason", e.reason}});
+        }
+        skippedBefore = std::move(names);
+        {
+            std::lock_guard lock(st.failedMutex);
+            st.skipped = std::move(skipped);
+        }
+        if (firstPass && files.value().models.empty())
+            spdlog::warn("event=models_dir_empty dir=\"{}\" poll_ms={}", config.modelsDir, config.modelsPollMs);
+        bool ok = true;
+        for (const auto& [id, path] : files.value().models) {
+            if (st.draining) break;
+            std::string sig = entrySignature(id, path);
+            if (auto it = tried.find(id); it != tried.end() && it->second == sig) continue;
+            tried[id] = std::move(sig);
+            ok = loadEntry(id, path, !firstPass) && ok;
+        }
+        return ok;
+    }
+
     void loadModels() {
         ServerState& st = state;
         const ServerConfig& config = st.config;
@@ -47,6 +184,7 @@ struct SectionServer::Impl {
                 spdlog::info("event=model_loaded id=demo triangles={} ms={:.0f}", demo.value()->model.triangleCount(),
                              demo.value()->loadMs);
                 st.catalog.add(demo.value());
+                demo.value()->rays->start();
             } else {
                 ok = false;
                 spdlog::error("event=model_failed id=demo error=\"{}\"", demo.error().message);
@@ -54,56 +192,7 @@ struct SectionServer::Impl {
                 st.failed.push_back({{"id", "demo"}, {"error", demo.error().message}});
             }
         } else {
-            const std::uint64_t maxFileBytes = std::uint64_t(config.maxModelMiB) << 20;
-            auto files = api::scanModelsDir(config.modelsDir, maxFileBytes);
-            if (!files) {
-                ok = false;
-                spdlog::error("event=models_dir_failed error=\"{}\"", files.error().message);
-                std::lock_guard lock(st.failedMutex);
-                st.failed.push_back({{"id", nullptr}, {"error", files.error().message}});
-            } else {
-                // Entries that are not loaded (a FIFO, a dangling symlink, a file too large...):
-                // named in the log and /readyz, never a reason to block or to stay unready.
-                for (const api::SkippedEntry& e : files.value().skipped) {
-                    spdlog::warn("event=models_dir_entry_skipped entry=\"{}\" reason=\"{}\"", e.entry, e.reason);
-                    std::lock_guard lock(st.failedMutex);
-                    st.skipped.push_back({{"entry", e.entry}, {"reason", e.reason}});
-                }
-                if (files.value().models.empty()) spdlog::warn("event=models_dir_empty dir=\"{}\"", config.modelsDir);
-                for (const auto& [id, path] : files.value().models) {
-                    if (st.draining) break;
-                    auto m = api::loadCatalogModel(id, path, config.bakeDir, !config.noBake, api::RayBuild::Deferred,
-                                                   maxFileBytes);
-                    if (m) {
-                        spdlog::info("event=model_loaded id={} triangles={} ms={:.0f} version={}", id,
-                                     m.value()->model.triangleCount(), m.value()->loadMs, m.value()->version);
-                        if (!m.value()->loadWarning.empty()) {
-                            spdlog::warn("event=model_load_warning id={} warning=\"{}\"", id, m.value()->loadWarning);
-                            std::lock_guard lock(st.failedMutex);
-                            st.warnings.push_back({{"id", id}, {"warning", m.value()->loadWarning}});
-                        }
-                        if (!m.value()->rebakedFrom.empty())
-                            spdlog::warn("event=package_rebaked id={} moved_aside=\"{}\"", id, m.value()->rebakedFrom);
-                        for (const std::string& old : m.value()->deletedCorruptCopies)
-                            spdlog::info("event=corrupt_copy_deleted id={} path=\"{}\" kept={}", id, old,
-                                         api::kCorruptCopiesKept);
-                        if (!m.value()->bakeWarning.empty()) {
-                            spdlog::warn("event=bake_failed id={} warning=\"{}\"", id, m.value()->bakeWarning);
-                            std::lock_guard lock(st.failedMutex);
-                            st.warnings.push_back({{"id", id}, {"warning", m.value()->bakeWarning}});
-                        }
-                        const auto& notes = m.value()->model.notes;
-                        if (auto w = notes.find("crs_warning"); w != notes.end())
-                            spdlog::warn("event=model_crs_warning id={} warning=\"{}\"", id, w->second);
-                        st.catalog.add(m.value());
-                    } else {
-                        ok = false;
-                        spdlog::error("event=model_failed id={} path=\"{}\" error=\"{}\"", id, path, m.error().message);
-                        std::lock_guard lock(st.failedMutex);
-                        st.failed.push_back({{"id", id}, {"error", m.error().message}});
-                    }
-                }
-            }
+            ok = scanModels(true);
         }
         st.loadOk = ok;
         {
@@ -111,9 +200,15 @@ struct SectionServer::Impl {
             st.loaded = true;
         }
         loadDone.notify_all();
-        // Every model is served: now build their ray scenes, each on a thread of its own
-        // (queries that need one wait for it; /readyz and /metrics say where they are).
-        for (const auto& m : st.catalog.list()) m->rays->start();
+        if (config.modelsDir.empty() || config.modelsPollMs == 0) return;
+        // Then the directory is watched: a replica started before the bake Job wrote its
+        // packages becomes ready when they appear, and a package baked again (a new version)
+        // replaces the one served once its ray scene is built.
+        while (!st.draining) {
+            const auto until = Clock::now() + std::chrono::milliseconds(config.modelsPollMs);
+            while (!st.draining && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            if (!st.draining) scanModels(false);
+        }
     }
 
     void probeGl() {
@@ -238,6 +333,8 @@ bool SectionServer::waitUntilLoaded() {
     if (!impl_) return false;
     std::unique_lock lock(impl_->loadMutex);
     impl_->loadDone.wait(lock, [this] { return impl_->state.loaded.load(); });
+    lock.unlock();
+    for (const auto& m : impl_->state.catalog.list()) (void)m->rays->wait();
     return impl_->state.loadOk;
 }
 

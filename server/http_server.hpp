@@ -37,7 +37,8 @@ public:
     // listener and the workers stop. Idempotent; any thread (not a handler).
     void stop();
 
-    // Blocks until the model loading thread is done (tests). True when every model loaded.
+    // Blocks until the first pass of the model loader is done and every served model's ray
+    // scene is built or failed, as /readyz waits for (tests). True when every model loaded.
     bool waitUntilLoaded();
     int port() const { return port_; }
     const ServerConfig& config() const { return config_; }

@@ -1,7 +1,7 @@
 // geoslice web client: requests to this page's origin, the API key they carry, the busy
 // indicator and the status line.
 import { t } from './i18n.js?v=__GS_BUILD__';
-import { $, S } from './state.js?v=__GS_BUILD__';
+import { $, S, permalink } from './state.js?v=__GS_BUILD__';
 
 // API keys (geoslice serve --keys): a key given once as #key=KEY in the page's address is
 // kept in this browser's localStorage and taken out of the address at once, so that it is
@@ -44,7 +44,11 @@ export async function request(url, opts = {}, as = 'json') {
     try { r = await fetch(url, { ...opts, headers: withKey(opts.headers) }); } catch (e) { throw new HttpError(0, e.message || 'network error'); }
     if (!r.ok) {
       let detail = '';
-      try { const j = await r.json(); detail = j.detail || j.title || ''; } catch (_) { /* not JSON */ }
+      try {
+        const j = await r.json();
+        detail = j.detail || j.title || '';
+        if (j.code === 'model_version') modelVersionChanged();
+      } catch (_) { /* not JSON */ }
       const message = `${r.status} ${detail || r.statusText || 'error'}`.trim();
       throw new HttpError(r.status, r.status === 401 ? t('needKey', message) : message);
     }
@@ -57,6 +61,23 @@ export const api = (path) => {
   const url = `/v1/models/${encodeURIComponent(S.model.id)}${path}`;
   return S.model.version ? `${url}${url.includes('?') ? '&' : '?'}version=${encodeURIComponent(S.model.version)}` : url;
 };
+
+// A pinned URL answered 404 model_version: the model was baked again on the server (a new
+// version, new URLs). The page reloads with its permalink (kept in the address), so the same
+// view comes back at the new version; once per page.
+let reloading = false;
+export function modelVersionChanged() {
+  if (reloading) return;
+  reloading = true;
+  setStatus(t('modelChanged'));
+  if (S.model) history.replaceState(null, '', permalink());
+  setTimeout(() => location.reload(), 600);
+}
+// For answers read without request() (tiles): a 404 whose problem says model_version.
+export function checkModelVersion(r) {
+  if (r.status !== 404) return;
+  r.clone().json().then((j) => { if (j.code === 'model_version') modelVersionChanged(); }, () => {});
+}
 
 // Whether a failed request's cause is the server being away (no answer, 502-504: retried
 // when it is back) rather than the request itself (4xx: a verdict, not retried).

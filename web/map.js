@@ -2,7 +2,7 @@
 // tile grid (api/view.hpp TileGrid) and long-press.
 import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S } from './state.js?v=__GS_BUILD__';
-import { busy, setStatus, withKey, whenServerBack } from './api.js?v=__GS_BUILD__';
+import { busy, checkModelVersion, setStatus, withKey, whenServerBack } from './api.js?v=__GS_BUILD__';
 
 // ---- tiles with retry ------------------------------------------------------------------
 // Tiles are fetched (not <img src>) so that a 503 is seen and retried with back-off
@@ -25,6 +25,7 @@ export const RetryTiles = L.GridLayer.extend({
       fetch(url, { headers: withKey() })
         .then((r) => {
           if (r.ok) return r.blob();
+          checkModelVersion(r);
           throw { status: r.status, after: Number(r.headers.get('Retry-After')) || 0 };
         }, () => { throw { status: 0, after: 0 }; })
         .then((blob) => {

@@ -1,10 +1,11 @@
-// The operator's routes: GET /healthz (alive), /readyz (models in, GL ready, workers not
-// all overrunning; 503 otherwise; models.failed, models.skipped (directory entries not
-// loaded, with the reason) and models.warnings (models served unbaked) are reported, never a
-// reason to be unready), /metrics (Prometheus text), /openapi.json. All open while API keys
-// are on (probes and scrapers carry none), so none of them names a model then: /readyz
-// counts failed, skipped and warned models and ray scenes instead of naming them, and
-// /metrics has no model in any label (route templates, kinds and counts only).
+// The operator's routes: GET /healthz (alive), /readyz (models in with their ray scenes
+// built, GL ready, workers not all overrunning; 503 otherwise; models.failed,
+// models.skipped (directory entries not loaded, with the reason) and models.warnings
+// (models served unbaked) are reported, never a reason to be unready), /metrics
+// (Prometheus text), /openapi.json. All open while API keys are on (probes and scrapers
+// carry none), so none of them names a model then: /readyz counts failed, skipped and
+// warned models and ray scenes instead of naming them, and /metrics has no model in any
+// label (route templates, kinds and counts only).
 #include "api/openapi.hpp"
 #include "model/version.hpp"
 #include "server/respond.hpp"
@@ -38,9 +39,18 @@ std::string redactPaths(const std::string& s) {
 }
 
 void readyz(ServerState& st, HttpResponse& res) {
-    // Ready once loading is done and at least one model is in: a broken file in the models
-    // directory is reported here and in the logs, not a reason to stay unready.
-    const bool modelsReady = st.loaded && st.catalog.size() > 0;
+    // Ready once loading is done, at least one model is in, and every served model's ray
+    // scene is built (or failed, reported below): a ready replica answers every route fast,
+    // pixel queries and boreholes included. A broken file in the models directory is
+    // reported here and in the logs, not a reason to stay unready. A replica whose models
+    // directory is empty (the bake Job has not written the packages yet) stays unready and
+    // keeps looking (modelsPollMs).
+    bool raysSettled = true;
+    for (const auto& m : st.catalog.list()) {
+        const RayQueries::State s = m->rays->state();
+        raysSettled = raysSettled && (s == RayQueries::State::Ready || s == RayQueries::State::Failed);
+    }
+    const bool modelsReady = st.loaded && st.catalog.size() > 0 && raysSettled;
     const workers::GlStatus::Snapshot gl = st.glStatus.get();
     const bool glOk = !st.glEnabled || gl.ready;
     Json failures, skipped, warnings;
@@ -76,8 +86,8 @@ void readyz(ServerState& st, HttpResponse& res) {
                  {"memoryBudgetMiB", st.pool->memoryBudget() >> 20},
                  {"memoryReservedMiB", ps.reservedBytes >> 20}};
     // Ray scenes (pixel queries without a cached image, perspective queries, boreholes) build
-    // after the models are served: reported, not a reason to be unready (those queries wait
-    // for them up to their deadline).
+    // as the models are served; a failed one is reported, not a reason to be unready (those
+    // queries then answer its error).
     Json rays = Json::object();
     for (const auto& m : st.catalog.list()) {
         const RayQueries::State s = m->rays->state();
@@ -94,6 +104,7 @@ void readyz(ServerState& st, HttpResponse& res) {
            {"models",
             {{"loaded", st.catalog.size()},
              {"done", bool(st.loaded)},
+             {"pollMs", st.config.modelsDir.empty() ? 0 : st.config.modelsPollMs},
              {"failed", failures},
              {"skipped", skipped},
              {"warnings", warnings}}},

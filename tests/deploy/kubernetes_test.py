@@ -10,11 +10,17 @@
    claim defined and ReadOnlyMany, mounted read-only by replicas and written by the bake
    Job, selectors of the Service, PodDisruptionBudget, HPA and ServiceMonitor matching the
    pods, topology spread, non-root read-only pods, a grace period longer than preStop +
-   the render deadline, and the GPU variant's EGL settings.
+   the render deadline, and the GPU variant's EGL settings; replicas keep looking for
+   packages written after they start; the image is the project's version.
+3. The cache tier: its ConfigMap is deploy/nginx/geoslice.conf (sync-cache-config.py
+   --check), routes by consistent hashing to the replicas' headless Service, and passes
+   Debian's `nginx -t` (with the Kubernetes resolver and `resolve`, which need nginx >=
+   1.27.3, swapped for loopback ones).
 """
 import glob
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -26,6 +32,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 K8S = os.path.join(REPO, "deploy", "kubernetes")
 DEADLINE_S = 10  # server/config.hpp deadlineMs default
+
+
+def project_version():
+    with open(os.path.join(REPO, "CMakeLists.txt")) as f:
+        return re.search(r"project\(geoslice VERSION ([0-9.]+)", f.read()).group(1)
 
 
 def load():
@@ -130,6 +141,10 @@ class Manifests(unittest.TestCase):
             find(self.docs, "PersistentVolumeClaim", claims[m["name"]]["claimName"])
             self.assertIn(m["mountPath"].rstrip("/") + "/baked", " ".join(c["args"]), "serves the baked packages")
         self.assertIn("--no-bake", c["args"], "replicas on a read-only volume never bake")
+        self.assertGreater(int(env.get("GEOSLICE_MODELS_POLL_MS", "2000")), 0,
+                           "a replica started before the bake Job keeps looking for its packages")
+        self.assertEqual(c["image"], f"localhost/geoslice:{project_version()}",
+                         "the image deploy/build-image.sh tags and archives")
         self.check_keys(spec, c)
         return c, labels
 
@@ -159,8 +174,10 @@ class Manifests(unittest.TestCase):
         self.assertIn("kubernetes.io/hostname", [s["topologyKey"] for s in spread])
         for s in spread:
             self.assertTrue(matches(s["labelSelector"]["matchLabels"], labels))
-        svc = find(self.docs, "Service", "geoslice")
+        svc = find(self.docs, "Service", "geoslice-pods")
         self.assertTrue(matches(svc["spec"]["selector"], labels))
+        self.assertEqual(svc["spec"]["clusterIP"], "None", "headless: DNS lists each ready replica")
+        self.assertFalse(svc["spec"].get("publishNotReadyAddresses", False), "only ready replicas get traffic")
         self.assertIn(svc["spec"]["ports"][0]["targetPort"], (c["ports"][0]["containerPort"], c["ports"][0]["name"]))
         pdb = find(self.docs, "PodDisruptionBudget", "geoslice")
         self.assertTrue(matches(pdb["spec"]["selector"]["matchLabels"], labels))
@@ -173,6 +190,55 @@ class Manifests(unittest.TestCase):
         mon = find(self.docs, "ServiceMonitor", "geoslice")
         self.assertTrue(matches(mon["spec"]["selector"]["matchLabels"], svc["metadata"]["labels"]))
         self.assertIn(mon["spec"]["endpoints"][0]["port"], [p["name"] for p in svc["spec"]["ports"]])
+
+    def test_cache_tier(self):
+        cm = find(self.docs, "ConfigMap", "geoslice-cache")
+        r = subprocess.run([sys.executable, os.path.join(K8S, "sync-cache-config.py"), "--check"],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        conf, upstreams = cm["data"]["geoslice.conf"], cm["data"]["geoslice-upstreams.conf"]
+        self.assertRegex(conf, r"(?m)^\s*hash \$geoslice_route_key consistent;", "one owner per URL")
+        self.assertRegex(conf, r"(?m)^\s*zone \S+ \S+;", "`resolve` needs a shared zone")
+        self.assertRegex(conf, r"(?m)^\s*listen 8080;")
+        replicas = find(self.docs, "Deployment", "geoslice")
+        port = replicas["spec"]["template"]["spec"]["containers"][0]["ports"][0]["containerPort"]
+        self.assertRegex(upstreams, rf"server geoslice-pods\.default\.svc\.cluster\.local:{port} resolve ")
+        self.assertIn("resolver ", cm["data"]["nginx.conf"])
+        dep = find(self.docs, "Deployment", "geoslice-cache")
+        spec = dep["spec"]["template"]["spec"]
+        (c,) = spec["containers"]
+        self.assertRegex(c["image"], r"nginx:1\.(2[89]|[3-9]\d)", "upstream `resolve` is in nginx >= 1.27.3")
+        self.assertEqual(c["ports"][0]["containerPort"], 8080)
+        vols = {v["name"]: v for v in spec["volumes"]}
+        conf_dir = [m["mountPath"] for m in c["volumeMounts"] if "configMap" in vols[m["name"]]]
+        self.assertEqual(conf_dir, ["/etc/geoslice-cache"])
+        self.assertIn("/etc/geoslice-cache/nginx.conf", c["command"])
+        prefix = c["command"][c["command"].index("-p") + 1].rstrip("/")
+        self.assertIn(prefix, [m["mountPath"] for m in c["volumeMounts"]], "the cache lives in a volume")
+        svc = find(self.docs, "Service", "geoslice")
+        self.assertTrue(matches(svc["spec"]["selector"], dep["spec"]["template"]["metadata"]["labels"]),
+                        "the entry Service is the cache tier")
+        self.assertEqual(svc["spec"]["ports"][0]["targetPort"], "http")
+        # Debian's nginx parses it: the same file set in a prefix, with the Kubernetes-only
+        # parts (resolver name, `resolve`) swapped for loopback ones.
+        nginx = shutil.which("nginx") or ("/usr/sbin/nginx" if os.path.exists("/usr/sbin/nginx") else None)
+        if not nginx:
+            print("kubernetes_test: nginx -t of the cache tier skipped (no nginx)")
+            return
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "tmp"))
+            main = cm["data"]["nginx.conf"].replace("/tmp/", d + "/tmp/")
+            main = re.sub(r"resolver [^;]*;", "resolver 127.0.0.1;", main)
+            files = {"nginx.conf": main, "geoslice.conf": conf.replace("/dev/stdout", d + "/access.log"),
+                     "geoslice-upstreams.conf": re.sub(r"server \S+ resolve ", "server 127.0.0.1:8080 ", upstreams)}
+            for name, text in files.items():
+                with open(os.path.join(d, name), "w") as f:
+                    f.write(text)
+            r = subprocess.run([nginx, "-t", "-p", d + "/", "-c", os.path.join(d, "nginx.conf"), "-e",
+                                os.path.join(d, "error.log")], capture_output=True, text=True)
+            self.assertEqual(r.returncode, 0, r.stderr)
 
     def test_models_claim_and_bake_job(self):
         pvc = find(self.docs, "PersistentVolumeClaim", "geoslice-models")

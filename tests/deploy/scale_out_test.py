@@ -313,6 +313,113 @@ class RebakeBehindNginx(unittest.TestCase):
         self.assertIn(b"model_version", body)
 
 
+class FleetRouting(unittest.TestCase):
+    """deploy/nginx/geoslice.conf's consistent hashing, with nginx's own cache off (as behind
+    several cache-tier pods, each with its own cache): each tile is rendered by one replica of
+    the fleet, a pixel query reaches the replica that rendered its view, and a replica killed
+    or added under load loses no request."""
+
+    @classmethod
+    def setUpClass(cls):
+        from scale_out import Fleet
+
+        cls.dir = tempfile.mkdtemp(prefix="geoslice-fleet-")
+        cls.lb = Balancer(free_port(), cls.dir, NGINX, balance="hash", cache=False)
+        cls.fleet = Fleet(BINARY, free_port() + 50, cls.dir, ["--workers", "1", "--http-threads", "16"], cls.lb)
+        try:
+            cls.lb.configure([])
+            cls.lb.start()
+            cls.fleet.add(3)
+        except Exception:
+            cls.tearDownClass()
+            raise
+
+    @classmethod
+    def tearDownClass(cls):
+        try:
+            cls.lb.stop()
+        finally:
+            cls.fleet.stop()
+            shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def counts(self, family, label):
+        total = 0.0
+        for r in self.fleet.in_list:
+            for ln in r.metrics().splitlines():
+                if ln.startswith(family) and label in ln:
+                    total += float(ln.rsplit(" ", 1)[1])
+        return total
+
+    def new_tiles(self, plane_offset, n):
+        status, _, body = http_get(self.lb.port, "/v1/models/demo/sections", method="POST",
+                                   body=json.dumps({"plane": f"0,1,0,-{3388846 + plane_offset}"}),
+                                   headers={"Content-Type": "application/json"})
+        self.assertIn(status, (200, 201), body)
+        sid = json.loads(body)["sid"]
+        return [f"/v1/sections/{sid}/tiles/4/{k % 16}/{k // 16}.png" for k in range(n)]
+
+    def test_each_tile_is_rendered_once_in_the_fleet(self):
+        import random
+
+        tiles = self.new_tiles(11, 48)
+        paths = tiles * 6
+        random.Random(1).shuffle(paths)
+        renders0 = self.counts("geoslice_render_duration_seconds_count", 'kind="tile"')
+        before = len(self.lb.access_log())
+        results = run_load(self.lb.port, paths, threads=4)
+        self.assertEqual([(p, s) for p, s in results if s != 200], [])
+        renders = self.counts("geoslice_render_duration_seconds_count", 'kind="tile"') - renders0
+        owners = {}
+        for ln in self.lb.access_log()[before:]:
+            path = ln.split('"')[1].split(" ")[1]
+            owners.setdefault(path, set()).add(upstream_tries(ln)[-1][0])
+        self.assertEqual({p: o for p, o in owners.items() if len(o) > 1}, {}, "one replica per tile")
+        self.assertGreater(len({a for o in owners.values() for a in o}), 1, "the tiles spread over the replicas")
+        self.assertEqual(renders, len(tiles), "each tile rendered once in the fleet")
+        print(f"fleet: {len(paths)} requests of {len(tiles)} tiles through 3 replicas: {int(renders)} renders, "
+              f"fleet hit ratio {1 - renders / len(paths):.3f} (ideal {1 - len(tiles) / len(paths):.3f})")
+
+    def test_a_query_reaches_the_replica_that_rendered_its_view(self):
+        hits0 = self.counts("geoslice_cache_total", 'cache="ids",result="hit"')
+        misses0 = self.counts("geoslice_cache_total", 'cache="ids",result="miss"')
+        for v in range(8):
+            view = f"plane=0,1,0,-{3387300 + 311 * v}&size=256x128"
+            status, _, body = http_get(self.lb.port, f"/v1/models/demo/section.png?{view}")
+            self.assertEqual(status, 200, body[:200])
+            for q in range(4):
+                status, _, body = http_get(self.lb.port, f"/v1/models/demo/query?{view}&px={30 * q + 7}&py={20 * q + 5}")
+                self.assertEqual(status, 200, body[:200])
+        hits = self.counts("geoslice_cache_total", 'cache="ids",result="hit"') - hits0
+        misses = self.counts("geoslice_cache_total", 'cache="ids",result="miss"') - misses0
+        self.assertEqual((hits, misses), (32, 0), "every query found its view's ID buffer")
+
+    def test_a_replica_killed_or_added_under_load_loses_no_request(self):
+        victim = self.fleet.in_list[1]
+        tiles = self.new_tiles(23, 96)
+        results = run_load(self.lb.port, tiles, threads=4,
+                           on_progress=lambda n: n == 24 and victim.kill(signal.SIGKILL))
+        self.assertIsNotNone(victim.proc.poll(), "the replica was killed during the load")
+        self.assertEqual([(p, s) for p, s in results if s != 200], [], "killed: no request lost")
+        self.assertEqual(self.fleet.supervise_once(lambda m: None), 1, "the dead replica is started again")
+        self.assertTrue(victim.ready())
+        # A replica added while the load runs: rounds of new tiles until it is in the list.
+        import threading
+
+        grow = threading.Thread(target=self.fleet.add)
+        grow.start()
+        total, lost, rounds = 0, [], 0
+        while grow.is_alive() or rounds < 2:
+            results = run_load(self.lb.port, self.new_tiles(29 + rounds, 48), threads=4)
+            total += len(results)
+            lost += [(p, s) for p, s in results if s != 200]
+            rounds += 1
+        grow.join()
+        self.assertEqual(lost, [], "added: no request lost")
+        self.assertEqual(len(self.fleet.in_list), 4)
+        print(f"fleet: a replica SIGKILLed under load (0 of 96 requests lost), one added under load "
+              f"(0 of {total} lost)")
+
+
 class ScaleOut(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

@@ -1,7 +1,9 @@
 // Models from a directory: raw files, baked packages (bake/package.hpp), a corrupt package
 // that must not take the others down, and raw models baked on first load (--bake-dir).
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -151,6 +153,70 @@ TEST(ModelsDir, RawModelsBakedOnFirstLoadAndReused) {
         EXPECT_TRUE(getJson(port.value(), "/v1/models/mine").contains("baked"));
         EXPECT_EQ(fs::last_write_time(cache.path / "mine" / bake::kManifestFile), first);  // not baked again
     }
+}
+
+// The Kubernetes order (deploy/kubernetes/geoslice.yaml): replicas (--no-bake) start on an
+// empty packages volume before the bake Job has written anything. They stay unready, keep
+// looking, and become ready when a package appears; a package baked again replaces the
+// served version without the replica ever turning unready.
+TEST(ModelsDir, AReplicaStartedBeforeItsPackagesBecomesReadyWhenTheyAppear) {
+    spdlog::set_level(spdlog::level::off);
+    TempDir dir("geoslice_models_poll");
+    ServerConfig c = config(dir.path);
+    c.noBake = true;
+    c.modelsPollMs = 50;
+    SectionServer s(c);
+    auto port = s.start();
+    ASSERT_TRUE(port);
+    EXPECT_TRUE(s.waitUntilLoaded());
+    const json empty = getJson(port.value(), "/readyz", 503);
+    EXPECT_EQ(empty["models"]["loaded"], 0);
+    EXPECT_EQ(empty["models"]["pollMs"], 50);
+
+    const Model first = test::syntheticModel(20000, OreVariant::Nested, 3, "EPSG:4523");
+    auto baked = bake::bakeModel(first);
+    ASSERT_TRUE(baked) << baked.error().message;
+    ASSERT_TRUE(bake::writePackage(first, baked.value(), (dir.path / "mine").string()));
+    httplib::Client cl("127.0.0.1", port.value());
+    const auto t0 = std::chrono::steady_clock::now();
+    auto since = [&t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    int status = 0;
+    while (since() < 30) {
+        auto r = cl.Get("/readyz");
+        ASSERT_TRUE(r);
+        if ((status = r->status) == 200) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ASSERT_EQ(status, 200) << "not ready 30 s after its package appeared";
+    // Ready means the ray scene is built: the first pixel query takes no build.
+    const json ready = getJson(port.value(), "/readyz");
+    EXPECT_EQ(ready["rays"]["mine"]["state"], "ready");
+    const Aabb b = first.bounds();
+    const std::string view = "plane=0,1,0," + std::to_string(-0.5 * (b.min.y + b.max.y)) + "&size=64x32";
+    const auto q0 = std::chrono::steady_clock::now();
+    const json answer = getJson(port.value(), "/v1/models/mine/query?" + view + "&px=32&py=16");
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - q0).count(), 2.0);
+    EXPECT_TRUE(answer.contains("hit"));
+    const std::string v1 = getJson(port.value(), "/v1/models/mine")["version"];
+
+    // Baked again from another model: served once built, and /readyz stays 200 throughout.
+    const Model second = test::syntheticModel(20000, OreVariant::Nested, 7, "EPSG:4523");
+    auto rebaked = bake::bakeModel(second);
+    ASSERT_TRUE(rebaked) << rebaked.error().message;
+    ASSERT_TRUE(bake::writePackage(second, rebaked.value(), (dir.path / "mine").string()));
+    std::string v2 = v1;
+    const auto t1 = std::chrono::steady_clock::now();
+    while (v2 == v1 && std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count() < 30) {
+        auto r = cl.Get("/readyz");
+        ASSERT_TRUE(r);
+        EXPECT_EQ(r->status, 200) << r->body;
+        v2 = getJson(port.value(), "/v1/models/mine")["version"];
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    EXPECT_NE(v2, v1) << "the package baked again was not picked up within 30 s";
+    // The old version's pinned URLs are gone, the new one's answer.
+    getJson(port.value(), "/v1/models/mine/query?" + view + "&px=32&py=16&version=" + v1, 404);
+    getJson(port.value(), "/v1/models/mine/query?" + view + "&px=32&py=16&version=" + v2);
 }
 
 }  // namespace

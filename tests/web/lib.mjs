@@ -72,7 +72,7 @@ export async function startServer(binary, { demo = false, log = null, keys = nul
     await new Promise((r) => setTimeout(r, 100));
   }
   return {
-    url, proc,
+    url, proc, dir,
     stop() { proc.kill('SIGTERM'); if (dir) fs.rmSync(dir, { recursive: true, force: true }); },
   };
 }

@@ -5,6 +5,7 @@
 // Error paths that the real server cannot be made to produce on demand (a 502 from a
 // proxy, a refused connection, a 503 on a tile) are injected at the browser's network
 // layer with page.route; everything else talks to the real server.
+import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
 import { startServer, launch, axeSource, PHONE, PHONE_SMALL, PHONE_LANDSCAPE, DESKTOP } from './lib.mjs';
@@ -765,6 +766,40 @@ const tests = {
     }
     check(seen.size >= 12, `app.js and its modules: ${[...seen].join(' ')}`);
     check((await fetch(`${origin}/web/nothing.js`)).status === 404, 'unknown asset 404');
+  },
+
+  // A model baked again on the server while a page shows it (last: it changes mine-b). The
+  // server swaps the version in (it watches its models directory); the page's pinned URLs
+  // then answer 404 model_version, and the page reloads itself at the new version with the
+  // same view (its permalink) instead of showing failed tiles.
+  async model_baked_again_reloads_the_view() {
+    const page = await newPage(DESKTOP, { locale: 'en-GB' });
+    await open(page, '#m=mine-b');
+    const v1 = await state(page, () => window.geoslice.S.model.version);
+    check(await state(page, () => window.geoslice.S.model.id) === 'mine-b', 'mine-b on show');
+    const tmp = path.join(server.dir, 'mine-b.tmp.glb.part');
+    execFileSync(binary, ['generate', '--triangles', '30000', '--seed', '8', '--crs', 'EPSG:4523', '--at', '105.3,30.9', '--out', tmp]);
+    fs.renameSync(tmp, path.join(server.dir, 'mine-b.glb'));
+    let v2 = v1;
+    for (let i = 0; i < 300 && v2 === v1; ++i) {
+      await new Promise((r) => setTimeout(r, 100));
+      v2 = (await (await fetch(`${origin}/v1/models/mine-b`)).json()).version;
+    }
+    check(v2 !== v1, 'the server did not load the model baked again within 30 s');
+    // The next request of the page (a query of the plan's centre) meets the new version.
+    await page.locator('[data-mode="query"]').click();
+    const box = await page.locator('#planMap').boundingBox();
+    const reloaded = page.waitForEvent('load', { timeout: 20000 });
+    await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+    await reloaded;
+    await page.waitForSelector('body[data-ready="1"]', { timeout: 20000 });
+    await settle(page);
+    const after = await state(page, () => ({ id: window.geoslice.S.model.id, version: window.geoslice.S.model.version,
+      failed: document.querySelectorAll('#planMap .tile-failed').length }));
+    check(after.id === 'mine-b' && after.version === v2, `after the reload: ${JSON.stringify(after)} (want version ${v2})`);
+    check(after.failed === 0, `${after.failed} failed plan tiles after the reload`);
+    check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
+    await page.context().close();
   },
 };
 
