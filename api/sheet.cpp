@@ -171,12 +171,12 @@ Result<SheetOutput> renderSheet(const CatalogModel& model, const SheetRequest& r
 
     Result<print::Sheet> sheet = makeError(ErrorCode::Internal, "no sheet");
     if (def.geometry == Geometry::Line) {
-        auto section = computePolylineSection(*model.index, def.line);
+        auto section = computePolylineSection(*model.index, def.line, besideOtherWork());
         if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
         if (Status c = checkCancel(cancel); !c) return c.error();
         sheet = print::sectionSheet(*model.index, section.value(), o, info);
     } else {
-        auto section = computeSection(*model.index, sectionPlane(def));
+        auto section = computeSection(*model.index, sectionPlane(def), besideOtherWork());
         if (!section) return section.error();
         if (Status c = checkCancel(cancel); !c) return c.error();
         sheet = print::sectionSheet(*model.index, section.value(), o, info);

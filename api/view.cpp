@@ -171,7 +171,7 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
     std::optional<PolylineSection> lineSection;
     std::optional<Section> planeSection;
     if (plan.section.geometry == Geometry::Line) {
-        auto section = computePolylineSection(*model.index, plan.section.line);
+        auto section = computePolylineSection(*model.index, plan.section.line, besideOtherWork());
         if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
         if (auto c = checkCancel(cancel); !c) return c.error();
         auto image =
@@ -183,7 +183,7 @@ Result<ViewImage> renderProfile(const CatalogModel& model, const ViewPlan& plan,
         v.ids = std::move(image.value().ids);
         lineSection = std::move(section.value());
     } else {
-        auto section = computeSection(*model.index, sectionPlane(plan.section));
+        auto section = computeSection(*model.index, sectionPlane(plan.section), besideOtherWork());
         if (!section) return section.error();
         if (auto c = checkCancel(cancel); !c) return c.error();
         auto image = rasterizeSection(*model.index, section.value(), mapping.value().rect, plan.width, plan.height, ro);
@@ -269,14 +269,14 @@ Result<std::string> renderVector(const CatalogModel& model, const ViewPlan& plan
     VectorSource source;
     Result<std::vector<BlockPiece>> pieces = std::vector<BlockPiece>();
     if (plan.section.geometry == Geometry::Line) {
-        auto section = computePolylineSection(*model.index, plan.section.line);
+        auto section = computePolylineSection(*model.index, plan.section.line, besideOtherWork());
         if (!section) return makeError(section.error().code, "parameter 'line': " + section.error().message);
         line = std::move(section.value());
         source = vectorSource(*line);
         if (classes.value())
             pieces = blockPieces(*model.model.blocks, *line, model.index->origin, &mapping.value().rect);
     } else {
-        auto section = computeSection(*model.index, sectionPlane(plan.section));
+        auto section = computeSection(*model.index, sectionPlane(plan.section), besideOtherWork());
         if (!section) return section.error();
         planar = std::move(section.value());
         source = vectorSource(*planar);

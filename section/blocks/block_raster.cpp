@@ -474,7 +474,9 @@ void colourPixelsByBlocks(const BlockModel& blocks, const PropertyClasses& class
                 }
             }
     };
-    if (std::size_t(height) * W >= kTwoThreadMinPixels && height > kBandRows) {
+    // Help only while a core is idle (section/cut/partner_thread.hpp): beside other requests
+    // a partner would compete with them for the cores.
+    if (std::size_t(height) * W >= kTwoThreadMinPixels && height > kBandRows && PartnerThread::coreIdle()) {
         PartnerThread::Job partner = PartnerThread::forThisThread().run(work);
         work();
         partner.wait();

@@ -481,11 +481,14 @@ Result<Section> computeSection(const SectionIndex& index, const Plane& plane, co
     thread_local PlaneCut cut;
     beginCut(index, checked.value(), cut, options.exitsOnly);
     CutStats cs;
-    cutWithBvh(index, nullptr, cut, options.threads, &cs);
+    // Decided once per section: both steps run with the same help (kThreadsWhenIdle: a partner
+    // only while a core is idle).
+    const unsigned threads = PartnerThread::resolve(options.threads);
+    cutWithBvh(index, nullptr, cut, threads, &cs);
     const auto t2 = std::chrono::steady_clock::now();
     Section s;
     s.plane = checked.value();
-    assembleContours(index, cut, s, options.threads);
+    assembleContours(index, cut, s, threads);
     if (timings) {
         timings->queryMs = cs.queryMs;
         timings->cutMs = cs.cutMs;

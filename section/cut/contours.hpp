@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "model/result.hpp"
+#include "section/cut/partner_thread.hpp"
 #include "section/cut/plane_cut.hpp"
 #include "section/index/section_index.hpp"
 
@@ -71,11 +72,21 @@ struct SectionTimings {
 };
 
 struct SectionOptions {
-    unsigned threads = 1;  // 1 or 2: the BVH traversal and cut (see cutWithBvh), then contour assembly
+    // 1 or 2: the BVH traversal and cut (see cutWithBvh), then contour assembly; or
+    // kThreadsWhenIdle (section/cut/partner_thread.hpp): 2 while a core is idle, else 1 (servers).
+    unsigned threads = 1;
     // Closed bodies' crossing points computed once each, at the triangle the ring leaves by
     // (PlaneCut::exitsOnly), not twice: the same output; false only to compare the two.
     bool exitsOnly = true;
 };
+
+// Sections computed beside other work (a server's concurrent requests): two threads while a
+// core is idle, one otherwise (PartnerThread::coreIdle).
+inline SectionOptions besideOtherWork() {
+    SectionOptions o;
+    o.threads = kThreadsWhenIdle;
+    return o;
+}
 
 // Validates the plane, queries the BVH, cuts and assembles.
 // Errors: InvalidArgument (non-finite plane, zero normal); OutOfRange when the plane

@@ -12,7 +12,13 @@
 // started yet (the scheduler has not run it: the cores are busy), the task is withdrawn and
 // never runs. So a task may only take shares of work that the caller takes too, from a
 // common counter, and the caller must never wait for the partner to take a share.
-// Thread-safety: only the owning (calling) thread may call run and wait on its Job.
+//
+// On a busy machine help costs more than it brings: the partner competes for a core with other
+// requests' threads, and a caller whose partner was preempted mid-share waits for the scheduler.
+// So callers that run beside other work (a server) offer help only when a core is idle
+// (coreIdle, kThreadsWhenIdle below): a lone request gets two threads, concurrent ones one each.
+// Thread-safety: only the owning (calling) thread may call run and wait on its Job;
+// coreIdle from any thread.
 #pragma once
 
 #include <atomic>
@@ -21,8 +27,20 @@
 
 namespace geoslice {
 
+// A thread count for the section engine's two-thread paths (SectionOptions::threads,
+// cutWithBvh, assembleContours, the block raster): 2 when a core is idle now (coreIdle), else 1.
+constexpr unsigned kThreadsWhenIdle = 0;
+
 class PartnerThread {
 public:
+    // Whether some core has nothing to run now: the kernel's count of runnable threads
+    // (/proc/loadavg's fourth field, this thread included) is below the cores this process
+    // may use (sched_getaffinity). Sampled at most once a millisecond for the whole process
+    // (a read costs a few microseconds); false where /proc cannot be read.
+    static bool coreIdle();
+    // `threads` with kThreadsWhenIdle resolved: 2 or 1 by coreIdle(); other values as given.
+    static unsigned resolve(unsigned threads) { return threads == kThreadsWhenIdle ? (coreIdle() ? 2u : 1u) : threads; }
+
     // The calling thread's partner.
     static PartnerThread& forThisThread();
 
