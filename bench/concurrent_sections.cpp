@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
             for (std::size_t m = 0; m < std::size(kModes); ++m) {
                 SectionOptions o;
                 o.threads = kModes[m].threads;
-                std::vector<std::vector<double>> mine(std::size_t(n));
+                std::vector<std::vector<double>> mine(static_cast<std::size_t>(n));
                 std::atomic<bool> stop{false};
                 const double t0 = bench::nowSeconds();
                 std::vector<std::thread> ts;

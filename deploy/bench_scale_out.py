@@ -17,7 +17,8 @@ non-2xx answers and socket errors are reported.
 
 Fleet (nginx's own cache off, so what is measured is the replicas' caches, as behind a
 Kubernetes Service or several cache-tier pods): 256 tiles of a new section, each asked 32
-times in a shuffled order by 4 keep-alive clients (8,192 requests; one render per tile
+times in a shuffled order by 4 keep-alive clients (scale_out.run_load: a request that crossed
+nginx closing its idle connection on a reload is sent again, as browsers do, and counted) (8,192 requests; one render per tile
 would be a hit ratio of 1 - 1/32 = 0.969). fleet hit ratio = 1 - renders / requests, the
 renders summed over the replicas' geoslice_render_duration_seconds_count{kind="tile"}.
 With 3 and 5 replicas, round robin against consistent hashing; then with hashing a
@@ -41,7 +42,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from scale_out import REPO, Balancer, Replica, free_port, http_get, upstream_tries  # noqa: E402
+from scale_out import REPO, Balancer, Replica, free_port, http_get, run_load, upstream_tries  # noqa: E402
 
 LUA = r"""
 local salt = %(salt)d
@@ -119,46 +120,6 @@ def fleet_counts(replicas):
     return out
 
 
-def drive(port, paths, threads=4, at_third=None):
-    """GETs every path once from `threads` keep-alive clients; calls at_third() (in its own
-    thread) when a third of them are answered. Returns [status or error text]."""
-    import http.client
-
-    results, lock, it = [], threading.Lock(), iter(paths)
-    third, fired = len(paths) // 3, threading.Event()
-
-    def client():
-        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
-        while True:
-            with lock:
-                path = next(it, None)
-            if path is None:
-                break
-            try:
-                conn.request("GET", path)
-                r = conn.getresponse()
-                r.read()
-                out = r.status
-            except Exception as e:  # a lost request: counted, never retried here
-                out = f"{type(e).__name__}: {e}"
-                conn.close()
-            with lock:
-                results.append(out)
-                fire = at_third is not None and len(results) >= third and not fired.is_set()
-                if fire:
-                    fired.set()
-            if fire:
-                threading.Thread(target=at_third).start()
-        conn.close()
-
-    ts = [threading.Thread(target=client) for _ in range(threads)]
-    for t in ts:
-        t.start()
-    for t in ts:
-        t.join()
-    return results
-
-
 def fleet_runs(binary, nginx, work, workers):
     """The fleet workloads (see the module's doc); returns their results."""
     import random
@@ -173,7 +134,7 @@ def fleet_runs(binary, nginx, work, workers):
         lb.configure([])
         lb.start()
         args = ["--workers", str(workers), "--http-threads", "32", "--log-level", "warn", "--cache-mib", "1024"]
-        fleet = Fleet(binary, free_port() + 100, work, args, lb)
+        fleet = Fleet(binary, None, work, args, lb)
         try:
             fleet.add(n)
             plane_n += 1
@@ -195,9 +156,16 @@ def fleet_runs(binary, nginx, work, workers):
             def add():
                 fleet.add(1)
 
+            at_third = {"kill": kill, "add": add}.get(event)
+
+            def progress(done):
+                if at_third and done == len(paths) // 3:
+                    threading.Thread(target=at_third).start()
+
             load0 = os.getloadavg()[0]
             t0 = time.monotonic()
-            results = drive(lb.port, paths, at_third={"kill": kill, "add": add}.get(event))
+            resent = []
+            results = [status for _, status in run_load(lb.port, paths, on_progress=progress, stale_retries=resent)]
             seconds = time.monotonic() - t0
             after = fleet_counts(fleet.replicas)
             after.update(gone)
@@ -206,7 +174,8 @@ def fleet_runs(binary, nginx, work, workers):
             run = {"replicas": n, "balance": balance, "event": event, "requests": len(results),
                    "distinct_tiles": len(tiles), "tile_renders": int(renders),
                    "fleet_hit_ratio": round(1 - renders / len(results), 4), "ideal": round(1 - 1 / 32, 4),
-                   "failed": len(failed), "failed_examples": failed[:3], "seconds": round(seconds, 2),
+                   "failed": len(failed), "failed_examples": failed[:3],
+                   "resent_after_an_idle_close": len(resent), "seconds": round(seconds, 2),
                    "load": load0}
             if event is None:
                 # Views: a section image, then 16 pixel queries of that view.
@@ -217,7 +186,7 @@ def fleet_runs(binary, nginx, work, workers):
                     vpaths.append(f"/v1/models/demo/section.png?{view}")
                     vpaths += [f"/v1/models/demo/query?{view}&px={(7 * q) % 256}&py={(11 * q) % 128}"
                                for q in range(16)]
-                qfailed = [x for x in drive(lb.port, vpaths, threads=1) if x != 200]
+                qfailed = [x for _, x in run_load(lb.port, vpaths, threads=1) if x != 200]
                 after = fleet_counts(fleet.replicas)
                 hits = sum(after[p][1] - before[p][1] for p in after)
                 misses = sum(after[p][2] - before[p][2] for p in after)

@@ -21,6 +21,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -44,6 +45,62 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def run_load(port, paths, threads=4, on_progress=None, stale_retries=None):
+    """GET every path once through 127.0.0.1:port from `threads` keep-alive clients;
+    returns [(path, status or exception text)] in completion order.
+    stale_retries: a list; when given, a request on a reused keep-alive connection that the
+    server closed before answering anything (RemoteDisconnected, a reset, a broken pipe) is
+    sent again once on a new connection, as browsers and HTTP libraries do for idempotent
+    requests (RFC 9110 9.2.2), and its path is appended to the list. nginx closes its idle
+    keep-alive connections when it reloads its configuration (a replica added or removed),
+    and a request may cross that close on the wire. Otherwise a failed request is reported,
+    never retried."""
+    results, lock, it = [], threading.Lock(), iter(paths)
+    stale = (http.client.RemoteDisconnected, ConnectionResetError, BrokenPipeError)
+
+    def client():
+        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+        used = False  # the connection has carried a whole exchange
+        while True:
+            with lock:
+                path = next(it, None)
+            if path is None:
+                break
+            for attempt in (0, 1):
+                try:
+                    conn.request("GET", path)
+                    r = conn.getresponse()
+                    r.read()
+                    out = r.status
+                    used = True
+                    if r.getheader("Connection", "").lower() == "close":
+                        conn.close()
+                        used = False
+                    break
+                except Exception as e:
+                    out = f"{type(e).__name__}: {e}"
+                    conn.close()
+                    retry = stale_retries is not None and used and attempt == 0 and isinstance(e, stale)
+                    used = False
+                    if not retry:
+                        break
+                    with lock:
+                        stale_retries.append(path)
+            with lock:
+                results.append((path, out))
+                n = len(results)
+            if on_progress:
+                on_progress(n)
+        conn.close()
+
+    ts = [threading.Thread(target=client) for _ in range(threads)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    return results
 
 
 class Replica:
@@ -189,6 +246,8 @@ class Fleet:
     add() and remove() change the fleet's size (the list is reloaded gracefully)."""
 
     def __init__(self, binary, first_port, run_dir, serve_args, balancer):
+        """first_port: replicas on first_port, first_port + 1, ...; None: each on a port free
+        when it starts (tests and benchmarks, beside other servers)."""
         self.binary, self.run_dir, self.serve_args, self.lb = binary, run_dir, list(serve_args), balancer
         self.next_port = first_port
         self.replicas, self.in_list = [], []
@@ -200,8 +259,12 @@ class Fleet:
     def add(self, n=1, timeout=120.0, log=None):
         """Starts n more replicas at once and puts each in the list as it becomes ready;
         returns them."""
-        new = [Replica(self.binary, self.next_port + i, self.run_dir, self.serve_args).start() for i in range(n)]
-        self.next_port += n
+        if self.next_port is None:
+            ports = [free_port() for _ in range(n)]
+        else:
+            ports = list(range(self.next_port, self.next_port + n))
+            self.next_port += n
+        new = [Replica(self.binary, p, self.run_dir, self.serve_args).start() for p in ports]
         self.replicas += new
         t0 = time.monotonic()
         for r in new:

@@ -20,7 +20,7 @@ import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "deploy"))
-from scale_out import Balancer, Replica, free_port, http_get, upstream_tries  # noqa: E402
+from scale_out import Balancer, Replica, free_port, http_get, run_load, upstream_tries  # noqa: E402
 
 BINARY = None
 NGINX = shutil.which("nginx") or ("/usr/sbin/nginx" if os.path.exists("/usr/sbin/nginx") else None)
@@ -31,45 +31,6 @@ def new_section(i, salt=0):
     """A section image no one asked for before: a plane at a new northing (the demo model
     spans 3386846..3390846 m; i < 6000, salt < 50)."""
     return f"/v1/models/demo/section.jpg?plane=0,1,0,-{3387000 + 0.5 * i + 0.01 * salt:.2f}&size=256x128"
-
-
-def run_load(port, paths, threads=4, on_progress=None):
-    """GET every path once through 127.0.0.1:port from `threads` keep-alive clients;
-    returns [(path, status or exception text)] in completion order."""
-    import http.client
-
-    results, lock, it = [], threading.Lock(), iter(paths)
-
-    def client():
-        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
-        while True:
-            with lock:
-                path = next(it, None)
-            if path is None:
-                break
-            try:
-                conn.request("GET", path)
-                r = conn.getresponse()
-                r.read()
-                out = r.status
-                if r.getheader("Connection", "").lower() == "close":
-                    conn.close()
-            except Exception as e:  # a lost request: reported, never retried here
-                out = f"{type(e).__name__}: {e}"
-                conn.close()
-            with lock:
-                results.append((path, out))
-                n = len(results)
-            if on_progress:
-                on_progress(n)
-        conn.close()
-
-    ts = [threading.Thread(target=client) for _ in range(threads)]
-    for t in ts:
-        t.start()
-    for t in ts:
-        t.join()
-    return results
 
 
 class CrashingUpstream:
@@ -325,7 +286,7 @@ class FleetRouting(unittest.TestCase):
 
         cls.dir = tempfile.mkdtemp(prefix="geoslice-fleet-")
         cls.lb = Balancer(free_port(), cls.dir, NGINX, balance="hash", cache=False)
-        cls.fleet = Fleet(BINARY, free_port() + 50, cls.dir, ["--workers", "1", "--http-threads", "16"], cls.lb)
+        cls.fleet = Fleet(BINARY, None, cls.dir, ["--workers", "1", "--http-threads", "16"], cls.lb)
         try:
             cls.lb.configure([])
             cls.lb.start()
@@ -376,7 +337,8 @@ class FleetRouting(unittest.TestCase):
         self.assertEqual({p: o for p, o in owners.items() if len(o) > 1}, {}, "one replica per tile")
         self.assertGreater(len({a for o in owners.values() for a in o}), 1, "the tiles spread over the replicas")
         self.assertEqual(renders, len(tiles), "each tile rendered once in the fleet")
-        print(f"fleet: {len(paths)} requests of {len(tiles)} tiles through 3 replicas: {int(renders)} renders, "
+        print(f"fleet: {len(paths)} requests of {len(tiles)} tiles through {len(self.fleet.in_list)} replicas: "
+              f"{int(renders)} renders, "
               f"fleet hit ratio {1 - renders / len(paths):.3f} (ideal {1 - len(tiles) / len(paths):.3f})")
 
     def test_a_query_reaches_the_replica_that_rendered_its_view(self):
@@ -405,19 +367,29 @@ class FleetRouting(unittest.TestCase):
         # A replica added while the load runs: rounds of new tiles until it is in the list.
         import threading
 
-        grow = threading.Thread(target=self.fleet.add)
+        errors = []
+
+        def add():
+            try:
+                self.fleet.add()
+            except Exception as e:  # reported below
+                errors.append(e)
+
+        grow = threading.Thread(target=add)
         grow.start()
-        total, lost, rounds = 0, [], 0
+        total, lost, rounds, resent = 0, [], 0, []
         while grow.is_alive() or rounds < 2:
-            results = run_load(self.lb.port, self.new_tiles(29 + rounds, 48), threads=4)
+            results = run_load(self.lb.port, self.new_tiles(29 + rounds, 48), threads=4, stale_retries=resent)
             total += len(results)
             lost += [(p, s) for p, s in results if s != 200]
             rounds += 1
         grow.join()
+        self.assertEqual(errors, [], "the replica added")
         self.assertEqual(lost, [], "added: no request lost")
         self.assertEqual(len(self.fleet.in_list), 4)
         print(f"fleet: a replica SIGKILLed under load (0 of 96 requests lost), one added under load "
-              f"(0 of {total} lost)")
+              f"(0 of {total} lost; {len(resent)} sent again by the client on a new connection after nginx's "
+              f"reload closed the idle one they were sent on)")
 
 
 class ScaleOut(unittest.TestCase):
