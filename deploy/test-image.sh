@@ -93,20 +93,27 @@ label=$(ctr image inspect --format '{{index .Config.Labels "org.opencontainers.i
 [ "$label" = "$version" ] || fail "image version label '$label' is not the project's $version"
 archive=build/geoslice-$version.oci.tar
 if [ "$image" = "localhost/geoslice:$version" ] && [ -f "$archive" ]; then
-    id=$(ctr image inspect --format '{{.Id}}' "$image")
-    python3 - "$archive" "$id" "$image" <<'PY' || fail "$archive does not hold $image"
+    layers=$(ctr image inspect --format '{{json .RootFS.Layers}}' "$image")
+    revision=$(ctr image inspect --format '{{index .Config.Labels "org.opencontainers.image.revision"}}' "$image")
+    python3 - "$archive" "$layers" "$image" "$version" "$revision" <<'PY' || fail "$archive does not hold $image"
 import json, sys, tarfile
-archive, image_id, ref = sys.argv[1:]
+archive, layers, ref, version, revision = sys.argv[1], json.loads(sys.argv[2]), *sys.argv[3:6]
 with tarfile.open(archive) as t:
     def blob(digest):
         return json.load(t.extractfile("blobs/" + digest.replace(":", "/")))
     index = json.load(t.extractfile("index.json"))
     (m,) = index["manifests"]
     name = m.get("annotations", {}).get("org.opencontainers.image.ref.name", "")
-    config = blob(m["digest"])["config"]["digest"]
-    assert config.split(":")[1] == image_id.split(":")[-1], f"config {config} is not image {image_id}"
-    assert name in (ref, ref.split(":")[-1]), f"ref.name {name!r} is not {ref}"
-    print(f"test-image: {archive}: OCI archive of {ref} (config {config[:19]}..., ref.name {name!r})")
+    config = blob(blob(m["digest"])["config"]["digest"])
+    # The archive's config is the OCI form of the image's (another digest): its layers
+    # (uncompressed digests) and labels are the image's.
+    assert config["rootfs"]["diff_ids"] == layers, "its layers are not the image's"
+    label = config["config"].get("Labels", {}).get("org.opencontainers.image.version")
+    assert label == version, f"version label {label!r} is not {version}"
+    built = config["config"].get("Labels", {}).get("org.opencontainers.image.revision")
+    assert built == revision, f"built from {built!r}, the image from {revision!r}: a stale archive"
+    assert name == ref, f"ref.name {name!r} is not {ref}"
+    print(f"test-image: {archive}: OCI archive of {ref} ({len(layers)} layers, version {label}, revision {built})")
 PY
 fi
 
