@@ -247,7 +247,8 @@ def main():
                 print(json.dumps(run), file=sys.stderr, flush=True)
             # the mixed run cached up to 400 tiles: a new section id for the next k
             status, _, body = http_get(lb.port, "/v1/models/demo/sections", method="POST",
-                                       body=json.dumps({"plane": f"0,1,0,-{3388846 + k}"}))
+                                       body=json.dumps({"plane": f"0,1,0,-{3388846 + k}"}),
+                                       headers={"Content-Type": "application/json"})
             sid = json.loads(body)["sid"]
         # A replica killed a third into a new_sections run with 3 replicas.
         victim = replicas[2]
