@@ -42,7 +42,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from scale_out import REPO, Balancer, Replica, free_port, http_get, run_load, upstream_tries  # noqa: E402
+from scale_out import REPO, Balancer, Replica, free_port, http_get, metric_sum, run_load, upstream_tries  # noqa: E402
 
 LUA = r"""
 local salt = %(salt)d
@@ -97,15 +97,6 @@ def cache_stats(lines):
     cached = [s for s in st if s != "-"]
     hits = sum(s == "HIT" for s in cached)
     return {"cacheable": len(cached), "hits": hits, "hit_ratio": round(hits / len(cached), 3) if cached else None}
-
-
-def metric_sum(text, name, label=""):
-    """Sum of a Prometheus sample family's values in `text` whose labels contain `label`."""
-    total = 0.0
-    for ln in text.splitlines():
-        if ln.startswith(name) and (ln[len(name)] in " {") and label in ln:
-            total += float(ln.rsplit(" ", 1)[1])
-    return total
 
 
 def fleet_counts(replicas):

@@ -231,6 +231,15 @@ class Balancer:
                 self.proc.wait()
 
 
+def metric_sum(text, name, label=""):
+    """Sum of a Prometheus sample family's values in `text` whose labels contain `label`."""
+    total = 0.0
+    for ln in text.splitlines():
+        if ln.startswith(name) and (ln[len(name)] in " {") and label in ln:
+            total += float(ln.rsplit(" ", 1)[1])
+    return total
+
+
 def upstream_tries(log_line):
     """[(replica address, its status)] for one access-log line, in the order nginx tried
     them (a retried request lists several); [] when the cache answered."""

@@ -20,7 +20,7 @@ import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "deploy"))
-from scale_out import Balancer, Replica, free_port, http_get, run_load, upstream_tries  # noqa: E402
+from scale_out import Balancer, Replica, free_port, http_get, metric_sum, run_load, upstream_tries  # noqa: E402
 
 BINARY = None
 NGINX = shutil.which("nginx") or ("/usr/sbin/nginx" if os.path.exists("/usr/sbin/nginx") else None)
@@ -304,12 +304,7 @@ class FleetRouting(unittest.TestCase):
             shutil.rmtree(cls.dir, ignore_errors=True)
 
     def counts(self, family, label):
-        total = 0.0
-        for r in self.fleet.in_list:
-            for ln in r.metrics().splitlines():
-                if ln.startswith(family) and label in ln:
-                    total += float(ln.rsplit(" ", 1)[1])
-        return total
+        return sum(metric_sum(r.metrics(), family, label) for r in self.fleet.in_list)
 
     def new_tiles(self, plane_offset, n):
         status, _, body = http_get(self.lb.port, "/v1/models/demo/sections", method="POST",
