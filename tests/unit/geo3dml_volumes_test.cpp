@@ -242,7 +242,8 @@ TEST(Geo3dmlVolumes, LineFilesLoadAsLines) {
 }
 
 // project.xml as delivered: its four models are included from the same folder; two of its
-// three maps are missing (a warning names them), the third holds styles only.
+// three maps are missing (a warning names them), the third (map_stratum.xml) styles 地层A by
+// its gml:id with a texture without coordinates whose border colour is 0 1 0 1.
 TEST(Geo3dmlVolumes, ProjectIncludesAsDelivered) {
     auto m = loadModel((kDataDir / "project.xml").string());
     ASSERT_TRUE(m) << m.error().message;
@@ -267,7 +268,80 @@ TEST(Geo3dmlVolumes, ProjectIncludesAsDelivered) {
     const std::string& warnings = m->notes.at("geo3dml_warnings");
     EXPECT_NE(warnings.find("xi:include 'map_drill.xml' is missing"), std::string::npos) << warnings;
     EXPECT_NE(warnings.find("xi:include 'map_section.xml' is missing"), std::string::npos) << warnings;
-    EXPECT_EQ(m->notes.at("geo3dml_maps_not_read"), "map_stratum.xml");
+    EXPECT_FALSE(m->notes.count("geo3dml_maps_not_read"));
+    EXPECT_EQ(m->notes.at("geo3dml_styles"), "1 map, 1 colour rules, 1 features coloured");
+    const Part* a = bodyNamed(m.value(), u8s(u8"地层A"));
+    ASSERT_TRUE(a);
+    const AttributeRecord* rec = m->attributes.find(a->record);
+    ASSERT_TRUE(rec);
+    EXPECT_EQ(formatColour(rec->colour), "#00ff00");
+    EXPECT_NE(rec->colourSource.find(u8s(u8"Geo3DML map '地层' style")), std::string::npos) << rec->colourSource;
+    // The other strata keep the palette's colours (no rule selects them).
+    const AttributeRecord* b = m->attributes.find(bodyNamed(m.value(), u8s(u8"地层B"))->record);
+    EXPECT_EQ(b->colourSource.find("Geo3DML map"), std::string::npos) << b->colourSource;
+}
+
+// Map styles beyond the delivered sample: a rule without a filter colours every feature of
+// its layer's class, a field filter selects by a field's text, a later rule wins over an
+// earlier one, DiffuseColor and PBR BaseColor are read, a filter other than
+// PropertyIsEqualTo and a rule matching nothing are warnings, a sidecar still wins.
+TEST(Geo3dmlVolumes, MapStylesColourTheFeaturesTheySelect) {
+    const fs::path dir = fs::temp_directory_path() / ("geoslice_g3d_styles_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    fs::copy_file(kDataDir / "model_Volume_2.xml", dir / "v2.xml", fs::copy_options::overwrite_existing);
+    const std::string rule = R"(<se:Rule>%FILTER%<GeoSurfaceSymbolizer><Front>%MAT%</Front></GeoSurfaceSymbolizer></se:Rule>)";
+    auto ruleWith = [&](const std::string& filter, const std::string& material) {
+        std::string r = rule;
+        r.replace(r.find("%FILTER%"), 8, filter);
+        r.replace(r.find("%MAT%"), 5, material);
+        return r;
+    };
+    auto eq = [](const std::string& prop, const std::string& lit) {
+        return "<ogc:Filter><ogc:PropertyIsEqualTo><ogc:PropertyName>" + prop + "</ogc:PropertyName><ogc:Literal>" +
+               lit + "</ogc:Literal></ogc:PropertyIsEqualTo></ogc:Filter>";
+    };
+    const std::string rules =
+        ruleWith("", "<Material><DiffuseColor>0.2 0.4 0.6</DiffuseColor></Material>") +  // every feature
+        ruleWith(eq("stratigraphic_name", u8s(u8"蓟县组")), "<PBRMaterial><BaseColor>1 0 0 1</BaseColor></PBRMaterial>") +
+        ruleWith("<ogc:Filter><ogc:Or/></ogc:Filter>", "<Material><DiffuseColor>0 0 0</DiffuseColor></Material>") +
+        ruleWith(eq("gml:id", "no-such-feature"), "<Material><DiffuseColor>1 1 1</DiffuseColor></Material>");
+    std::ofstream(dir / "map.xml")
+        << R"(<Geo3DMap xmlns="https://www.iheg.cgs.gov.cn/Standard/geo3dml" xmlns:gml="http://www.opengis.net/gml/3.2" )"
+        << R"(xmlns:xlink="http://www.w3.org/1999/xlink" xmlns:ogc="http://www.opengis.net/ogc" xmlns:se="http://www.opengis.net/se">)"
+        << "<Name>styles</Name><Layers><Layer><Geo3DLayer><gml:name>L</gml:name>"
+        << R"(<FeatureClass xlink:href="#4c654ddd-b574-4bbc-81e9-7b5b7be8bd7d"/>)"
+        << "<Styles><Style><Geo3DStyle><FeatureStyle><se:FeatureTypeStyle>" << rules
+        << "</se:FeatureTypeStyle></FeatureStyle></Geo3DStyle></Style></Styles></Geo3DLayer></Layer></Layers></Geo3DMap>";
+    std::ofstream(dir / "p.xml") << R"(<Geo3DProject xmlns="http://www.iheg.cgs.gov.cn/Standard/geo3dml" )"
+                                 << R"(xmlns:xi="http://www.w3.org/2001/XInclude"><Name>p</Name>)"
+                                 << R"(<Models><Model><xi:include href="v2.xml"/></Model></Models>)"
+                                 << R"(<Maps><Map><xi:include href="map.xml"/></Map></Maps></Geo3DProject>)";
+    auto m = loadModel((dir / "p.xml").string());
+    ASSERT_TRUE(m) << m.error().message;
+    std::size_t blue = 0;
+    for (const Part& p : m->bodies) {
+        const AttributeRecord* r = m->attributes.find(p.record);
+        ASSERT_TRUE(r) << p.name;
+        if (p.name == u8s(u8"地层A")) {  // its stratigraphic_name is 蓟县组: the later rule wins
+            EXPECT_EQ(formatColour(r->colour), "#ff0000");
+            EXPECT_NE(r->colourSource.find("BaseColor"), std::string::npos) << r->colourSource;
+        } else if (formatColour(r->colour) == "#336699") {
+            ++blue;
+            EXPECT_NE(r->colourSource.find("DiffuseColor"), std::string::npos) << r->colourSource;
+        }
+    }
+    EXPECT_GE(blue, 1u) << "the rule without a filter colours the class's other features";
+    const std::string& w = m->notes.at("geo3dml_warnings");
+    EXPECT_NE(w.find("rule 3: its filter <ogc:Or> is not read"), std::string::npos) << w;
+    EXPECT_NE(w.find("rule 4: matches no feature (gml:id = 'no-such-feature')"), std::string::npos) << w;
+    // A sidecar still wins over the map.
+    const RecordId aId = bodyNamed(m.value(), u8s(u8"地层A"))->record;
+    std::ofstream(dir / "p.attributes.json") << R"({"records": [{"id": )" << aId << R"(, "colour": "#123456"}]})";
+    auto withSidecar = loadModel((dir / "p.xml").string());
+    ASSERT_TRUE(withSidecar) << withSidecar.error().message;
+    const AttributeRecord* a = withSidecar->attributes.find(bodyNamed(withSidecar.value(), u8s(u8"地层A"))->record);
+    EXPECT_EQ(formatColour(a->colour), "#123456");
+    fs::remove_all(dir);
 }
 
 // Includes outside the project's folder are refused (never read), missing ones are warnings.

@@ -7,7 +7,8 @@
 //  - a Geo3DProject: its inlined models, and the model files it xi:includes, resolved
 //    against the project file's folder (parseGeo3dml's baseDir). Includes that are absolute,
 //    URLs, contain '..' or lead outside the folder through a link are refused, and missing
-//    ones skipped, each with a warning naming it; included Geo3DMaps (styles) are not read;
+//    ones skipped, each with a warning naming it; included Geo3DMaps give the colours of the
+//    features their styles select (geo3dml_styles.cpp);
 //  - each GeoFeature under FeatureClasses/FeatureClass/GeoFeatureClass/Features/Feature whose
 //    Geometry/Shape holds triangles: geo3dml:GeoTin (Vertices/Vertex "x y z" with IndexNo,
 //    Triangles/Triangle/VertexList of three IndexNo values), or gml:TriangulatedSurface /
@@ -136,6 +137,7 @@ Result<Model> Reader::run(std::string_view text) {
     if (model.bodies.empty() && model.surfaces.empty() && model.lines.empty()) return nothingToLoad(root, model.name);
 
     applyCrs(model);
+    applyStyles(model);
     finishLoadedModel(model, /*classifyByClosure=*/true);
     // Loader warnings (skipped volumes, missing or refused includes) as validation issues
     // and a model note; validate() runs again later keeps the note.
@@ -150,7 +152,8 @@ Result<Model> Reader::run(std::string_view text) {
 
 // A Geo3DProject: models inlined, or xi:include'd from files beside the project (resolved
 // against its folder; absolute paths, URLs and paths that leave the folder are refused,
-// missing files are warnings). Included maps (styles) and nested projects are not read.
+// missing files are warnings). Included maps are read for their styles (readMap); nested
+// projects are not read.
 std::optional<Error> Reader::readProject(pugi::xml_node root, Model& model) {
     std::string projectName;
     if (auto err = readText(childNamed(root, "Name"), projectName)) return err;
@@ -224,10 +227,9 @@ std::optional<Error> Reader::readInclude(std::string_view href, Model& model) {
         const std::string_view name = localName(root.name());
         if (isModelRoot(name))
             err = readModelElement(root, model);
-        else if (name == "Geo3DMap") {
-            std::string& maps = model.notes["geo3dml_maps_not_read"];
-            maps += (maps.empty() ? "" : ", ") + quoted(href, 200);
-        } else
+        else if (name == "Geo3DMap")
+            readMap(root, std::string(href));
+        else
             warn("", shownHref + " is a <" + quoted(root.name()) + ">, not a Geo3DModel: not read");
     }
     source_ = projectSource;
@@ -271,14 +273,16 @@ std::optional<Error> Reader::readModelElement(pugi::xml_node modelNode, Model& m
         if (error) return;
         std::string className;
         if ((error = readText(childNamed(featureClass, "name"), className))) return;
+        const std::string_view classId = trimSpace(attributeNamed(featureClass, "id").value());
         forEachWrapped(childNamed(featureClass, "Features"), "Feature", "GeoFeature", [&](pugi::xml_node feature) {
-            if (!error) error = readFeature(feature, trimSpace(className), model);
+            if (!error) error = readFeature(feature, trimSpace(className), classId, model);
         });
     });
     return error;
 }
 
-std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_view className, Model& model) {
+std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_view className, std::string_view classId,
+                                         Model& model) {
     const pugi::xml_node shape = childNamed(childNamed(feature, "Geometry"), "Shape");
     if (!shape) {
         ++featuresWithoutGeometry_;
@@ -341,6 +345,8 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
         if (!record) return record.error();
         line.name = featureName;
         line.record = model.attributes.add(std::move(record.value()));
+        if (const std::string_view id = trimSpace(attributeNamed(feature, "id").value()); !id.empty())
+            features_[std::string(id)] = {line.record, std::string(classId)};
         model.lines.push_back(std::move(line));
         return std::nullopt;
     }
@@ -380,6 +386,8 @@ std::optional<Error> Reader::readFeature(pugi::xml_node feature, std::string_vie
     Part part;
     part.name = featureName;
     part.record = model.attributes.add(std::move(record.value()));
+    if (const std::string_view id = trimSpace(attributeNamed(feature, "id").value()); !id.empty())
+        features_[std::string(id)] = {part.record, std::string(classId)};
     part.mesh = std::move(mesh);
     part.kind = closed ? PartKind::Body : PartKind::Surface;
     part.kindDeclared = isVolume;  // a volume stays a body: an error if it cannot be closed, never a surface

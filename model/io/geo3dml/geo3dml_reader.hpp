@@ -4,6 +4,7 @@
 //   geo3dml_volumes.cpp     tetrahedra, cuboids, prisms, truncated grids, gml:RectifiedGrid;
 //   geo3dml_attributes.cpp  a feature's Fields -> its attribute record;
 //   geo3dml_crs.cpp         the declared CRS and the axis-order check;
+//   geo3dml_styles.cpp      a project's Geo3DMap styles -> record colours;
 //   geo3dml_xml.hpp/.cpp    XML and text helpers.
 // What is read, and how: see model/io/geo3dml/geo3dml_loader.cpp. Not a public header.
 #pragma once
@@ -138,7 +139,12 @@ private:
     Error fail(pugi::xml_node at, const std::string& what) const { return fail(ErrorCode::ParseError, at, what); }
 
     std::optional<Error> readModelElement(pugi::xml_node modelNode, Model& model);
-    std::optional<Error> readFeature(pugi::xml_node feature, std::string_view className, Model& model);
+    std::optional<Error> readFeature(pugi::xml_node feature, std::string_view className, std::string_view classId,
+                                     Model& model);
+    // An included Geo3DMap: its layers' colour rules into styleRules_ (geo3dml_styles.cpp).
+    void readMap(pugi::xml_node map, const std::string& href);
+    // The rules onto the records of the features they select, once every model is read.
+    void applyStyles(Model& model);
     std::optional<Error> appendGeoTin(pugi::xml_node tin, Mesh& mesh) const;
     std::optional<Error> readVertices(pugi::xml_node owner, VertexTable& table) const;
     std::optional<Error> appendLineString(pugi::xml_node ls, Polyline& line) const;
@@ -172,6 +178,23 @@ private:
     std::string modelType_;         // Geo3DModel/Type: 3DModel, Section, Drill, ...
     Census census_;
     std::vector<std::string> includes_;  // xi:include hrefs of a project
+    // Features read, by gml:id: their record and their class's gml:id (for map styles).
+    struct FeatureRef {
+        RecordId record = kNoRecord;
+        std::string classId;
+    };
+    std::unordered_map<std::string, FeatureRef> features_;
+    struct StyleRule {
+        std::string classId;            // the layer's feature class ("" = any)
+        bool filtered = false;          // PropertyIsEqualTo(property, literal)
+        std::string property, literal;  //
+        Rgba8 colour;
+        std::string from;     // "DiffuseColor", "BaseColor", ...
+        std::string mapName;  // the Geo3DMap's Name
+        std::string where;    // "map 'M', layer 'L', rule 2" for warnings
+    };
+    std::vector<StyleRule> styleRules_;
+    std::size_t mapsRead_ = 0;
     std::size_t featuresWithoutGeometry_ = 0;
 };
 
