@@ -289,7 +289,8 @@ TEST(Geo3dmlVolumes, MapStylesColourTheFeaturesTheySelect) {
     const fs::path dir = fs::temp_directory_path() / ("geoslice_g3d_styles_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     fs::copy_file(kDataDir / "model_Volume_2.xml", dir / "v2.xml", fs::copy_options::overwrite_existing);
-    const std::string rule = R"(<se:Rule>%FILTER%<GeoSurfaceSymbolizer><Front>%MAT%</Front></GeoSurfaceSymbolizer></se:Rule>)";
+    const std::string rule =
+        R"(<se:Rule>%FILTER%<GeoSurfaceSymbolizer><Front>%MAT%</Front></GeoSurfaceSymbolizer></se:Rule>)";
     auto ruleWith = [&](const std::string& filter, const std::string& material) {
         std::string r = rule;
         r.replace(r.find("%FILTER%"), 8, filter);
@@ -302,7 +303,8 @@ TEST(Geo3dmlVolumes, MapStylesColourTheFeaturesTheySelect) {
     };
     const std::string rules =
         ruleWith("", "<Material><DiffuseColor>0.2 0.4 0.6</DiffuseColor></Material>") +  // every feature
-        ruleWith(eq("stratigraphic_name", u8s(u8"蓟县组")), "<PBRMaterial><BaseColor>1 0 0 1</BaseColor></PBRMaterial>") +
+        ruleWith(eq("stratigraphic_name", u8s(u8"蓟县组")),
+                 "<PBRMaterial><BaseColor>1 0 0 1</BaseColor></PBRMaterial>") +
         ruleWith("<ogc:Filter><ogc:Or/></ogc:Filter>", "<Material><DiffuseColor>0 0 0</DiffuseColor></Material>") +
         ruleWith(eq("gml:id", "no-such-feature"), "<Material><DiffuseColor>1 1 1</DiffuseColor></Material>");
     std::ofstream(dir / "map.xml")
@@ -311,7 +313,8 @@ TEST(Geo3dmlVolumes, MapStylesColourTheFeaturesTheySelect) {
         << "<Name>styles</Name><Layers><Layer><Geo3DLayer><gml:name>L</gml:name>"
         << R"(<FeatureClass xlink:href="#4c654ddd-b574-4bbc-81e9-7b5b7be8bd7d"/>)"
         << "<Styles><Style><Geo3DStyle><FeatureStyle><se:FeatureTypeStyle>" << rules
-        << "</se:FeatureTypeStyle></FeatureStyle></Geo3DStyle></Style></Styles></Geo3DLayer></Layer></Layers></Geo3DMap>";
+        << "</se:FeatureTypeStyle></FeatureStyle></Geo3DStyle></Style></Styles></Geo3DLayer></Layer></Layers></"
+           "Geo3DMap>";
     std::ofstream(dir / "p.xml") << R"(<Geo3DProject xmlns="http://www.iheg.cgs.gov.cn/Standard/geo3dml" )"
                                  << R"(xmlns:xi="http://www.w3.org/2001/XInclude"><Name>p</Name>)"
                                  << R"(<Models><Model><xi:include href="v2.xml"/></Model></Models>)"

@@ -35,8 +35,8 @@ std::optional<Rgba8> unitColour(std::string_view text) {
     int n = 0;
     std::size_t i = 0;
     while (i < text.size()) {
-        while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\n' || text[i] == '\r' ||
-                                   text[i] == ','))
+        while (i < text.size() &&
+               (text[i] == ' ' || text[i] == '\t' || text[i] == '\n' || text[i] == '\r' || text[i] == ','))
             ++i;
         if (i >= text.size()) break;
         std::size_t j = i;
@@ -138,8 +138,9 @@ void Reader::readMap(pugi::xml_node map, const std::string& href) {
                 return name == "Filter" ? Walk::Skip : Walk::Descend;
             });
             if (!colour) {
-                warn("", ruleWhere + ": no colour in its symbolizer (DiffuseColor, BaseColor, or the BorderColor "
-                                     "of a texture without coordinates); the rule is skipped");
+                warn("", ruleWhere +
+                             ": no colour in its symbolizer (DiffuseColor, BaseColor, or the BorderColor "
+                             "of a texture without coordinates); the rule is skipped");
                 return Walk::Skip;
             }
             rule.colour = colour->first;

@@ -256,6 +256,7 @@ Status VtuReader::payload(const ArrayDecl& a, std::uint64_t bytes, std::vector<s
     if (!zlib_) {
         std::uint64_t declared = 0;
         if (!readHeader(declared)) return truncated("no size header");
+        if (bytes == kLengthFromHeader) bytes = declared;
         if (declared != bytes)
             return failArray(a, "its header says " + std::to_string(declared) + " bytes, the declared counts need " +
                                     std::to_string(bytes));
@@ -296,6 +297,7 @@ Status VtuReader::payload(const ArrayDecl& a, std::uint64_t bytes, std::vector<s
         total = *full + (lastSize ? lastSize : blockSize);
         if (total < *full) return failArray(a, "compression header sizes overflow");
     }
+    if (bytes == kLengthFromHeader) bytes = total;
     if (total != bytes)
         return failArray(a, "compressed data holds " + std::to_string(total) + " bytes, the declared counts need " +
                                 std::to_string(bytes));
@@ -365,5 +367,62 @@ Status VtuReader::read(const ArrayDecl& a, std::uint64_t count, std::vector<T>& 
 
 template Status VtuReader::read<double>(const ArrayDecl&, std::uint64_t, std::vector<double>&) const;
 template Status VtuReader::read<std::int64_t>(const ArrayDecl&, std::uint64_t, std::vector<std::int64_t>&) const;
+
+}  // namespace geoslice::vtu
+
+namespace geoslice::vtu {
+
+Result<StringArray> VtuReader::readStrings(pugi::xml_node node, std::uint64_t count, std::string_view role) const {
+    ArrayDecl a;
+    a.node = node;
+    a.name = text::toUtf8(node.attribute("Name") ? std::string_view(node.attribute("Name").value()) : role);
+    const std::string_view format = node.attribute("format").value();
+    std::vector<std::uint8_t> bytes;
+    if (format == "ascii") {
+        // Character codes, signed (VTK writes -27 for 0xE5) or not.
+        const std::string_view t = node.child_value();
+        std::size_t i = 0;
+        while (i < t.size()) {
+            while (i < t.size() && isSpace(t[i])) ++i;
+            if (i >= t.size()) break;
+            std::size_t j = i;
+            while (j < t.size() && !isSpace(t[j])) ++j;
+            std::int64_t v = 0;
+            if (text::parseInt(t.substr(i, j - i), v) != text::IntStatus::Ok || v < -128 || v > 255)
+                return failArray(a,
+                                 "value '" + printable(t.substr(i, j - i)) + "' is not a character code (-128..255)");
+            bytes.push_back(static_cast<std::uint8_t>(v & 0xff));
+            i = j;
+        }
+    } else if (format == "binary" || format == "appended") {
+        a.format = format == "binary" ? ArrayDecl::Format::Binary : ArrayDecl::Format::Appended;
+        if (a.format == ArrayDecl::Format::Appended) {
+            if (!haveAppended_) return failArray(a, "format is appended but the file has no <AppendedData>");
+            std::string_view s = trimSpace(node.attribute("offset").value());
+            if (text::parseUnsigned(s, a.offset) != text::IntStatus::Ok || a.offset >= appended_.size())
+                return failArray(a, "appended array without a valid offset ('" + printable(s) + "')");
+        }
+        if (Status s = payload(a, kLengthFromHeader, bytes); !s) return s.error();
+    } else {
+        return failArray(a, "format '" + printable(format) + "' is not ascii, binary or appended");
+    }
+    StringArray out;
+    out.name = a.name;
+    std::string cur;
+    for (const std::uint8_t b : bytes) {
+        if (b == 0) {
+            out.values.push_back(text::toUtf8(cur));
+            cur.clear();
+            if (count && out.values.size() == count) break;
+        } else {
+            cur += static_cast<char>(b);
+        }
+    }
+    if (!cur.empty() && (!count || out.values.size() < count)) out.values.push_back(text::toUtf8(cur));
+    if (count && out.values.size() != count)
+        return failArray(
+            a, "holds " + std::to_string(out.values.size()) + " strings, " + std::to_string(count) + " declared");
+    return out;
+}
 
 }  // namespace geoslice::vtu

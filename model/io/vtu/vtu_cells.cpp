@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -254,6 +255,80 @@ Result<Model> VtuReader::buildModel() {
                        : static_cast<std::size_t>(part.record - 1);
             if (!constant[r] || !std::isfinite(first[r])) continue;
             if (AttributeRecord* rec = model.attributes.find(part.record)) rec->extra[a.name] = first[r];
+        }
+    }
+    // Formation names (the part's and the record's): a CellData string array constant over
+    // every formation (arrays named like "name" or "formation" first), else a FieldData string
+    // array indexed by the formation value (values 0..n-1 index it from 0, values 1..n from 1,
+    // arrays named like "name" or "formation" first); a name two formations share keeps the
+    // value beside it.
+    if (region) {
+        auto lowered = [](const std::string& s) {
+            std::string l;
+            for (const char c : s) l += static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+            return l;
+        };
+        auto preferred = [&](const std::string& name) {
+            const std::string l = lowered(name);
+            return l.find("name") != std::string::npos || l.find("formation") != std::string::npos;
+        };
+        std::vector<std::string> names(values.size());
+        std::string source;
+        for (int pass = 0; pass < 2 && source.empty(); ++pass)
+            for (const StringArray& a : cellStrings_) {
+                if (preferred(a.name) != (pass == 0) || a.values.size() != types_.size()) continue;
+                std::vector<std::string> first(values.size());
+                std::vector<char> seen(values.size(), 0);
+                bool constant = true;
+                for (std::size_t i = 0; i < keptCells.size() && constant; ++i) {
+                    const auto r = static_cast<std::size_t>(vm.cellRegions[i]);
+                    const std::string& v = a.values[keptCells[i]];
+                    if (!seen[r]) {
+                        first[r] = v;
+                        seen[r] = 1;
+                    } else if (first[r] != v) {
+                        constant = false;
+                    }
+                }
+                if (!constant ||
+                    std::any_of(first.begin(), first.end(), [](const std::string& s) { return trimSpace(s).empty(); }))
+                    continue;
+                names = std::move(first);
+                source = "file (.vtu cell array '" + a.name + "')";
+                break;
+            }
+        for (int pass = 0; pass < 2 && source.empty(); ++pass)
+            for (const StringArray& a : fieldStrings_) {
+                if (preferred(a.name) != (pass == 0)) continue;
+                const auto n = static_cast<std::int64_t>(a.values.size());
+                const std::int64_t base = values.front() >= 0 && values.back() < n    ? 0
+                                          : values.front() >= 1 && values.back() <= n ? 1
+                                                                                      : -1;
+                if (base < 0) continue;
+                for (std::size_t r = 0; r < values.size(); ++r)
+                    names[r] = a.values[static_cast<std::size_t>(values[r] - base)];
+                if (std::any_of(names.begin(), names.end(), [](const std::string& s) { return trimSpace(s).empty(); }))
+                    continue;
+                source = "file (.vtu field array '" + a.name + "', by " + region->name + (base ? " - 1" : "") + ")";
+                break;
+            }
+        if (!source.empty()) {
+            std::map<std::string, int> uses;
+            for (const std::string& n : names) ++uses[std::string(trimSpace(n))];
+            for (auto& part : model.bodies) {
+                const std::size_t r = direct ? static_cast<std::size_t>(std::lower_bound(values.begin(), values.end(),
+                                                                                         std::int64_t(part.record)) -
+                                                                        values.begin())
+                                             : static_cast<std::size_t>(part.record - 1);
+                if (r >= names.size()) continue;
+                const std::string name(trimSpace(names[r]));
+                part.name = uses[name] > 1 ? name + " (" + region->name + " " + std::to_string(values[r]) + ")" : name;
+                if (AttributeRecord* rec = model.attributes.find(part.record)) {
+                    rec->name = part.name;
+                    rec->nameSource = source;
+                }
+            }
+            model.notes["vtu_formation_names"] = source.substr(6, source.size() - 7);
         }
     }
     // A per-cell colour array (3 or 4 components, named like colour / color / rgb): a

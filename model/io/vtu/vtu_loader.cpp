@@ -23,11 +23,13 @@
 // [1, kMaxDirectRecordId] (so an attributes sidecar with those ids names them), else the
 // rank of v among the values (a note says so). Cell arrays that are constant over a
 // formation go into its record's extra fields; point arrays become per-vertex properties of
-// the boundary meshes (float32).
+// the boundary meshes (float32). String arrays (<Array type="String">, VTK's vtkStringArray)
+// in CellData or FieldData name the formations (model/io/vtu/vtu_cells.cpp).
 //
 // Robustness: every count, size and offset read from the file is checked against the
 // bytes present before anything is allocated or read; zlib data is checked block by block
 // against the sizes its header declares. Errors name the file, the array and the problem.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -159,7 +161,40 @@ Status VtuReader::readPiece(pugi::xml_node piece) {
     };
     if (Status s = readData("PointData", nPoints, pointArrays_); !s) return s;
     if (Status s = readData("CellData", nCells, cellArrays_); !s) return s;
+    // String arrays (<Array type="String">): per cell in CellData, free lists in FieldData.
+    std::size_t k = 0;
+    for (pugi::xml_node sa = piece.child("CellData").child("Array"); sa; sa = sa.next_sibling("Array"), ++k) {
+        if (std::string_view(sa.attribute("type").value()) != "String") continue;
+        auto strings = readStrings(sa, nCells, "CellData string array " + std::to_string(k));
+        if (!strings) return strings.error();
+        auto it = std::find_if(cellStrings_.begin(), cellStrings_.end(),
+                               [&](const StringArray& s) { return s.name == strings->name; });
+        if (pieces_ == 0)
+            cellStrings_.push_back(std::move(strings.value()));
+        else if (it == cellStrings_.end())
+            return fail("CellData string array '" + printable(strings->name) +
+                        "' is not in the first piece; pieces must carry the same arrays");
+        else
+            it->values.insert(it->values.end(), strings->values.begin(), strings->values.end());
+    }
+    if (Status s = readFieldStrings(piece); !s) return s;
     ++pieces_;
+    return {};
+}
+
+Status VtuReader::readFieldStrings(pugi::xml_node owner) {
+    std::size_t k = 0;
+    for (pugi::xml_node sa = owner.child("FieldData").child("Array"); sa; sa = sa.next_sibling("Array"), ++k) {
+        if (std::string_view(sa.attribute("type").value()) != "String") continue;
+        std::uint64_t n = 0;
+        if (pugi::xml_attribute t = sa.attribute("NumberOfTuples");
+            t && (text::parseUnsigned(trimSpace(t.value()), n) != text::IntStatus::Ok || n > (1u << 24)))
+            return fail("FieldData string array '" + printable(sa.attribute("Name").value()) + "': NumberOfTuples '" +
+                        printable(t.value()) + "' is not a count up to 16777216");
+        auto strings = readStrings(sa, n, "FieldData string array " + std::to_string(k));
+        if (!strings) return strings.error();
+        fieldStrings_.push_back(std::move(strings.value()));
+    }
     return {};
 }
 
@@ -221,6 +256,7 @@ Result<Model> VtuReader::run() {
 
     const pugi::xml_node grid = root.child("UnstructuredGrid");
     if (!grid) return fail("no <UnstructuredGrid> element under <VTKFile>");
+    if (Status s = readFieldStrings(grid); !s) return s.error();
     for (pugi::xml_node piece = grid.child("Piece"); piece; piece = piece.next_sibling("Piece"))
         if (Status s = readPiece(piece); !s) return s.error();
     if (pieces_ == 0) return fail("<UnstructuredGrid> has no <Piece>");

@@ -48,6 +48,15 @@ struct ArrayDecl {
     std::uint64_t offset = 0;  // appended only
 };
 
+// A decoded String array (<Array type="String">: NUL-terminated strings, one per tuple).
+struct StringArray {
+    std::string name;
+    std::vector<std::string> values;
+};
+
+// payload()'s byte count when the array's own header gives it (String arrays).
+constexpr std::uint64_t kLengthFromHeader = std::numeric_limits<std::uint64_t>::max();
+
 // A decoded array: values as double (exact for every integer below 2^53) or int64.
 struct CellArray {
     std::string name;
@@ -77,8 +86,14 @@ private:
     Status read(const ArrayDecl& a, std::uint64_t count, std::vector<T>& out) const;
     // The array's payload bytes (binary / appended), exactly `bytes` long after any
     // decompression, in file byte order.
+    // bytes == kLengthFromHeader: as many as the header says (at most what is present).
     Status payload(const ArrayDecl& a, std::uint64_t bytes, std::vector<std::uint8_t>& out) const;
+    // An <Array type="String"> of `count` strings (count 0: as many as it holds), UTF-8
+    // checked (invalid sequences become U+FFFD).
+    Result<StringArray> readStrings(pugi::xml_node node, std::uint64_t count, std::string_view role) const;
     Status readPiece(pugi::xml_node piece);
+    // FieldData String arrays of the grid or a piece into fieldStrings_.
+    Status readFieldStrings(pugi::xml_node owner);
     // The cells read by run() -> one closed body per formation (model/io/vtu/vtu_cells.cpp).
     Result<Model> buildModel();
 
@@ -101,6 +116,8 @@ private:
     std::vector<std::uint8_t> types_;
     std::vector<CellArray> cellArrays_;
     std::vector<CellArray> pointArrays_;
+    std::vector<StringArray> cellStrings_;   // CellData String arrays (one string per cell)
+    std::vector<StringArray> fieldStrings_;  // FieldData String arrays (the grid's and pieces')
     std::size_t pieces_ = 0;
 };
 
