@@ -13,7 +13,7 @@ import { request, setStatus } from './api.js?v=__GS_BUILD__';
 import { uOf, vOf, createMaps, planMap, sectionMap, onLongPress } from './map.js?v=__GS_BUILD__';
 import { drawSectionOverlay, drawPlanOverlay } from './overlay.js?v=__GS_BUILD__';
 import { loadModel, loadPlan, drawPlanLine, setMode, updateDrawHint, planClick } from './plan.js?v=__GS_BUILD__';
-import { cut, openSection, sectionLabel, updateExports } from './section.js?v=__GS_BUILD__';
+import { cut, measureClick, openSection, sectionLabel, setMeasuring, updateExports } from './section.js?v=__GS_BUILD__';
 import { clearAnswer, queryMap, renderAnswer } from './query.js?v=__GS_BUILD__';
 import { borehole } from './borehole.js?v=__GS_BUILD__';
 import { render3d, setup3d } from './view3d.js?v=__GS_BUILD__';
@@ -36,7 +36,11 @@ async function main() {
     borehole(w[0], w[1]);
   });
   planMap.on('click', (e) => { if (!planSwallow()) planClick(e); });
-  sectionMap.on('click', (e) => { if (!secSwallow() && S.section) queryMap('section', sectionMap, S.section, e.latlng); });
+  sectionMap.on('click', (e) => {
+    if (secSwallow() || !S.section) return;
+    if (S.measure?.on) measureClick(e.latlng); else queryMap('section', sectionMap, S.section, e.latlng);
+  });
+  $('measure').onclick = () => setMeasuring(!S.measure?.on);
   // Keyboard: arrows pan (Leaflet), +/- zoom, Enter acts at the centre of the map as a tap would.
   for (const [map, act] of [[planMap, (ll) => planClick({ latlng: ll })],
                             [sectionMap, (ll) => S.section && queryMap('section', sectionMap, S.section, ll)]]) {

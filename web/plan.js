@@ -162,7 +162,20 @@ export function setMode(mode) {
 }
 export function updateDrawHint() {
   const h = $('drawHint');
-  if (S.mode === 'line') h.textContent = `${t('hintLine')} (${t('points', S.points.length)})`;
+  if (S.mode === 'line') {
+    // The drawn line's grid length and each leg's grid bearing (CRS metres, grid north).
+    let measure = '';
+    if (S.points.length >= 2) {
+      let total = 0;
+      const legs = [];
+      for (let i = 1; i < S.points.length; ++i) {
+        total += V.legLength(S.points[i - 1], S.points[i]);
+        legs.push(`${V.letter(i - 1)}→${V.letter(i)} ${String(Math.round(V.legBearing(S.points[i - 1], S.points[i])) % 360).padStart(3, '0')}°`);
+      }
+      measure = ` · ${t('lineLength', total.toLocaleString(undefined, { maximumFractionDigits: 1 }))} · ${legs.join(', ')}`;
+    }
+    h.textContent = `${t('hintLine')} (${t('points', S.points.length)}${measure})`;
+  }
   else if (S.mode === 'slice') h.textContent = t('hintSlice');
   else if (S.mode === 'query') h.textContent = t('tapHint');
   else h.textContent = t('hintPoint') + (S.through ? ` (${t('through', V.fmt(S.through[0], 0), V.fmt(S.through[1], 0))})` : '');

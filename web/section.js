@@ -4,7 +4,7 @@ import * as V from './views.js?v=__GS_BUILD__';
 import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S, mark, markPainted, permalinkSoon } from './state.js?v=__GS_BUILD__';
 import { request, api, setStatus, hasApiKey, failure, serverAway, whenServerBack } from './api.js?v=__GS_BUILD__';
-import { RetryTiles, tileFrame, usefulZoom, gridBounds, sectionMap } from './map.js?v=__GS_BUILD__';
+import { RetryTiles, tileFrame, usefulZoom, gridBounds, sectionMap, uOf, vOf, latOf, lngOf } from './map.js?v=__GS_BUILD__';
 import { drawSectionOverlay } from './overlay.js?v=__GS_BUILD__';
 import { drawPlanLine, modeAzimuth } from './plan.js?v=__GS_BUILD__';
 import { clearAnswer } from './query.js?v=__GS_BUILD__';
@@ -99,6 +99,7 @@ export function setSection(sec, view = null) {
   ++S.gen;
   if (S.section?.layer) sectionMap.removeLayer(S.section.layer);
   S.section = sec;
+  clearMeasure();
   clearAnswer();
   $('noSection').hidden = !!sec;
   $('tools-section').dataset.has = sec ? '1' : '';
@@ -156,4 +157,40 @@ async function downloadWithKey(url, name) {
   } catch (e) {
     setStatus(e.message, true);
   }
+}
+
+// ---- measuring on a section ------------------------------------------------------------
+// With Measure on, two taps on the section give the true distance between them (section
+// metres: u along it, v up it, the exaggeration taken out) and, on a vertical section (a
+// polyline, or a plane with a horizontal normal), the apparent dip of the line they draw.
+let measureLayer = null;
+export function clearMeasure() {
+  S.measure = { on: S.measure?.on || false, pts: [], result: null };
+  if (measureLayer) { measureLayer.remove(); measureLayer = null; }
+  $('measureOut').hidden = !S.measure.on;
+  $('measureOut').textContent = S.measure.on ? t('measureHint') : '';
+}
+export function setMeasuring(on) {
+  S.measure = { on, pts: [], result: null };
+  $('measure').setAttribute('aria-pressed', String(on));
+  clearMeasure();
+}
+export function measureClick(latlng) {
+  const sec = S.section;
+  if (!sec) return;
+  if (S.measure.pts.length >= 2) clearMeasure();
+  const p = [uOf(sec.grid, latlng.lng), vOf(sec.grid, latlng.lat)];
+  S.measure.pts.push(p);
+  if (!measureLayer) measureLayer = L.layerGroup().addTo(sectionMap);
+  L.circleMarker(latlng, { radius: 5, color: '#e00', interactive: false }).addTo(measureLayer);
+  if (S.measure.pts.length < 2) return;
+  const [a, b] = S.measure.pts;
+  L.polyline([[latOf(sec.grid, a[1]), lngOf(sec.grid, a[0])], [latOf(sec.grid, b[1]), lngOf(sec.grid, b[0])]],
+             { color: '#e00', weight: 2, dashArray: '6 4', interactive: false }).addTo(measureLayer);
+  const vertical = sec.kind === 'line' || (sec.kind === 'plane' && Math.abs(sec.plane?.n?.[2] ?? 1) < 1e-9);
+  const m = V.sectionMeasure(a, b, vertical);
+  S.measure.result = m;
+  $('measureOut').hidden = false;
+  $('measureOut').textContent = t('measured', m.length.toLocaleString(undefined, { maximumFractionDigits: 1 }),
+                                  m.dip == null ? null : m.dip.toFixed(1));
 }

@@ -161,3 +161,15 @@ export function pointAt(pts, s) {
   return pts[0];
 }
 export const letter = (i) => String.fromCharCode(65 + (i % 26)) + (i >= 26 ? String(Math.floor(i / 26)) : '');
+
+// ---- measuring -------------------------------------------------------------------------
+// A plan leg's grid distance (m) and grid bearing (degrees clockwise from grid north, 0..360).
+export const legLength = (a, b) => Math.hypot(b[0] - a[0], b[1] - a[1]);
+export const legBearing = (a, b) => ((Math.atan2(b[0] - a[0], b[1] - a[1]) * 180) / Math.PI + 360) % 360;
+// A line drawn on a section, between section points [u, v] in true metres (u along the
+// section, v up it): its true length, and on a vertical section its apparent dip (degrees
+// below the horizontal, 0..90), whatever the vertical exaggeration on screen.
+export function sectionMeasure(a, b, vertical) {
+  const du = b[0] - a[0], dv = b[1] - a[1];
+  return { length: Math.hypot(du, dv), dip: vertical ? (Math.atan2(Math.abs(dv), Math.abs(du)) * 180) / Math.PI : null };
+}

@@ -768,6 +768,55 @@ const tests = {
     check((await fetch(`${origin}/web/nothing.js`)).status === 404, 'unknown asset 404');
   },
 
+  // Measuring (issue: distance and bearing on the plan; true distance and apparent dip on a
+  // section whatever vx). The plan's line A-B of legs (+300 m east, +400 m north) is 500 m at
+  // bearing 037° (closed form). On a vertical section, taps at section points 800 m apart
+  // along and 400 m apart up the section measure hypot(800, 400) = 894.4 m and an apparent dip
+  // of atan(400 / 800) = 26.57°, the same at vx 1 and vx 2 (within the taps' pixel rounding).
+  async measuring_in_true_metres() {
+    const page = await newPage(DESKTOP, { locale: 'en-GB' });
+    await open(page);
+    const b = await bounds(page);
+    const x0 = b.min[0] + 0.2 * (b.max[0] - b.min[0]), y0 = b.min[1] + 0.5 * (b.max[1] - b.min[1]);
+    const hint = await page.evaluate(([x, y]) => {
+      window.geoslice.setPoints([[x, y], [x + 300, y + 400]]);
+      return document.getElementById('drawHint').textContent;
+    }, [x0, y0]);
+    check(hint.includes('500 m') && hint.includes('A→B 037°'), `plan hint: ${hint}`);
+    const results = [];
+    for (const vx of [1, 2]) {
+      await page.evaluate(([x, y, x1, vx]) => window.geoslice.openSection({ line: `${x},${y},${x1},${y}`, vx }),
+                          [x0, y0, b.max[0] - 0.2 * (b.max[0] - b.min[0]), vx]);
+      await page.waitForFunction((vx) => window.geoslice.S.section?.def?.vx === vx, vx, { timeout: 20000 });
+      await settle(page);
+      if (await page.locator('#measure').getAttribute('aria-pressed') !== 'true') await page.locator('#measure').click();
+      // Section points around the map's centre, placed through the tile grid's own rule
+      // (api/view.hpp TileGrid: lng = (u - u0) 256 / size0, lat = (v - v0) vx 256 / size0).
+      const taps = await page.evaluate(() => {
+        const map = window.geoslice.maps().sectionMap, g = window.geoslice.S.section.grid, c = map.getCenter();
+        const u = g.origin.u + (c.lng * g.size0) / 256, v = g.origin.v + (c.lat * g.size0) / (256 * g.exaggeration);
+        const box = map.getContainer().getBoundingClientRect();
+        return [[u - 400, v - 200], [u + 400, v + 200]].map(([pu, pv]) => {
+          const p = map.latLngToContainerPoint([((pv - g.origin.v) * g.exaggeration * 256) / g.size0, ((pu - g.origin.u) * 256) / g.size0]);
+          return [box.left + p.x, box.top + p.y];
+        });
+      });
+      for (const [x, y] of taps) await page.mouse.click(x, y);
+      const r = await page.evaluate(() => ({ m: window.geoslice.S.measure.result, text: document.getElementById('measureOut').textContent,
+                                              answer: window.geoslice.S.answer }));
+      check(r.m, `vx ${vx}: no measurement (${r.text})`);
+      check(!r.answer, `vx ${vx}: a measuring tap also queried`);
+      check(Math.abs(r.m.length - 894.43) < 894.43 * 0.015, `vx ${vx}: length ${r.m.length} m, want 894.4`);
+      check(Math.abs(r.m.dip - 26.565) < 1.0, `vx ${vx}: apparent dip ${r.m.dip}°, want 26.57`);
+      check(r.text.includes('apparent dip') && r.text.includes('(true)'), `vx ${vx}: ${r.text}`);
+      results.push(r.m);
+      await shot(page, `measure-vx${vx}`);
+    }
+    check(Math.abs(results[0].length - results[1].length) < 15, `vx 1 and 2 differ: ${results.map((m) => m.length)}`);
+    check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
+    await page.context().close();
+  },
+
   // A model baked again on the server while a page shows it (last: it changes mine-b). The
   // server swaps the version in (it watches its models directory); the page's pinned URLs
   // then answer 404 model_version, and the page reloads itself at the new version with the
