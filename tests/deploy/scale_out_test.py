@@ -325,20 +325,29 @@ class FleetRouting(unittest.TestCase):
         results = run_load(self.lb.port, paths, threads=4)
         self.assertEqual([(p, s) for p, s in results if s != 200], [])
         renders = self.counts("geoslice_render_duration_seconds_count", 'kind="tile"') - renders0
-        owners = {}
+        # A request nginx passed on to another replica (its owner's connection failed: an idle
+        # upstream keep-alive connection closed as it was reused) is rendered there too: the
+        # only allowed exception, counted from the access log.
+        owners, moved = {}, set()
         for ln in self.lb.access_log()[before:]:
             path = ln.split('"')[1].split(" ")[1]
-            owners.setdefault(path, set()).add(upstream_tries(ln)[-1][0])
+            tries = upstream_tries(ln)
+            if len(tries) > 1:
+                moved.add(path)
+                continue
+            owners.setdefault(path, set()).add(tries[-1][0])
         self.assertEqual({p: o for p, o in owners.items() if len(o) > 1}, {}, "one replica per tile")
         self.assertGreater(len({a for o in owners.values() for a in o}), 1, "the tiles spread over the replicas")
-        self.assertEqual(renders, len(tiles), "each tile rendered once in the fleet")
+        self.assertGreaterEqual(renders, len(tiles))
+        self.assertLessEqual(renders, len(tiles) + len(moved), f"each tile rendered once in the fleet ({moved})")
         print(f"fleet: {len(paths)} requests of {len(tiles)} tiles through {len(self.fleet.in_list)} replicas: "
-              f"{int(renders)} renders, "
+              f"{int(renders)} renders ({len(moved)} requests passed on by nginx), "
               f"fleet hit ratio {1 - renders / len(paths):.3f} (ideal {1 - len(tiles) / len(paths):.3f})")
 
     def test_a_query_reaches_the_replica_that_rendered_its_view(self):
         hits0 = self.counts("geoslice_cache_total", 'cache="ids",result="hit"')
         misses0 = self.counts("geoslice_cache_total", 'cache="ids",result="miss"')
+        before = len(self.lb.access_log())
         for v in range(8):
             view = f"plane=0,1,0,-{3387300 + 311 * v}&size=256x128"
             status, _, body = http_get(self.lb.port, f"/v1/models/demo/section.png?{view}")
@@ -348,7 +357,10 @@ class FleetRouting(unittest.TestCase):
                 self.assertEqual(status, 200, body[:200])
         hits = self.counts("geoslice_cache_total", 'cache="ids",result="hit"') - hits0
         misses = self.counts("geoslice_cache_total", 'cache="ids",result="miss"') - misses0
-        self.assertEqual((hits, misses), (32, 0), "every query found its view's ID buffer")
+        # Only a request nginx passed on to another replica may miss (see the tile test).
+        moved = sum(len(upstream_tries(ln)) > 1 for ln in self.lb.access_log()[before:])
+        self.assertEqual(hits + misses, 32)
+        self.assertLessEqual(misses, moved, "every query found its view's ID buffer")
 
     def test_a_replica_killed_or_added_under_load_loses_no_request(self):
         victim = self.fleet.in_list[1]
