@@ -175,7 +175,7 @@ export function setMeasuring(on) {
   $('measure').setAttribute('aria-pressed', String(on));
   clearMeasure();
 }
-export function measureClick(latlng) {
+export async function measureClick(latlng) {
   const sec = S.section;
   if (!sec) return;
   if (S.measure.pts.length >= 2) clearMeasure();
@@ -191,6 +191,27 @@ export function measureClick(latlng) {
   const m = V.sectionMeasure(a, b, vertical);
   S.measure.result = m;
   $('measureOut').hidden = false;
-  $('measureOut').textContent = t('measured', m.length.toLocaleString(undefined, { maximumFractionDigits: 1 }),
-                                  m.dip == null ? null : m.dip.toFixed(1));
+  const said = t('measured', m.length.toLocaleString(undefined, { maximumFractionDigits: 1 }),
+                 m.dip == null ? null : m.dip.toFixed(1));
+  $('measureOut').textContent = said;
+  // The units the line crosses, and its length in each: the exact section's polygons in the
+  // same [u, v] metres (section.geojson, space=plane), fetched once per section.
+  const gen = S.gen;
+  try {
+    if (!sec.regions) {
+      const key = sec.kind === 'line' ? `line=${sec.def.line}` : sec.kind === 'plane' ? `plane=${sec.def.plane}`
+                                                                                  : `elevation=${sec.def.elevation}`;
+      const gj = await request(api(`/section.geojson?${key}&space=plane`));
+      sec.regions = gj.features.filter((f) => f.geometry?.type === 'MultiPolygon' || f.geometry?.type === 'Polygon')
+        .map((f) => ({ record: f.properties.record, name: f.properties.attributes?.name || f.properties.name,
+                       rings: f.geometry.type === 'Polygon' ? f.geometry.coordinates : f.geometry.coordinates.flat() }));
+    }
+    if (gen !== S.gen || S.measure.result !== m) return;
+    const stretches = V.lengthsAlong(a, b, sec.regions);
+    m.units = stretches;
+    const byUnit = new Map();
+    for (const s of stretches) byUnit.set(s.name, (byUnit.get(s.name) || 0) + s.length);
+    if (byUnit.size)
+      $('measureOut').textContent = `${said} · ${t('alongLine')}: ${[...byUnit].map(([n, l]) => `${n} ${l.toFixed(1)} m`).join(', ')}`;
+  } catch (_) { /* the distance and dip stay; the units are left out */ }
 }

@@ -173,3 +173,43 @@ export function sectionMeasure(a, b, vertical) {
   const du = b[0] - a[0], dv = b[1] - a[1];
   return { length: Math.hypot(du, dv), dip: vertical ? (Math.atan2(Math.abs(dv), Math.abs(du)) * 180) / Math.PI : null };
 }
+
+// The length of segment a-b (section [u, v] metres) inside each region, by the even-odd rule
+// over each region's rings: regions [{record, name, rings: [[[u, v], ...], ...]}] -> [{record,
+// name, length, from, to}] in order along the segment (from/to: fractions of its length), one
+// entry per stretch. The apparent thickness of a unit along a drawn line.
+export function lengthsAlong(a, b, regions) {
+  const du = b[0] - a[0], dv = b[1] - a[1], len = Math.hypot(du, dv);
+  const out = [];
+  if (!(len > 0)) return out;
+  for (const r of regions) {
+    const ts = [0, 1];
+    for (const ring of r.rings)
+      for (let i = 0, n = ring.length; i < n; ++i) {
+        const p = ring[i], q = ring[(i + 1) % n];
+        const ex = q[0] - p[0], ey = q[1] - p[1], den = du * ey - dv * ex;
+        if (den === 0) continue;
+        const t = ((p[0] - a[0]) * ey - (p[1] - a[1]) * ex) / den, s = ((p[0] - a[0]) * dv - (p[1] - a[1]) * du) / den;
+        if (t > 0 && t < 1 && s >= 0 && s <= 1) ts.push(t);
+      }
+    ts.sort((x, y) => x - y);
+    const inside = (u, v) => {
+      let c = false;
+      for (const ring of r.rings)
+        for (let i = 0, j = ring.length - 1; i < ring.length; j = i++) {
+          const [xi, yi] = ring[i], [xj, yj] = ring[j];
+          if ((yi > v) !== (yj > v) && u < ((xj - xi) * (v - yi)) / (yj - yi) + xi) c = !c;
+        }
+      return c;
+    };
+    for (let k = 0; k + 1 < ts.length; ++k) {
+      const t0 = ts[k], t1 = ts[k + 1], tm = 0.5 * (t0 + t1);
+      if (t1 - t0 > 1e-12 && inside(a[0] + tm * du, a[1] + tm * dv)) {
+        const last = out.length && out[out.length - 1];
+        if (last && last.record === r.record && Math.abs(last.to - t0) < 1e-12) { last.to = t1; last.length += (t1 - t0) * len; }
+        else out.push({ record: r.record, name: r.name, from: t0, to: t1, length: (t1 - t0) * len });
+      }
+    }
+  }
+  return out.sort((x, y) => x.from - y.from);
+}

@@ -810,6 +810,26 @@ const tests = {
       check(Math.abs(r.m.dip - 26.565) < 1.0, `vx ${vx}: apparent dip ${r.m.dip}°, want 26.57`);
       check(r.text.includes('apparent dip') && r.text.includes('(true)'), `vx ${vx}: ${r.text}`);
       results.push(r.m);
+      // The units along the line (apparent thickness): the stretches cover the whole line
+      // (the section's regions partition the model), and the server's own pixel query at each
+      // stretch's middle names the same record.
+      await page.waitForFunction(() => window.geoslice.S.measure.result?.units, null, { timeout: 15000 });
+      const along = await page.evaluate(() => ({ units: window.geoslice.S.measure.result.units, pts: window.geoslice.S.measure.pts,
+        line: window.geoslice.S.section.def.line, text: document.getElementById('measureOut').textContent }));
+      const sum = along.units.reduce((acc, u) => acc + u.length, 0);
+      check(along.units.length >= 2, `vx ${vx}: ${along.units.length} units along the line`);
+      check(Math.abs(sum - r.m.length) < 1e-6 * r.m.length, `vx ${vx}: stretches sum to ${sum} m of ${r.m.length}`);
+      check(along.text.includes('apparent thickness along it'), along.text);
+      if (vx === 1) {
+        const [a, bb] = along.pts;
+        for (const u of along.units) {
+          const tm = 0.5 * (u.from + u.to), mu = a[0] + tm * (bb[0] - a[0]), mv = a[1] + tm * (bb[1] - a[1]);
+          const view = `line=${along.line}&frame=${mu - 1},${mu + 1},${mv - 1},${mv + 1}&size=101x101&px=50&py=50`;
+          const answer = await (await fetch(`${origin}/v1/models/mine-a/query?${view}`)).json();
+          check(answer.record?.id === u.record || answer.record === u.record,
+                `stretch ${u.name} (${u.length.toFixed(1)} m): the query at its middle says ${JSON.stringify(answer.record)?.slice(0, 80)}`);
+        }
+      }
       await shot(page, `measure-vx${vx}`);
     }
     check(Math.abs(results[0].length - results[1].length) < 15, `vx 1 and 2 differ: ${results.map((m) => m.length)}`);
