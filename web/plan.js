@@ -35,6 +35,7 @@ export async function loadModel(id, restore = null) {
   setSection(null);
   // The old model's plan tiles go with it (else they stay drawn under the new plan).
   if (S.plan?.layer) planMap.removeLayer(S.plan.layer);
+  if (gotoMarker) { gotoMarker.remove(); gotoMarker = null; }
   S.plan = null;
   const [min, max] = [m.bounds.min, m.bounds.max];
   for (const f of ['planZ', 'sliceZ']) {
@@ -188,4 +189,32 @@ export function planClick(e) {
   if (S.mode === 'line') { S.points.push(p); drawPlanLine(); permalinkSoon(); }
   else if (['ns', 'ew', 'az'].includes(S.mode)) { S.through = p; drawPlanLine(); }
   else queryMap('plan', planMap, S.plan, e.latlng);
+}
+
+// ---- go to a coordinate ------------------------------------------------------------------
+// "easting, northing" in the model's CRS (metres), or "lon, lat" (degrees, CGCS2000, for a
+// Gauss-Kruger model: converted with the page's own Krüger series): the plan centres there
+// and marks the point. A point outside the model's box is refused, naming the box.
+let gotoMarker = null;
+export function gotoCoordinate(text) {
+  const m = /^\s*(-?\d+(?:\.\d*)?)\s*[,;\s]\s*(-?\d+(?:\.\d*)?)\s*$/.exec(text || '');
+  if (!m || !S.plan) { setStatus(t('gotoBad'), true); return null; }
+  let x = Number(m[1]), y = Number(m[2]);
+  if (Math.abs(x) <= 180 && Math.abs(y) <= 90) {
+    if (!S.gk) { setStatus(t('gotoNoGk'), true); return null; }
+    [x, y] = V.lonLatToGk(S.gk, x, y);
+  }
+  const [min, max] = [S.model.bounds.min, S.model.bounds.max];
+  if (!(x >= min[0] && x <= max[0] && y >= min[1] && y <= max[1])) {
+    const r = (v) => Math.round(v).toLocaleString('en-GB').replace(/,/g, ' ');
+    setStatus(t('gotoOutside', r(x), r(y), [r(min[0]), r(max[0]), r(min[1]), r(max[1])]), true);
+    return null;
+  }
+  const g = S.plan.grid, ll = [latOf(g, y), lngOf(g, x)];
+  planMap.setView(ll, Math.max(planMap.getZoom(), 2), { animate: false });
+  if (gotoMarker) gotoMarker.remove();
+  gotoMarker = L.circleMarker(ll, { radius: 7, color: '#0b62c4', weight: 3, interactive: false }).addTo(planMap);
+  setStatus('');
+  S.gotoPoint = [x, y];
+  return [x, y];
 }

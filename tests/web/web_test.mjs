@@ -837,6 +837,55 @@ const tests = {
     await page.context().close();
   },
 
+  // Go to a coordinate: easting/northing in the model's CRS, or CGCS2000 lon/lat (mine-a is
+  // EPSG:4523, Gauss-Kruger zone 35); the plan centres on it. The lon/lat of a point comes
+  // from PROJ's cs2cs when it is installed (an independent conversion), else from the page's
+  // own inverse series; outside the model and bad text are refused, naming the problem.
+  async go_to_a_coordinate() {
+    const page = await newPage(DESKTOP, { locale: 'en-GB' });
+    await open(page);
+    const b = await bounds(page);
+    const x = b.min[0] + 0.37 * (b.max[0] - b.min[0]), y = b.min[1] + 0.61 * (b.max[1] - b.min[1]);
+    // The map's centre in metres, and a pixel's size there (Leaflet centres to whole pixels).
+    const centre = () => page.evaluate(() => {
+      const g = window.geoslice.S.plan.grid, map = window.geoslice.maps().planMap, c = map.getCenter();
+      const px = g.size0 / 256 / 2 ** map.getZoom();
+      return [g.origin.u + (c.lng * g.size0) / 256, g.origin.v + (c.lat * g.size0) / (256 * g.exaggeration), px];
+    });
+    const goto = async (text) => {
+      await page.locator('#goto').fill(text);
+      await page.locator('#gotoBtn').click();
+      await page.waitForTimeout(100);
+    };
+    await goto(`${x.toFixed(2)}, ${y.toFixed(2)}`);
+    let c = await centre();
+    check(Math.hypot(c[0] - x, c[1] - y) < c[2], `easting/northing: centre ${c} for ${x}, ${y}`);
+    let lonlat;
+    try {
+      const out = execFileSync('cs2cs', ['-f', '%.10f', 'EPSG:4523', 'EPSG:4490'], { input: `${y} ${x}\n` }).toString().trim().split(/\s+/);
+      lonlat = [Number(out[1]), Number(out[0])];  // EPSG:4490 is lat, lon
+    } catch (_) {
+      lonlat = await page.evaluate(([x, y]) => window.geoslice.V.gkToLonLat(window.geoslice.V.gaussKruger('EPSG:4523'), x, y), [x, y]);
+    }
+    await page.evaluate(() => window.geoslice.maps().planMap.panBy([200, 120], { animate: false }));
+    await goto(`${lonlat[0].toFixed(9)}, ${lonlat[1].toFixed(9)}`);
+    c = await centre();
+    check(Math.hypot(c[0] - x, c[1] - y) < c[2], `lon/lat ${lonlat}: centre ${c} for ${x}, ${y}`);
+    // The point itself, converted by the page: within 1 cm of cs2cs's.
+    const p = await page.evaluate(() => window.geoslice.S.gotoPoint);
+    check(Math.hypot(p[0] - x, p[1] - y) < 0.01, `lon/lat ${lonlat} -> ${p}, want ${x}, ${y}`);
+    await goto(`${(b.max[0] + 5000).toFixed(0)}, ${y.toFixed(0)}`);
+    let status = await page.locator('#status').textContent();
+    check(/outside the model/.test(status), `outside: ${status}`);
+    c = await centre();
+    check(Math.hypot(c[0] - x, c[1] - y) < c[2], 'a refused point does not move the plan');
+    await goto('north of the pit');
+    status = await page.locator('#status').textContent();
+    check(/two numbers/.test(status), `bad text: ${status}`);
+    check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
+    await page.context().close();
+  },
+
   // A model baked again on the server while a page shows it (last: it changes mine-b). The
   // server swaps the version in (it watches its models directory); the page's pinned URLs
   // then answer 404 model_version, and the page reloads itself at the new version with the
