@@ -12,7 +12,7 @@ import { $, S, permalink, permalinkSoon, readHash } from './state.js?v=__GS_BUIL
 import { request, setStatus } from './api.js?v=__GS_BUILD__';
 import { uOf, vOf, createMaps, planMap, sectionMap, onLongPress } from './map.js?v=__GS_BUILD__';
 import { drawSectionOverlay, drawPlanOverlay } from './overlay.js?v=__GS_BUILD__';
-import { loadModel, loadPlan, drawPlanLine, setMode, updateDrawHint, planClick, gotoCoordinate } from './plan.js?v=__GS_BUILD__';
+import { loadModel, loadPlan, drawPlanLine, setMode, updateDrawHint, planClick, gotoCoordinate, gotoMyPosition } from './plan.js?v=__GS_BUILD__';
 import { cut, measureClick, openSection, sectionLabel, setMeasuring, updateExports } from './section.js?v=__GS_BUILD__';
 import { clearAnswer, queryMap, renderAnswer } from './query.js?v=__GS_BUILD__';
 import { borehole } from './borehole.js?v=__GS_BUILD__';
@@ -42,6 +42,7 @@ async function main() {
   });
   $('measure').onclick = () => setMeasuring(!S.measure?.on);
   $('gotoBtn').onclick = () => gotoCoordinate($('goto').value);
+  $('locate').onclick = () => gotoMyPosition();
   $('goto').addEventListener('keydown', (e) => { if (e.key === 'Enter') { e.preventDefault(); gotoCoordinate($('goto').value); } });
   // Keyboard: arrows pan (Leaflet), +/- zoom, Enter acts at the centre of the map as a tap would.
   for (const [map, act] of [[planMap, (ll) => planClick({ latlng: ll })],

@@ -884,6 +884,20 @@ const tests = {
     check(/two numbers/.test(status), `bad text: ${status}`);
     check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
     await page.context().close();
+    // My position: allowed, the device at the same lon/lat -> the same point; refused -> said.
+    const here = await newPage(DESKTOP, { locale: 'en-GB', geolocation: { longitude: lonlat[0], latitude: lonlat[1] },
+                                          permissions: ['geolocation'] });
+    await open(here);
+    await here.locator('#locate').click();
+    await here.waitForFunction(() => window.geoslice.S.gotoPoint, null, { timeout: 10000 });
+    const q = await here.evaluate(() => window.geoslice.S.gotoPoint);
+    check(Math.hypot(q[0] - x, q[1] - y) < 0.01, `my position ${lonlat} -> ${q}, want ${x}, ${y}`);
+    await here.context().close();
+    const denied = await newPage(DESKTOP, { locale: 'en-GB' });
+    await open(denied);
+    await denied.locator('#locate').click();
+    await denied.waitForFunction(() => /My position/.test(document.getElementById('status').textContent), null, { timeout: 20000 });
+    await denied.context().close();
   },
 
   // A model baked again on the server while a page shows it (last: it changes mine-b). The
