@@ -49,6 +49,7 @@ struct SectionServer::Impl {
     // is not tried again and a changed one is.
     std::map<std::string, std::string> tried;
     std::vector<std::string> skippedBefore;  // entries reported skipped by the last scan
+    std::string dirError;                    // why the last scan could not read the directory
 
     // What changes when a model entry is rewritten: the file's (or a package's manifest's,
     // written last) size, inode and mtime, and with a bake dir its package's manifest there
@@ -132,16 +133,17 @@ struct SectionServer::Impl {
         const ServerConfig& config = st.config;
         auto files = api::scanModelsDir(config.modelsDir, std::uint64_t(config.maxModelMiB) << 20);
         if (!files) {
-            // Logged when it starts or changes, not at every poll; "" holds it in `tried`.
-            if (auto it = tried.find(""); it == tried.end() || it->second != files.error().message) {
-                tried[""] = files.error().message;
-                spdlog::error("event=models_dir_failed error=\"{}\"", files.error().message);
+            // Logged when it starts or changes, not at every poll.
+            if (dirError != files.error().message) {
+                dirError = files.error().message;
+                spdlog::error("event=models_dir_failed error=\"{}\"", dirError);
             }
             std::lock_guard lock(st.failedMutex);
             replaceEntry(st.failed, nullptr, Json{{"id", nullptr}, {"error", files.error().message}});
             return false;
         }
-        if (tried.erase("")) {
+        if (!dirError.empty()) {
+            dirError.clear();
             std::lock_guard lock(st.failedMutex);
             replaceEntry(st.failed, nullptr, nullptr);
         }

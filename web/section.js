@@ -199,9 +199,7 @@ export async function measureClick(latlng) {
   const gen = S.gen;
   try {
     if (!sec.regions) {
-      const key = sec.kind === 'line' ? `line=${sec.def.line}` : sec.kind === 'plane' ? `plane=${sec.def.plane}`
-                                                                                  : `elevation=${sec.def.elevation}`;
-      const gj = await request(api(`/section.geojson?${key}&space=plane`));
+      const gj = await request(api(`/section.geojson?${sec.q}&space=plane`));
       sec.regions = gj.features.filter((f) => f.geometry?.type === 'MultiPolygon' || f.geometry?.type === 'Polygon')
         .map((f) => ({ record: f.properties.record, name: f.properties.attributes?.name || f.properties.name,
                        rings: f.geometry.type === 'Polygon' ? f.geometry.coordinates : f.geometry.coordinates.flat() }));

@@ -12,12 +12,12 @@
 //    GeoLineSymbolizer...) that gives one, Front side first: Material/DiffuseColor (X3D-style
 //    material), PBRMaterial/BaseColor, else a ParameterizedTexture's BorderColor when the texture
 //    has no coordinates (an empty TexCoordList with WrapMode Border: the surface shows the border
-//    colour everywhere; the image itself is not read). Colours are "r g b [a]", 0..1 each.
+//    colour everywhere; the image itself is not read). Colours are "r g b [a]", 0..1 each
+//    (model/attributes.hpp parseColour).
 // Rules apply in document order, a later match over an earlier one, after every model of the
 // project is read; a style wins over a colour field of the feature's own (the map is how the
 // project is meant to be shown) and loses to a sidecar, as every file colour does. Each
 // coloured record's colourSource names the map. A rule that matches no feature is a warning.
-#include <cmath>
 #include <string>
 #include <string_view>
 
@@ -28,31 +28,6 @@
 
 namespace geoslice::geo3dml {
 namespace {
-
-// "r g b [a]" with each value in 0..1 (Geo3DML's colours), else nullopt.
-std::optional<Rgba8> unitColour(std::string_view text) {
-    double v[4] = {0.0, 0.0, 0.0, 1.0};
-    int n = 0;
-    std::size_t i = 0;
-    while (i < text.size()) {
-        while (i < text.size() &&
-               (text[i] == ' ' || text[i] == '\t' || text[i] == '\n' || text[i] == '\r' || text[i] == ','))
-            ++i;
-        if (i >= text.size()) break;
-        std::size_t j = i;
-        while (j < text.size() && text[j] != ' ' && text[j] != '\t' && text[j] != '\n' && text[j] != '\r' &&
-               text[j] != ',')
-            ++j;
-        if (n == 4) return std::nullopt;
-        const std::optional<double> d = text::parseXsDouble(text.substr(i, j - i));
-        if (!d || !(*d >= 0.0 && *d <= 1.0)) return std::nullopt;
-        v[n++] = *d;
-        i = j;
-    }
-    if (n != 3 && n != 4) return std::nullopt;
-    auto byte = [](double x) { return static_cast<std::uint8_t>(std::lround(x * 255.0)); };
-    return Rgba8{byte(v[0]), byte(v[1]), byte(v[2]), byte(v[3])};
-}
 
 // The colour a symbolizer gives, and where it came from ("DiffuseColor"...); nullopt: none.
 std::optional<std::pair<Rgba8, std::string>> symbolizerColour(pugi::xml_node symbolizer) {
@@ -65,7 +40,7 @@ std::optional<std::pair<Rgba8, std::string>> symbolizerColour(pugi::xml_node sym
         walkElements(s, [&](pugi::xml_node n) {
             const std::string_view name = localName(n.name());
             if (name == "DiffuseColor" || name == "BaseColor") {
-                if (auto c = unitColour(textOf(n))) {
+                if (auto c = parseColour(textOf(n))) {
                     found = std::make_pair(*c, std::string(name));
                     return Walk::Stop;
                 }
@@ -73,7 +48,7 @@ std::optional<std::pair<Rgba8, std::string>> symbolizerColour(pugi::xml_node sym
                 const pugi::xml_node coords = childNamed(n, "TexCoordList");
                 const bool noCoords = !coords || (trimSpace(textOf(coords)).empty() && !firstElementChild(coords));
                 if (noCoords)
-                    if (auto c = unitColour(textOf(childNamed(n, "BorderColor"))))
+                    if (auto c = parseColour(textOf(childNamed(n, "BorderColor"))))
                         border = std::make_pair(*c, std::string("BorderColor of a texture without coordinates"));
                 return Walk::Skip;
             }

@@ -187,13 +187,15 @@ T convertScalar(const std::uint8_t* p, Scalar type, bool swap) {
 
 }  // namespace
 
-Result<ArrayDecl> VtuReader::declare(pugi::xml_node node, std::string_view role) const {
+Result<ArrayDecl> VtuReader::declare(pugi::xml_node node, std::string_view role, bool strings) const {
     ArrayDecl a;
     a.node = node;
     // Names go into part names and JSON: invalid UTF-8 becomes U+FFFD.
     a.name = text::toUtf8(node.attribute("Name") ? std::string_view(node.attribute("Name").value()) : role);
     const char* type = node.attribute("type").value();
-    auto t = scalarFromName(type);
+    // A String array's payload is its characters' bytes.
+    auto t =
+        strings && std::string_view(type) == "String" ? std::optional<Scalar>(Scalar::UInt8) : scalarFromName(type);
     if (!t)
         return failArray(a, "type '" + printable(type) + "' is not a VTK scalar type (Int8..UInt64, Float32, Float64)");
     a.type = *t;
@@ -373,12 +375,10 @@ template Status VtuReader::read<std::int64_t>(const ArrayDecl&, std::uint64_t, s
 namespace geoslice::vtu {
 
 Result<StringArray> VtuReader::readStrings(pugi::xml_node node, std::uint64_t count, std::string_view role) const {
-    ArrayDecl a;
-    a.node = node;
-    a.name = text::toUtf8(node.attribute("Name") ? std::string_view(node.attribute("Name").value()) : role);
-    const std::string_view format = node.attribute("format").value();
+    auto a = declare(node, role, /*strings=*/true);
+    if (!a) return a.error();
     std::vector<std::uint8_t> bytes;
-    if (format == "ascii") {
+    if (a->format == ArrayDecl::Format::Ascii) {
         // Character codes, signed (VTK writes -27 for 0xE5) or not.
         const std::string_view t = node.child_value();
         std::size_t i = 0;
@@ -389,25 +389,16 @@ Result<StringArray> VtuReader::readStrings(pugi::xml_node node, std::uint64_t co
             while (j < t.size() && !isSpace(t[j])) ++j;
             std::int64_t v = 0;
             if (text::parseInt(t.substr(i, j - i), v) != text::IntStatus::Ok || v < -128 || v > 255)
-                return failArray(a,
+                return failArray(*a,
                                  "value '" + printable(t.substr(i, j - i)) + "' is not a character code (-128..255)");
             bytes.push_back(static_cast<std::uint8_t>(v & 0xff));
             i = j;
         }
-    } else if (format == "binary" || format == "appended") {
-        a.format = format == "binary" ? ArrayDecl::Format::Binary : ArrayDecl::Format::Appended;
-        if (a.format == ArrayDecl::Format::Appended) {
-            if (!haveAppended_) return failArray(a, "format is appended but the file has no <AppendedData>");
-            std::string_view s = trimSpace(node.attribute("offset").value());
-            if (text::parseUnsigned(s, a.offset) != text::IntStatus::Ok || a.offset >= appended_.size())
-                return failArray(a, "appended array without a valid offset ('" + printable(s) + "')");
-        }
-        if (Status s = payload(a, kLengthFromHeader, bytes); !s) return s.error();
-    } else {
-        return failArray(a, "format '" + printable(format) + "' is not ascii, binary or appended");
+    } else if (Status s = payload(*a, kLengthFromHeader, bytes); !s) {
+        return s.error();
     }
     StringArray out;
-    out.name = a.name;
+    out.name = a->name;
     std::string cur;
     for (const std::uint8_t b : bytes) {
         if (b == 0) {
@@ -421,7 +412,7 @@ Result<StringArray> VtuReader::readStrings(pugi::xml_node node, std::uint64_t co
     if (!cur.empty() && (!count || out.values.size() < count)) out.values.push_back(text::toUtf8(cur));
     if (count && out.values.size() != count)
         return failArray(
-            a, "holds " + std::to_string(out.values.size()) + " strings, " + std::to_string(count) + " declared");
+            *a, "holds " + std::to_string(out.values.size()) + " strings, " + std::to_string(count) + " declared");
     return out;
 }
 

@@ -235,6 +235,12 @@ Result<Model> VtuReader::buildModel() {
         part.mesh = std::move(mesh);
         model.bodies.push_back(std::move(part));
     }
+    // A body's formation index (into `values`), from its record id.
+    auto formationOf = [&](const Part& part) {
+        return direct ? static_cast<std::size_t>(
+                            std::lower_bound(values.begin(), values.end(), std::int64_t(part.record)) - values.begin())
+                      : static_cast<std::size_t>(part.record - 1);
+    };
     // Cell arrays constant over a formation -> that formation's record.
     for (const auto& a : cellArrays_) {
         if (&a == region || a.components != 1) continue;
@@ -249,10 +255,7 @@ Result<Model> VtuReader::buildModel() {
                 constant[r] = 0;
         }
         for (auto& part : model.bodies) {
-            const std::size_t r =
-                direct ? static_cast<std::size_t>(
-                             std::lower_bound(values.begin(), values.end(), std::int64_t(part.record)) - values.begin())
-                       : static_cast<std::size_t>(part.record - 1);
+            const std::size_t r = formationOf(part);
             if (!constant[r] || !std::isfinite(first[r])) continue;
             if (AttributeRecord* rec = model.attributes.find(part.record)) rec->extra[a.name] = first[r];
         }
@@ -263,13 +266,8 @@ Result<Model> VtuReader::buildModel() {
     // arrays named like "name" or "formation" first); a name two formations share keeps the
     // value beside it.
     if (region) {
-        auto lowered = [](const std::string& s) {
-            std::string l;
-            for (const char c : s) l += static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-            return l;
-        };
-        auto preferred = [&](const std::string& name) {
-            const std::string l = lowered(name);
+        auto preferred = [](const std::string& name) {
+            const std::string l = text::lower(name);
             return l.find("name") != std::string::npos || l.find("formation") != std::string::npos;
         };
         std::vector<std::string> names(values.size());
@@ -316,10 +314,7 @@ Result<Model> VtuReader::buildModel() {
             std::map<std::string, int> uses;
             for (const std::string& n : names) ++uses[std::string(trimSpace(n))];
             for (auto& part : model.bodies) {
-                const std::size_t r = direct ? static_cast<std::size_t>(std::lower_bound(values.begin(), values.end(),
-                                                                                         std::int64_t(part.record)) -
-                                                                        values.begin())
-                                             : static_cast<std::size_t>(part.record - 1);
+                const std::size_t r = formationOf(part);
                 if (r >= names.size()) continue;
                 const std::string name(trimSpace(names[r]));
                 part.name = uses[name] > 1 ? name + " (" + region->name + " " + std::to_string(values[r]) + ")" : name;
@@ -334,8 +329,7 @@ Result<Model> VtuReader::buildModel() {
     // A per-cell colour array (3 or 4 components, named like colour / color / rgb): a
     // formation takes the colour of its first cell (0..1 floats or 0..255).
     for (const auto& a : cellArrays_) {
-        std::string lowered;
-        for (const char c : a.name) lowered += static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+        const std::string lowered = text::lower(a.name);
         if ((a.components != 3 && a.components != 4) ||
             (lowered.find("colo") == std::string::npos && lowered.find("rgb") == std::string::npos))
             continue;
@@ -345,10 +339,7 @@ Result<Model> VtuReader::buildModel() {
             if (firstCell[r] == keptCells.size()) firstCell[r] = i;
         }
         for (auto& part : model.bodies) {
-            const std::size_t r =
-                direct ? static_cast<std::size_t>(
-                             std::lower_bound(values.begin(), values.end(), std::int64_t(part.record)) - values.begin())
-                       : static_cast<std::size_t>(part.record - 1);
+            const std::size_t r = formationOf(part);
             if (r >= firstCell.size() || firstCell[r] == keptCells.size()) continue;
             std::string text;
             for (std::size_t k = 0; k < a.components; ++k)

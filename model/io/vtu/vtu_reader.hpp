@@ -80,7 +80,8 @@ private:
     }
     std::string where(pugi::xml_node n) const;
 
-    Result<ArrayDecl> declare(pugi::xml_node node, std::string_view role) const;
+    // strings: a String array (<Array type="String">) is accepted, its bytes as UInt8.
+    Result<ArrayDecl> declare(pugi::xml_node node, std::string_view role, bool strings = false) const;
     // Decodes `count` values of the array (components included) as T (double or int64).
     template <class T>
     Status read(const ArrayDecl& a, std::uint64_t count, std::vector<T>& out) const;

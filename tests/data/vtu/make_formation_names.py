@@ -37,18 +37,18 @@ def grid(values, cell_names=None, field_names=None):
         f.InsertNextValue(v)
     g.GetCellData().AddArray(f)
     if cell_names:
-        s = vtk.vtkStringArray()
-        s.SetName("formation_name")
-        for n in cell_names:
-            s.InsertNextValue(n)
-        g.GetCellData().AddArray(s)
+        g.GetCellData().AddArray(strings("formation_name", cell_names))
     if field_names:
-        s = vtk.vtkStringArray()
-        s.SetName("FormationNames")
-        for n in field_names:
-            s.InsertNextValue(n)
-        g.GetFieldData().AddArray(s)
+        g.GetFieldData().AddArray(strings("FormationNames", field_names))
     return g
+
+
+def strings(name, values):
+    s = vtk.vtkStringArray()
+    s.SetName(name)
+    for v in values:
+        s.InsertNextValue(v)
+    return s
 
 
 def write(g, name, mode):
