@@ -13,6 +13,7 @@
 #include <limits>
 #include <string_view>
 
+#include "api/context_layer.hpp"
 #include "api/plan.hpp"
 #include "model/clock.hpp"
 #include "model/io/loaders.hpp"
@@ -402,6 +403,20 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
         else
             m->drillholeWarning = "drillholes " + sidecar + " did not load: " + db.error().message;
     }
+    if (const std::string sidecar = sectionsSidecarFor(path); !sidecar.empty()) {
+        auto lines = loadSectionsSidecar(sidecar, sectionTarget(*m));
+        if (lines)
+            m->sections = std::move(lines.value());
+        else
+            m->sectionsWarning = "sections " + sidecar + " did not load: " + lines.error().message;
+    }
+    if (const std::string sidecar = contextSidecarFor(path); !sidecar.empty()) {
+        auto layer = loadContextLayer(sidecar, m->model.crs, m->index->bounds);
+        if (layer)
+            m->context = std::make_shared<const std::string>(jsonText(layer.value()));
+        else
+            m->contextWarning = "context layer " + sidecar + " did not load: " + layer.error().message;
+    }
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }
@@ -470,9 +485,59 @@ Result<std::shared_ptr<const CatalogModel>> makeDemoModel(std::size_t triangles)
     auto db = buildDrillholes(std::move(holes.sources));
     if (!db) return db.error();
     attachDrillholes(*m, std::move(db.value()));
+    // Exploration lines as a mine numbers them: north-south lines across the strata, 0 in the
+    // middle, odd numbers to the west and even to the east, and the east-west fence of holes.
+    const Aabb& b = m->index->bounds;
+    const double sx = b.max.x - b.min.x, yMid = 0.5 * (b.min.y + b.max.y);
+    nlohmann::json lines = nlohmann::json::array();
+    const std::pair<const char*, double> numbered[] = {{"3", 0.2}, {"1", 0.35}, {"0", 0.5}, {"2", 0.65}, {"4", 0.8}};
+    for (const auto& [number, f] : numbered) {
+        const double x = std::round(b.min.x + f * sx);
+        lines.push_back({{"number", number},
+                         {"vertices", {{x, std::ceil(b.min.y) + 1.0}, {x, std::floor(b.max.y) - 1.0}}},
+                         {"vx", 1}});
+    }
+    lines.push_back(
+        {{"name", "East-west fence of holes"},
+         {"vertices", {{std::ceil(b.min.x) + 1.0, std::round(yMid)}, {std::floor(b.max.x) - 1.0, std::round(yMid)}}},
+         {"vx", 2}});
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        auto s = parseSavedSection(lines[i], "demo section " + std::to_string(i), sectionTarget(*m), "model");
+        if (!s) return s.error();
+        m->sections.push_back(std::move(s.value()));
+    }
+    // A context layer as a mine office draws it, in the model's CRS: the mining lease, the
+    // decline from the portal and the shaft.
+    {
+        const double sy = b.max.y - b.min.y;
+        auto at = [&](double fx, double fy) {
+            return nlohmann::json::array({std::round(b.min.x + fx * sx), std::round(b.min.y + fy * sy)});
+        };
+        nlohmann::json lease =
+            nlohmann::json::array({at(0.04, 0.04), at(0.96, 0.04), at(0.96, 0.96), at(0.04, 0.96), at(0.04, 0.04)});
+        nlohmann::json layer = {{"type", "FeatureCollection"},
+                                {"crs", {{"type", "name"}, {"properties", {{"name", "urn:ogc:def:crs:EPSG::4523"}}}}},
+                                {"features",
+                                 {{{"type", "Feature"},
+                                   {"properties", {{"name", "采矿许可证 Mining lease"}, {"kind", "lease"}}},
+                                   {"geometry", {{"type", "Polygon"}, {"coordinates", {lease}}}}},
+                                  {{"type", "Feature"},
+                                   {"properties", {{"name", "主斜坡道 Main decline"}, {"kind", "working"}}},
+                                   {"geometry",
+                                    {{"type", "LineString"},
+                                     {"coordinates", {at(0.12, 0.2), at(0.3, 0.3), at(0.45, 0.42), at(0.5, 0.5)}}}}},
+                                  {{"type", "Feature"},
+                                   {"properties", {{"name", "1号竖井 No. 1 shaft"}, {"kind", "shaft"}}},
+                                   {"geometry", {{"type", "Point"}, {"coordinates", at(0.62, 0.7)}}}}}}};
+        auto parsed = parseContextLayer(jsonText(layer), "the demo's context layer", m->model.crs, b);
+        if (!parsed) return parsed.error();
+        m->context = std::make_shared<const std::string>(jsonText(parsed.value()));
+    }
     m->loadMs = msSince(t0);
     return std::shared_ptr<const CatalogModel>(std::move(m));
 }
+
+SectionTarget sectionTarget(const CatalogModel& m) { return {m.id, m.model.crs, m.index->bounds, m.index->origin}; }
 
 Result<std::shared_ptr<const CatalogModel>> catalogModelOf(const std::string& id, Model model,
                                                            const std::string& version, RayBuild rays,

@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/saved_sections.hpp"
 #include "bake/package.hpp"
 #include "model/drillholes/drillholes.hpp"
 #include "model/drillholes/hole_index.hpp"
@@ -85,6 +86,17 @@ struct CatalogModel {
     std::shared_ptr<const DrillholeDatabase> drillholes;
     std::shared_ptr<const HoleIndex> holeIndex;
     std::string drillholeWarning;
+    // The model's exploration lines (api/saved_sections.hpp): the <stem>.sections.json sidecar
+    // beside the model file, or the demo's; `sectionsWarning`: the sidecar exists but did not
+    // load (why; logged, in /readyz, and the list of saved sections says so). Sections saved
+    // through the API are not here: they live in the server's SavedSectionStore.
+    std::vector<SavedSection> sections;
+    std::string sectionsWarning;
+    // The plan's context layer (api/context_layer.hpp): the <stem>.context.geojson sidecar as
+    // GeoJSON in the model's CRS, or the demo's; null without one. `contextWarning`: the
+    // sidecar exists but did not load (why; logged and in /readyz).
+    std::shared_ptr<const std::string> context;
+    std::string contextWarning;
 
     // {id, version, crs, bounds, triangles, bodies: [...], surfaces: [...], legend: [...]}
     nlohmann::ordered_json summary() const;
@@ -93,6 +105,9 @@ struct CatalogModel {
 };
 
 bool isValidModelId(std::string_view id);
+
+// What a saved section of `m` is checked against (api/saved_sections.hpp).
+SectionTarget sectionTarget(const CatalogModel& m);
 
 // The model-CRS -> WGS 84 operations for a model extent (CatalogModel::toWgs84 / lonLat and
 // their notes), for the catalog and the CLI alike.

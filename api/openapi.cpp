@@ -178,6 +178,31 @@ J answerSchemas() {
                                                      {})},
                                   {"codes", arrayOf(kObj)},
                                   {"holes", arrayOf(kObj)}});
+    s["Drillholes"] = object(
+        {{"model", kStr},
+         {"version", kStr},
+         {"crs", nullable(kStr)},
+         {"columns", arrayOf(object({{"table", kStr}, {"column", kStr}, {"kind", kStr}, {"unit", nullable(kStr)}}))},
+         {"holes", arrayOf(object({{"id", kStr},
+                                   {"collar", xyz},
+                                   {"depth", kNum},
+                                   {"azimuth", kNum},
+                                   {"dip", kNum},
+                                   {"trace", arrayOf(xyz)}}))}});
+    const J savedSection = object({{"id", kStr},
+                                   {"number", nullable(kStr)},
+                                   {"name", kStr},
+                                   {"source", kStr},
+                                   {"query", kStr},
+                                   {"created", kStr}},
+                                  {"created"});
+    s["SavedSection"] = savedSection;
+    s["ContextLayer"] = object({{"type", kStr}, {"features", arrayOf(kObj)}, {"geoslice", kObj}});
+    s["SavedSections"] = object({{"model", kStr},
+                                 {"version", kStr},
+                                 {"saving", kBool},
+                                 {"warnings", arrayOf(kStr)},
+                                 {"sections", arrayOf(ref("SavedSection"))}});
     s["DrillholeLog"] = object(
         {{"hole", kStr}, {"version", kStr}, {"collar", xyz}, {"model", object({{"intervals", arrayOf(kObj)}}, {})}},
         {"version"});
@@ -268,15 +293,21 @@ const std::vector<RouteSpec>& apiRoutes() {
         {"GET", "/v1/models"},
         {"GET", "/v1/models/{id}"},
         {"GET", "/v1/models/{id}/legend.png"},
+        {"GET", "/v1/models/{id}/context.geojson"},
         {"GET", "/v1/models/{id}/section.{format}"},
         {"GET", "/v1/models/{id}/query"},
         {"POST", "/v1/models/{id}/query"},
         {"GET", "/v1/models/{id}/borehole"},
         {"GET", "/v1/models/{id}/reserves"},
         {"GET", "/v1/models/{id}/reserves.csv"},
+        {"GET", "/v1/models/{id}/drillholes"},
         {"GET", "/v1/models/{id}/drillholes/check"},
         {"GET", "/v1/models/{id}/drillholes/check.csv"},
         {"GET", "/v1/models/{id}/drillholes/{hole}/log"},
+        {"GET", "/v1/models/{id}/saved-sections"},
+        {"POST", "/v1/models/{id}/saved-sections"},
+        {"GET", "/v1/models/{id}/saved-sections/{sid}"},
+        {"DELETE", "/v1/models/{id}/saved-sections/{sid}"},
         {"POST", "/v1/models/{id}/sections"},
         {"GET", "/v1/sections/{sid}"},
         {"GET", "/v1/sections/{sid}/tiles/{z}/{x}/{y}.{format}"},
@@ -459,6 +490,12 @@ void addReservesAndDrillholePaths(J& paths) {
                   "CSV with a header row: hole,unit,in_model,logged_m,agreed_m,share (hole * = all holes), or with "
                   "rows=contacts hole,depth_m,code_above,code_below,unit_above,unit_below,model_depth_m,distance_m"},
                  {"content", {{"text/csv", J::object()}}}}));
+        get(paths, "/v1/models/{id}/drillholes",
+            op("every drillhole for a map or a picker: id, collar, end depth, the collar's azimuth and dip (degrees, "
+               "negative down), the desurveyed trace at its nodes (model CRS metres), and the interval columns "
+               "sections can colour holes by (holecolour=). 404: the model has no drillholes; 409: its sidecar did "
+               "not load.",
+               J::array({id}), jsonResponse("the holes; ETag and Cache-Control set", "Drillholes")));
         get(paths, "/v1/models/{id}/drillholes/{hole}/log",
             op("one drillhole's strip log: collar, survey stations, desurveyed path, every interval table's "
                "intervals with their columns (code intervals with the unit they name), and the model's units along "
@@ -466,6 +503,51 @@ void addReservesAndDrillholePaths(J& paths) {
                J::array({id, pathParam("hole", "hole id, percent-encoded (%2F for /), at most 256 bytes")}),
                jsonResponse("the log", "DrillholeLog")));
     }
+}
+
+// Saved sections: the model's exploration lines and sections saved through the API; the
+// plan's context layer.
+void addSavedSectionPaths(J& paths) {
+    const J id = idParam();
+    get(paths, "/v1/models/{id}/context.geojson",
+        op("the plan's context layer (leases, workings, faults drawn by hand): the <id>.context.geojson sidecar "
+           "beside the model, its coordinates converted to the model's CRS (`geoslice` says how they were read). "
+           "404: the model has none; 409: its sidecar did not load.",
+           J::array({id}),
+           J{{"description", "GeoJSON FeatureCollection in the model's CRS; ETag and Cache-Control set"},
+             {"content", {{"application/geo+json", {{"schema", ref("ContextLayer")}}}}}}));
+    const J sid = pathParam("sid", "saved section id: 16 hex digits");
+    get(paths, "/v1/models/{id}/saved-sections",
+        op("the model's own sections (its <id>.sections.json exploration lines) then those saved through the API, "
+           "oldest first; `query` of each is the view parameters that draw it (section.{format}, query, POST "
+           "/sections); `saving`: whether this server saves (serve --sections-dir). Never cached.",
+           J::array({id}), jsonResponse("the saved sections", "SavedSections")));
+    paths["/v1/models/{id}/saved-sections"]["post"] =
+        J{{"summary",
+           "save a section by name: {\"name\": \"Line 12\", \"number\": \"12\", \"vertices\": [[x, y], ...] | "
+           "\"line\": \"x1,y1,...\" | \"plane\": \"a,b,c,d\" | \"elevation\": z, \"vx\": k}, checked as a section "
+           "request is and against the model. Its id is a hash of model, definition, number and name: the same "
+           "section saved again (on any replica) is the same id, answered 200 as first stored. 501: the server "
+           "keeps no saved sections (no --sections-dir); 409: the model has 2,000 saved sections; 507: the disk is "
+           "full."},
+          {"parameters", J::array({id})},
+          {"requestBody", {{"content", {{"application/json", J::object()}}}}},
+          {"responses", J{{"201", jsonResponse("saved (Location: the section's URL)", "SavedSection")},
+                          {"200", jsonResponse("saved before under the same id", "SavedSection")},
+                          {"400", problem("a bad field (named) or a section that misses the model")},
+                          {"404", problem("no such model")},
+                          {"409", problem("the model has the most saved sections kept")},
+                          {"501", problem("this server keeps no saved sections (serve --sections-dir)")},
+                          {"507", problem("the disk holding the saved sections is full")}}}};
+    get(paths, "/v1/models/{id}/saved-sections/{sid}",
+        op("one saved section (the model's own, or one saved through the API); 404 for an unknown id",
+           J::array({id, sid}), jsonResponse("the saved section", "SavedSection")));
+    paths["/v1/models/{id}/saved-sections/{sid}"]["delete"] =
+        J{{"summary", "delete a section saved through the API; 409 for one of the model's own (edit its sidecar)"},
+          {"parameters", J::array({id, sid})},
+          {"responses", J{{"204", J{{"description", "deleted"}}},
+                          {"404", problem("no such model or saved section")},
+                          {"409", problem("one of the model's own sections")}}}};
 }
 
 // Stateless sections, their tiles and the tiles' standard descriptions.
@@ -521,12 +603,18 @@ void completeOperations(J& paths) {
         {"get /v1/models", "listModels"},
         {"get /v1/models/{id}", "getModel"},
         {"get /v1/models/{id}/legend.png", "getLegendImage"},
+        {"get /v1/models/{id}/context.geojson", "getContextLayer"},
         {"get /v1/models/{id}/section.{format}", "getSection"},
         {"get /v1/models/{id}/query", "queryPixel"},
         {"post /v1/models/{id}/query", "queryPixels"},
         {"get /v1/models/{id}/borehole", "getVirtualBorehole"},
         {"get /v1/models/{id}/reserves", "getReserves"},
         {"get /v1/models/{id}/reserves.csv", "getReservesCsv"},
+        {"get /v1/models/{id}/drillholes", "listDrillholes"},
+        {"get /v1/models/{id}/saved-sections", "listSavedSections"},
+        {"post /v1/models/{id}/saved-sections", "saveSection"},
+        {"get /v1/models/{id}/saved-sections/{sid}", "getSavedSection"},
+        {"delete /v1/models/{id}/saved-sections/{sid}", "deleteSavedSection"},
         {"get /v1/models/{id}/drillholes/check", "checkDrillholes"},
         {"get /v1/models/{id}/drillholes/check.csv", "checkDrillholesCsv"},
         {"get /v1/models/{id}/drillholes/{hole}/log", "getDrillholeLog"},
@@ -556,7 +644,7 @@ void completeOperations(J& paths) {
             if (method == "get") {
                 r["304"] = J{{"description", "If-None-Match names the current ETag (weak comparison)"}};
                 r["405"] = problem("a known path with another method; Allow lists the methods");
-            } else {
+            } else if (method == "post") {
                 r["413"] = problem("the body is larger than the server's --max-body");
                 r["415"] = problem("the body is not application/json");
             }
@@ -615,6 +703,7 @@ J openApiDocument(const std::string& serverVersion) {
     addOpsPaths(paths);
     addModelPaths(paths);
     addReservesAndDrillholePaths(paths);
+    addSavedSectionPaths(paths);
     addSectionPaths(paths);
     completeOperations(paths);
     J doc;

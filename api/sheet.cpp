@@ -4,6 +4,7 @@
 
 #include "api/holes.hpp"
 #include "api/view.hpp"
+#include "model/text_scan.hpp"
 #include "print/cairo_output.hpp"
 #include "print/map_scale.hpp"
 #include "print/section_sheet.hpp"
@@ -16,6 +17,7 @@ namespace geoslice::api {
 namespace {
 
 constexpr double kMinDpi = 50.0, kMaxDpi = 600.0;
+constexpr std::size_t kMaxSheetTitleBytes = 120;
 
 Error named(std::string_view name, const Error& e) {
     return makeError(e.code, "parameter '" + std::string(name) + "': " + e.message);
@@ -47,7 +49,9 @@ std::string SheetRequest::canonical() const {
          (paper.orientation == print::Orientation::Landscape ? "&orientation=landscape" : "&orientation=portrait");
     if (scale) s += "&scale=" + formatNumber(*scale);
     if (format == SheetFormat::Raster) s += "&dpi=" + formatNumber(dpi);
-    return s + "&date=" + date;
+    s += "&date=" + date;
+    if (!title.empty()) s += "&title=" + title;  // last: a title may hold '&'
+    return s;
 }
 
 std::size_t SheetRequest::memoryBytes() const {
@@ -57,8 +61,8 @@ std::size_t SheetRequest::memoryBytes() const {
 }
 
 const std::vector<std::string_view>& sheetParamNames() {
-    static const std::vector<std::string_view> names{"paper", "orientation", "scale",   "dpi",
-                                                     "date",  "layout",      "decorate"};
+    static const std::vector<std::string_view> names{"paper", "orientation", "scale",    "dpi",
+                                                     "date",  "layout",      "decorate", "title"};
     return names;
 }
 
@@ -126,6 +130,17 @@ Result<SheetRequest> parseSheetRequest(const Params& params, const CatalogModel&
     if (!print::isCalendarDate(r.date))
         return makeError(ErrorCode::InvalidArgument,
                          "parameter 'date': '" + r.date + "' is not a calendar date YYYY-MM-DD");
+    if (const auto title = param(params, "title")) {
+        const std::string_view t = text::trim(*title);
+        if (t.size() > kMaxSheetTitleBytes)
+            return makeError(ErrorCode::InvalidArgument, "parameter 'title': " + std::to_string(t.size()) +
+                                                             " bytes (at most " + std::to_string(kMaxSheetTitleBytes) +
+                                                             ")");
+        for (unsigned char c : t)
+            if (c < 0x20 || c == 0x7f)
+                return makeError(ErrorCode::InvalidArgument, "parameter 'title': holds a control character");
+        r.title = std::string(t);
+    }
     auto plan = parseViewPlan(params, model.id, model.model.crs);
     if (!plan) return plan.error();
     if (plan.value().view != ViewKind::Profile)
@@ -167,6 +182,7 @@ Result<SheetOutput> renderSheet(const CatalogModel& model, const SheetRequest& r
     info.version = model.version;
     info.crs = crsText(model.model.crs);
     info.date = request.date;
+    info.title = request.title;
     info.definition = definition(def);
 
     Result<print::Sheet> sheet = makeError(ErrorCode::Internal, "no sheet");

@@ -7,6 +7,8 @@
 //                                 scale (1, 2, 2.5, 5 x 10^k) at which the section fits the paper
 //   dpi=50..600                   decorated images only: the sheet's resolution (default 150)
 //   date=YYYY-MM-DD               the title block's date (default: today, UTC)
+//   title=TEXT                    the section's name, first in the sheet's title ("Line 12";
+//                                 UTF-8, at most 120 bytes, no control characters)
 // `size` and `bg` do not apply (the paper sizes a sheet; it is printed on white), nor do
 // perspective views. With colour= (api/plan.hpp BlockColouring) the sheet is coloured by the
 // block property and its legend shows the ramp (print/section_sheet.hpp SheetBlocks).
@@ -34,7 +36,8 @@ struct SheetRequest {
     print::Paper paper;
     std::optional<double> scale;
     double dpi = 150.0;
-    std::string date;  // YYYY-MM-DD
+    std::string date;   // YYYY-MM-DD
+    std::string title;  // empty: the sheet's own title only
 
     // Memory a render holds at its peak, bytes: for an image the sheet's pixels three times
     // (the cairo surface, the straight-alpha copy, the section raster); 0 for PDF and SVG.

@@ -22,7 +22,7 @@ std::atomic<int> gSignal{0};
 void onSignal(int sig) { gSignal = sig; }
 
 struct ServeArgs {
-    std::string configFile, host, models, bakeDir, gl, lod, cors, keysFile, logLevel;
+    std::string configFile, host, models, bakeDir, sectionsDir, gl, lod, cors, keysFile, logLevel;
     int port = -1, deadlineMs = -1, shutdownGraceMs = -1;
     long long workers = -1, queue = -1, httpThreads = -1, cacheMiB = -1, demoTriangles = -1, maxBody = -1;
     long long memoryBudgetMiB = -1, maxModelMiB = -1, tiles3dTriangles = -1, modelsPollMs = -1;
@@ -88,6 +88,7 @@ int runServe(const ServeArgs& a) {
     if (a.port >= 0) config.port = a.port;
     if (!a.models.empty()) config.modelsDir = a.models;
     if (!a.bakeDir.empty()) config.bakeDir = a.bakeDir;
+    if (!a.sectionsDir.empty()) config.sectionsDir = a.sectionsDir;
     if (!a.gl.empty()) config.gl = a.gl;
     if (!a.lod.empty()) config.lod = a.lod;
     if (!a.cors.empty()) config.cors = a.cors;
@@ -158,6 +159,9 @@ void addServe(CLI::App& app, int& exitCode) {
     cmd->add_option("--models", a->models, "Directory of model files (default: the built-in demo model)");
     cmd->add_option("--bake-dir", a->bakeDir,
                     "Bake raw models on first load into DIR/<id>/ (attribute-indexed texture packages)");
+    cmd->add_option("--sections-dir", a->sectionsDir,
+                    "Keep sections saved through the API (POST /v1/models/{id}/saved-sections) in DIR/<model id>/, "
+                    "a directory shared by every replica (default: saving is off)");
     cmd->add_flag("--no-bake", a->noBake,
                   "Never bake (replicas on a read-only models volume): a model without a current baked package is "
                   "refused and named in /readyz");

@@ -325,7 +325,9 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
     Sheet sheet;
     sheet.widthMm = o.paper.widthMm;
     sheet.heightMm = o.paper.heightMm;
-    sheet.title = shape.title + " \u2013 " + info.model;
+    // A named section ("Line 12") leads its heading: "Line 12: Geological section A–B".
+    const std::string heading = (info.title.empty() ? "" : info.title + ": ") + shape.title;
+    sheet.title = heading + " \u2013 " + info.model;
     sheet.subject = info.definition;
     sheet.date = info.date;
 
@@ -360,7 +362,8 @@ Result<Sheet> layoutSheet(const SectionIndex& index, Shape shape, const SheetOpt
         rules.subpaths.push_back({{l.panel.x, l.panel.y}, {l.panel.right(), l.panel.y}});
     sheet.add(std::move(rules));
 
-    TextItem title{{l.titleBand.x + 5.0, l.titleBand.y + 7.0}, shape.title, 15.0, true};
+    TextItem title{
+        {l.titleBand.x + 5.0, l.titleBand.y + 7.0}, fitText(heading, l.titleBand.width - 10.0, 15.0, true), 15.0, true};
     title.baseline = TextBaseline::Middle;
     sheet.add(std::move(title));
     TextItem sub{{l.titleBand.x + 5.0, l.titleBand.y + 13.2},

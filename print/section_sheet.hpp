@@ -71,6 +71,7 @@ struct SheetInfo {
     std::string crs;         // e.g. "EPSG:4523 CGCS2000 / 3-degree Gauss-Kruger zone 35", or "local metres"
     std::string date;        // YYYY-MM-DD
     std::string definition;  // the section's definition as asked, e.g. "plane=0,1,0,-3388846&vx=2"
+    std::string title;       // the section's name ("Line 12"), first in the title; may be empty
 };
 
 // The sheet of a plane section (vertical, inclined or horizontal) or a polyline section.

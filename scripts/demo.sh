@@ -11,4 +11,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)" --target geoslice
+# Sections saved from the web client are kept in build/saved-sections (a flag or the
+# environment may name another directory).
+export GEOSLICE_SECTIONS_DIR="${GEOSLICE_SECTIONS_DIR:-build/saved-sections}"
 exec ./build/cli/geoslice serve --port "${PORT:-8080}" "$@"

@@ -87,6 +87,8 @@ Status setField(ServerConfig& c, const std::string& key, const std::string& valu
         return number(c.tiles3dTriangles, 256, 1 << 24);
     else if (key == "bakeDir")
         c.bakeDir = value;
+    else if (key == "sectionsDir")
+        c.sectionsDir = value;
     else if (key == "lod")
         c.lod = value;
     else
@@ -124,6 +126,7 @@ Status applyConfigEnv(ServerConfig& config, const std::map<std::string, std::str
         {"GEOSLICE_PORT", "port"},
         {"GEOSLICE_MODELS", "models"},
         {"GEOSLICE_BAKE_DIR", "bakeDir"},
+        {"GEOSLICE_SECTIONS_DIR", "sectionsDir"},
         {"GEOSLICE_GL", "gl"},
         {"GEOSLICE_LOD", "lod"},
         {"GEOSLICE_WORKERS", "workers"},

@@ -7,6 +7,8 @@
 //   port               GEOSLICE_PORT                  --port                  8080 (0 = any free port)
 //   models             GEOSLICE_MODELS                --models                "" (none: the demo model)
 //   bakeDir            GEOSLICE_BAKE_DIR              --bake-dir              "" (raw models are not baked)
+//   sectionsDir        GEOSLICE_SECTIONS_DIR          --sections-dir          "" (sections are not saved through
+//                                                                             the API; api/saved_sections.hpp)
 //   gl                 GEOSLICE_GL                    --gl                    auto (auto|egl-device|egl-surfaceless|osmesa|none)
 //   lod                GEOSLICE_LOD                   --lod                   off (auto: simplified context geometry in 3D
 //                                                                             views on CPU backends)
@@ -76,7 +78,8 @@ struct ServerConfig {
     std::string host = "0.0.0.0";
     int port = 8080;
     std::string modelsDir;
-    std::string bakeDir;  // bake raw models on first load into bakeDir/<id>/ (reused while unchanged)
+    std::string bakeDir;      // bake raw models on first load into bakeDir/<id>/ (reused while unchanged)
+    std::string sectionsDir;  // saved sections, sectionsDir/<model id>/<id>.json; shared by replicas
     std::string gl = "auto";
     std::string lod = "off";  // "auto": faster 3D views on llvmpipe, not exact behind cut faces
     unsigned workers = 0;     // 0 = hardware concurrency

@@ -64,7 +64,11 @@ struct SectionServer::Impl {
             return fmt::format("{}:{}:{}.{}", s.st_size, s.st_ino, s.st_mtim.tv_sec, s.st_mtim.tv_nsec);
         };
         const std::string& bakeDir = state.config.bakeDir;
-        return sig(path) + "|" + (bakeDir.empty() ? "" : sig(fs::path(bakeDir) / id));
+        // The sidecars read at load (drillholes, exploration lines, context): a changed one loads the
+        // model again.
+        auto sidecar = [&](const char* ext) { return sig(fs::path(path).replace_extension(ext)); };
+        return sig(path) + "|" + (bakeDir.empty() ? "" : sig(fs::path(bakeDir) / id)) + "|" +
+               sidecar(".drillholes.json") + "|" + sidecar(".sections.json") + "|" + sidecar(".context.geojson");
     }
 
     // Replaces the {id, KEY} entries of `list` (failed or warnings) for `id` by `entry`
@@ -111,6 +115,11 @@ struct SectionServer::Impl {
                 spdlog::warn("event=bake_failed id={} warning=\"{}\"", id, model->bakeWarning);
                 st.warnings.push_back({{"id", id}, {"warning", model->bakeWarning}});
             }
+            for (const std::string* w : {&model->drillholeWarning, &model->sectionsWarning, &model->contextWarning})
+                if (!w->empty()) {
+                    spdlog::warn("event=sidecar_not_loaded id={} warning=\"{}\"", id, *w);
+                    st.warnings.push_back({{"id", id}, {"warning", *w}});
+                }
         }
         if (!model->rebakedFrom.empty())
             spdlog::warn("event=package_rebaked id={} moved_aside=\"{}\"", id, model->rebakedFrom);

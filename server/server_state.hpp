@@ -33,6 +33,9 @@ struct ServerState {
     const api::AccessKeys keys;  // API keys (none: authentication off); HttpRequest::key points in here
     const bool glEnabled = config.gl != "none";
     api::Catalog catalog;
+    // Sections saved through the API (config.sectionsDir); null when saving is off.
+    const std::unique_ptr<const api::SavedSectionStore> savedSections =
+        config.sectionsDir.empty() ? nullptr : std::make_unique<const api::SavedSectionStore>(config.sectionsDir);
     Metrics metrics;
     workers::GlStatus glStatus;  // written by the render worker that probes GL, read by /readyz
     // Set by start() before serving: the cache first, then the pool, so that the pool (whose

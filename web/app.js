@@ -18,6 +18,9 @@ import { clearAnswer, queryMap, renderAnswer } from './query.js?v=__GS_BUILD__';
 import { borehole } from './borehole.js?v=__GS_BUILD__';
 import { render3d, setup3d } from './view3d.js?v=__GS_BUILD__';
 import { showView, showSheet, tabKeys, copyText } from './ui.js?v=__GS_BUILD__';
+import { drawHoles, labelsFit, applyHoleParams, holeLog, sectionAlongHole, collarNear } from './holes.js?v=__GS_BUILD__';
+import { openSaved, saveSection } from './saved.js?v=__GS_BUILD__';
+import { drawContext } from './context.js?v=__GS_BUILD__';
 
 // ---- start -----------------------------------------------------------------------------
 async function main() {
@@ -54,6 +57,14 @@ async function main() {
   planMap.getContainer().setAttribute('aria-label', 'plan map');
   sectionMap.getContainer().setAttribute('aria-label', 'section map');
   planMap.on('move zoom resize', drawPlanOverlay);
+  planMap.on('zoomend', labelsFit);
+  $('showHoles').onchange = () => drawHoles();
+  $('showContext').onchange = () => drawContext();
+  $('holeWindow').onchange = () => applyHoleParams();
+  $('holeColour').onchange = () => applyHoleParams();
+  $('savedSel').onchange = () => { if ($('savedSel').value) openSaved($('savedSel').value); };
+  $('saveSection').onclick = () => saveSection($('saveName').value);
+  $('saveName').addEventListener('keydown', (e) => { if (e.key === 'Enter') { e.preventDefault(); saveSection($('saveName').value); } });
   sectionMap.on('move zoom resize', drawSectionOverlay);
   sectionMap.on('moveend', permalinkSoon);
   for (const b of document.querySelectorAll('[data-mode]')) b.onclick = () => setMode(b.dataset.mode);
@@ -110,16 +121,20 @@ async function main() {
   $('model').value = first;
   if (!(await loadModel(first, h))) return;
   if (h.vx) $('vx').value = h.vx;
+  if (h.hw != null && $('holeWindow')) $('holeWindow').value = h.hw;
+  if (h.hc && [...$('holeColour').options].some((o) => o.value === h.hc)) $('holeColour').value = h.hc;
   if (h.sec) {
     const i = h.sec.indexOf(':'), kind = h.sec.slice(0, i), val = h.sec.slice(i + 1);
     const def = kind === 'elevation' ? { elevation: Number(val) } : { [kind]: val, vx: Number(h.vx) || 2 };
+    if (h.hw != null) def.holes = Number(h.hw);
+    if (h.hc) def.holecolour = h.hc;
     if (kind === 'line') {
       const n = val.split(',').map(Number);
       S.points = [];
       for (let k = 0; k + 1 < n.length; k += 2) S.points.push([n[k], n[k + 1]]);
       drawPlanLine();
     }
-    await openSection(def, h.sv);
+    await openSection(def, h.sv, h.st);
   }
   showView(h.v && ['plan', 'section', '3d'].includes(h.v) ? h.v : S.section ? 'section' : 'plan');
   document.body.dataset.ready = '1';
@@ -135,5 +150,10 @@ Object.assign(window.geoslice, {
   maps: () => ({ planMap, sectionMap }),
   render3d,
   permalink,
+  holeLog,
+  sectionAlongHole,
+  collarNear,
+  openSaved,
+  saveSection,
 });
 main();

@@ -2,7 +2,7 @@
 // trace on the plan.
 import * as V from './views.js?v=__GS_BUILD__';
 import { t } from './i18n.js?v=__GS_BUILD__';
-import { $, S, permalinkSoon } from './state.js?v=__GS_BUILD__';
+import { $, S, permalinkSoon, markPainted } from './state.js?v=__GS_BUILD__';
 import { request, api, setStatus, failure, serverAway, whenServerBack } from './api.js?v=__GS_BUILD__';
 import { RetryTiles, lngOf, latOf, uOf, vOf, usefulZoom, gridBounds, planMap } from './map.js?v=__GS_BUILD__';
 import { drawPlanOverlay } from './overlay.js?v=__GS_BUILD__';
@@ -10,9 +10,13 @@ import { setSection } from './section.js?v=__GS_BUILD__';
 import { clearAnswer, queryMap } from './query.js?v=__GS_BUILD__';
 import { clearBorehole } from './borehole.js?v=__GS_BUILD__';
 import { init3d } from './view3d.js?v=__GS_BUILD__';
+import { loadHoles, drawHoles, collarNear, holeLog } from './holes.js?v=__GS_BUILD__';
+import { loadSaved } from './saved.js?v=__GS_BUILD__';
+import { loadContext, drawContext } from './context.js?v=__GS_BUILD__';
 
 // ---- model -----------------------------------------------------------------------------
 export async function loadModel(id, restore = null) {
+  S.modelT0 = performance.now();  // bench/web_bench.mjs: model switch -> its plan painted
   setCutReady(false);
   setStatus(t('loadingModel', id));
   let m;
@@ -51,7 +55,10 @@ export async function loadModel(id, restore = null) {
   renderLegend();
   S.three = null;
   init3d(restore);
+  // The model's holes, saved sections and context layer come beside its plan.
+  const extras = [loadHoles(), loadSaved(), loadContext()];
   await loadPlan();  // clears the loading message once the plan is in
+  await Promise.all(extras);
   drawPlanLine();
   return true;
 }
@@ -86,11 +93,17 @@ export async function loadPlan() {
   const layer = new RetryTiles((z, x, y) => s.tiles.replace('{z}', z).replace('{x}', x).replace('{y}', y),
                                { minNativeZoom: 0, maxNativeZoom: maxNative, bounds: gridBounds(g), tileSize: 256 });
   S.plan = { z, sid: s.sid, grid: g, layer, maxNative, definition: s.definition };
+  // The first plan tile on screen (bench/web_bench.mjs: the first usable view, a model switch).
+  const t0 = S.modelT0 ?? performance.now();
+  S.modelT0 = null;
+  layer.once('tilepainted', () => markPainted('planTile', t0));
   planMap.setMaxZoom(maxNative);
   layer.addTo(planMap);
   setCutReady(true);
   if ($('status').dataset.loading) setStatus('');
   if (!S.planFitted) { planMap.fitBounds(gridBounds(g), { padding: [8, 8] }); S.planFitted = true; }
+  drawContext();
+  drawHoles();
   drawPlanOverlay();
   permalinkSoon();
 }
@@ -185,9 +198,13 @@ export function updateDrawHint() {
 }
 export function planClick(e) {
   if (!S.plan) return;
-  const g = S.plan.grid, p = [uOf(g, e.latlng.lng), vOf(g, e.latlng.lat)];
+  // A tap on a drillhole's collar: a line or section point snaps to it (a line through two
+  // holes is two taps); in Query mode it opens the hole's log.
+  const hole = collarNear(e.latlng);
+  const g = S.plan.grid, p = hole ? [hole.collar[0], hole.collar[1]] : [uOf(g, e.latlng.lng), vOf(g, e.latlng.lat)];
   if (S.mode === 'line') { S.points.push(p); drawPlanLine(); permalinkSoon(); }
   else if (['ns', 'ew', 'az'].includes(S.mode)) { S.through = p; drawPlanLine(); }
+  else if (hole) holeLog(hole.id);
   else queryMap('plan', planMap, S.plan, e.latlng);
 }
 

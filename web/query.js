@@ -5,6 +5,7 @@ import { $, S, markPainted } from './state.js?v=__GS_BUILD__';
 import { request, api } from './api.js?v=__GS_BUILD__';
 import { gridPixel } from './map.js?v=__GS_BUILD__';
 import { showSheet, revealSheet } from './ui.js?v=__GS_BUILD__';
+import { holeLog } from './holes.js?v=__GS_BUILD__';
 
 // ---- queries ---------------------------------------------------------------------------
 let marker = null;
@@ -51,6 +52,37 @@ export function queryMap(where, map, sec, latlng) {
                                   interactive: false }).addTo(map);
   });
 }
+// A drawn drillhole under the tap: the hole, the depth along it, and its logged intervals
+// there, beside the model's unit at that pixel (above), with a button to its strip log.
+function holeAnswer(h, record) {
+  const div = document.createElement('div');
+  div.className = 'hole-answer';
+  const h3 = document.createElement('h3');
+  h3.textContent = t('holeTitle', h.id);
+  div.append(h3);
+  const dl = document.createElement('dl');
+  const row = (k, v) => {
+    const dt = document.createElement('dt'), dd = document.createElement('dd');
+    dt.textContent = k;
+    dd.textContent = v;
+    dl.append(dt, dd);
+  };
+  row(t('holeDepth'), `${V.fmt(h.depth, 1)} ${t('metres')}`);
+  row(t('holeOffset'), `${V.fmt(Math.abs(h.offset), 1)} ${t('metres')} ${t(h.side === 'front' ? 'inFront' : 'behind')}`);
+  for (const iv of h.intervals || []) {
+    const cols = Object.entries(iv.columns).filter(([, v]) => v !== '' && v != null).map(([k, v]) => `${k} ${v}`).join(' · ');
+    row(`${V.fmt(iv.from, 1)}–${V.fmt(iv.to, 1)} ${t('metres')}`, cols);
+  }
+  row(t('modelHere'), record ? record.name || `#${record.id}` : t('noGeology'));
+  div.append(dl);
+  const b = document.createElement('button');
+  b.type = 'button';
+  b.className = 'holeLogBtn';
+  b.textContent = t('stripLog');
+  b.onclick = () => holeLog(h.id);
+  div.append(b);
+  return div;
+}
 export function renderAnswer(j, where) {
   S.answer = { json: j, where };
   const box = $('answer');
@@ -96,5 +128,6 @@ export function renderAnswer(j, where) {
   else if (where === 'profile' && Number.isFinite(along)) row(t('distance'), `${V.fmt(along)} m`);
   row(t('source'), fieldValue(j.source));
   box.append(dl);
+  if (j.drillhole) box.append(holeAnswer(j.drillhole, r));
   $('copyAnswer').hidden = false;
 }

@@ -9,6 +9,7 @@ import { drawSectionOverlay } from './overlay.js?v=__GS_BUILD__';
 import { drawPlanLine, modeAzimuth } from './plan.js?v=__GS_BUILD__';
 import { clearAnswer } from './query.js?v=__GS_BUILD__';
 import { showView } from './ui.js?v=__GS_BUILD__';
+import { holeParams, holeLegend } from './holes.js?v=__GS_BUILD__';
 
 // ---- sections --------------------------------------------------------------------------
 function checkInputs(ids) {
@@ -38,12 +39,13 @@ export async function cut() {
     const zc = 0.5 * (S.model.bounds.min[2] + S.model.bounds.max[2]);
     def = { plane: V.planeText(V.planeFrom(modeAzimuth(), 90, [S.through[0], S.through[1], zc])), vx };
   }
-  await openSection(def);
+  await openSection({ ...def, ...holeParams() });
 }
 // Defines the section on the server (plane, elevation) or checks it with a small image
 // (polyline: tiles are section images with a frame). Only a section the server accepted
-// replaces the one on show.
-export async function openSection(def, view = null) {
+// replaces the one on show. `title`: the section's name (a saved section, "Line 12"), shown
+// on screen and given to the print sheet.
+export async function openSection(def, view = null, title = null) {
   const gen = S.gen;
   const t0 = performance.now();
   mark('cut', { def });
@@ -54,11 +56,12 @@ export async function openSection(def, view = null) {
     if (gen !== S.gen) return false;
     setStatus(failure(t('cutWhat'), e), true);
     // The server was away, not the cut wrong: cut again as soon as it answers.
-    if (serverAway(e)) whenServerBack('cut', () => { if (gen === S.gen) openSection(def, view); });
+    if (serverAway(e)) whenServerBack('cut', () => { if (gen === S.gen) openSection(def, view, title); });
     return false;
   }
   if (gen !== S.gen) return false;
   sec.t0 = t0;
+  sec.title = title || null;
   setStatus('');
   setSection(sec, view);
   return true;
@@ -69,7 +72,7 @@ async function defineSection(def) {
     const pts = [];
     const nums = def.line.split(',').map(Number);
     for (let i = 0; i + 1 < nums.length; i += 2) pts.push([nums[i], nums[i + 1]]);
-    const q = `line=${def.line}&vx=${def.vx}`;
+    const q = `line=${def.line}&vx=${def.vx}${holeQuery(def)}`;
     await request(api(`/section.png?${q}&size=64x32`), {}, 'blob');  // the server's verdict on the line
     const ch = V.chainages(pts), len = ch[ch.length - 1];
     const [z0, z1] = [model.bounds.min[2], model.bounds.max[2]];
@@ -85,15 +88,20 @@ async function defineSection(def) {
   const canon = new URLSearchParams(s.definition);
   const g = s.grid;
   if (def.elevation != null) {
-    return { kind: 'elevation', def, q: `elevation=${canon.get('elevation')}`, grid: g, sid: s.sid,
+    return { kind: 'elevation', def, q: `elevation=${canon.get('elevation')}${holeQuery(def)}`, grid: g, sid: s.sid,
              ends: [], distance0: 0, url: (z, x, y) => s.tiles.replace('{z}', z).replace('{x}', x).replace('{y}', y) };
   }
   const nums = canon.get('plane').split(',').map(Number);
   const plane = { n: nums.slice(0, 3), d: nums[3] };
   const { u } = V.planeBasis(plane.n);
   const ends = [{ u: g.extent.u0, label: V.compass(-u[0], -u[1]) }, { u: g.extent.u1, label: V.compass(u[0], u[1]) }];
-  return { kind: 'plane', def, q: `plane=${canon.get('plane')}&vx=${canon.get('vx')}`, plane, grid: g, sid: s.sid,
+  return { kind: 'plane', def, q: `plane=${canon.get('plane')}&vx=${canon.get('vx')}${holeQuery(def)}`, plane, grid: g, sid: s.sid,
            ends, distance0: g.extent.u0, url: (z, x, y) => s.tiles.replace('{z}', z).replace('{x}', x).replace('{y}', y) };
+}
+// The drillhole parameters of a definition as a query suffix (the server's default window
+// when none is given).
+function holeQuery(def) {
+  return (def.holes != null ? `&holes=${def.holes}` : '') + (def.holecolour ? `&holecolour=${encodeURIComponent(def.holecolour)}` : '');
 }
 export function setSection(sec, view = null) {
   ++S.gen;
@@ -118,14 +126,17 @@ export function setSection(sec, view = null) {
   sec.layer.addTo(sectionMap);
   $('sectionTitle').textContent = `${t('sectionOf')}: ${sectionLabel(sec)}`;
   updateExports();
+  holeLegend(sec);
   drawSectionOverlay();
   drawPlanLine();
   permalinkSoon();
 }
 export function sectionLabel(sec) {
-  if (sec.kind === 'line') return sec.pts.map((_, i) => V.letter(i)).join('-');
-  if (sec.kind === 'elevation') return `${t('elevation')} ${sec.def.elevation} m`;
-  return `${sec.ends[0].label}-${sec.ends[1].label}, vx ${sec.grid.exaggeration}`;
+  let s;
+  if (sec.kind === 'line') s = sec.pts.map((_, i) => V.letter(i)).join('-');
+  else if (sec.kind === 'elevation') s = `${t('elevation')} ${sec.def.elevation} m`;
+  else s = `${sec.ends[0].label}-${sec.ends[1].label}, vx ${sec.grid.exaggeration}`;
+  return sec.title ? `${sec.title} (${s})` : s;
 }
 export function updateExports() {
   const sec = S.section;
@@ -137,7 +148,9 @@ export function updateExports() {
     // A PDF is a print sheet: its paper sizes it (A3 landscape by default), so no size. The
     // PNG is the same sheet as an image (axes, scale, legend, title block) where the server
     // makes sheets; DXF is the section as drawn (plane metres) for CAD.
-    const extra = { geojson: '&space=world', pdf: '', dxf: '', png: S.pdf ? '&decorate=1&dpi=150' : '&size=2048x1024',
+    // A named section's sheet carries its name in the title.
+    const title = sec.title ? `&title=${encodeURIComponent(sec.title)}` : '';
+    const extra = { geojson: '&space=world', pdf: title, dxf: '', png: S.pdf ? `&decorate=1&dpi=150${title}` : '&size=2048x1024',
                     svg: '&size=2048x1024' }[ext];
     a.href = api(`/section.${ext}?${sec.q}${extra}`);
     a.download = `${S.model.id}-section.${ext}`;

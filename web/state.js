@@ -29,6 +29,9 @@ export function permalink() {
   if (sec) {
     p.set('sec', sec.kind === 'line' ? `line:${sec.def.line}` : sec.kind === 'plane' ? `plane:${sec.def.plane}` : `elevation:${sec.def.elevation}`);
     if (sec.def.vx) p.set('vx', sec.def.vx);
+    if (sec.def.holes != null) p.set('hw', sec.def.holes);
+    if (sec.def.holecolour) p.set('hc', sec.def.holecolour);
+    if (sec.title) p.set('st', sec.title);
     const c = sectionMap.getCenter();
     p.set('sv', `${c.lat.toFixed(4)},${c.lng.toFixed(4)},${sectionMap.getZoom()}`);
   }
@@ -46,5 +49,6 @@ export function readHash() {
   const p = new URLSearchParams(location.hash.slice(1));
   const nums = (k) => (p.get(k) ? p.get(k).split(',').map(Number) : null);
   return { m: p.get('m'), v: p.get('v'), lang: p.get('lang'), pz: p.get('pz'), sec: p.get('sec'), vx: p.get('vx'),
+           hw: p.get('hw'), hc: p.get('hc'), st: p.get('st'),
            sv: nums('sv'), p3: nums('p3'), cam: nums('cam') };
 }

@@ -11,6 +11,8 @@
 //   query.cpp      GET and POST /v1/models/{id}/query           pixel queries
 //   borehole.cpp   GET /v1/models/{id}/borehole
 //   reserves.cpp   GET /v1/models/{id}/reserves[.csv]
+//   drillholes.cpp GET /v1/models/{id}/drillholes, .../drillholes/check[.csv], .../drillholes/{hole}/log
+//   saved_sections.cpp GET, POST /v1/models/{id}/saved-sections, GET, DELETE .../saved-sections/{sid}
 //   tiles.cpp      POST /v1/models/{id}/sections, GET /v1/sections/{sid}[/tiles/{z}/{x}/{y}.{fmt}]
 //   tiles3d.cpp    GET /v1/models/{id}/3dtiles/tileset.json, .../3dtiles/tiles/{n}.glb   3D Tiles 1.1
 //
@@ -35,6 +37,7 @@ void addQueryRoutes(Router& router, ServerState& state);
 void addBoreholeRoutes(Router& router, ServerState& state);
 void addReservesRoutes(Router& router, ServerState& state);
 void addDrillholeRoutes(Router& router, ServerState& state);
+void addSavedSectionRoutes(Router& router, ServerState& state);
 void addTileRoutes(Router& router, ServerState& state);
 void addTiles3dRoutes(Router& router, ServerState& state);
 
@@ -55,6 +58,7 @@ inline void addAllRoutes(Router& router, ServerState& state) {
     addBoreholeRoutes(router, state);
     addReservesRoutes(router, state);
     addDrillholeRoutes(router, state);
+    addSavedSectionRoutes(router, state);
     addTileRoutes(router, state);
     addTiles3dRoutes(router, state);
 }

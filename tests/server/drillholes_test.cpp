@@ -149,6 +149,42 @@ TEST_F(ServerDrillholes, StripLogOfAHoleWithASlashInItsId) {
     EXPECT_EQ(j["stations"].size(), 1u);
 }
 
+// The holes for a map: the inclined hole's trace ends at the collar plus 400 m along azimuth
+// 45, dip -60 (one station: a straight hole), to the millimetre the route rounds to.
+TEST_F(ServerDrillholes, HolesForAMap) {
+    const json j = getJson("/v1/models/strata/drillholes");
+    ASSERT_EQ(j["holes"].size(), 1u) << j.dump();
+    const json& h = j["holes"][0];
+    EXPECT_EQ(h["id"], "DH/1 ü");
+    EXPECT_EQ(h["collar"], json::array({0.0, 0.0, 10.0}));
+    EXPECT_DOUBLE_EQ(h["depth"].get<double>(), 400.0);
+    EXPECT_NEAR(h["azimuth"].get<double>(), 45.0, 1e-3);
+    EXPECT_NEAR(h["dip"].get<double>(), -60.0, 1e-3);
+    const json& end = h["trace"].back();
+    const double across = 400.0 * 0.5 / std::sqrt(2.0);
+    EXPECT_NEAR(end[0].get<double>(), across, 0.5e-3);
+    EXPECT_NEAR(end[1].get<double>(), across, 0.5e-3);
+    EXPECT_NEAR(end[2].get<double>(), 10.0 - 400.0 * kSin60, 0.5e-3);
+    ASSERT_EQ(j["columns"].size(), 1u);
+    EXPECT_EQ(j["columns"][0]["column"], "LITH");
+    EXPECT_EQ(j["columns"][0]["kind"], "text");
+    expectProblem("/v1/models/bare/drillholes", 404, "has no drillholes");
+    expectProblem("/v1/models/broken/drillholes", 409, "did not load");
+    expectProblem("/v1/models/strata/drillholes?x=1", 400, "'x'");
+}
+
+// Without --sections-dir the model's own sections are listed and saving says what to do.
+TEST_F(ServerDrillholes, SavingIsOffWithoutASectionsDirectory) {
+    const json j = getJson("/v1/models/strata/saved-sections");
+    EXPECT_EQ(j["saving"], false);
+    EXPECT_TRUE(j["sections"].empty());
+    auto r =
+        client().Post("/v1/models/strata/saved-sections", R"({"name": "a", "elevation": -50})", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 501);
+    EXPECT_NE(r->body.find("--sections-dir"), std::string::npos) << r->body;
+}
+
 TEST_F(ServerDrillholes, HostileRequestsAreClearProblems) {
     expectProblem("/v1/models/strata/drillholes/nope/log", 404, "no drillhole 'nope'");
     expectProblem("/v1/models/strata/drillholes/..%2F..%2Fetc%2Fpasswd/log", 404, "no drillhole '../../etc/passwd'");

@@ -734,6 +734,142 @@ const tests = {
     }
   },
 
+  // Drillholes and saved sections on a phone, against the demo (32 holes, five exploration
+  // lines and a fence) with a sections directory: holes on the plan, a line opened by name and
+  // titled so on screen and in the PDF, a tap on a drawn hole answered with the hole beside the
+  // model, its strip log agreeing with the server's check, a section along the hole, a line
+  // snapped through two collars, a section saved by name that a new page lists again, and the
+  // hole and save controls in Chinese.
+  async drillholes_and_saved_sections() {
+    const store = fs.mkdtempSync(path.join(outDir, 'sections-'));
+    const demo = await startServer(binary, { demo: true, extraArgs: ['--sections-dir', store] });
+    const ctx = await browser.newContext({ ...PHONE, locale: 'en-GB' });
+    try {
+      await ctx.route((url) => !url.href.startsWith(demo.url), (route) => { foreign.push(route.request().url()); return route.abort('blockedbyclient'); });
+      const page = await ctx.newPage();
+      page.errors = [];
+      page.on('pageerror', (e) => page.errors.push(e.message));
+      const ready = async () => {
+        await page.waitForSelector('body[data-ready="1"]', { timeout: 20000 });
+        await page.waitForFunction(() => document.getElementById('busy').hidden, null, { timeout: 15000 });
+        await page.waitForTimeout(50);
+      };
+      await page.goto(`${demo.url}/#lang=en`);
+      await ready();
+      const server = await (await fetch(`${demo.url}/v1/models/demo/drillholes`)).json();
+      const drawn = await page.evaluate(() => ({ holes: window.geoslice.S.holes?.holes.length,
+                                                 ids: document.querySelectorAll('#planMap .hole-id').length }));
+      check(server.holes.length === 32 && drawn.holes === 32 && drawn.ids === 32, `holes on the plan: ${JSON.stringify(drawn)}`);
+      // The demo's context layer (lease, decline, shaft) on the plan, labelled.
+      const ctxDrawn = await page.evaluate(() => ({ n: window.geoslice.S.context?.features.length,
+                                                    labels: [...document.querySelectorAll('#planMap .ctx-label')].map((e) => e.textContent) }));
+      check(ctxDrawn.n === 3 && ctxDrawn.labels.length === 3 && ctxDrawn.labels.includes('1号竖井 No. 1 shaft'),
+            `context layer: ${JSON.stringify(ctxDrawn)}`);
+      await shot(page, 'phone-holes-plan');
+
+      // The exploration lines, by name, as the server lists them.
+      const listed = await (await fetch(`${demo.url}/v1/models/demo/saved-sections`)).json();
+      const options = await page.evaluate(() => [...document.querySelectorAll('#savedSel option')].map((o) => o.textContent).slice(1));
+      check(JSON.stringify(options) === JSON.stringify(listed.sections.map((s) => s.name)), `saved sections: ${options}`);
+      const line0 = listed.sections.find((s) => s.name === 'Line 0');
+      await page.selectOption('#savedSel', line0.id);
+      await page.waitForFunction(() => window.geoslice.S.section?.title === 'Line 0', null, { timeout: 15000 });
+      await ready();
+      const title = await page.locator('#sectionTitle').textContent();
+      check(/Line 0/.test(title), `on screen: ${title}`);
+      const pdfHref = await page.locator('#expPdf').getAttribute('href');
+      check(pdfHref.includes('title=Line%200'), `PDF link: ${pdfHref}`);
+      const pdf = Buffer.from(await (await fetch(`${demo.url}${pdfHref}`)).arrayBuffer());
+      fs.writeFileSync(path.join(outDir, 'line0.pdf'), pdf);
+      const text = execFileSync('pdftotext', [path.join(outDir, 'line0.pdf'), '-']).toString();
+      check(/Line 0: Geological section/.test(text), `the PDF's title: ${text.slice(0, 200)}`);
+
+      // The east-west fence: a tap on a drawn hole answers the hole beside the model's unit.
+      const fence = listed.sections.find((s) => /fence/.test(s.name));
+      await page.locator('#tab-plan').click();
+      await page.selectOption('#savedSel', fence.id);
+      await page.waitForFunction((n) => window.geoslice.S.section?.title === n, fence.name, { timeout: 15000 });
+      await ready();
+      const gj = await (await fetch(`${demo.url}/v1/models/demo/section.geojson?${fence.query}&space=plane`)).json();
+      const hole = gj.features.find((f) => f.properties.kind === 'drillhole' && f.properties.side === 'behind' &&
+                                          f.properties.to - f.properties.from > 60);
+      check(hole, 'a drawn hole on the fence');
+      const [a, b] = hole.geometry.coordinates;
+      const at = await page.evaluate(([u, v]) => {
+        const { sectionMap } = window.geoslice.maps(), g = window.geoslice.S.section.grid;
+        const p = sectionMap.latLngToContainerPoint([((v - g.origin.v) * g.exaggeration * 256) / g.size0, ((u - g.origin.u) * 256) / g.size0]);
+        const r = sectionMap.getContainer().getBoundingClientRect();
+        return [r.left + p.x, r.top + p.y];
+      }, [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2]);
+      await tap(page, at[0], at[1]);
+      await page.waitForSelector('.hole-answer', { timeout: 15000 });
+      const answer = await page.locator('.hole-answer').textContent();
+      check(answer.includes(`Drillhole ${hole.properties.hole}`) && /Model here/.test(answer), `hole answer: ${answer}`);
+      await shot(page, 'phone-hole-answer');
+      // Its strip log: the model agrees over the share the server's check finds for that hole.
+      await page.locator('.hole-answer .holeLogBtn').click();
+      await page.waitForSelector('#holeLog', { timeout: 15000 });
+      const log = await page.evaluate(() => window.geoslice.S.holeLog);
+      const checkDoc = await (await fetch(`${demo.url}/v1/models/demo/drillholes/check`)).json();
+      const h = checkDoc.holes.find((x) => x.hole === hole.properties.hole);
+      check(log.id === hole.properties.hole && Math.abs(log.share - h.agreed_m / h.logged_m) < 1e-9,
+            `strip log share ${log.share} vs the check's ${h.agreed_m / h.logged_m}`);
+      await shot(page, 'phone-strip-log');
+      // A section along the hole contains its collar.
+      await page.locator('#sectionAlongHole').click();
+      await page.waitForFunction((id) => window.geoslice.S.section?.title?.includes(id), hole.properties.hole, { timeout: 15000 });
+      await ready();
+      const along = await page.evaluate((id) => {
+        const s = window.geoslice.S, c = s.holes.holes.find((x) => x.id === id).collar, p = s.section.plane;
+        return p.n[0] * c[0] + p.n[1] * c[1] + p.n[2] * c[2] + p.d;
+      }, hole.properties.hole);
+      check(Math.abs(along) < 0.01, `the collar is ${along} m off the section along its hole`);
+
+      // A line snapped through two collars: taps 6 px off each collar give the collars exactly.
+      await page.evaluate(() => document.getElementById('tab-plan').click());
+      await page.locator('[data-mode="line"]').click();
+      await page.locator('#clear').click();
+      const rect = await box(page, '#planMap');
+      const two = [];
+      for (const c of server.holes) {
+        const p = await planPoint(page, c.collar[0], c.collar[1]);
+        if (p[0] > rect.x + 30 && p[0] < rect.x + rect.width - 30 && p[1] > rect.y + 30 && p[1] < rect.y + rect.height - 30 &&
+            two.every((o) => Math.hypot(o.p[0] - p[0], o.p[1] - p[1]) > 40)) two.push({ collar: c.collar, p });
+        if (two.length === 2) break;
+      }
+      check(two.length === 2, 'two collars in sight on the plan');
+      for (const { p } of two) await tap(page, p[0] + 6, p[1] - 4);
+      const pts = await page.evaluate(() => window.geoslice.S.points);
+      check(pts.length === 2 && pts.every((p, i) => p[0] === two[i].collar[0] && p[1] === two[i].collar[1]),
+            `snapped points ${JSON.stringify(pts)} vs collars ${JSON.stringify(two.map((c) => c.collar))}`);
+      await page.locator('#cut').click();
+      await page.waitForFunction(() => window.geoslice.S.section?.kind === 'line', null, { timeout: 15000 });
+      await ready();
+      // Saved by name, listed again by a new page.
+      await page.locator('#saveName').fill('Through two holes');
+      await page.locator('#saveSection').click();
+      await page.waitForFunction(() => [...document.querySelectorAll('#savedSel option')].some((o) => o.textContent === 'Through two holes ★'), null, { timeout: 15000 });
+      check(fs.readdirSync(path.join(store, 'demo')).length === 1, 'one file in the sections directory');
+      const page2 = await ctx.newPage();
+      page2.on('pageerror', (e) => page.errors.push(e.message));
+      await page2.goto(`${demo.url}/#lang=zh`);
+      await page2.waitForSelector('body[data-ready="1"]', { timeout: 20000 });
+      await page2.waitForFunction(() => document.getElementById('busy').hidden, null, { timeout: 15000 });
+      const names = await page2.evaluate(() => [...document.querySelectorAll('#savedSel option')].map((o) => o.textContent));
+      check(names.includes('Through two holes ★'), `listed again: ${names}`);
+      // The new controls in Chinese.
+      const labels = await page2.evaluate(() => ['#showHolesField span', '#showContextField span', '#holeTools span', '#saveRow span', '#saveSection', '#savedField span']
+        .flatMap((q) => [...document.querySelectorAll(q)].map((e) => e.textContent.trim())));
+      const english = labels.filter((l) => !/[\u4e00-\u9fff]/.test(l));
+      check(english.length === 0, `English left in Chinese: ${english}`);
+      await page2.close();
+      check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
+    } finally {
+      await ctx.close();
+      demo.stop();
+    }
+  },
+
   async assets_cached_and_typed() {
     const r = await fetch(`${origin}/`);
     check(r.headers.get('cache-control') === 'no-cache' && r.headers.get('etag'), 'index: no-cache + ETag');
