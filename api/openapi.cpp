@@ -65,6 +65,11 @@ J viewParams() {
                    "images and SVG)"),
         queryParam("patterns", "string",
                    "0|1: profile views, lithology fill patterns (default: on in SVG and print sheets, off in images)"),
+        queryParam("hide", "string",
+                   "r1,r2,...: perspective views, record ids left out (the model drawn without those bodies and "
+                   "surfaces; a shown body nested in a hidden one is capped by its nearest shown container); pixel "
+                   "queries answer the same picture"),
+        queryParam("isolate", "string", "r1,r2,...: perspective views, the only record ids drawn (not with hide)"),
         queryParam("holes", "number",
                    "drillholes within this many metres of the section drawn on profile views, 0..100000 (default "
                    "50; 0: none)"),

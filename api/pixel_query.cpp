@@ -1,5 +1,6 @@
 #include "api/pixel_query.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -17,6 +18,25 @@ Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan) {
     return checkCutKeepsSomething(name, cut, model.index->bounds);
 }
 
+Status checkShownUnits(const CatalogModel& model, const ViewPlan& plan) {
+    if (plan.shown.records.empty()) return {};
+    std::vector<RecordId> all;
+    for (const auto* parts : {&model.model.bodies, &model.model.surfaces})
+        for (const Part& p : *parts) all.push_back(p.record);
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    for (RecordId r : plan.shown.records)
+        if (!std::binary_search(all.begin(), all.end(), r)) {
+            std::string list;
+            for (std::size_t i = 0; i < all.size() && i < 64; ++i) list += (i ? "," : "") + std::to_string(all[i]);
+            return makeError(ErrorCode::InvalidArgument,
+                             std::string("parameter '") + (plan.shown.isolate ? "isolate" : "hide") + "': record " +
+                                 std::to_string(r) + " is not in the model (its records: " + list +
+                                 (all.size() > 64 ? ",..." : "") + ")");
+        }
+    return {};
+}
+
 namespace {
 
 // What a perspective view shows along the ray through a pixel centre, by the renderer's
@@ -29,6 +49,7 @@ namespace {
 Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan& plan, long long px, long long py,
                                       const ViewImage* cached, const RayWait& wait) {
     if (auto s = checkPerspectiveCut(model, plan); !s) return s.error();
+    if (auto s = checkShownUnits(model, plan); !s) return s.error();
     const CutOut cut = sectionCut(plan.section);
     // The pixel's ray in display space, mapped to world (the exaggeration is affine: a line
     // stays a line). Distances along it are world metres.
@@ -51,6 +72,18 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
     a.world = glm::dvec3(std::numeric_limits<double>::quiet_NaN());
     double hitT = std::numeric_limits<double>::infinity();
     bool cap = false;  // the hit is on a cut face: the kept part starts inside the body
+    // Units left out (hide= / isolate=): the picture of the model without them, as the
+    // renderer draws it. A hidden body's interval is its nearest shown container's (the
+    // container is whole without it) or nothing; a hidden surface is not crossed.
+    const std::vector<RecordId> hidden = plan.shown.hiddenOf(model.model);
+    auto isHidden = [&](RecordId r) { return std::binary_search(hidden.begin(), hidden.end(), r); };
+    auto shownRecord = [&](const BoreholeInterval& iv) -> RecordId {
+        if (!isHidden(iv.record)) return iv.record;
+        for (int b = model.model.bodies[iv.body].report.parent; b >= 0;
+             b = model.model.bodies[std::size_t(b)].report.parent)
+            if (!isHidden(model.model.bodies[std::size_t(b)].record)) return model.model.bodies[std::size_t(b)].record;
+        return kNoRecord;
+    };
     if (!kept.empty()) {
         auto rays = model.rays->wait(wait.deadline, wait.cancel);
         if (!rays) return rays.error();
@@ -58,20 +91,29 @@ Result<QueryAnswer> answerPerspective(const CatalogModel& model, const ViewPlan&
         if (hole) {
             // Body intervals are disjoint and in order: the first with a kept part holds the
             // nearest kept point of any body.
+            // With a body hidden, neighbouring intervals can become one unit: a shown interval
+            // starts where the previous one of another record (or none) ended.
+            RecordId before = kNoRecord;
+            double beforeEnd = -std::numeric_limits<double>::infinity();
             for (const BoreholeInterval& iv : hole.value().intervals) {
+                const RecordId r = shownRecord(iv);
+                const bool continues = r != kNoRecord && r == before && iv.from <= beforeEnd + 1e-9;
+                before = r;
+                beforeEnd = iv.to;
+                if (r == kNoRecord) continue;
                 for (const RaySpan& k : kept) {
                     const double from = std::max(iv.from, k.from), to = std::min(iv.to, k.to);
                     if (from < to && from < hitT) {
                         hitT = from;
-                        a.record = iv.record;
-                        cap = from > iv.from;
+                        a.record = r;
+                        cap = from > iv.from || continues;
                     }
                 }
                 if (std::isfinite(hitT)) break;
             }
             if (!cap)
                 for (const BoreholeCrossing& c : hole.value().crossings)
-                    if (c.depth < hitT && isKept(c.depth)) {
+                    if (c.depth < hitT && isKept(c.depth) && !isHidden(c.record)) {
                         hitT = c.depth;
                         a.record = c.record;
                         break;

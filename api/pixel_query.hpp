@@ -40,6 +40,9 @@ struct QueryAnswer {
 // InvalidArgument naming the parameter ('plane', 'planes' or 'elevation') when the cut of a
 // perspective view keeps no part of the model's bounds (api/cut.hpp).
 Status checkPerspectiveCut(const CatalogModel& model, const ViewPlan& plan);
+// The records of hide= / isolate= (ViewPlan::shown) are records of the model's bodies or
+// surfaces; InvalidArgument naming the first that is not, and the model's records.
+Status checkShownUnits(const CatalogModel& model, const ViewPlan& plan);
 // The ray through a pixel of a perspective view: pixelRay of view/camera.hpp.
 // A query that needs the model's rays (perspective, or no cached ID buffer) waits for them
 // (CatalogModel::rays) as `wait` allows: DeadlineExceeded when they are not built in time.

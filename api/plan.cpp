@@ -99,6 +99,10 @@ std::string ViewPlan::canonical() const {
         }
     }
     s += "&size=" + std::to_string(width) + "x" + std::to_string(height);
+    if (!shown.records.empty()) {
+        s += shown.isolate ? "&isolate=" : "&hide=";
+        for (std::size_t i = 0; i < shown.records.size(); ++i) s += (i ? "," : "") + std::to_string(shown.records[i]);
+    }
     if (labels) s += *labels ? "&labels=1" : "&labels=0";
     if (patterns) s += *patterns ? "&patterns=1" : "&patterns=0";
     return s;
@@ -114,7 +118,8 @@ const std::vector<std::string_view>& sectionParamNames() {
 const std::vector<std::string_view>& viewParamNames() {
     static const std::vector<std::string_view> names = [] {
         std::vector<std::string_view> n = sectionParamNames();
-        for (std::string_view v : {"view", "frame", "size", "eye", "target", "up", "fov", "labels", "patterns"})
+        for (std::string_view v :
+             {"view", "frame", "size", "eye", "target", "up", "fov", "labels", "patterns", "hide", "isolate"})
             n.push_back(v);
         return n;
     }();
@@ -425,7 +430,42 @@ Result<ViewPlan> parseViewPlan(const Params& params, const std::string& model, c
         return makeError(ErrorCode::InvalidArgument,
                          "parameter 'view': '" + std::string(*view) + "' is not 'profile' or 'perspective'");
     }
+    // Units left out of a perspective view: hide=r1,r2,.. or isolate=r1,r2,.. (record ids).
+    for (const char* name : {"hide", "isolate"}) {
+        const auto text = param(params, name);
+        if (!text) continue;
+        if (plan.view != ViewKind::Perspective)
+            return makeError(ErrorCode::InvalidArgument, std::string("parameter '") + name +
+                                                             "': applies to perspective views (view=perspective); "
+                                                             "sections show every unit the plane cuts");
+        if (!plan.shown.records.empty() || plan.shown.isolate)
+            return makeError(ErrorCode::InvalidArgument, "give 'hide' or 'isolate', not both");
+        auto ids = parseNumberList(name, *text, 0, kMaxShownRecords);
+        if (!ids) return ids.error();
+        for (double v : ids.value()) {
+            if (!(v >= 1.0 && v <= 4294967295.0) || v != std::floor(v))
+                return makeError(ErrorCode::InvalidArgument, std::string("parameter '") + name +
+                                                                 "': " + formatNumber(v) +
+                                                                 " is not a record id (1..4294967295)");
+            plan.shown.records.push_back(RecordId(v));
+        }
+        std::sort(plan.shown.records.begin(), plan.shown.records.end());
+        plan.shown.records.erase(std::unique(plan.shown.records.begin(), plan.shown.records.end()),
+                                 plan.shown.records.end());
+        plan.shown.isolate = std::string_view(name) == "isolate";
+    }
     return plan;
+}
+
+std::vector<RecordId> ShownUnits::hiddenOf(const Model& model) const {
+    if (!isolate) return records;
+    std::vector<RecordId> hidden;
+    for (const auto* parts : {&model.bodies, &model.surfaces})
+        for (const Part& p : *parts)
+            if (!std::binary_search(records.begin(), records.end(), p.record)) hidden.push_back(p.record);
+    std::sort(hidden.begin(), hidden.end());
+    hidden.erase(std::unique(hidden.begin(), hidden.end()), hidden.end());
+    return hidden;
 }
 
 Plane sectionPlane(const SectionDef& def) {

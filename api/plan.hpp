@@ -26,6 +26,8 @@
 //                               patterns: on in SVG and print sheets, off in images)
 //   holes=W holecolour=COL holebreaks=b1,.. holeramp=NAME   drillholes drawn on profile
 //                               views (HoleDrawing, api/holes.hpp)
+//   hide=r1,r2,.. | isolate=r1,r2,..   perspective views: records left out, or the only ones
+//                               drawn (ShownUnits)
 // Units: metres in the model's CRS (x easting, y northing, z elevation), degrees for lon/lat.
 // Pure functions, any thread.
 #pragma once
@@ -103,6 +105,18 @@ struct SectionDef {
     std::string canonical() const;
 };
 
+// Units left out of a perspective view (hide=r1,r2,.. or isolate=r1,r2,..): the picture of
+// the model without those records' bodies and surfaces (renderer/slice_renderer.hpp
+// SliceRequest::hidden). At most kMaxShownRecords ids; each must be a record of the model
+// (checked by the server against the model).
+constexpr std::size_t kMaxShownRecords = 1024;
+struct ShownUnits {
+    std::vector<RecordId> records;  // sorted, unique
+    bool isolate = false;           // records are the ones shown, not the ones hidden
+    // The records not drawn: `records`, or with isolate every other record of `model`'s parts.
+    std::vector<RecordId> hiddenOf(const Model& model) const;
+};
+
 struct ViewPlan {
     SectionDef section;
     ViewKind view = ViewKind::Profile;
@@ -111,6 +125,7 @@ struct ViewPlan {
     int width = 1024, height = 1024;
     std::optional<bool> labels;    // labels=0|1; nullopt: the output's default
     std::optional<bool> patterns;  // patterns=0|1; nullopt: the output's default
+    ShownUnits shown;              // perspective views: hide= / isolate=
 
     std::string canonical() const;  // the section's canonical text plus the view's fields
 };

@@ -193,12 +193,17 @@ Result<std::unique_ptr<GpuModel>> GpuModel::build(GlContext& context, const Mode
         d.body = body;
         d.record = part.record;
         d.colour = recordColour(model, part.record);
+        if (body) d.bodyIndex = int(&part - model.bodies.data());
         if (body && part.report.parent >= 0 && std::size_t(part.report.parent) < model.bodies.size()) {
             d.containerRecord = model.bodies[std::size_t(part.report.parent)].record;
             d.containerColour = recordColour(model, d.containerRecord);
+            d.containerBody = part.report.parent;
         }
-        if (!body)
+        if (!body) {
+            d.surfaceFirst = g->surfaceTriangles_.size();
             for (std::uint32_t i : partIndices) g->surfaceTriangles_.push_back(local[i]);
+            d.surfaceCount = partIndices.size();
+        }
 
         std::vector<std::uint32_t> sorted;
         lodMs += buildClusters(grid, local, partIndices, lod, options.lodLevels, d, sorted, lodIndices, g->cellBounds_,

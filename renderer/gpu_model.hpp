@@ -76,6 +76,12 @@ public:
         glm::vec4 colour{0.6f};                // attribute record colour, 0..1
         RecordId containerRecord = kNoRecord;  // innermost containing body (validation's parent)
         glm::vec4 containerColour{0.6f};
+        // Bodies: the index of this body and of its container in Model::bodies (-1: none), so
+        // that a view hiding bodies can find the nearest container it still shows.
+        int bodyIndex = -1, containerBody = -1;
+        // Open surfaces: their triangles in surfaceTriangles(), [surfaceFirst, + surfaceCount)
+        // vertices.
+        std::size_t surfaceFirst = 0, surfaceCount = 0;
         // Level l of a cluster: indices [first[l], first[l] + count[l]) of the index buffer
         // (part-local vertex numbers, baseVertex applies); level 0 is full detail and lies
         // inside [firstIndex, firstIndex + indexCount). error[l] in metres, error[0] = 0.

@@ -179,6 +179,7 @@ CutPassInput cutPassInput(const SliceRequest& request, const std::vector<float>&
     in.baked = baked;
     in.blockCaps = request.blockCaps;
     in.drawSurfaces = request.drawSurfaces;
+    in.hidden = &request.hidden;
     in.cancel = request.cancel;
     return in;
 }
@@ -463,9 +464,21 @@ Result<SliceImage> SliceRenderer::render(const GpuModel& model, const SliceReque
     if (caps && caps->triangleCount() > 0 && !cancelled())
         impl.drawBlockCaps(*caps, model, viewProj, *planes, planeCount, unionMode, eyeUniform(request, model.origin()));
     gl.ColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    if (request.drawTraces && planeCount > 0 && !model.surfaceTriangles().empty())
-        image.traceSegments = impl.trace.draw(model.surfaceTriangles(), planes->d, unionMode, viewProj,
-                                              request.traceColour, request.traceWidth, kMaxPlanes);
+    if (request.drawTraces && planeCount > 0 && !model.surfaceTriangles().empty()) {
+        // Hidden surfaces leave no trace: the shown surfaces' triangles only.
+        std::vector<glm::vec3> shown;
+        const std::vector<glm::vec3>* traced = &model.surfaceTriangles();
+        if (!request.hidden.empty()) {
+            for (const auto& p : model.parts())
+                if (!p.body && !std::binary_search(request.hidden.begin(), request.hidden.end(), p.record))
+                    shown.insert(shown.end(), model.surfaceTriangles().begin() + std::ptrdiff_t(p.surfaceFirst),
+                                 model.surfaceTriangles().begin() + std::ptrdiff_t(p.surfaceFirst + p.surfaceCount));
+            traced = &shown;
+        }
+        if (!traced->empty())
+            image.traceSegments = impl.trace.draw(*traced, planes->d, unionMode, viewProj, request.traceColour,
+                                                  request.traceWidth, kMaxPlanes);
+    }
     gl.Finish();
     image.drawMs = msSince(t0);
     if (cancelled())

@@ -100,6 +100,11 @@ struct SliceRequest {
     int width = 512, height = 512;      // pixels
     Rgba8 background{0, 0, 0, 0};
     bool drawSurfaces = true;  // open surfaces (faults), never over a cut face
+    // Records not drawn (sorted): the picture of the model without those bodies and surfaces.
+    // A shown body nested in a hidden one is capped as if the hidden one were not in the model
+    // (its nearest shown container's cap, or its own exterior); a hidden surface leaves no
+    // trace. Empty: everything drawn.
+    std::vector<RecordId> hidden;
     // Traces: where an open surface (fault, terrain sheet) crosses a plane on a visible cut
     // face, a line of `traceColour`, `traceWidth` pixels wide (clamped to the driver's line
     // width range). Colour only: the ID buffer keeps the body's record under a trace.

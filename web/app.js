@@ -16,7 +16,7 @@ import { loadModel, loadPlan, drawPlanLine, setMode, updateDrawHint, planClick, 
 import { cut, measureClick, openSection, sectionLabel, setMeasuring, updateExports } from './section.js?v=__GS_BUILD__';
 import { clearAnswer, queryMap, renderAnswer } from './query.js?v=__GS_BUILD__';
 import { borehole } from './borehole.js?v=__GS_BUILD__';
-import { render3d, setup3d } from './view3d.js?v=__GS_BUILD__';
+import { render3d, setup3d, showAllUnits, isolateUnits } from './view3d.js?v=__GS_BUILD__';
 import { showView, showSheet, tabKeys, copyText } from './ui.js?v=__GS_BUILD__';
 import { drawHoles, labelsFit, applyHoleParams, holeLog, sectionAlongHole, collarNear } from './holes.js?v=__GS_BUILD__';
 import { openSaved, saveSection } from './saved.js?v=__GS_BUILD__';
@@ -60,6 +60,7 @@ async function main() {
   planMap.on('zoomend', labelsFit);
   $('showHoles').onchange = () => drawHoles();
   $('showContext').onchange = () => drawContext();
+  $('showAll3d').onclick = () => showAllUnits();
   $('holeWindow').onchange = () => applyHoleParams();
   $('holeColour').onchange = () => applyHoleParams();
   $('savedSel').onchange = () => { if ($('savedSel').value) openSaved($('savedSel').value); };
@@ -152,6 +153,7 @@ Object.assign(window.geoslice, {
   permalink,
   holeLog,
   sectionAlongHole,
+  isolateUnits,
   collarNear,
   openSaved,
   saveSection,

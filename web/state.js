@@ -38,6 +38,7 @@ export function permalink() {
   if (S.three) {
     p.set('p3', [$('plAz').value, $('plDip').value, $('plOffset').value].join(','));
     p.set('cam', [S.three.az, S.three.el, S.three.dist].map((x) => +x.toFixed(2)).join(','));
+    if (S.hidden3d?.size) p.set('h3', [...S.hidden3d].join(','));
   }
   return `${location.origin}${location.pathname}#${p}`;
 }
@@ -50,5 +51,5 @@ export function readHash() {
   const nums = (k) => (p.get(k) ? p.get(k).split(',').map(Number) : null);
   return { m: p.get('m'), v: p.get('v'), lang: p.get('lang'), pz: p.get('pz'), sec: p.get('sec'), vx: p.get('vx'),
            hw: p.get('hw'), hc: p.get('hc'), st: p.get('st'),
-           sv: nums('sv'), p3: nums('p3'), cam: nums('cam') };
+           sv: nums('sv'), p3: nums('p3'), cam: nums('cam'), h3: nums('h3') };
 }

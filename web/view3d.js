@@ -19,7 +19,47 @@ export function init3d(restore) {
   S.shown3d = S.shownProfile = null;
   $('img3d').removeAttribute('src');
   $('profileImg').removeAttribute('src');
+  S.hidden3d = new Set(restore?.h3 || []);
+  unitList3d();
 }
+// The units of the 3D view, each with a box to show or hide it (the server's hide=: the
+// picture of the model without them, answered alike by taps).
+function unitList3d() {
+  const ul = $('units3d');
+  ul.replaceChildren();
+  const seen = new Set();
+  for (const r of S.model.legend || []) {
+    if (seen.has(r.id)) continue;
+    seen.add(r.id);
+    const li = document.createElement('li');
+    const label = document.createElement('label');
+    const box = document.createElement('input');
+    box.type = 'checkbox';
+    box.checked = !S.hidden3d.has(r.id);
+    box.dataset.record = r.id;
+    box.onchange = () => {
+      if (box.checked) S.hidden3d.delete(r.id); else S.hidden3d.add(r.id);
+      render3d(false);
+    };
+    const sw = document.createElement('span');
+    sw.className = 'sw';
+    sw.style.background = r.colour;
+    label.append(box, sw, document.createTextNode(r.name || `#${r.id}`));
+    li.append(label);
+    ul.append(li);
+  }
+}
+export function showAllUnits() {
+  S.hidden3d = new Set();
+  for (const b of $('units3d').querySelectorAll('input')) b.checked = true;
+  render3d(false);
+}
+export function isolateUnits(ids) {
+  S.hidden3d = new Set((S.model.legend || []).map((r) => r.id).filter((id) => !ids.includes(id)));
+  for (const b of $('units3d').querySelectorAll('input')) b.checked = !S.hidden3d.has(Number(b.dataset.record));
+  render3d(false);
+}
+const hideParam = () => (S.hidden3d?.size ? `&hide=${[...S.hidden3d].sort((a, b) => a - b).join(',')}` : '');
 function currentPlane() {
   const th = S.three;
   const az = Number($('plAz').value) || 0, dip = Math.min(90, Math.max(0, Number($('plDip').value) || 0));
@@ -35,7 +75,7 @@ const vec = (a) => a.map((x) => +x.toFixed(3)).join(',');
 function view3dParams(w, h) {
   const cam = camera();
   return `plane=${V.planeText(currentPlane())}&view=perspective&eye=${vec(cam.eye)}&target=${vec(cam.target)}` +
-         `&up=0,0,1&fov=${cam.fov}&size=${w}x${h}&bg=%23eef1f4`;
+         `&up=0,0,1&fov=${cam.fov}&size=${w}x${h}&bg=%23eef1f4${hideParam()}`;
 }
 let want3d = null, inflight3d = false;
 // Asks for the 3D image (small while dragging, full when released) and the profile of

@@ -72,6 +72,7 @@ Result<api::ViewImage> GlWorker::renderPerspective(const api::CatalogModel& mode
     req.readColour = true;
     req.readIds = true;
     req.antiAlias = antiAlias;
+    req.hidden = plan.shown.hiddenOf(model.model);
     req.cancel = cancel;
     if (plan.section.colour) {
         auto classes = api::blockClasses(model, plan.section);

@@ -1,5 +1,6 @@
 #include "renderer/passes/cut_pass.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -21,8 +22,35 @@ constexpr float kFrontOffsetUnits = 8.0f;
 
 class CutPass {
 public:
-    CutPass(const GlFunctions& gl, const CutPassInput& in, ClusterSelection& selection, CutPassCounts& counts)
-        : gl_(gl), in_(in), u_(*in.uniforms), selection_(selection), counts_(counts) {}
+    CutPass(const GlFunctions& gl, const GpuModel& model, const CutPassInput& in, ClusterSelection& selection,
+            CutPassCounts& counts)
+        : gl_(gl), in_(in), u_(*in.uniforms), selection_(selection), counts_(counts) {
+        if (!in.hidden || in.hidden->empty()) return;
+        for (const auto& p : model.parts())
+            if (p.bodyIndex >= 0) {
+                if (bodyPart_.size() <= std::size_t(p.bodyIndex))
+                    bodyPart_.resize(std::size_t(p.bodyIndex) + 1, nullptr);
+                bodyPart_[std::size_t(p.bodyIndex)] = &p;
+            }
+    }
+
+    bool hidden(RecordId r) const {
+        return in_.hidden && std::binary_search(in_.hidden->begin(), in_.hidden->end(), r);
+    }
+
+    // The container a nested body's front faces show the cap of: its own, or with bodies
+    // hidden the nearest shown one up the nesting (null: none, the body is capped as a
+    // top-level one).
+    const GpuModel::DrawPart* shownContainer(const GpuModel::DrawPart& p) const {
+        if (bodyPart_.empty()) return nullptr;
+        for (int c = p.containerBody; c >= 0 && std::size_t(c) < bodyPart_.size();) {
+            const GpuModel::DrawPart* cp = bodyPart_[std::size_t(c)];
+            if (!cp) return nullptr;
+            if (!hidden(cp->record)) return cp;
+            c = cp->containerBody;
+        }
+        return nullptr;
+    }
 
     bool cancelled() const { return in_.cancel && in_.cancel->load(std::memory_order_relaxed); }
 
@@ -69,7 +97,7 @@ public:
         gl_.CullFace(GL_FRONT);
         gl_.Disable(GL_POLYGON_OFFSET_FILL);
         for (const auto& p : model.parts())
-            if (p.body) {
+            if (p.body && !hidden(p.record)) {
                 setFace(1, p, p.record, p.colour);
                 draw(p, 0.0f, false);
             }
@@ -82,8 +110,15 @@ public:
         gl_.Enable(GL_POLYGON_OFFSET_FILL);
         gl_.PolygonOffset(kFrontOffsetFactor, kFrontOffsetUnits);
         for (const auto& p : model.parts()) {
-            if (!p.body) continue;
-            if (p.containerRecord == kNoRecord) {
+            if (!p.body || hidden(p.record)) continue;
+            RecordId capRecord = p.containerRecord;
+            glm::vec4 capColour = p.containerColour;
+            if (capRecord != kNoRecord && hidden(capRecord)) {
+                const GpuModel::DrawPart* c = shownContainer(p);
+                capRecord = c ? c->record : kNoRecord;
+                capColour = c ? c->colour : capColour;
+            }
+            if (capRecord == kNoRecord) {
                 setFace(0, p, p.record, p.colour);
                 draw(p, 1.0f, true);
                 continue;
@@ -91,7 +126,7 @@ public:
             // A nested body shares no surface with its container, so its front faces need no
             // offset; with one, its own back face won through them where the body is thin
             // along the ray (specks of the nested body's cap at its rim).
-            setFace(1, p, p.containerRecord, p.containerColour, false);
+            setFace(1, p, capRecord, capColour, false);
             gl_.Disable(GL_POLYGON_OFFSET_FILL);
             draw(p, 1.0f, false);
             gl_.Enable(GL_POLYGON_OFFSET_FILL);
@@ -105,7 +140,7 @@ public:
         gl_.Disable(GL_CULL_FACE);
         gl_.StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
         for (const auto& p : model.parts())
-            if (!p.body) {
+            if (!p.body && !hidden(p.record)) {
                 setFace(0, p, p.record, p.colour);
                 gl_.StencilFunc(GL_EQUAL, 0, 0xff);
                 draw(p, 1.0f, false);
@@ -146,13 +181,14 @@ private:
     const SliceUniforms& u_;
     ClusterSelection& selection_;
     CutPassCounts& counts_;
+    std::vector<const GpuModel::DrawPart*> bodyPart_;  // by body index; only with bodies hidden
 };
 
 }  // namespace
 
 void drawCutPass(const GlFunctions& gl, const GpuModel& model, const CutPassInput& in, ClusterSelection& selection,
                  CutPassCounts& counts) {
-    const CutPass pass(gl, in, selection, counts);
+    const CutPass pass(gl, model, in, selection, counts);
     pass.backFaces(model);
     pass.frontFaces(model);
     if (in.drawSurfaces) pass.surfaces(model);

@@ -38,7 +38,8 @@ struct CutPassInput {
     bool baked = false;                    // records fetched from the model's id texture
     const BlockCaps* blockCaps = nullptr;  // caps of clipping bodies get kStencilBlockCap
     bool drawSurfaces = true;
-    const std::atomic<bool>* cancel = nullptr;  // checked before each part
+    const std::vector<RecordId>* hidden = nullptr;  // sorted records not drawn (SliceRequest::hidden); null: none
+    const std::atomic<bool>* cancel = nullptr;      // checked before each part
 };
 
 struct CutPassCounts {

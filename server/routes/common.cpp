@@ -69,6 +69,7 @@ Status validateView(const ServerState& state, const api::CatalogModel& m, const 
     if (auto classes = api::blockClasses(m, plan.section); !classes) return classes.error();
     if (plan.view == api::ViewKind::Perspective) {
         if (auto s = api::checkPerspectiveCut(m, plan); !s) return s;
+        if (auto s = api::checkShownUnits(m, plan); !s) return s;
         if (!state.glEnabled)
             return makeError(ErrorCode::Unsupported,
                              "parameter 'view': perspective views need GL, which is disabled on this server (--gl "

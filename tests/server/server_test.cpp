@@ -442,7 +442,9 @@ TEST_F(Server, OpenApiListsExactlyTheRoutes) {
             ASSERT_TRUE(op.contains("operationId")) << method << " " << path;
             EXPECT_TRUE(ids.insert(op["operationId"].get<std::string>()).second) << op["operationId"];
             EXPECT_TRUE(op["responses"].contains("500")) << path;
-            EXPECT_TRUE(op["responses"].contains(method == "get" ? "304" : "415")) << path;
+            if (method != "delete") {
+                EXPECT_TRUE(op["responses"].contains(method == "get" ? "304" : "415")) << path;
+            }
         }
     // Every listed route is served: a concrete request never falls through to "no route".
     auto c = client();
@@ -459,7 +461,9 @@ TEST_F(Server, OpenApiListsExactlyTheRoutes) {
         sub("{y}", "0");
         sub("{asset}", "app.js");
         sub("{n}", "0");
-        auto res = r.method == "GET" ? c.Get(path.c_str()) : c.Post(path.c_str(), "{}", "application/json");
+        auto res = r.method == "GET"      ? c.Get(path.c_str())
+                   : r.method == "DELETE" ? c.Delete(path.c_str())
+                                          : c.Post(path.c_str(), "{}", "application/json");
         ASSERT_TRUE(res) << path;
         EXPECT_EQ(res->body.find("no route for"), std::string::npos) << r.method << " " << path;
     }

@@ -25,7 +25,8 @@ const fail = (msg) => { failures += 1; console.error(`FAIL ${msg}`); };
 // warning fails the test until it is fixed or justified here).
 const JUSTIFIED = {};
 
-const server = await startServer(binary, { demo: true });
+fs.rmSync(path.join(work, 'sections'), { recursive: true, force: true });
+const server = await startServer(binary, { demo: true, extraArgs: ['--sections-dir', path.join(work, 'sections')] });
 try {
   const docText = await (await fetch(`${server.url}/openapi.json`)).text();
   const doc = JSON.parse(docText);
@@ -80,6 +81,7 @@ try {
       if (!validate(JSON.parse(buf.toString('utf8')))) fail(`${method} ${p}: ${ajv.errorsText(validate.errors)}`);
     }
     checked += 1;
+    r.bodyText = buf.toString('utf8');
     return r;
   }
   const P = 'plane=0,1,0,-3388846';
@@ -124,7 +126,19 @@ try {
   }
   requests.push(['GET', '/v1/models/demo/borehole?x=0&y=0', null, 400]);
   requests.push(['GET', `/v1/models/demo/query?${P}&size=128x64&px=999&py=0`, null, 400]);
+  requests.push(['GET', '/v1/models/demo/drillholes'], ['GET', '/v1/models/demo/context.geojson'],
+                ['GET', '/v1/models/demo/saved-sections'], ['GET', '/v1/models/demo/saved-sections/0123456789abcdef', null, 404],
+                ['POST', '/v1/models/demo/saved-sections', { name: 'far', line: '1,2,3,4' }, 400]);
   for (const [method, p, body, expect] of requests) await check(method, p, body ?? null, expect ?? null);
+  // A section saved, saved again, read, deleted.
+  {
+    const body = { name: 'Ramp decline', line: '35502500,3388000,35504500,3389000', vx: 2 };
+    const saved = JSON.parse((await check('POST', '/v1/models/demo/saved-sections', body, 201)).bodyText);
+    await check('POST', '/v1/models/demo/saved-sections', body, 200);
+    await check('GET', `/v1/models/demo/saved-sections/${saved.id}`, null, 200);
+    await check('DELETE', `/v1/models/demo/saved-sections/${saved.id}`, null, 204);
+    await check('DELETE', `/v1/models/demo/saved-sections/${saved.id}`, null, 404);
+  }
   // A conditional GET: the 304 is documented.
   {
     const first = await fetch(`${server.url}/v1/models/demo`);

@@ -870,6 +870,46 @@ const tests = {
     }
   },
 
+  // Units hidden in 3D: unticking a unit asks the server for the picture without it
+  // (hide=), and the server's pixel answers over the whole image never name it, while the
+  // same view with everything shown did.
+  async hide_units_in_3d() {
+    const page = await newPage(DESKTOP, { locale: 'en-GB' });
+    await open(page);
+    await page.locator('#tab-3d').click();
+    await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+    await settle(page);
+    const before = await page.evaluate(() => window.geoslice.S.shown3d);
+    const grid = [];
+    for (let y = 0; y < 16; ++y) for (let x = 0; x < 16; ++x) grid.push([Math.floor((x + 0.5) * before.w / 16), Math.floor((y + 0.5) * before.h / 16)]);
+    const answers = async (params) => {
+      const view = Object.fromEntries(new URLSearchParams(params));
+      const r = await fetch(`${origin}/v1/models/mine-a/query`, { method: 'POST', headers: { 'Content-Type': 'application/json' },
+                                                                  body: JSON.stringify({ view, pixels: grid }) });
+      const text = await r.text();
+      check(r.status === 200, `batch query: ${r.status} ${text}`);
+      return JSON.parse(text).results.map((a) => a.record?.id ?? 0);
+    };
+    const shown = await answers(before.params);
+    const counts = new Map();
+    for (const id of shown) if (id) counts.set(id, (counts.get(id) || 0) + 1);
+    const target = [...counts].sort((a, b) => b[1] - a[1])[0][0];
+    await page.locator(`#units3d input[data-record="${target}"]`).uncheck();
+    await page.waitForFunction((id) => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small &&
+                                       window.geoslice.S.shown3d.params.includes(`hide=${id}`), target, { timeout: 30000 });
+    await settle(page);
+    const after = await page.evaluate(() => window.geoslice.S.shown3d.params);
+    const hidden = await answers(after);
+    check(!hidden.includes(target), `record ${target} still answered with hide=${target}`);
+    check(hidden.filter((id, i) => id !== shown[i]).length >= counts.get(target), 'hiding changed the answers where the unit was');
+    check((await page.evaluate(() => window.geoslice.permalink())).includes(`h3=${target}`), 'the permalink keeps the hidden unit');
+    await shot(page, 'desktop-3d-hidden');
+    await page.locator('#showAll3d').click();
+    await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.params.includes('hide='), null, { timeout: 30000 });
+    check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
+    await page.context().close();
+  },
+
   async assets_cached_and_typed() {
     const r = await fetch(`${origin}/`);
     check(r.headers.get('cache-control') === 'no-cache' && r.headers.get('etag'), 'index: no-cache + ETag');
