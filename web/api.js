@@ -62,6 +62,18 @@ export const api = (path) => {
   return S.model.version ? `${url}${url.includes('?') ? '&' : '?'}version=${encodeURIComponent(S.model.version)}` : url;
 };
 
+// A model's optional resource (its drillholes, its context layer): the JSON, or null when the
+// model has none (404); a sidecar that did not load (409) is said with `what` and is null too.
+export async function optional(path, what) {
+  const model = S.model;
+  try {
+    return await request(api(path));
+  } catch (e) {
+    if (S.model === model && e.status === 409) setStatus(t(what, e.message), true);
+    return null;
+  }
+}
+
 // A pinned URL answered 404 model_version: the model was baked again on the server (a new
 // version, new URLs). The page reloads with its permalink (kept in the address), so the same
 // view comes back at the new version; once per page.

@@ -16,7 +16,7 @@ import { loadModel, loadPlan, drawPlanLine, setMode, updateDrawHint, planClick, 
 import { cut, measureClick, openSection, sectionLabel, setMeasuring, updateExports } from './section.js?v=__GS_BUILD__';
 import { clearAnswer, queryMap, renderAnswer } from './query.js?v=__GS_BUILD__';
 import { borehole } from './borehole.js?v=__GS_BUILD__';
-import { render3d, setup3d, showAllUnits, isolateUnits } from './view3d.js?v=__GS_BUILD__';
+import { render3d, setup3d, showAllUnits, isolateUnits, addPlane3d } from './view3d.js?v=__GS_BUILD__';
 import { showView, showSheet, tabKeys, copyText } from './ui.js?v=__GS_BUILD__';
 import { drawHoles, labelsFit, applyHoleParams, holeLog, sectionAlongHole, collarNear } from './holes.js?v=__GS_BUILD__';
 import { openSaved, saveSection } from './saved.js?v=__GS_BUILD__';
@@ -61,6 +61,8 @@ async function main() {
   $('showHoles').onchange = () => drawHoles();
   $('showContext').onchange = () => drawContext();
   $('showAll3d').onclick = () => showAllUnits();
+  $('addPlane3d').onclick = () => addPlane3d();
+  $('cut3d').onchange = () => render3d(false);
   $('holeWindow').onchange = () => applyHoleParams();
   $('holeColour').onchange = () => applyHoleParams();
   $('savedSel').onchange = () => { if ($('savedSel').value) openSaved($('savedSel').value); };
@@ -154,6 +156,7 @@ Object.assign(window.geoslice, {
   holeLog,
   sectionAlongHole,
   isolateUnits,
+  addPlane3d,
   collarNear,
   openSaved,
   saveSection,

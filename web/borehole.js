@@ -4,7 +4,7 @@ import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S } from './state.js?v=__GS_BUILD__';
 import { request, api } from './api.js?v=__GS_BUILD__';
 import { svgEl } from './overlay.js?v=__GS_BUILD__';
-import { showSheet, revealSheet } from './ui.js?v=__GS_BUILD__';
+import { showSheet, revealSheet, defList } from './ui.js?v=__GS_BUILD__';
 
 // ---- boreholes -------------------------------------------------------------------------
 export function clearBorehole(message = null) {
@@ -62,13 +62,7 @@ function renderBorehole(j, x, y) {
     svg.append(svgEl('text', { x: 300, y: y - 3, 'text-anchor': 'middle', fill: '#d00' }, c.surface));
   }
   box.append(svg);
-  const dl = document.createElement('dl');
-  const row = (k2, v) => {
-    const dt = document.createElement('dt'), dd = document.createElement('dd');
-    dt.textContent = k2;
-    dd.textContent = v;
-    dl.append(dt, dd);
-  };
+  const { dl, row } = defList();
   if (j.collar) row(t('collar'), `${V.fmt(j.collar[0])}, ${V.fmt(j.collar[1])}, ${V.fmt(j.collar[2])}`);
   for (const i of iv)
     row(`${V.fmt(i.from_collar_m, 1)}–${V.fmt(i.to_collar_m, 1)} m`,

@@ -1,9 +1,8 @@
 // geoslice web client: the plan's context layer (leases, workings, faults drawn by hand) from
 // the model's <stem>.context.geojson, which the server serves in the model's CRS; named
 // features are labelled where their labels fit.
-import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S } from './state.js?v=__GS_BUILD__';
-import { request, api, setStatus } from './api.js?v=__GS_BUILD__';
+import { optional } from './api.js?v=__GS_BUILD__';
 import { latOf, lngOf, planMap } from './map.js?v=__GS_BUILD__';
 
 let layer = null;
@@ -11,13 +10,7 @@ export async function loadContext() {
   const model = S.model;
   S.context = null;
   drawContext();
-  let j = null;
-  try {
-    j = await request(api('/context.geojson'));
-  } catch (e) {
-    // 404: no context layer; 409: its sidecar did not load (the server says why).
-    if (S.model === model && e.status === 409) setStatus(t('contextNotLoaded', e.message), true);
-  }
+  const j = await optional('/context.geojson', 'contextNotLoaded');
   if (S.model !== model) return;
   S.context = j;
   $('showContextField').hidden = !j;

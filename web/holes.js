@@ -7,10 +7,10 @@
 import * as V from './views.js?v=__GS_BUILD__';
 import { t } from './i18n.js?v=__GS_BUILD__';
 import { $, S } from './state.js?v=__GS_BUILD__';
-import { request, api, setStatus } from './api.js?v=__GS_BUILD__';
+import { request, api, optional } from './api.js?v=__GS_BUILD__';
 import { latOf, lngOf, planMap, sectionMap } from './map.js?v=__GS_BUILD__';
 import { svgEl } from './overlay.js?v=__GS_BUILD__';
-import { showSheet, revealSheet } from './ui.js?v=__GS_BUILD__';
+import { showSheet, revealSheet, defList } from './ui.js?v=__GS_BUILD__';
 import { openSection } from './section.js?v=__GS_BUILD__';
 
 // ---- the holes of a model ------------------------------------------------------------------
@@ -20,13 +20,7 @@ export async function loadHoles() {
   S.holes = null;
   drawHoles();
   fillHoleColumns();
-  let j = null;
-  try {
-    j = await request(api('/drillholes'));
-  } catch (e) {
-    // 404: the model has no drillholes; 409: its sidecar did not load (the server says why).
-    if (S.model === model && e.status === 409) setStatus(t('holesNotLoaded', e.message), true);
-  }
+  const j = await optional('/drillholes', 'holesNotLoaded');
   if (S.model !== model) return;
   S.holes = j;
   $('holeTools').hidden = $('showHolesField').hidden = !j;
@@ -200,13 +194,7 @@ export async function holeLog(id) {
     svg.append(svgEl('line', { x1: 136, x2: 194, y1: y, y2: y, stroke: '#d00', 'stroke-width': 3 }));
   }
   box.append(svg);
-  const dl = document.createElement('dl');
-  const row = (a, b) => {
-    const dt = document.createElement('dt'), dd = document.createElement('dd');
-    dt.textContent = a;
-    dd.textContent = b;
-    dl.append(dt, dd);
-  };
+  const { dl, row } = defList();
   row(t('collar'), `${V.fmt(j.collar[0])}, ${V.fmt(j.collar[1])}, ${V.fmt(j.collar[2])}`);
   row(t('holeDepth'), `${V.fmt(total, 1)} ${t('metres')}`);
   row(t('agrees'), share == null ? t('noCodes') : `${(100 * share).toFixed(1)} %`);

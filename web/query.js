@@ -4,7 +4,7 @@ import { t, fieldName, fieldValue } from './i18n.js?v=__GS_BUILD__';
 import { $, S, markPainted } from './state.js?v=__GS_BUILD__';
 import { request, api } from './api.js?v=__GS_BUILD__';
 import { gridPixel } from './map.js?v=__GS_BUILD__';
-import { showSheet, revealSheet } from './ui.js?v=__GS_BUILD__';
+import { showSheet, revealSheet, defList } from './ui.js?v=__GS_BUILD__';
 import { holeLog } from './holes.js?v=__GS_BUILD__';
 
 // ---- queries ---------------------------------------------------------------------------
@@ -60,13 +60,7 @@ function holeAnswer(h, record) {
   const h3 = document.createElement('h3');
   h3.textContent = t('holeTitle', h.id);
   div.append(h3);
-  const dl = document.createElement('dl');
-  const row = (k, v) => {
-    const dt = document.createElement('dt'), dd = document.createElement('dd');
-    dt.textContent = k;
-    dd.textContent = v;
-    dl.append(dt, dd);
-  };
+  const { dl, row } = defList();
   row(t('holeDepth'), `${V.fmt(h.depth, 1)} ${t('metres')}`);
   row(t('holeOffset'), `${V.fmt(Math.abs(h.offset), 1)} ${t('metres')} ${t(h.side === 'front' ? 'inFront' : 'behind')}`);
   for (const iv of h.intervals || []) {
@@ -97,14 +91,7 @@ export function renderAnswer(j, where) {
     for (const li of document.querySelectorAll(`#legend li[data-record="${r.id}"], #legendMini li[data-record="${r.id}"]`)) li.classList.add('hit');
   } else h.textContent = t('noGeology');
   box.append(h);
-  const dl = document.createElement('dl');
-  const row = (k, v) => {
-    if (v == null || v === '') return;
-    const dt = document.createElement('dt'), dd = document.createElement('dd');
-    dt.textContent = k;
-    dd.textContent = v;
-    dl.append(dt, dd);
-  };
+  const { dl, row } = defList();
   if (j.hit && r)
     for (const [k, v] of Object.entries(r)) row(fieldName(k), typeof v === 'object' ? JSON.stringify(v) : String(fieldValue(v)));
   row(t('body'), j.body);

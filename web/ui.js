@@ -4,6 +4,19 @@ import { planMap, sectionMap } from './map.js?v=__GS_BUILD__';
 import { drawSectionOverlay, drawPlanOverlay } from './overlay.js?v=__GS_BUILD__';
 import { render3d, drawHandles } from './view3d.js?v=__GS_BUILD__';
 
+// A <dl> of label/value rows (answers, logs) and its row(label, value); empty values are left out.
+export function defList() {
+  const dl = document.createElement('dl');
+  const row = (k, v) => {
+    if (v == null || v === '') return;
+    const dt = document.createElement('dt'), dd = document.createElement('dd');
+    dt.textContent = k;
+    dd.textContent = v;
+    dl.append(dt, dd);
+  };
+  return { dl, row };
+}
+
 // ---- views, tabs, sheet ----------------------------------------------------------------
 export function showView(v) {
   S.view = v;

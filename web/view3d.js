@@ -21,7 +21,40 @@ export function init3d(restore) {
   $('profileImg').removeAttribute('src');
   S.hidden3d = new Set(restore?.h3 || []);
   unitList3d();
+  S.planes3d = [];
+  planeList3d();
 }
+
+// ---- more planes -------------------------------------------------------------------------
+// The plane being dragged plus up to five kept ones (the server cuts a view by up to six):
+// Add plane keeps the current one where it is; their removed sides combine by the cut mode
+// (cut=union: what is on the kept side of every plane stays; intersection: what is on the
+// removed side of every plane goes). The profile below is the current plane's.
+export function addPlane3d() {
+  if (S.planes3d.length >= 5) { setStatus(t('maxPlanes'), true); return false; }
+  S.planes3d.push({ az: Number($('plAz').value) || 0, dip: Number($('plDip').value) || 0,
+                    off: Number($('plOffset').value) || 0, plane: currentPlane() });
+  planeList3d();
+  render3d(false);
+  return true;
+}
+function planeList3d() {
+  const ul = $('planes3d');
+  ul.replaceChildren();
+  $('cut3dField').hidden = !S.planes3d.length;
+  S.planes3d.forEach((p, i) => {
+    const li = document.createElement('li');
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.textContent = '✕';
+    b.setAttribute('aria-label', t('removePlane', i + 2));
+    b.onclick = () => { S.planes3d.splice(i, 1); planeList3d(); render3d(false); };
+    li.append(document.createTextNode(t('planeN', i + 2, p.az, p.dip, p.off)), b);
+    ul.append(li);
+  });
+}
+const planesParam = () => S.planes3d?.length
+  ? S.planes3d.map((p) => `&plane=${V.planeText(p.plane)}`).join('') + `&cut=${$('cut3d').value}` : '';
 // The units of the 3D view, each with a box to show or hide it (the server's hide=: the
 // picture of the model without them, answered alike by taps).
 function unitList3d() {
@@ -74,7 +107,7 @@ function camera() {
 const vec = (a) => a.map((x) => +x.toFixed(3)).join(',');
 function view3dParams(w, h) {
   const cam = camera();
-  return `plane=${V.planeText(currentPlane())}&view=perspective&eye=${vec(cam.eye)}&target=${vec(cam.target)}` +
+  return `plane=${V.planeText(currentPlane())}${planesParam()}&view=perspective&eye=${vec(cam.eye)}&target=${vec(cam.target)}` +
          `&up=0,0,1&fov=${cam.fov}&size=${w}x${h}&bg=%23eef1f4${hideParam()}`;
 }
 let want3d = null, inflight3d = false;

@@ -906,6 +906,27 @@ const tests = {
     await shot(page, 'desktop-3d-hidden');
     await page.locator('#showAll3d').click();
     await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.params.includes('hide='), null, { timeout: 30000 });
+    await settle(page);
+    // A second plane: the current one kept, then turned to strike 0; the view is cut by both
+    // (cut=union: the kept side of each stays), and the server's answers follow both planes.
+    const onePlane = await answers((await page.evaluate(() => window.geoslice.S.shown3d.params)));
+    await page.locator('#addPlane3d').click();
+    await page.locator('#plAz').fill('0');
+    await page.locator('#plAz').dispatchEvent('input');
+    await page.waitForFunction(() => (window.geoslice.S.shown3d?.params.match(/plane=/g) || []).length === 2 &&
+                                     !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+    await settle(page);
+    const two = await page.evaluate(() => window.geoslice.S.shown3d.params);
+    check(two.includes('cut=union'), `two planes: ${two}`);
+    const planes = [...new URLSearchParams(two).getAll('plane')];
+    const twoParams = new URLSearchParams(two);
+    twoParams.delete('plane');
+    twoParams.set('planes', planes.join(';'));
+    const twoAnswers = await answers(twoParams.toString());
+    check(twoAnswers.some((id, i) => id !== onePlane[i]), 'the second plane changed what the view shows');
+    const listed = await page.locator('#planes3d li').count();
+    check(listed === 1, `${listed} kept planes listed`);
+    await shot(page, 'desktop-3d-two-planes');
     check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
     await page.context().close();
   },
