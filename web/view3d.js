@@ -121,7 +121,9 @@ export function render3d(small) {
   const w = Math.max(32, Math.min(1280, Math.round(box.width * sc))), h = Math.max(32, Math.min(1280, Math.round(box.height * sc)));
   const pw = Math.max(32, Math.min(1280, Math.round(pbox.width * sc))), ph = Math.max(32, Math.min(1280, Math.round(pbox.height * sc)));
   want3d = { gen: S.gen, small, params: view3dParams(w, h), w, h, plane: currentPlane(), cam: camera(),
-             profile: `plane=${V.planeText(currentPlane())}&size=${pw}x${ph}`, pw, ph, t0: performance.now() };
+             pw, ph, t0: performance.now() };
+  want3d.frame = profileFrame(want3d.plane, pw, ph);
+  want3d.profile = `plane=${V.planeText(want3d.plane)}&size=${pw}x${ph}&frame=${want3d.frame.map((x) => +x.toFixed(3)).join(',')}`;
   drawHandles();
   pump3d();
   permalinkSoon();
@@ -184,13 +186,57 @@ export function drawHandles() {
   mh.style.left = `${pc[0]}px`; mh.style.top = `${pc[1]}px`;
   rh.style.left = `${pr[0]}px`; rh.style.top = `${pr[1]}px`;
 }
+// The profile's frame in plane metres [u0, u1, v0, v1] (u along the plane, v up it: the
+// elevation on a vertical plane), fitted to its pixels: the model box's corners projected,
+// 3 % margin, the same metres per pixel both ways (vx 1). Asked for explicitly, so that the
+// overlay's axes and scale say exactly what the image shows.
+function profileFrame(plane, pw, ph) {
+  const { u, v } = V.planeBasis(plane.n);
+  const [min, max] = [S.model.bounds.min, S.model.bounds.max];
+  let u0 = Infinity, u1 = -Infinity, v0 = Infinity, v1 = -Infinity;
+  for (const x of [min[0], max[0]]) for (const y of [min[1], max[1]]) for (const z of [min[2], max[2]]) {
+    const a = V.dot([x, y, z], u), b = V.dot([x, y, z], v);
+    u0 = Math.min(u0, a); u1 = Math.max(u1, a); v0 = Math.min(v0, b); v1 = Math.max(v1, b);
+  }
+  const per = 1.03 * Math.max((u1 - u0) / pw, (v1 - v0) / ph), cu = (u0 + u1) / 2, cv = (v0 + v1) / 2;
+  return [cu - (per * pw) / 2, cu + (per * pw) / 2, cv - (per * ph) / 2, cv + (per * ph) / 2];
+}
+// Ends, axes (distance along from the left edge, elevation or distance up the plane), a
+// scale bar and the vx of the profile below the 3D view.
 function drawProfileOverlay() {
   const svg = $('profileOverlay');
   svg.replaceChildren();
+  const w = S.shown3d;
   const { u } = V.planeBasis(currentPlane().n);
   const r = $('profileBox').getBoundingClientRect();
   svg.append(svgEl('text', { x: 6, y: 18, class: 'end' }, V.compass(-u[0], -u[1])));
   svg.append(svgEl('text', { x: r.width - 6, y: 18, 'text-anchor': 'end', class: 'end' }, V.compass(u[0], u[1])));
+  if (!w?.frame || r.width < 80 || r.height < 60) return;
+  const [u0, u1, v0, v1] = w.frame;
+  const X = (uu) => ((uu - u0) / (u1 - u0)) * r.width, Y = (vv) => ((v1 - vv) / (v1 - v0)) * r.height;
+  const vertical = Math.abs(w.plane.n[2]) < 1e-9;
+  // Up the plane: elevations on a vertical plane; ticks every nice step, inside the left edge.
+  const sv = V.niceStep((v1 - v0) / Math.max(2, Math.floor(r.height / 45)));
+  for (let vv = Math.ceil(v0 / sv) * sv; vv <= v1; vv += sv) {
+    const y = Y(vv);
+    if (y < 50 || y > r.height - 30) continue;
+    svg.append(svgEl('line', { x1: 0, x2: 6, y1: y, y2: y, stroke: '#000' }));
+    svg.append(svgEl('text', { x: 9, y: y + 4, class: 'tick-v', 'data-v': vv }, Math.round(vv)));
+  }
+  svg.append(svgEl('text', { x: 9, y: 38 }, vertical ? t('elevAxis') : t('upPlaneAxis')));
+  // Along: metres from the left edge.
+  const su = V.niceStep((u1 - u0) / Math.max(2, Math.floor(r.width / 90)));
+  for (let d = su; d < u1 - u0; d += su) {
+    const x = X(u0 + d);
+    if (x > r.width - 40) continue;
+    svg.append(svgEl('line', { x1: x, x2: x, y1: r.height, y2: r.height - 6, stroke: '#000' }));
+    svg.append(svgEl('text', { x, y: r.height - 9, 'text-anchor': 'middle', class: 'tick-u', 'data-u': d }, Math.round(d)));
+  }
+  // A scale bar of a round length near a fifth of the width, and the vx (1: true scale).
+  const len = V.niceStep((u1 - u0) / 5), px = X(u0 + len) - X(u0);
+  const bx = r.width - px - 12, by = 30;
+  svg.append(svgEl('line', { x1: bx, x2: bx + px, y1: by, y2: by, stroke: '#000', 'stroke-width': 3, class: 'scalebar', 'data-m': len }));
+  svg.append(svgEl('text', { x: bx + px / 2, y: by + 14, 'text-anchor': 'middle' }, `${len} ${t('metres')} · ${t('vxShown', 1)}`));
 }
 export function setup3d() {
   const el = $('view3d');

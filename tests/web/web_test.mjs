@@ -931,6 +931,42 @@ const tests = {
     await page.context().close();
   },
 
+  // The 3D profile's axes say what the image shows: at each elevation tick's row and each
+  // distance tick's column the server's pixel query finds that elevation (world z) and that
+  // distance from the left edge (plane u), within one pixel's metres.
+  async profile_axes_are_true() {
+    const page = await newPage(DESKTOP, { locale: 'en-GB' });
+    await open(page);
+    await page.locator('#tab-3d').click();
+    await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small &&
+                                     document.querySelectorAll('#profileOverlay .tick-v').length >= 2, null, { timeout: 30000 });
+    await settle(page);
+    const t = await page.evaluate(() => {
+      const w = window.geoslice.S.shown3d, r = document.getElementById('profileBox').getBoundingClientRect();
+      const ticks = (cls, attr, axis) => [...document.querySelectorAll(`#profileOverlay .${cls}`)].map((e) => ({
+        value: Number(e.dataset[attr]), at: Number(e.getAttribute(axis)) }));
+      return { profile: w.profile, pw: w.pw, ph: w.ph, frame: w.frame, width: r.width, height: r.height,
+               v: ticks('tick-v', 'v', 'y'), u: ticks('tick-u', 'u', 'x') };
+    });
+    check(t.v.length >= 2 && t.u.length >= 2, `ticks: ${JSON.stringify(t)}`);
+    const metresPerPixel = (t.frame[1] - t.frame[0]) / t.pw;
+    const ask = async (px, py) => (await (await fetch(`${origin}/v1/models/mine-a/query?${t.profile}&px=${px}&py=${py}`)).json());
+    for (const { value, at } of t.v) {
+      const py = Math.floor(((at - 4) / t.height) * t.ph);  // the label's baseline sits 4 px below the tick
+      const a = await ask(Math.floor(t.pw / 2), py);
+      check(Number.isFinite(a.world?.z) && Math.abs(a.world.z - value) <= 1.5 * metresPerPixel,
+            `elevation tick ${value}: the server's row ${py} is at z ${a.world?.z} (${metresPerPixel.toFixed(2)} m a pixel)`);
+    }
+    for (const { value, at } of t.u) {
+      const px = Math.floor((at / t.width) * t.pw);
+      const a = await ask(px, Math.floor(t.ph / 2));
+      const along = a.section.u - t.frame[0];
+      check(Math.abs(along - value) <= 1.5 * metresPerPixel, `distance tick ${value}: column ${px} is ${along} m from the left edge`);
+    }
+    await shot(page, 'desktop-3d-profile-axes');
+    await page.context().close();
+  },
+
   async assets_cached_and_typed() {
     const r = await fetch(`${origin}/`);
     check(r.headers.get('cache-control') === 'no-cache' && r.headers.get('etag'), 'index: no-cache + ETag');
