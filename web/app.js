@@ -21,6 +21,7 @@ import { showView, showSheet, tabKeys, copyText } from './ui.js?v=__GS_BUILD__';
 import { drawHoles, labelsFit, applyHoleParams, holeLog, sectionAlongHole, collarNear } from './holes.js?v=__GS_BUILD__';
 import { openSaved, saveSection } from './saved.js?v=__GS_BUILD__';
 import { drawContext } from './context.js?v=__GS_BUILD__';
+import { setBlockColour } from './blocks.js?v=__GS_BUILD__';
 
 // ---- start -----------------------------------------------------------------------------
 async function main() {
@@ -62,6 +63,8 @@ async function main() {
   $('showContext').onchange = () => drawContext();
   $('showAll3d').onclick = () => showAllUnits();
   $('addPlane3d').onclick = () => addPlane3d();
+  $('blockColour').onchange = () => { setBlockColour($('blockColour').value); applyHoleParams(); render3d(false); };
+  $('blockColour3d').onchange = () => { setBlockColour($('blockColour3d').value); render3d(false); };
   $('cut3d').onchange = () => render3d(false);
   $('holeWindow').onchange = () => applyHoleParams();
   $('holeColour').onchange = () => applyHoleParams();

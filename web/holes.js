@@ -12,6 +12,7 @@ import { latOf, lngOf, planMap, sectionMap } from './map.js?v=__GS_BUILD__';
 import { svgEl } from './overlay.js?v=__GS_BUILD__';
 import { showSheet, revealSheet, defList } from './ui.js?v=__GS_BUILD__';
 import { openSection } from './section.js?v=__GS_BUILD__';
+import { blockParams } from './blocks.js?v=__GS_BUILD__';
 
 // ---- the holes of a model ------------------------------------------------------------------
 let layer = null;
@@ -85,15 +86,17 @@ function fillHoleColumns() {
   if ([...sel.options].some((o) => o.value === keep)) sel.value = keep;
 }
 
-// The hole controls changed: the section on show again, same view, with the new window and colour.
+// The hole or block colouring controls changed: the section on show again, same view, with
+// the new window and colours.
 export function applyHoleParams() {
   const sec = S.section;
   if (!sec) return;
   const def = { ...sec.def };
   delete def.holes;
   delete def.holecolour;
+  delete def.colour;
   const c = sectionMap.getCenter();
-  openSection({ ...def, ...holeParams() }, [c.lat, c.lng, sectionMap.getZoom()], sec.title);
+  openSection({ ...def, ...holeParams(), ...blockParams() }, [c.lat, c.lng, sectionMap.getZoom()], sec.title);
 }
 
 // The legend of the hole colours on the section on show (GeoJSON's holeLegend).

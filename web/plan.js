@@ -13,6 +13,7 @@ import { init3d } from './view3d.js?v=__GS_BUILD__';
 import { loadHoles, drawHoles, collarNear, holeLog } from './holes.js?v=__GS_BUILD__';
 import { loadSaved } from './saved.js?v=__GS_BUILD__';
 import { loadContext, drawContext } from './context.js?v=__GS_BUILD__';
+import { fillBlockColours } from './blocks.js?v=__GS_BUILD__';
 
 // ---- model -----------------------------------------------------------------------------
 export async function loadModel(id, restore = null) {
@@ -53,6 +54,7 @@ export async function loadModel(id, restore = null) {
   $('plOffset').min = -Math.ceil(half);
   $('plOffset').max = Math.ceil(half);
   renderLegend();
+  fillBlockColours();
   S.three = null;
   init3d(restore);
   // The model's holes, saved sections and context layer come beside its plan.

@@ -8,6 +8,7 @@ import { request, api, setStatus } from './api.js?v=__GS_BUILD__';
 import { drawPlanLine } from './plan.js?v=__GS_BUILD__';
 import { openSection, sectionLabel, updateExports } from './section.js?v=__GS_BUILD__';
 import { holeParams } from './holes.js?v=__GS_BUILD__';
+import { blockParams } from './blocks.js?v=__GS_BUILD__';
 
 export async function loadSaved(select = null) {
   const model = S.model;
@@ -49,7 +50,7 @@ export async function openSaved(id) {
     for (let k = 0; k + 1 < n.length; k += 2) S.points.push([n[k], n[k + 1]]);
     drawPlanLine();
   }
-  return openSection({ ...def, ...holeParams() }, null, s.name);
+  return openSection({ ...def, ...holeParams(), ...blockParams() }, null, s.name);
 }
 
 // Saves the section on show under `name`; the list is loaded again with it selected.

@@ -10,6 +10,7 @@ import { drawPlanLine, modeAzimuth } from './plan.js?v=__GS_BUILD__';
 import { clearAnswer } from './query.js?v=__GS_BUILD__';
 import { showView } from './ui.js?v=__GS_BUILD__';
 import { holeParams, holeLegend } from './holes.js?v=__GS_BUILD__';
+import { blockParams } from './blocks.js?v=__GS_BUILD__';
 
 // ---- sections --------------------------------------------------------------------------
 function checkInputs(ids) {
@@ -39,7 +40,7 @@ export async function cut() {
     const zc = 0.5 * (S.model.bounds.min[2] + S.model.bounds.max[2]);
     def = { plane: V.planeText(V.planeFrom(modeAzimuth(), 90, [S.through[0], S.through[1], zc])), vx };
   }
-  await openSection({ ...def, ...holeParams() });
+  await openSection({ ...def, ...holeParams(), ...blockParams() });
 }
 // Defines the section on the server (plane, elevation) or checks it with a small image
 // (polyline: tiles are section images with a frame). Only a section the server accepted
@@ -98,10 +99,11 @@ async function defineSection(def) {
   return { kind: 'plane', def, q: `plane=${canon.get('plane')}&vx=${canon.get('vx')}${holeQuery(def)}`, plane, grid: g, sid: s.sid,
            ends, distance0: g.extent.u0, url: (z, x, y) => s.tiles.replace('{z}', z).replace('{x}', x).replace('{y}', y) };
 }
-// The drillhole parameters of a definition as a query suffix (the server's default window
-// when none is given).
+// The drillhole and block-colouring parameters of a definition as a query suffix (the
+// server's default hole window when none is given).
 function holeQuery(def) {
-  return (def.holes != null ? `&holes=${def.holes}` : '') + (def.holecolour ? `&holecolour=${encodeURIComponent(def.holecolour)}` : '');
+  return (def.holes != null ? `&holes=${def.holes}` : '') + (def.holecolour ? `&holecolour=${encodeURIComponent(def.holecolour)}` : '') +
+         (def.colour ? `&colour=${encodeURIComponent(def.colour)}` : '');
 }
 export function setSection(sec, view = null) {
   ++S.gen;

@@ -5,6 +5,7 @@ import { $, S, markPainted, permalinkSoon } from './state.js?v=__GS_BUILD__';
 import { request, api, setStatus } from './api.js?v=__GS_BUILD__';
 import { svgEl } from './overlay.js?v=__GS_BUILD__';
 import { clearAnswer, runQuery } from './query.js?v=__GS_BUILD__';
+import { blockQuery } from './blocks.js?v=__GS_BUILD__';
 
 // ---- 3D view ---------------------------------------------------------------------------
 export function init3d(restore) {
@@ -108,7 +109,7 @@ const vec = (a) => a.map((x) => +x.toFixed(3)).join(',');
 function view3dParams(w, h) {
   const cam = camera();
   return `plane=${V.planeText(currentPlane())}${planesParam()}&view=perspective&eye=${vec(cam.eye)}&target=${vec(cam.target)}` +
-         `&up=0,0,1&fov=${cam.fov}&size=${w}x${h}&bg=%23eef1f4${hideParam()}`;
+         `&up=0,0,1&fov=${cam.fov}&size=${w}x${h}&bg=%23eef1f4${hideParam()}${blockQuery()}`;
 }
 let want3d = null, inflight3d = false;
 // Asks for the 3D image (small while dragging, full when released) and the profile of
@@ -123,7 +124,7 @@ export function render3d(small) {
   want3d = { gen: S.gen, small, params: view3dParams(w, h), w, h, plane: currentPlane(), cam: camera(),
              pw, ph, t0: performance.now() };
   want3d.frame = profileFrame(want3d.plane, pw, ph);
-  want3d.profile = `plane=${V.planeText(want3d.plane)}&size=${pw}x${ph}&frame=${want3d.frame.map((x) => +x.toFixed(3)).join(',')}`;
+  want3d.profile = `plane=${V.planeText(want3d.plane)}&size=${pw}x${ph}&frame=${want3d.frame.map((x) => +x.toFixed(3)).join(',')}${blockQuery()}`;
   drawHandles();
   pump3d();
   permalinkSoon();

@@ -38,7 +38,8 @@ async function freePort() {
 // that switching models can be tested; or the built-in demo when `demo` is set; or `models`:
 // [{ name, triangles, seed }] generated in EPSG:4523; `extraArgs` go to `serve`. `keys`: text of an API keys file
 // (api/access_keys.hpp) the server is started with.
-export async function startServer(binary, { demo = false, log = null, keys = null, models = null, extraArgs = [] } = {}) {
+// `files`: more files (name -> text) written beside the generated models (sidecars).
+export async function startServer(binary, { demo = false, log = null, keys = null, models = null, extraArgs = [], files = {} } = {}) {
   const args = ['serve', '--host', '127.0.0.1', '--workers', '2', '--log-level', 'warn', ...extraArgs];
   let dir = null;
   if (demo) args.push('--demo-triangles', '200000');
@@ -50,6 +51,7 @@ export async function startServer(binary, { demo = false, log = null, keys = nul
       execFileSync(binary, ['generate', '--triangles', String(m.triangles), '--seed', String(m.seed), '--crs', 'EPSG:4523',
         ...(m.at ? ['--at', m.at] : []), '--out', path.join(dir, `${m.name}.glb`)]);
     }
+    for (const [name, text] of Object.entries(files)) fs.writeFileSync(path.join(dir, name), text);
     args.push('--models', dir);
   }
   if (keys) {

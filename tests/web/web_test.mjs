@@ -967,6 +967,61 @@ const tests = {
     await page.context().close();
   },
 
+  // A block model's property colours the section and the 3D view: the pick reaches the
+  // section's definition, tiles and the 3D request (colour=), the ramp's legend is shown, and
+  // the server's answer at a coloured pixel of the section names the block cell and its grade.
+  async block_model_colouring() {
+    let csv = 'x,y,z,dx,dy,dz,grade [g/t Au]\n';
+    for (let k = 0; k < 6; ++k) for (let j = 0; j < 8; ++j) for (let i = 0; i < 12; ++i)
+      csv += `${35497250 + 500 * i},${3384850 + 500 * j},${-450 + 500 * k},500,500,500,${i + 0.5}\n`;
+    const blocky = await startServer(binary, {
+      models: [{ name: 'blocky', triangles: 30000, seed: 7 }],
+      files: { 'blocky.blocks.json': JSON.stringify({ source: 'blocky_cells.csv', clip: ['Shaximiao Formation (graben)'] }),
+               'blocky_cells.csv': csv },
+    });
+    const ctx = await browser.newContext({ ...DESKTOP, locale: 'en-GB' });
+    try {
+      await ctx.route((url) => !url.href.startsWith(blocky.url), (route) => { foreign.push(route.request().url()); return route.abort('blockedbyclient'); });
+      const page = await ctx.newPage();
+      page.errors = [];
+      page.on('pageerror', (e) => page.errors.push(e.message));
+      await page.goto(`${blocky.url}/#lang=en`);
+      await page.waitForSelector('body[data-ready="1"]', { timeout: 20000 });
+      const b = await page.evaluate(() => window.geoslice.S.model.bounds);
+      const y = (b.min[1] + b.max[1]) / 2;
+      await page.evaluate((y) => window.geoslice.openSection({ plane: `0,1,0,${-y}`, vx: 1 }), y);
+      await page.waitForFunction(() => window.geoslice.S.section, null, { timeout: 15000 });
+      check(!(await page.locator('#blockTools').isHidden()), 'the block colouring control is shown');
+      const options = await page.evaluate(() => [...document.querySelectorAll('#blockColour option')].map((o) => o.value));
+      check(options.includes('grade'), `properties offered: ${options}`);
+      await page.selectOption('#blockColour', 'grade');
+      await page.waitForFunction(() => window.geoslice.S.section?.def.colour === 'grade', null, { timeout: 15000 });
+      await page.waitForFunction(() => document.getElementById('busy').hidden, null, { timeout: 15000 });
+      const q = await page.evaluate(() => window.geoslice.S.section.q);
+      check(q.includes('colour=grade'), `section query: ${q}`);
+      await page.waitForFunction(() => { const i = document.getElementById('blockLegend'); return !i.hidden && i.complete && i.naturalWidth > 0; }, null, { timeout: 15000 });
+      // A pixel of the graben's top stratum in the middle of the section: a block cell with its grade.
+      const x = (b.min[0] + b.max[0]) / 2;
+      let found = null;
+      for (let z = b.max[2] - 100; z > b.min[2] && !found; z -= 100) {
+        const frame = `${x - 5},${x + 5},${z - 5},${z + 5}`;
+        const r = await (await fetch(`${blocky.url}/v1/models/blocky/query?${q}&frame=${frame}&size=10x10&px=5&py=5`)).json();
+        if (r.block?.cell) found = r;
+      }
+      check(found, 'a coloured block cell under the section');
+      const gradeValue = found.block.values?.grade ?? found.block.properties?.grade ?? found.block.grade;
+      check(gradeValue != null, `the answer names the grade: ${JSON.stringify(found.block)}`);
+      await page.locator('#tab-3d').click();
+      await page.waitForFunction(() => window.geoslice.S.shown3d && !window.geoslice.S.shown3d.small, null, { timeout: 30000 });
+      check((await page.evaluate(() => window.geoslice.S.shown3d.params)).includes('colour=grade'), '3D asks for the colouring');
+      await shot(page, 'desktop-blocks-3d');
+      check(page.errors.length === 0, `page errors: ${page.errors.join('; ')}`);
+    } finally {
+      await ctx.close();
+      blocky.stop();
+    }
+  },
+
   async assets_cached_and_typed() {
     const r = await fetch(`${origin}/`);
     check(r.headers.get('cache-control') === 'no-cache' && r.headers.get('etag'), 'index: no-cache + ETag');
