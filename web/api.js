@@ -130,6 +130,8 @@ export function setStatus(text, isError = false, action = null) {
   if (text && !isError && /…$/.test(text)) s.dataset.loading = '1'; else delete s.dataset.loading;
   if (kept) s.append(' ', kept);
   s.className = isError ? 'error' : '';
+  // An error is read in the status line: a phone's bottom sheet gives way to it (ui.js).
+  if (isError) document.body.classList.remove('sheet-up');
   if (action) {
     const b = document.createElement('button');
     b.type = 'button';

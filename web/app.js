@@ -17,7 +17,7 @@ import { cut, measureClick, openSection, sectionLabel, setMeasuring, updateExpor
 import { clearAnswer, queryMap, renderAnswer } from './query.js?v=__GS_BUILD__';
 import { borehole } from './borehole.js?v=__GS_BUILD__';
 import { render3d, setup3d, showAllUnits, isolateUnits, addPlane3d } from './view3d.js?v=__GS_BUILD__';
-import { showView, showSheet, tabKeys, copyText } from './ui.js?v=__GS_BUILD__';
+import { showView, showSheet, tabKeys, copyText, closeSheet } from './ui.js?v=__GS_BUILD__';
 import { drawHoles, labelsFit, applyHoleParams, holeLog, sectionAlongHole, collarNear } from './holes.js?v=__GS_BUILD__';
 import { openSaved, saveSection } from './saved.js?v=__GS_BUILD__';
 import { drawContext } from './context.js?v=__GS_BUILD__';
@@ -62,6 +62,7 @@ async function main() {
   $('showHoles').onchange = () => drawHoles();
   $('showContext').onchange = () => drawContext();
   $('showAll3d').onclick = () => showAllUnits();
+  $('sheetClose').onclick = () => closeSheet();
   $('addPlane3d').onclick = () => addPlane3d();
   $('blockColour').onchange = () => { setBlockColour($('blockColour').value); applyHoleParams(); render3d(false); };
   $('blockColour3d').onchange = () => { setBlockColour($('blockColour3d').value); render3d(false); };

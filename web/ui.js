@@ -31,6 +31,7 @@ export function showView(v) {
   if (v === 'section') { sectionMap.invalidateSize(); drawSectionOverlay(); }
   if (v === '3d') { drawHandles(); render3d(false); }
   $('side').scrollTop = 0;  // a view's own controls first
+  closeSheet();
   permalinkSoon();
 }
 export function showSheet(name) {
@@ -41,9 +42,14 @@ export function showSheet(name) {
   }
   revealSheet();
 }
-// Brings the answer sheet into sight in the side panel (on a phone it sits below the tools):
-// an answer, a borehole or their errors are never left below the fold.
+// Brings the answer sheet into sight: on a phone held upright it rises as a bottom sheet over
+// the map, as map apps do (closed by its ✕, a view change or an error, which the status line
+// then shows); elsewhere the side panel scrolls to it. An answer, a borehole or their errors
+// are never left below the fold.
+const PHONE_UPRIGHT = '(max-width: 699px) and (orientation: portrait)';
+export function closeSheet() { document.body.classList.remove('sheet-up'); }
 export function revealSheet() {
+  if (window.matchMedia(PHONE_UPRIGHT).matches) { document.body.classList.add('sheet-up'); return; }
   const side = $('side'), sheet = $('sheet');
   const dy = sheet.getBoundingClientRect().top - side.getBoundingClientRect().top - 4;
   if (Math.abs(dy) > 8) side.scrollTop += dy;  // the sheet's top at the panel's top

@@ -79,7 +79,10 @@ async function touchDrag(page, cdp, from, step, steps, pause) {
 const shot = (page, name) => page.screenshot({ path: path.join(outDir, `${name}.png`) });
 const state = (page, fn) => page.evaluate(fn);
 
+// A tap on a map: a phone's bottom sheet from the answer before is put away first, as a user
+// swipes it down to tap what it covers.
 async function tap(page, x, y) {
+  if (await page.evaluate(() => document.body.classList.contains('sheet-up'))) await page.locator('#sheetClose').click();
   const touch = page.context()._options?.hasTouch;
   if (touch) await page.touchscreen.tap(x, y);
   else await page.mouse.click(x, y);
@@ -323,6 +326,16 @@ const tests = {
       bad = await inView(page, '#answer dl');  // its details too, not only the heading
       check(!bad, `${name}: the answer's details in sight: ${bad}`);
       await shot(page, `results-${name}-answer`);
+      if (dev.viewport.height > dev.viewport.width) {
+        // Upright: a bottom sheet over the map (it covers part of the map), put away by its ✕.
+        const over = await page.evaluate(() => {
+          const s = document.getElementById('sheet').getBoundingClientRect(), m = document.getElementById('stage').getBoundingClientRect();
+          return { up: document.body.classList.contains('sheet-up'), top: s.top, mapBottom: m.bottom, bottom: s.bottom };
+        });
+        check(over.up && over.top < over.mapBottom && over.bottom <= dev.viewport.height + 1, `${name}: the answer is a bottom sheet over the map: ${JSON.stringify(over)}`);
+        await page.locator('#sheetClose').click();
+        check(!(await page.evaluate(() => document.body.classList.contains('sheet-up'))), `${name}: the sheet goes down`);
+      }
       // A cut the server refuses: the reason in sight.
       await cutRefused(page);
       await page.waitForFunction(() => /rejected/.test(document.getElementById('status').textContent), null, { timeout: 10000 });
