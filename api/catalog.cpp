@@ -398,10 +398,12 @@ Result<std::shared_ptr<const CatalogModel>> loadCatalogModel(const std::string& 
     if (auto s = indexModel(*m, rays); !s) return s.error();
     if (const std::string sidecar = drillholeSidecarFor(path); !sidecar.empty()) {
         auto db = loadDrillholes(sidecar);
-        if (db)
+        Status placed = db ? placeDrillholes(db.value(), m->model.crs, m->index->bounds) : Status(db.error());
+        if (db && placed)
             attachDrillholes(*m, std::move(db.value()));
         else
-            m->drillholeWarning = "drillholes " + sidecar + " did not load: " + db.error().message;
+            m->drillholeWarning =
+                "drillholes " + sidecar + " did not load: " + (db ? placed : Status(db.error())).error().message;
     }
     if (const std::string sidecar = sectionsSidecarFor(path); !sidecar.empty()) {
         auto lines = loadSectionsSidecar(sidecar, sectionTarget(*m));

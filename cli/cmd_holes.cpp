@@ -50,6 +50,8 @@ void addHoles(CLI::App& app, int& exitCode) {
         if (!db) return fail(db.error().message, 1);
         auto model = loadModel(o->model, o->load);
         if (!model) return fail(model.error().message, 1);
+        if (auto s = placeDrillholes(db.value(), model.value().crs, model.value().bounds()); !s)
+            return fail(s.error().message, 1);
         auto tracer = BoreholeTracer::build(model.value());
         if (!tracer) return fail(tracer.error().message, 1);
         auto c = api::checkDrillholes(model.value(), db.value(), *tracer.value());

@@ -148,6 +148,7 @@ json drillholesJson(const DrillholeDatabase& db) {
     json j;
     j["source"] = db.source;
     j["crs"] = db.crs.empty() ? json(nullptr) : json(db.crs);
+    if (!db.conversion.empty()) j["converted"] = db.conversion;
     j["holes"] = db.holes.size();
     j["stations"] = db.stationCount();
     j["tables"] = json::array();
@@ -325,6 +326,10 @@ void addInfo(CLI::App& app, int& exitCode) {
             const std::string dh = drillholes->empty() ? drillholeSidecarFor(f) : *drillholes;
             if (!dh.empty()) {
                 auto db = loadDrillholes(dh);
+                if (db) {
+                    // Placed as the server places them (converted to the model's CRS when theirs differs).
+                    if (auto s = placeDrillholes(db.value(), m.value().crs, m.value().bounds()); !s) db = s.error();
+                }
                 if (db) {
                     j["drillholes"] = drillholesJson(db.value());
                 } else {

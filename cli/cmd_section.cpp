@@ -334,6 +334,8 @@ void addSection(CLI::App& app, int& exitCode) {
         if (const std::string dh = o->drillholes.empty() ? drillholeSidecarFor(o->model) : o->drillholes; !dh.empty()) {
             auto db = loadDrillholes(dh);
             if (!db) return fail("drillholes " + dh + ": " + db.error().message, 1);
+            if (auto s = placeDrillholes(db.value(), model->crs, model->bounds()); !s)
+                return fail("drillholes " + dh + ": " + s.error().message, 1);
             holesModel.model.attributes = model->attributes;
             api::attachDrillholes(holesModel, std::move(db.value()));
         }

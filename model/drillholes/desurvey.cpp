@@ -93,4 +93,47 @@ glm::dvec3 HolePath::at(double d) const {
     return position[i] + arcOffset(direction[i], direction[i + 1], len, (d - depth[i]) / len);
 }
 
+Status placeDrillholes(DrillholeDatabase& db, const Crs& modelCrs, const Aabb& modelBounds) {
+    if (db.crs.empty()) return {};
+    auto from = Crs::parse(db.crs);
+    if (!from) return makeError(from.error().code, "drillholes \"crs\" '" + db.crs + "': " + from.error().message);
+    if (from.value().isLocal() || from.value() == modelCrs) return {};
+    if (modelCrs.isLocal()) {
+        db.warnings.push_back(
+            {db.source, 0, "",
+             "the holes are in " + db.crs + " but the model has no CRS: their coordinates are taken as the model's"});
+        return {};
+    }
+    auto area = lonLatBoxOf(modelCrs, {modelBounds.min.x, modelBounds.min.y}, {modelBounds.max.x, modelBounds.max.y});
+    if (!area) return makeError(area.error().code, "the model's lon/lat extent: " + area.error().message);
+    auto t = CrsTransform::forArea(from.value(), modelCrs, area.value());
+    if (!t)
+        return makeError(t.error().code, "no PROJ operation from the holes' " + db.crs + " to the model's " +
+                                             modelCrs.id() + ": " + t.error().message);
+    auto convert = [&](const glm::dvec3& p) -> Result<glm::dvec3> {
+        auto q = t.value().apply(p);
+        if (!q) return q.error();
+        return glm::dvec3(q.value().x, q.value().y, p.z);
+    };
+    for (Drillhole& h : db.holes) {
+        auto c = convert(h.collar);
+        if (!c) return makeError(c.error().code, "hole '" + h.id + "': collar: " + c.error().message);
+        h.collar = c.value();
+        for (std::size_t i = 0; i < h.path.position.size(); ++i) {
+            const glm::dvec3 p = h.path.position[i];
+            auto q = convert(p);
+            if (!q) return makeError(q.error().code, "hole '" + h.id + "': " + q.error().message);
+            if (i < h.path.direction.size()) {
+                auto ahead = convert(p + 10.0 * h.path.direction[i]);
+                if (!ahead) return makeError(ahead.error().code, "hole '" + h.id + "': " + ahead.error().message);
+                h.path.direction[i] = glm::normalize(ahead.value() - q.value());
+            }
+            h.path.position[i] = q.value();
+        }
+    }
+    db.conversion = "from " + db.crs + " to " + modelCrs.id() + " by " + t.value().operationName() +
+                    (t.value().isBallpark() ? " (a ballpark operation: no datum shift)" : "");
+    return {};
+}
+
 }  // namespace geoslice

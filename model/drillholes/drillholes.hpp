@@ -33,6 +33,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "model/crs/crs.hpp"
+#include "model/model.hpp"
 #include "model/result.hpp"
 
 namespace geoslice {
@@ -139,8 +141,11 @@ struct DrillholeUnitMap {
 };
 
 struct DrillholeDatabase {
-    std::string source;                     // the sidecar or folder it was loaded from
-    std::string crs;                        // the sidecar's "crs"; empty when not stated
+    std::string source;  // the sidecar or folder it was loaded from
+    std::string crs;     // the sidecar's "crs"; empty when not stated
+    // Set by placeDrillholes when the holes were converted to the model's CRS: from what, to
+    // what, by which PROJ operation.
+    std::string conversion;
     std::optional<DrillholeUnitMap> units;  // the sidecar's "units", when given
     std::vector<Drillhole> holes;           // collar table order
     std::vector<IntervalTable> intervals;
@@ -181,6 +186,15 @@ Result<DrillholeDatabase> buildDrillholes(DrillholeSources sources);
 // per-table "file", "columns", "units", "dip"; files relative to the sidecar) or from a
 // folder (collar.csv, survey.csv, every other *.csv an interval table).
 Result<DrillholeDatabase> loadDrillholes(const std::string& path);
+
+// The holes in the model's CRS: when the sidecar states a "crs" other than the model's, every
+// collar and desurveyed node is converted through PROJ (one operation for the model's area,
+// model/crs/crs.hpp CrsTransform; elevations kept) and the directions turned with the grid
+// (each node's direction is the converted step of 10 m along it); `conversion` says how. No
+// "crs", or the model's own: nothing to do. A model without a CRS takes the holes' coordinates
+// as its own (a warning says so). Errors: the "crs" PROJ does not know, or no operation between
+// the two (named).
+Status placeDrillholes(DrillholeDatabase& db, const Crs& modelCrs, const Aabb& modelBounds);
 
 // "<folder>/<stem>.drillholes.json" beside a model file when that file exists, else "".
 std::string drillholeSidecarFor(const std::string& modelPath);

@@ -119,6 +119,7 @@ void holes(ServerState& st, const HttpRequest& req, HttpResponse& res) {
             j["model"] = m->id;
             j["version"] = m->version;
             j["crs"] = m->model.crs.isLocal() ? nlohmann::ordered_json() : nlohmann::ordered_json(m->model.crs.id());
+            if (!db->conversion.empty()) j["converted"] = db->conversion;
             nlohmann::ordered_json columns = nlohmann::ordered_json::array();
             for (const IntervalTable& t : db->intervals)
                 for (const IntervalColumn& c : t.columns)
