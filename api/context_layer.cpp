@@ -1,6 +1,5 @@
 #include "api/context_layer.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -17,24 +16,17 @@ Error bad(const std::string& where, const std::string& what) {
     return makeError(ErrorCode::ParseError, where + ": " + what);
 }
 
-// The EPSG code a GeoJSON `crs` member names: {"type": "name", "properties": {"name": N}} or a
-// bare string N, N one of "urn:ogc:def:crs:EPSG::4523", "EPSG:4523",
-// "urn:ogc:def:crs:OGC:1.3:CRS84" (lon/lat WGS 84: 4326). nullopt when N is none of these.
-std::optional<int> epsgOf(const J& crs) {
+// The CRS text a GeoJSON `crs` member holds: {"type": "name", "properties": {"name": N}} or a
+// bare string N ("urn:ogc:def:crs:EPSG::4523", "EPSG:4523", any text Crs::parse reads); empty
+// when it holds none. OGC's CRS84 is WGS 84 lon/lat, RFC 7946's own.
+std::string crsTextOf(const J& crs) {
     std::string name;
     if (crs.is_string())
         name = crs.get<std::string>();
     else if (crs.is_object() && crs.contains("properties") && crs["properties"].is_object() &&
              crs["properties"].contains("name") && crs["properties"]["name"].is_string())
         name = crs["properties"]["name"].get<std::string>();
-    if (name.find("CRS84") != std::string::npos) return 4326;
-    const std::size_t at = name.rfind(':');
-    if (at == std::string::npos || name.find("EPSG") == std::string::npos) return std::nullopt;
-    int code = 0;
-    const char* end = name.data() + name.size();
-    auto [p, ec] = std::from_chars(name.data() + at + 1, end, code);
-    if (ec != std::errc() || p != end || code <= 0) return std::nullopt;
-    return code;
+    return name.find("CRS84") != std::string::npos ? "EPSG:4326" : name;
 }
 
 // Depth of nesting of positions each geometry type has (Point 0: a position itself).
@@ -110,29 +102,25 @@ Result<J> parseContextLayer(std::string_view text, const std::string& source, co
             return bad(source, "a 'crs' member, but the model has no CRS: give the model's own coordinates");
         read = "the model's own coordinates (the model has no CRS)";
     } else {
-        int code = 4326;
-        if (doc.contains("crs")) {
-            auto c = epsgOf(doc["crs"]);
-            if (!c) return bad(source, "its 'crs' member names no EPSG code (e.g. urn:ogc:def:crs:EPSG::4523)");
-            code = *c;
-        }
-        if (code == modelCrs.epsg()) {
-            read = "EPSG:" + std::to_string(code) + ", the model's CRS";
+        const std::string named = doc.contains("crs") ? crsTextOf(doc["crs"]) : "EPSG:4326";
+        auto from = named.empty() ? Result<Crs>(makeError(ErrorCode::InvalidArgument, "no name")) : Crs::parse(named);
+        if (!from || from.value().isLocal())
+            return bad(source, "its 'crs' member names no CRS PROJ knows (e.g. urn:ogc:def:crs:EPSG::4523)" +
+                                   (from ? std::string() : ": " + from.error().message));
+        const std::string id = from.value().id();
+        if (from.value() == modelCrs) {
+            read = id + ", the model's CRS";
         } else {
-            auto from = Crs::fromEpsg(code);
-            if (!from) return bad(source, "its CRS EPSG:" + std::to_string(code) + ": " + from.error().message);
             auto area = lonLatBoxOf(modelCrs, {bounds.min.x, bounds.min.y}, {bounds.max.x, bounds.max.y});
             if (!area) return bad(source, "the model's lon/lat extent: " + area.error().message);
             auto t = CrsTransform::forArea(from.value(), modelCrs, area.value());
-            if (!t)
-                return bad(source, "no PROJ operation from EPSG:" + std::to_string(code) +
-                                       " to the model's CRS: " + t.error().message);
+            if (!t) return bad(source, "no PROJ operation from " + id + " to the model's CRS: " + t.error().message);
             transform = std::move(t.value());
-            read = code == 4326 ? "WGS 84 lon/lat (RFC 7946), converted to the model's CRS"
-                                : "EPSG:" + std::to_string(code) + ", converted to the model's CRS";
+            read = from.value().epsg() == 4326 ? "WGS 84 lon/lat (RFC 7946), converted to the model's CRS"
+                                               : id + ", converted to the model's CRS";
             if (transform->isBallpark())
-                note = "PROJ has only a ballpark operation (" + transform->operationName() +
-                       ": no datum shift) from EPSG:" + std::to_string(code) + " to the model's CRS";
+                note = "PROJ has only a ballpark operation (" + transform->operationName() + ": no datum shift) from " +
+                       id + " to the model's CRS";
         }
     }
 

@@ -6,11 +6,11 @@
 // MultiLineString, Polygon and MultiPolygon features with any properties (`name` labels them
 // on the plan). Coordinates are WGS 84 lon/lat as RFC 7946 says, unless the collection has the
 // `crs` member GDAL and QGIS write for other CRSs ({"type": "name", "properties": {"name":
-// "urn:ogc:def:crs:EPSG::4523"}}, also "EPSG:4523"): then they are in that CRS. Either way they
-// are converted to the model's CRS through PROJ (one operation for the model's area, as the
-// model's own conversions; a ballpark one, such as WGS 84 to CGCS2000 with no published
-// shift, is used and said in `geoslice.note`). For a model without a CRS the coordinates are
-// taken as the model's own and a `crs` member is an error.
+// "urn:ogc:def:crs:EPSG::4523"}}, also "EPSG:4523", any text Crs::parse reads): then they are
+// in that CRS. Either way they are converted to the model's CRS through PROJ (one operation for the model's area, as
+// the model's own conversions; a ballpark one, such as WGS 84 to CGCS2000 with no published shift, is used and said in
+// `geoslice.note`). For a model without a CRS the coordinates are taken as the model's own and a `crs` member is an
+// error.
 //
 // Limits: kMaxContextBytes of file, kMaxContextPositions positions. Errors name the file, the
 // feature and what is wrong. Pure functions, any thread.

@@ -100,7 +100,7 @@ TEST(ContextLayer, BadFilesAreNamed) {
         {R"({"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Polygon"}}]})",
          "without coordinates"},
         {R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": "my local grid"}}, "features": []})",
-         "names no EPSG code"},
+         "names no CRS PROJ knows"},
         {"{", "not valid JSON"},
         {"\xFF\xFE{}", "not valid UTF-8"},
     };
